@@ -1,0 +1,98 @@
+#pragma once
+// The one interface every graphics API implements. It is deliberately coarse: a technique is what we measure,
+// so each backend implements it natively and the harness never sees API objects.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backends/common/case_config.h"
+#include "scenes/scene.h"
+
+namespace omnishadow {
+
+struct DeviceInfo {
+  std::string api;          // "OpenGL 4.5 core", "Vulkan 1.3"
+  std::string vendor;       // GL_VENDOR / vendorID
+  std::string renderer;     // GL_RENDERER / deviceName
+  std::string version;      // GL_VERSION / driverVersion
+  std::string platform;     // EGL platform, ICD path, ...
+  int max_cube_size = 0;    // GL_MAX_CUBE_MAP_TEXTURE_SIZE / maxImageDimensionCube
+  std::map<std::string, std::string> extra;  // anything else worth recording (extensions that matter, ...)
+};
+
+struct Support {
+  bool ok = true;
+  std::string reason;  // why not, in one line: "GL_ARB_shader_viewport_layer_array not exposed"
+};
+
+// Per-pass work counters from pipeline-statistics queries: deterministic for a given case and frame, so any
+// change is a change of work, not noise. `valid` is false where the API or driver cannot count.
+struct PassCounters {
+  bool valid = false;
+  uint64_t vertices_submitted = 0;
+  uint64_t primitives_submitted = 0;
+  uint64_t vs_invocations = 0;
+  uint64_t gs_invocations = 0;
+  uint64_t gs_primitives = 0;
+  uint64_t clipping_input = 0;
+  uint64_t clipping_output = 0;
+  uint64_t fs_invocations = 0;  // llvmpipe counts in 4x4 blocks, not per fragment
+  uint64_t draw_calls = 0;      // counted by the backend itself
+};
+
+struct FrameCounters {
+  PassCounters shadow;
+  PassCounters lighting;
+};
+
+// Times in milliseconds. cpu_submit: from the first command of the pass until the API returned (recording and
+// submission); cpu_wall: from the first command until the pass completed (glFinish / fence). gpu: timer or
+// timestamp queries, negative when the backend has none; the harness decides whether to trust it.
+struct PassTiming {
+  double cpu_submit_ms = 0.0;
+  double cpu_wall_ms = 0.0;
+  double gpu_ms = -1.0;
+};
+
+struct FrameTiming {
+  PassTiming shadow;
+  PassTiming lighting;
+  double frame_wall_ms = 0.0;
+};
+
+// Everything read back after a frame. Images are stored as the API holds them: row 0 is the bottom row of the
+// lit frame (GL window convention) and, for cube faces, row 0 is t = 0 of the face (cube-map addressing).
+struct Images {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> lit_rgba8;       // the lit frame
+  std::vector<float> shadow_factor;     // per pixel: 1 = fully shadowed, 0 = fully lit (seed's `shadow`)
+  std::vector<float> world_position;    // RGBA32F: xyz world position, w = 1 where geometry was drawn
+  int cube_size = 0;
+  // Per face, the light distance in world units that the shadow pass stored (linear_depth values are
+  // multiplied back by far; texels nothing was drawn to hold far, or FLT_MAX for r32f_distance).
+  std::array<std::vector<float>, 6> cube_distance;
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual const DeviceInfo& device() const = 0;
+  virtual Support supports(const CaseConfig& config) const = 0;  // unsupported is a result, not an error
+  virtual void load(const scene::Scene& scene) = 0;              // upload geometry once per scene
+  virtual void configure(const CaseConfig& config) = 0;         // targets, programs, queries
+  virtual FrameTiming render(int frame) = 0;                    // blocks until the frame has completed
+  virtual FrameCounters count_work(int frame) = 0;              // renders `frame` once with statistics queries
+  virtual Images read_back() = 0;                               // results of the last rendered frame
+};
+
+// Creates a backend by name ("gl"). Options are backend-specific (e.g. "egl_platform" = surfaceless|device).
+// Throws std::runtime_error with a one-line reason when the API cannot be brought up on this machine.
+std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<std::string, std::string>& options);
+std::vector<std::string> backend_names();
+
+}  // namespace omnishadow

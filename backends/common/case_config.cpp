@@ -1,0 +1,85 @@
+#include "backends/common/case_config.h"
+
+#include <array>
+#include <stdexcept>
+#include <utility>
+
+namespace omnishadow {
+namespace {
+
+template <typename E, size_t N>
+using Names = std::array<std::pair<E, std::string_view>, N>;
+
+constexpr Names<Technique, 4> kTechniques = {{{Technique::six_pass, "six_pass"},
+                                              {Technique::geometry_shader, "geometry_shader"},
+                                              {Technique::geometry_shader_instanced, "geometry_shader_instanced"},
+                                              {Technique::vs_layer, "vs_layer"}}};
+constexpr Names<Filter, 4> kFilters = {{{Filter::hard, "hard"},
+                                        {Filter::pcf_grid64, "pcf_grid64"},
+                                        {Filter::pcf_disk20, "pcf_disk20"},
+                                        {Filter::hw_compare2x2, "hw_compare2x2"}}};
+constexpr Names<Storage, 2> kStorages = {{{Storage::linear_depth, "linear_depth"},
+                                          {Storage::r32f_distance, "r32f_distance"}}};
+constexpr Names<DepthFormat, 3> kDepthFormats = {
+    {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
+
+template <typename E>
+struct Table;
+template <> struct Table<Technique> { static constexpr auto& names = kTechniques; static constexpr const char* what = "technique"; };
+template <> struct Table<Filter> { static constexpr auto& names = kFilters; static constexpr const char* what = "filter"; };
+template <> struct Table<Storage> { static constexpr auto& names = kStorages; static constexpr const char* what = "storage"; };
+template <> struct Table<DepthFormat> { static constexpr auto& names = kDepthFormats; static constexpr const char* what = "depth format"; };
+
+template <typename E>
+std::string_view name_of(E v) {
+  for (const auto& [value, name] : Table<E>::names)
+    if (value == v) return name;
+  return "?";
+}
+
+}  // namespace
+
+std::string_view to_string(Technique v) { return name_of(v); }
+std::string_view to_string(Filter v) { return name_of(v); }
+std::string_view to_string(Storage v) { return name_of(v); }
+std::string_view to_string(DepthFormat v) { return name_of(v); }
+
+template <typename E>
+std::string valid_values() {
+  std::string out;
+  for (const auto& [value, name] : Table<E>::names) out += (out.empty() ? "" : ", ") + std::string(name);
+  return out;
+}
+
+template <typename E>
+E parse_enum(std::string_view text) {
+  for (const auto& [value, name] : Table<E>::names)
+    if (name == text) return value;
+  throw std::invalid_argument("unknown " + std::string(Table<E>::what) + " '" + std::string(text) +
+                              "' (valid: " + valid_values<E>() + ")");
+}
+
+template <typename E>
+std::vector<E> all_values() {
+  std::vector<E> out;
+  for (const auto& [value, name] : Table<E>::names) out.push_back(value);
+  return out;
+}
+
+#define OMNISHADOW_INSTANTIATE(E)                  \
+  template E parse_enum<E>(std::string_view);      \
+  template std::vector<E> all_values<E>();         \
+  template std::string valid_values<E>();
+OMNISHADOW_INSTANTIATE(Technique)
+OMNISHADOW_INSTANTIATE(Filter)
+OMNISHADOW_INSTANTIATE(Storage)
+OMNISHADOW_INSTANTIATE(DepthFormat)
+#undef OMNISHADOW_INSTANTIATE
+
+std::string CaseConfig::id() const {
+  return backend + "/" + scene + "/c" + std::to_string(cube_size) + "/f" + std::to_string(width) + "x" +
+         std::to_string(height) + "/" + std::string(to_string(technique)) + "/" + std::string(to_string(filter)) +
+         "/" + std::string(to_string(storage)) + "/" + std::string(to_string(depth_format));
+}
+
+}  // namespace omnishadow

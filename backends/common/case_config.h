@@ -1,0 +1,59 @@
+#pragma once
+// The axes of a benchmark case and their spellings. Names here are the spellings used on the command line,
+// in case ids and in results JSON; parse_* accept exactly these.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace omnishadow {
+
+enum class Technique {
+  six_pass,                   // one render pass per face, each into a prebuilt per-face framebuffer
+  geometry_shader,            // one layered pass; the GS loops over 6 faces (seed 000's form, 18 vertices out)
+  geometry_shader_instanced,  // one layered pass; GS invocations = 6, one face per invocation
+  vs_layer,                   // one layered pass; 6 instances, gl_Layer written by the vertex shader
+};
+enum class Filter {
+  hard,           // one lookup, bias 0.05 (seed 000)
+  pcf_grid64,     // 4x4x4 offsets of +-0.1 around the direction, bias 0.05 (seed 001)
+  pcf_disk20,     // 20 directions, radius (1 + viewDistance/far)/25, bias 0.15 (seed 001)
+  hw_compare2x2,  // samplerCubeShadow with LINEAR compare: the hardware's 2x2 bilinear PCF; bias 0.05
+};
+enum class Storage {
+  linear_depth,   // seed 000: gl_FragDepth = distance / far in a depth cube map
+  r32f_distance,  // seed 004: distance in an R32F colour cube (cleared to FLT_MAX) + a separate depth cube
+};
+enum class DepthFormat { d16, d24, d32f };
+
+std::string_view to_string(Technique v);
+std::string_view to_string(Filter v);
+std::string_view to_string(Storage v);
+std::string_view to_string(DepthFormat v);
+
+// Parse a spelling; throws std::invalid_argument("unknown technique 'x' (valid: six_pass, ...)").
+template <typename E>
+E parse_enum(std::string_view text);
+template <typename E>
+std::vector<E> all_values();
+template <typename E>
+std::string valid_values();  // "six_pass, geometry_shader, ..."
+
+struct CaseConfig {
+  std::string backend = "gl";
+  std::string scene = "room";
+  int cube_size = 512;
+  int width = 800;
+  int height = 600;
+  Technique technique = Technique::six_pass;
+  Filter filter = Filter::hard;
+  Storage storage = Storage::linear_depth;
+  DepthFormat depth_format = DepthFormat::d32f;
+
+  // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
+  // usable in --benchmark_filter regexes and as a folder path for the case's images.
+  std::string id() const;
+  bool operator==(const CaseConfig&) const = default;
+};
+
+}  // namespace omnishadow

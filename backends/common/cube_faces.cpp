@@ -1,0 +1,50 @@
+#include "backends/common/cube_faces.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+
+namespace omnishadow::cube {
+
+glm::mat4 face_projection(float near_plane, float far_plane, DepthRange range) {
+  glm::mat4 p = glm::perspectiveRH_NO(glm::radians(90.0f), 1.0f, near_plane, far_plane);
+  if (range == DepthRange::zero_to_one) p = glm::perspectiveRH_ZO(glm::radians(90.0f), 1.0f, near_plane, far_plane);
+  return p;
+}
+
+glm::mat4 face_view(int face, const glm::vec3& light_position) {
+  return glm::lookAtRH(light_position, light_position + kFaceDirections[face], kFaceUps[face]);
+}
+
+std::array<glm::mat4, kFaceCount> face_view_projections(const glm::vec3& light_position, float near_plane,
+                                                         float far_plane, DepthRange range) {
+  glm::mat4 projection = face_projection(near_plane, far_plane, range);
+  std::array<glm::mat4, kFaceCount> out;
+  for (int f = 0; f < kFaceCount; ++f) out[f] = projection * face_view(f, light_position);
+  return out;
+}
+
+FaceCoord direction_to_face(const glm::vec3& d) {
+  glm::vec3 a = glm::abs(d);
+  int face;
+  float sc, tc, ma;
+  if (a.x >= a.y && a.x >= a.z) {
+    face = d.x >= 0 ? 0 : 1;
+    ma = a.x;
+    sc = d.x >= 0 ? -d.z : d.z;
+    tc = -d.y;
+  } else if (a.y >= a.z) {
+    face = d.y >= 0 ? 2 : 3;
+    ma = a.y;
+    sc = d.x;
+    tc = d.y >= 0 ? d.z : -d.z;
+  } else {
+    face = d.z >= 0 ? 4 : 5;
+    ma = a.z;
+    sc = d.z >= 0 ? d.x : -d.x;
+    tc = -d.y;
+  }
+  return {face, 0.5f * (sc / ma + 1.0f), 0.5f * (tc / ma + 1.0f)};
+}
+
+}  // namespace omnishadow::cube

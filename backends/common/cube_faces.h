@@ -1,0 +1,45 @@
+#pragma once
+// The one source of truth for cube-map conventions, used by every backend, the reference and the tests.
+//
+// Face order is the GL/Vulkan layer order +X, -X, +Y, -Y, +Z, -Z (seed 000: "right, left, top, bottom, near,
+// far"), with the seed's up vectors. Those up vectors make a face rendered with lookAt + a 90-degree perspective
+// land in memory exactly as cube-map sampling (GL 4.5 spec table 8.19, same table in Vulkan) reads it: texel
+// column s grows with window x, texel row t grows with window y, and row 0 is the first row in memory.
+//
+// Clip conventions: GL maps depth to [-1, 1], Vulkan to [0, 1]. Both put clip y = -1 on the first row in memory,
+// so a cube face needs no y flip in either API; only the depth mapping differs, and face_projection() takes it.
+
+#include <glm/glm.hpp>
+
+#include <array>
+
+namespace omnishadow::cube {
+
+inline constexpr int kFaceCount = 6;
+inline constexpr std::array<const char*, kFaceCount> kFaceNames = {"+X", "-X", "+Y", "-Y", "+Z", "-Z"};
+
+inline const std::array<glm::vec3, kFaceCount> kFaceDirections = {
+    glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0),
+    glm::vec3(0, -1, 0), glm::vec3(0, 0, 1), glm::vec3(0, 0, -1)};
+inline const std::array<glm::vec3, kFaceCount> kFaceUps = {
+    glm::vec3(0, -1, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, 1),
+    glm::vec3(0, 0, -1), glm::vec3(0, -1, 0), glm::vec3(0, -1, 0)};
+
+enum class DepthRange { minus_one_to_one /* GL */, zero_to_one /* Vulkan */ };
+
+// 90-degree vertical field of view, aspect 1: each face covers exactly its quarter of the sphere of directions.
+glm::mat4 face_projection(float near_plane, float far_plane, DepthRange range);
+glm::mat4 face_view(int face, const glm::vec3& light_position);
+std::array<glm::mat4, kFaceCount> face_view_projections(const glm::vec3& light_position, float near_plane,
+                                                         float far_plane, DepthRange range);
+
+// Cube-map addressing as the samplers do it (spec table 8.19): which face a direction selects and the
+// face coordinates (s, t) in [0, 1]. Ties between equal major axes go to x, then y, as in Mesa.
+struct FaceCoord {
+  int face;
+  float s;
+  float t;
+};
+FaceCoord direction_to_face(const glm::vec3& direction);
+
+}  // namespace omnishadow::cube

@@ -1,0 +1,38 @@
+#pragma once
+// C++ mirror of the std140 blocks in shaders/common.glsl, and the vertex layout both backends feed.
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <cstddef>
+
+#include "scenes/scene.h"
+
+namespace omnishadow::gpu {
+
+struct FrameUniforms {
+  glm::mat4 camera_view_proj;
+  std::array<glm::mat4, 6> face_view_proj;
+  glm::vec4 camera_position;
+  glm::vec4 light_position;  // w = light far plane
+  glm::vec4 light_color;     // w = light near plane
+};
+static_assert(sizeof(FrameUniforms) == 7 * 64 + 3 * 16, "std140 layout of FrameUniforms");
+
+struct PassUniforms {
+  int face;
+  int pad[3];  // std140 rounds a block to 16 bytes
+};
+
+// Bindings shared by both APIs (shaders/common.glsl, shaders/shadow_filters.glsl).
+inline constexpr int kFrameUniformsBinding = 0;
+inline constexpr int kPassUniformsBinding = 1;
+inline constexpr int kShadowMapBinding = 2;
+
+// Vertex attributes: location 0 position, 1 normal, 2 colour; interleaved scene::Vertex.
+inline constexpr size_t kVertexStride = sizeof(scene::Vertex);
+inline constexpr size_t kPositionOffset = offsetof(scene::Vertex, position);
+inline constexpr size_t kNormalOffset = offsetof(scene::Vertex, normal);
+inline constexpr size_t kColorOffset = offsetof(scene::Vertex, color);
+
+}  // namespace omnishadow::gpu

@@ -1,0 +1,29 @@
+#pragma once
+// A headless OpenGL 4.5 core context through EGL, with no window system and no surface.
+// Platforms: "surfaceless" (EGL_MESA_platform_surfaceless; Mesa's llvmpipe and any Mesa GPU driver) and
+// "device" (EGL_EXT_platform_device; picks a GPU by index, as on NVIDIA's proprietary driver).
+
+#include <epoxy/egl.h>
+
+#include <string>
+
+namespace omnishadow::gl {
+
+class EglContext {
+ public:
+  // Throws std::runtime_error naming the EGL call that failed and the EGL error code.
+  EglContext(const std::string& platform, int device_index);
+  ~EglContext();
+  EglContext(const EglContext&) = delete;
+  EglContext& operator=(const EglContext&) = delete;
+
+  const std::string& platform() const { return platform_; }
+  std::string egl_version() const;
+
+ private:
+  std::string platform_;
+  EGLDisplay display_ = EGL_NO_DISPLAY;
+  EGLContext context_ = EGL_NO_CONTEXT;
+};
+
+}  // namespace omnishadow::gl

@@ -1,0 +1,371 @@
+#include "backends/gl/gl_backend.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cfloat>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+#include "backends/common/cube_faces.h"
+#include "backends/common/gpu_layout.h"
+
+namespace omnishadow::gl {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+std::string gl_string(GLenum name) {
+  const GLubyte* s = glGetString(name);
+  return s ? reinterpret_cast<const char*>(s) : "?";
+}
+
+std::vector<std::string> technique_defines(Technique t) {
+  switch (t) {
+    case Technique::six_pass: return {"TECHNIQUE_SIX_PASS"};
+    case Technique::geometry_shader: return {"TECHNIQUE_GEOMETRY_SHADER"};
+    case Technique::geometry_shader_instanced: return {"TECHNIQUE_GEOMETRY_SHADER", "GS_INSTANCED"};
+    case Technique::vs_layer: return {"TECHNIQUE_VS_LAYER"};
+  }
+  return {};
+}
+
+std::string storage_define(Storage s) {
+  return s == Storage::r32f_distance ? "STORAGE_R32F_DISTANCE" : "STORAGE_LINEAR_DEPTH";
+}
+
+std::string filter_define(Filter f) {
+  switch (f) {
+    case Filter::hard: return "FILTER_HARD";
+    case Filter::pcf_grid64: return "FILTER_PCF_GRID64";
+    case Filter::pcf_disk20: return "FILTER_PCF_DISK20";
+    case Filter::hw_compare2x2: return "FILTER_HW_COMPARE2X2";
+  }
+  return "";
+}
+
+}  // namespace
+
+GlBackend::GlBackend(const std::string& egl_platform, int device_index) : context_(egl_platform, device_index) {
+  GLint major = 0, minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &major);
+  glGetIntegerv(GL_MINOR_VERSION, &minor);
+  if (major * 10 + minor < 45)
+    throw std::runtime_error("OpenGL 4.5 core is required, the context is " + std::to_string(major) + "." +
+                             std::to_string(minor));
+  info_.api = "OpenGL " + std::to_string(major) + "." + std::to_string(minor) + " core";
+  info_.vendor = gl_string(GL_VENDOR);
+  info_.renderer = gl_string(GL_RENDERER);
+  info_.version = gl_string(GL_VERSION);
+  info_.platform = "EGL " + context_.egl_version() + " (" + egl_platform + ")";
+  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &info_.max_cube_size);
+  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &uniform_alignment_);
+  GLint max_texture = 0, max_renderbuffer = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_renderbuffer);
+  info_.extra["max_2d_size"] = std::to_string(std::min(max_texture, max_renderbuffer));
+  has_layer_array_ = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
+  has_pipeline_statistics_ = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
+  info_.extra["GL_ARB_shader_viewport_layer_array"] = has_layer_array_ ? "yes" : "no";
+  info_.extra["GL_ARB_pipeline_statistics_query"] = has_pipeline_statistics_ ? "yes" : "no";
+  info_.extra["GL_SHADING_LANGUAGE_VERSION"] = gl_string(GL_SHADING_LANGUAGE_VERSION);
+
+  glCreateBuffers(1, &frame_ubo_);
+  glNamedBufferStorage(frame_ubo_, sizeof(gpu::FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  std::vector<uint8_t> pass_data(static_cast<size_t>(uniform_alignment_) * 6, 0);
+  for (int f = 0; f < 6; ++f) {
+    gpu::PassUniforms p{f, {0, 0, 0}};
+    std::memcpy(pass_data.data() + static_cast<size_t>(f * uniform_alignment_), &p, sizeof p);
+  }
+  glCreateBuffers(1, &pass_ubo_);
+  glNamedBufferStorage(pass_ubo_, static_cast<GLsizeiptr>(pass_data.size()), pass_data.data(), 0);
+
+  glCreateSamplers(1, &nearest_sampler_);
+  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glCreateSamplers(1, &compare_sampler_);
+  glSamplerParameteri(compare_sampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glSamplerParameteri(compare_sampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glSamplerParameteri(compare_sampler_, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glSamplerParameteri(compare_sampler_, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  for (GLuint s : {nearest_sampler_, compare_sampler_}) {
+    glSamplerParameteri(s, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(s, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(s, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  }
+  // Cube faces are filtered across seams, as every modern GPU can; keeps PCF continuous at face edges.
+  glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+}
+
+GlBackend::~GlBackend() {
+  release_case();
+  for (auto& [key, prog] : programs_) glDeleteProgram(prog);
+  const GLuint buffers[] = {vertex_buffer_, frame_ubo_, pass_ubo_};
+  glDeleteBuffers(3, buffers);
+  const GLuint vaos[] = {shadow_vao_, lighting_vao_};
+  glDeleteVertexArrays(2, vaos);
+  const GLuint samplers[] = {nearest_sampler_, compare_sampler_};
+  glDeleteSamplers(2, samplers);
+}
+
+Support GlBackend::supports(const CaseConfig& c) const {
+  if (c.technique == Technique::vs_layer && !has_layer_array_)
+    return {false, "GL_ARB_shader_viewport_layer_array is not exposed by " + info_.renderer};
+  if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
+    return {false, "hw_compare2x2 needs a depth texture to compare against (storage linear_depth); " +
+                       std::string(to_string(c.storage)) + " stores distance in a colour texture"};
+  if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
+    return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
+                       std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
+  return {};
+}
+
+void GlBackend::load(const scene::Scene& scene) {
+  release_case();
+  glDeleteBuffers(1, &vertex_buffer_);
+  const GLuint vaos[] = {shadow_vao_, lighting_vao_};
+  glDeleteVertexArrays(2, vaos);
+  scene_ = scene;
+  scene_->vertices.clear();  // only the GPU copy is needed after upload
+  scene_->vertices.shrink_to_fit();
+
+  glCreateBuffers(1, &vertex_buffer_);
+  glNamedBufferStorage(vertex_buffer_, static_cast<GLsizeiptr>(scene.vertices.size() * sizeof(scene::Vertex)),
+                       scene.vertices.data(), 0);
+  if (glGetError() == GL_OUT_OF_MEMORY) throw std::runtime_error("GL_OUT_OF_MEMORY uploading scene " + scene.name);
+
+  auto make_vao = [&](bool with_attributes) {
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    glVertexArrayVertexBuffer(vao, 0, vertex_buffer_, 0, static_cast<GLsizei>(gpu::kVertexStride));
+    const std::pair<GLuint, size_t> attributes[] = {
+        {0, gpu::kPositionOffset}, {1, gpu::kNormalOffset}, {2, gpu::kColorOffset}};
+    for (const auto& [location, offset] : attributes) {
+      if (location > 0 && !with_attributes) break;
+      glEnableVertexArrayAttrib(vao, location);
+      glVertexArrayAttribFormat(vao, location, 3, GL_FLOAT, GL_FALSE, static_cast<GLuint>(offset));
+      glVertexArrayAttribBinding(vao, location, 0);
+    }
+    return vao;
+  };
+  shadow_vao_ = make_vao(false);
+  lighting_vao_ = make_vao(true);
+}
+
+GLuint GlBackend::program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {
+  std::string key;
+  for (const auto& s : stages) key += s.file + ";";
+  for (const auto& d : defines) key += d + ";";
+  auto it = programs_.find(key);
+  if (it != programs_.end()) return it->second;
+  GLuint p = build_program(stages, defines);
+  programs_[key] = p;
+  return p;
+}
+
+void GlBackend::release_case() {
+  queries_.reset();
+  if (shadow_.depth) destroy(shadow_);
+  if (lighting_.fbo) destroy(lighting_);
+  config_.reset();
+}
+
+void GlBackend::configure(const CaseConfig& c) {
+  if (!scene_) throw std::logic_error("configure() before load()");
+  if (config_ && *config_ == c) return;
+  Support s = supports(c);
+  if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
+  release_case();
+
+  std::vector<std::string> shadow_defines = technique_defines(c.technique);
+  shadow_defines.push_back(storage_define(c.storage));
+  std::vector<ShaderStage> shadow_stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"},
+                                            {GL_FRAGMENT_SHADER, "shadow_depth.frag"}};
+  if (c.technique == Technique::geometry_shader || c.technique == Technique::geometry_shader_instanced)
+    shadow_stages.insert(shadow_stages.begin() + 1, {GL_GEOMETRY_SHADER, "shadow_depth.geom"});
+  shadow_program_ = program(shadow_stages, shadow_defines);
+  lighting_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "lighting.frag"}},
+                              {storage_define(c.storage), filter_define(c.filter)});
+
+  shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format);
+  lighting_ = create_lighting_targets(c.width, c.height);
+  queries_ = std::make_unique<FrameQueries>(has_pipeline_statistics_);
+  GLenum error = glGetError();
+  if (error != GL_NO_ERROR) {
+    release_case();
+    throw std::runtime_error("GL error " + std::to_string(error) + " while configuring " + c.id());
+  }
+  config_ = c;
+}
+
+void GlBackend::update_frame_uniforms(int frame) {
+  const scene::Camera& cam = scene_->camera;
+  const scene::PointLight& light = scene_->light;
+  glm::vec3 light_position = light.path.at(frame);
+  gpu::FrameUniforms u;
+  float aspect = static_cast<float>(config_->width) / static_cast<float>(config_->height);
+  u.camera_view_proj = glm::perspectiveRH_NO(glm::radians(cam.fov_y_degrees), aspect, cam.near_plane, cam.far_plane) *
+                       glm::lookAtRH(cam.position, cam.target, cam.up);
+  auto faces = cube::face_view_projections(light_position, light.near_plane, light.far_plane,
+                                           cube::DepthRange::minus_one_to_one);
+  std::copy(faces.begin(), faces.end(), u.face_view_proj.begin());
+  u.camera_position = glm::vec4(cam.position, 1.0f);
+  u.light_position = glm::vec4(light_position, light.far_plane);
+  u.light_color = glm::vec4(light.color, light.near_plane);
+  glNamedBufferSubData(frame_ubo_, 0, sizeof u, &u);
+}
+
+void GlBackend::draw_objects(GLsizei instances, DrawStats& stats) {
+  bool culling = false;
+  glDisable(GL_CULL_FACE);
+  for (const scene::Object& obj : scene_->objects) {
+    if (obj.cull_back_faces != culling) {
+      culling = obj.cull_back_faces;
+      culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
+    }
+    glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex),
+                          static_cast<GLsizei>(obj.vertex_count), instances);
+    ++stats.draw_calls;
+  }
+}
+
+GlBackend::DrawStats GlBackend::shadow_pass() {
+  DrawStats stats;
+  glViewport(0, 0, shadow_.size, shadow_.size);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glUseProgram(shadow_program_);
+  glBindVertexArray(shadow_vao_);
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
+  const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};  // seed 004: "nothing here"
+  const GLfloat depth_one = 1.0f;
+  auto clear = [&](GLuint fbo) {
+    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
+    if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
+  };
+  if (config_->technique == Technique::six_pass) {
+    for (int f = 0; f < 6; ++f) {
+      glBindFramebuffer(GL_FRAMEBUFFER, shadow_.face_fbos[f]);
+      clear(shadow_.face_fbos[f]);
+      glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_, f * uniform_alignment_,
+                        sizeof(gpu::PassUniforms));
+      draw_objects(1, stats);
+    }
+  } else {
+    glBindFramebuffer(GL_FRAMEBUFFER, shadow_.layered_fbo);
+    clear(shadow_.layered_fbo);  // clears all six layers
+    draw_objects(config_->technique == Technique::vs_layer ? 6 : 1, stats);
+  }
+  return stats;
+}
+
+GlBackend::DrawStats GlBackend::lighting_pass() {
+  DrawStats stats;
+  glBindFramebuffer(GL_FRAMEBUFFER, lighting_.fbo);
+  glViewport(0, 0, lighting_.width, lighting_.height);
+  const GLfloat background[4] = {0.1f, 0.1f, 0.1f, 1.0f};
+  const GLfloat zero[4] = {0, 0, 0, 0};
+  const GLfloat depth_one = 1.0f;
+  glClearNamedFramebufferfv(lighting_.fbo, GL_COLOR, 0, background);
+  glClearNamedFramebufferfv(lighting_.fbo, GL_COLOR, 1, zero);
+  glClearNamedFramebufferfv(lighting_.fbo, GL_COLOR, 2, zero);
+  glClearNamedFramebufferfv(lighting_.fbo, GL_DEPTH, 0, &depth_one);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glUseProgram(lighting_program_);
+  glBindVertexArray(lighting_vao_);
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
+  glBindTextureUnit(gpu::kShadowMapBinding, shadow_.stored);
+  glBindSampler(gpu::kShadowMapBinding,
+                config_->filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_);
+  draw_objects(1, stats);
+  return stats;
+}
+
+FrameTiming GlBackend::render(int frame) {
+  if (!config_) throw std::logic_error("render() before configure()");
+  // Each pass is bracketed by glFinish so that its wall time is its own. On llvmpipe the vertex and geometry
+  // stages run on this thread inside glDraw*, so cpu_submit includes them; rasterisation runs on the
+  // LP_NUM_THREADS worker threads and completes inside glFinish.
+  FrameTiming t;
+  auto t0 = Clock::now();
+  update_frame_uniforms(frame);
+  queries_->begin_timer(kShadowPass);
+  shadow_pass();
+  queries_->end_timer();
+  auto t1 = Clock::now();
+  glFinish();
+  auto t2 = Clock::now();
+  queries_->begin_timer(kLightingPass);
+  lighting_pass();
+  queries_->end_timer();
+  auto t3 = Clock::now();
+  glFinish();
+  auto t4 = Clock::now();
+  t.shadow = {ms_between(t0, t1), ms_between(t0, t2), queries_->timer_ms(kShadowPass)};
+  t.lighting = {ms_between(t2, t3), ms_between(t2, t4), queries_->timer_ms(kLightingPass)};
+  t.frame_wall_ms = ms_between(t0, t4);
+  return t;
+}
+
+FrameCounters GlBackend::count_work(int frame) {
+  if (!config_) throw std::logic_error("count_work() before configure()");
+  FrameCounters c;
+  update_frame_uniforms(frame);
+  if (queries_->has_statistics()) queries_->begin_statistics(kShadowPass);
+  DrawStats shadow = shadow_pass();
+  if (queries_->has_statistics()) queries_->end_statistics();
+  if (queries_->has_statistics()) queries_->begin_statistics(kLightingPass);
+  DrawStats lighting = lighting_pass();
+  if (queries_->has_statistics()) queries_->end_statistics();
+  glFinish();
+  c.shadow = queries_->statistics(kShadowPass);
+  c.lighting = queries_->statistics(kLightingPass);
+  c.shadow.draw_calls = shadow.draw_calls;
+  c.lighting.draw_calls = lighting.draw_calls;
+  return c;
+}
+
+Images GlBackend::read_back() {
+  if (!config_) throw std::logic_error("read_back() before configure()");
+  Images img;
+  img.width = lighting_.width;
+  img.height = lighting_.height;
+  size_t pixels = static_cast<size_t>(img.width) * static_cast<size_t>(img.height);
+  img.lit_rgba8.resize(pixels * 4);
+  img.shadow_factor.resize(pixels);
+  img.world_position.resize(pixels * 4);
+  glGetTextureImage(lighting_.color, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.lit_rgba8.size()),
+                    img.lit_rgba8.data());
+  glGetTextureImage(lighting_.shadow_factor, 0, GL_RED, GL_FLOAT,
+                    static_cast<GLsizei>(img.shadow_factor.size() * sizeof(float)), img.shadow_factor.data());
+  glGetTextureImage(lighting_.position, 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(img.world_position.size() * sizeof(float)), img.world_position.data());
+
+  img.cube_size = shadow_.size;
+  size_t texels = static_cast<size_t>(shadow_.size) * static_cast<size_t>(shadow_.size);
+  bool linear = shadow_.storage == Storage::linear_depth;
+  float far_plane = scene_->light.far_plane;
+  for (int f = 0; f < 6; ++f) {
+    auto& face = img.cube_distance[static_cast<size_t>(f)];
+    face.resize(texels);
+    glGetTextureSubImage(shadow_.stored, 0, 0, 0, f, shadow_.size, shadow_.size, 1,
+                         linear ? GL_DEPTH_COMPONENT : GL_RED, GL_FLOAT,
+                         static_cast<GLsizei>(texels * sizeof(float)), face.data());
+    if (linear)
+      for (float& v : face) v *= far_plane;
+  }
+  GLenum error = glGetError();
+  if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");
+  return img;
+}
+
+}  // namespace omnishadow::gl

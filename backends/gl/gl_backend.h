@@ -1,0 +1,69 @@
+#pragma once
+// OpenGL 4.5 core backend over headless EGL. Every technique is native GL: six_pass renders each face into a
+// prebuilt per-face framebuffer; the single-pass techniques render once into a layered framebuffer.
+
+#include <epoxy/gl.h>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "backends/backend.h"
+#include "backends/gl/egl_context.h"
+#include "backends/gl/gl_program.h"
+#include "backends/gl/gl_queries.h"
+#include "backends/gl/gl_targets.h"
+
+namespace omnishadow::gl {
+
+class GlBackend final : public Backend {
+ public:
+  GlBackend(const std::string& egl_platform, int device_index);
+  ~GlBackend() override;
+
+  const DeviceInfo& device() const override { return info_; }
+  Support supports(const CaseConfig& config) const override;
+  void load(const scene::Scene& scene) override;
+  void configure(const CaseConfig& config) override;
+  FrameTiming render(int frame) override;
+  FrameCounters count_work(int frame) override;
+  Images read_back() override;
+
+ private:
+  struct DrawStats {
+    uint64_t draw_calls = 0;
+  };
+  GLuint program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
+  void update_frame_uniforms(int frame);
+  DrawStats shadow_pass();
+  DrawStats lighting_pass();
+  void draw_objects(GLsizei instances, DrawStats& stats);
+  void release_case();
+
+  EglContext context_;
+  DeviceInfo info_;
+  bool has_layer_array_ = false;
+  bool has_pipeline_statistics_ = false;
+  GLint uniform_alignment_ = 256;
+
+  std::optional<scene::Scene> scene_;  // geometry lives on the GPU; this keeps objects, light path, camera
+  GLuint vertex_buffer_ = 0;
+  GLuint shadow_vao_ = 0;    // position only
+  GLuint lighting_vao_ = 0;  // position, normal, colour
+  GLuint frame_ubo_ = 0;
+  GLuint pass_ubo_ = 0;      // six PassUniforms, one per face, each at a multiple of uniform_alignment_
+  GLuint nearest_sampler_ = 0;
+  GLuint compare_sampler_ = 0;
+  std::map<std::string, GLuint> programs_;  // by stages + defines; programs outlive cases
+
+  std::optional<CaseConfig> config_;
+  ShadowTargets shadow_{};
+  LightingTargets lighting_{};
+  GLuint shadow_program_ = 0;
+  GLuint lighting_program_ = 0;
+  std::unique_ptr<FrameQueries> queries_;
+};
+
+}  // namespace omnishadow::gl

@@ -1,0 +1,99 @@
+#include "backends/gl/gl_program.h"
+
+#include <sstream>
+#include <stdexcept>
+
+#include "backends/common/embedded_files.h"
+
+namespace omnishadow::gl {
+namespace {
+
+const std::string& source_of(const std::string& file) {
+  auto it = embedded_files().find(file);
+  if (it == embedded_files().end()) throw std::runtime_error("shader file '" + file + "' is not embedded");
+  return it->second;
+}
+
+void expand(const std::string& file, std::ostringstream& out, int depth) {
+  if (depth > 8) throw std::runtime_error("shader include depth exceeded at " + file);
+  std::istringstream in(source_of(file));
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.rfind("#include", 0) == 0) {
+      size_t open = line.find('"'), close = line.rfind('"');
+      if (open == std::string::npos || close <= open) throw std::runtime_error(file + ": bad #include line");
+      expand(line.substr(open + 1, close - open - 1), out, depth + 1);
+      // Driver messages then give the line in the including file; file numbers in #line are not portable.
+      out << "#line " << line_number + 1 << "\n";
+    } else {
+      out << line << "\n";
+    }
+  }
+}
+
+// The first line of a shader's or program's info log: enough to name the problem in a one-line error.
+template <typename GetIv, typename GetLog>
+std::string first_log_line(GLuint object, GetIv get_iv, GetLog get_log) {
+  GLint length = 0;
+  get_iv(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<size_t>(length > 0 ? length : 1), '\0');
+  get_log(object, length, nullptr, log.data());
+  std::string line = log.substr(0, log.find('\n'));
+  line = line.substr(0, line.find('\0'));
+  return line.empty() ? "(no log)" : line;
+}
+
+}  // namespace
+
+std::string preprocess_shader(const std::string& file, const std::vector<std::string>& defines) {
+  std::ostringstream body;
+  expand(file, body, 0);
+  std::string text = body.str();
+  size_t version_end = text.find('\n');
+  if (text.rfind("#version", 0) != 0) throw std::runtime_error(file + ": must start with #version");
+  std::string header;
+  for (const std::string& d : defines) {
+    size_t eq = d.find('=');
+    header += "#define " + (eq == std::string::npos ? d : d.substr(0, eq) + " " + d.substr(eq + 1)) + "\n";
+  }
+  return text.substr(0, version_end + 1) + header + text.substr(version_end + 1);
+}
+
+GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {
+  GLuint program = glCreateProgram();
+  std::vector<GLuint> shaders;
+  auto cleanup = [&] {
+    for (GLuint s : shaders) glDeleteShader(s);
+  };
+  for (const ShaderStage& stage : stages) {
+    std::string text = preprocess_shader(stage.file, defines);
+    GLuint shader = glCreateShader(stage.type);
+    shaders.push_back(shader);
+    const char* src = text.c_str();
+    glShaderSource(shader, 1, &src, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      std::string log = first_log_line(shader, glGetShaderiv, glGetShaderInfoLog);
+      cleanup();
+      glDeleteProgram(program);
+      throw std::runtime_error("compiling " + stage.file + " failed: " + log);
+    }
+    glAttachShader(program, shader);
+  }
+  glLinkProgram(program);
+  cleanup();
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    std::string log = first_log_line(program, glGetProgramiv, glGetProgramInfoLog);
+    glDeleteProgram(program);
+    throw std::runtime_error("linking " + stages.front().file + " failed: " + log);
+  }
+  return program;
+}
+
+}  // namespace omnishadow::gl

@@ -1,0 +1,131 @@
+#include "backends/gl/gl_targets.h"
+
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+namespace omnishadow::gl {
+namespace {
+
+std::string hex(GLenum value) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%04x", value);
+  return buf;
+}
+
+void check_allocation(const char* what) {
+  GLenum error = glGetError();
+  if (error == GL_OUT_OF_MEMORY) throw std::runtime_error(std::string("GL_OUT_OF_MEMORY allocating ") + what);
+  if (error != GL_NO_ERROR)
+    throw std::runtime_error("GL error " + hex(error) + " allocating " + what);
+}
+
+void check_complete(GLuint fbo, const char* what) {
+  GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error(std::string(what) + " framebuffer incomplete (status " + hex(status) + ")");
+}
+
+GLuint create_cube(GLenum internal_format, int size) {
+  GLuint tex = 0;
+  glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &tex);
+  glTextureStorage2D(tex, 1, internal_format, size, size);
+  // NEAREST and clamp as in seed 000; the hw_compare2x2 filter overrides filtering with a sampler object.
+  glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(tex, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  return tex;
+}
+
+GLuint create_2d(GLenum internal_format, int width, int height) {
+  GLuint tex = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &tex);
+  glTextureStorage2D(tex, 1, internal_format, width, height);
+  return tex;
+}
+
+}  // namespace
+
+GLenum depth_internal_format(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::d16: return GL_DEPTH_COMPONENT16;
+    case DepthFormat::d24: return GL_DEPTH_COMPONENT24;
+    case DepthFormat::d32f: return GL_DEPTH_COMPONENT32F;
+  }
+  return GL_DEPTH_COMPONENT32F;
+}
+
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format) {
+  ShadowTargets t;
+  t.storage = storage;
+  t.size = size;
+  t.depth = create_cube(depth_internal_format(depth_format), size);
+  if (storage == Storage::r32f_distance) t.stored = create_cube(GL_R32F, size);
+  else t.stored = t.depth;
+  check_allocation("the shadow cube");
+
+  // A cube map texture is layered: attaching it whole gives a layered framebuffer, attaching one layer
+  // (glNamedFramebufferTextureLayer, layer = face) gives the per-face framebuffer of six_pass.
+  auto attach = [&](GLuint fbo, int layer) {
+    if (layer < 0) glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, t.depth, 0);
+    else glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, t.depth, 0, layer);
+    if (storage == Storage::r32f_distance) {
+      if (layer < 0) glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, t.stored, 0);
+      else glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, t.stored, 0, layer);
+      glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
+    } else {
+      glNamedFramebufferDrawBuffer(fbo, GL_NONE);
+    }
+    glNamedFramebufferReadBuffer(fbo, GL_NONE);
+  };
+  glCreateFramebuffers(6, t.face_fbos.data());
+  for (int f = 0; f < 6; ++f) {
+    attach(t.face_fbos[f], f);
+    check_complete(t.face_fbos[f], "per-face shadow");
+  }
+  glCreateFramebuffers(1, &t.layered_fbo);
+  attach(t.layered_fbo, -1);
+  check_complete(t.layered_fbo, "layered shadow");
+  return t;
+}
+
+void destroy(ShadowTargets& t) {
+  glDeleteFramebuffers(6, t.face_fbos.data());
+  glDeleteFramebuffers(1, &t.layered_fbo);
+  if (t.stored != t.depth) glDeleteTextures(1, &t.stored);
+  glDeleteTextures(1, &t.depth);
+  t = ShadowTargets{};
+}
+
+LightingTargets create_lighting_targets(int width, int height) {
+  LightingTargets t;
+  t.width = width;
+  t.height = height;
+  t.color = create_2d(GL_RGBA8, width, height);
+  t.shadow_factor = create_2d(GL_R32F, width, height);
+  t.position = create_2d(GL_RGBA32F, width, height);
+  glCreateRenderbuffers(1, &t.depth);
+  glNamedRenderbufferStorage(t.depth, GL_DEPTH_COMPONENT32F, width, height);
+  check_allocation("the lighting targets");
+  glCreateFramebuffers(1, &t.fbo);
+  glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT0, t.color, 0);
+  glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT1, t.shadow_factor, 0);
+  glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT2, t.position, 0);
+  glNamedFramebufferRenderbuffer(t.fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.depth);
+  const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+  glNamedFramebufferDrawBuffers(t.fbo, 3, buffers);
+  check_complete(t.fbo, "lighting");
+  return t;
+}
+
+void destroy(LightingTargets& t) {
+  glDeleteFramebuffers(1, &t.fbo);
+  const GLuint textures[] = {t.color, t.shadow_factor, t.position};
+  glDeleteTextures(3, textures);
+  glDeleteRenderbuffers(1, &t.depth);
+  t = LightingTargets{};
+}
+
+}  // namespace omnishadow::gl

@@ -1,0 +1,39 @@
+#pragma once
+// The render targets of one case: the shadow cube (per storage) with its framebuffers, and the lighting
+// framebuffer (lit colour, shadow factor, world position). Created by configure(), owned by GlBackend.
+
+#include <epoxy/gl.h>
+
+#include <array>
+
+#include "backends/common/case_config.h"
+
+namespace omnishadow::gl {
+
+struct ShadowTargets {
+  GLuint stored = 0;       // what the lighting pass samples: depth cube (linear_depth) or R32F cube
+  GLuint depth = 0;        // the depth cube the pass tests against (== stored for linear_depth)
+  std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face, built once
+  GLuint layered_fbo = 0;             // single-pass techniques: the whole cube, gl_Layer picks the face
+  Storage storage = Storage::linear_depth;
+  int size = 0;
+};
+
+struct LightingTargets {
+  GLuint fbo = 0;
+  GLuint color = 0;          // RGBA8 lit frame
+  GLuint shadow_factor = 0;  // R32F
+  GLuint position = 0;       // RGBA32F world position, w = 1 where covered
+  GLuint depth = 0;          // D32F renderbuffer
+  int width = 0;
+  int height = 0;
+};
+
+GLenum depth_internal_format(DepthFormat format);
+// Throw std::runtime_error naming the incomplete framebuffer, or GL_OUT_OF_MEMORY for allocations that failed.
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format);
+void destroy(ShadowTargets& t);
+LightingTargets create_lighting_targets(int width, int height);
+void destroy(LightingTargets& t);
+
+}  // namespace omnishadow::gl

@@ -1,0 +1,231 @@
+#include "bench/case_runner.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "bench/image_io.h"
+
+namespace omnishadow::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The case id with the technique removed: every technique of one group shares the six_pass reference.
+std::string group_key(const CaseConfig& c) {
+  CaseConfig k = c;
+  k.technique = Technique::six_pass;
+  return k.id();
+}
+
+std::vector<float> concat_faces(const Images& img) {
+  // Faces side by side, face order left to right, so one PNG shows the whole cube.
+  int n = img.cube_size;
+  std::vector<float> strip(static_cast<size_t>(n) * static_cast<size_t>(n) * 6);
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < n; ++y)
+      std::copy_n(img.cube_distance[static_cast<size_t>(f)].begin() + static_cast<ptrdiff_t>(y) * n, n,
+                  strip.begin() + (static_cast<ptrdiff_t>(y) * 6 + f) * n);
+  return strip;
+}
+
+std::vector<float> scaled(std::vector<float> v, float scale) {
+  for (float& x : v) x = x * scale;
+  return v;
+}
+
+std::vector<float> luminance(const std::vector<uint8_t>& rgba) {
+  std::vector<float> out(rgba.size() / 4);
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = (static_cast<float>(rgba[4 * i]) + rgba[4 * i + 1] + rgba[4 * i + 2]) / (3.0f * 255.0f);
+  return out;
+}
+
+// Per pixel, the largest channel difference: a single float image that diff_image_rgb can colour.
+std::vector<float> max_channel_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  std::vector<float> out(a.size() / 4);
+  for (size_t i = 0; i < out.size(); ++i) {
+    int d = 0;
+    for (size_t k = 0; k < 4; ++k) d = std::max(d, std::abs(int(a[4 * i + k]) - int(b[4 * i + k])));
+    out[i] = static_cast<float>(d);
+  }
+  return out;
+}
+
+bool all_faces_identical(const Images& img) {
+  for (int f = 1; f < 6; ++f)
+    if (img.cube_distance[static_cast<size_t>(f)] != img.cube_distance[0]) return false;
+  return true;
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::string_view to_string(Status s) {
+  switch (s) {
+    case Status::ok: return "ok";
+    case Status::unsupported: return "unsupported";
+    case Status::failed: return "failed";
+    case Status::failed_check: return "failed_check";
+  }
+  return "?";
+}
+
+Harness::Harness(RunOptions options) : options_(std::move(options)) {}
+Harness::~Harness() = default;
+
+Backend& Harness::backend(const std::string& name) {
+  auto it = backends_.find(name);
+  if (it != backends_.end()) return *it->second;
+  auto created = create_backend(name, options_.backend_options);
+  Backend& ref = *created;
+  backends_[name] = std::move(created);
+  return ref;
+}
+
+std::string Harness::scene_path(const std::string& name) const {
+  if (name.find('/') != std::string::npos || name.ends_with(".json")) return name;
+  return (fs::path(options_.scenes_dir) / (name + ".json")).string();
+}
+
+const scene::Scene& Harness::scene(const std::string& name) {
+  auto it = scenes_.find(name);
+  if (it != scenes_.end()) return it->second;
+  scene::Scene s = scene::load_scene_file(scene_path(name));
+  s.name = name;
+  return scenes_.emplace(name, std::move(s)).first->second;
+}
+
+Backend& Harness::activate(const CaseConfig& config) {
+  Backend& b = backend(config.backend);
+  if (loaded_scene_[config.backend] != config.scene) {
+    loaded_scene_[config.backend].clear();
+    b.load(scene(config.scene));
+    loaded_scene_[config.backend] = config.scene;
+  }
+  b.configure(config);
+  return b;
+}
+
+void Harness::prepare(CaseResult& r) {
+  try {
+    Backend& b = backend(r.config.backend);
+    Support s = b.supports(r.config);
+    if (!s.ok) {
+      r.status = Status::unsupported;
+      r.reason = s.reason;
+      return;
+    }
+    activate(r.config);
+    b.render(options_.check_frame);
+    Images images = b.read_back();
+    r.counters = b.count_work(options_.check_frame);
+    if (options_.write_images) write_images(r, images);
+    if (r.config.technique == Technique::six_pass) {
+      reference_key_ = group_key(r.config);
+      reference_ = std::move(images);
+    } else {
+      check_against_six_pass(r, images);
+    }
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = e.what();
+  }
+}
+
+void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
+  CaseConfig ref_config = r.config;
+  ref_config.technique = Technique::six_pass;
+  if (reference_key_ != group_key(r.config)) {
+    // six_pass is not in the matrix (or ran in another shard): render it now, untimed.
+    Backend& b = activate(ref_config);
+    b.render(options_.check_frame);
+    reference_ = b.read_back();
+    reference_key_ = group_key(r.config);
+    activate(r.config);  // leave the backend on the case being measured
+  }
+  const Images& ref = *reference_;
+  const float far_plane = scene(r.config.scene).light.far_plane;
+  fs::path dir = fs::path("images") / r.config.id();
+
+  auto record = [&](CheckResult c, const std::vector<float>& a, const std::vector<float>& b,
+                    const std::vector<float>& grey, int w, int h, double scale, bool flip) {
+    c.against = ref_config.id();
+    c.passed = c.difference.differing == 0;
+    if (!c.passed && options_.write_images) {
+      c.diff_image = (dir / ("diff_" + c.name + ".png")).string();
+      fs::create_directories(fs::path(options_.out_dir) / dir);
+      write_png_rgb_top_down((fs::path(options_.out_dir) / c.diff_image).string(), w, h,
+                             diff_image_rgb(a, b, grey, w, h, c.tolerance, scale, flip));
+    }
+    r.checks.push_back(c);
+  };
+
+  // Cube faces, in world units: the technique must store what six_pass stores.
+  std::vector<float> faces = concat_faces(images), ref_faces = concat_faces(ref);
+  CheckResult faces_check{"cube_faces"};
+  faces_check.tolerance = options_.face_tolerance;
+  faces_check.difference = compare_values(faces, ref_faces, options_.face_tolerance);
+  record(faces_check, faces, ref_faces, scaled(ref_faces, 1.0f / far_plane), images.cube_size * 6, images.cube_size,
+         far_plane * 0.05, false);
+
+  CheckResult shadow_check{"shadow_factor"};
+  shadow_check.tolerance = 0.0;
+  shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, 0.0);
+  record(shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height, 1.0,
+         true);
+
+  CheckResult lit_check{"lit"};
+  lit_check.tolerance = options_.lit_tolerance;
+  lit_check.difference = compare_values(images.lit_rgba8, ref.lit_rgba8, options_.lit_tolerance);
+  std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit_rgba8);
+  record(lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8), images.width,
+         images.height, 64.0, true);
+
+  std::string failures;
+  for (const CheckResult& c : r.checks)
+    if (!c.passed)
+      failures += (failures.empty() ? "" : "; ") + c.name + " differ from six_pass in " +
+                  fmt(c.difference.percent_differing()) + "% of values (max abs " + fmt(c.difference.max_abs) + ")";
+  if (!failures.empty()) {
+    r.status = Status::failed_check;
+    r.reason = failures;
+    if (all_faces_identical(images) && !all_faces_identical(ref))
+      r.reason += "; all six faces hold the same image while six_pass's differ: the driver rendered every "
+                  "layer/view into one face";
+  }
+}
+
+void Harness::write_images(CaseResult& r, const Images& img) {
+  fs::path rel = fs::path("images") / r.config.id();
+  fs::path dir = fs::path(options_.out_dir) / rel;
+  fs::create_directories(dir);
+  auto out = [&](const std::string& role, const std::string& file) {
+    r.images[role] = (rel / file).string();
+    return (dir / file).string();
+  };
+  write_png_rgba_bottom_up(out("lit", "lit.png"), img.width, img.height, img.lit_rgba8);
+  write_png_gray(out("shadow_factor_png", "shadow_factor.png"), img.width, img.height, img.shadow_factor, 0.0f, 1.0f,
+                 true);
+  write_pfm(out("shadow_factor", "shadow_factor.pfm"), img.width, img.height, 1, img.shadow_factor);
+  std::vector<float> xyz, coverage;
+  xyz.reserve(img.world_position.size() / 4 * 3);
+  coverage.reserve(img.world_position.size() / 4);
+  for (size_t i = 0; i < img.world_position.size(); i += 4) {
+    xyz.insert(xyz.end(), img.world_position.begin() + static_cast<ptrdiff_t>(i),
+               img.world_position.begin() + static_cast<ptrdiff_t>(i) + 3);
+    coverage.push_back(img.world_position[i + 3]);
+  }
+  write_pfm(out("world_position", "world_position.pfm"), img.width, img.height, 3, xyz);
+  write_pfm(out("coverage", "coverage.pfm"), img.width, img.height, 1, coverage);
+  const float far_plane = scene(r.config.scene).light.far_plane;
+  write_png_gray(out("cube_faces", "cube_faces.png"), img.cube_size * 6, img.cube_size, concat_faces(img), 0.0f,
+                 far_plane, false);
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,128 @@
+#include "bench/gbench_glue.h"
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstdio>
+
+namespace omnishadow::bench {
+namespace {
+
+using benchmark::Counter;
+
+void set_pass_counters(benchmark::State& state, const std::string& pass, const PassCounters& c) {
+  if (!c.valid) return;
+  // Work counters are per frame and identical every frame; kDefaults keeps them as-is.
+  state.counters[pass + "_draws"] = Counter(static_cast<double>(c.draw_calls));
+  state.counters[pass + "_vertices"] = Counter(static_cast<double>(c.vertices_submitted));
+  state.counters[pass + "_primitives"] = Counter(static_cast<double>(c.primitives_submitted));
+  state.counters[pass + "_vs_invocations"] = Counter(static_cast<double>(c.vs_invocations));
+  state.counters[pass + "_gs_invocations"] = Counter(static_cast<double>(c.gs_invocations));
+  state.counters[pass + "_gs_primitives"] = Counter(static_cast<double>(c.gs_primitives));
+  state.counters[pass + "_clip_in"] = Counter(static_cast<double>(c.clipping_input));
+  state.counters[pass + "_clip_out"] = Counter(static_cast<double>(c.clipping_output));
+  state.counters[pass + "_fs_invocations"] = Counter(static_cast<double>(c.fs_invocations));
+}
+
+// Console output: Google Benchmark's table with only the headline counters; the JSON keeps all of them.
+class CompactConsoleReporter : public benchmark::ConsoleReporter {
+ public:
+  CompactConsoleReporter() : benchmark::ConsoleReporter(OO_Tabular) {}
+  void ReportRuns(const std::vector<Run>& runs) override {
+    std::vector<Run> compact = runs;
+    for (Run& run : compact)
+      std::erase_if(run.counters, [](const auto& kv) {
+        return kv.first != "shadow_wall_ms" && kv.first != "lighting_wall_ms" && kv.first != "shadow_gpu_ms";
+      });
+    benchmark::ConsoleReporter::ReportRuns(compact);
+  }
+};
+
+struct Progress {
+  int done = 0;
+  int total = 0;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  void step(const std::string& id) {
+    ++done;
+    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    double eta = done > 1 ? elapsed / (done - 1) * (total - done + 1) : 0.0;
+    std::fprintf(stderr, "[time %d/%d] %s  (elapsed %.0fs, eta %.0fs)\n", done, total, id.c_str(), elapsed, eta);
+  }
+};
+
+void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progress& progress) {
+  progress.step(r.config.id());
+  if (r.status == Status::unsupported || r.status == Status::failed) {
+    state.SkipWithError((std::string(to_string(r.status)) + ": " + r.reason).c_str());
+    return;
+  }
+  const RunOptions& o = harness.options();
+  std::vector<FrameTiming> frames;
+  try {
+    Backend& b = harness.activate(r.config);
+    // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings.
+    for (int i = 0; i < o.warmup_frames; ++i) r.warmup.push_back(b.render(i));
+    int frame = o.warmup_frames;
+    double sums[6] = {0, 0, 0, 0, 0, 0};
+    for (auto _ : state) {
+      FrameTiming t = b.render(frame++);
+      state.SetIterationTime(t.frame_wall_ms * 1e-3);
+      frames.push_back(t);
+      sums[0] += t.shadow.cpu_wall_ms;
+      sums[1] += t.shadow.cpu_submit_ms;
+      sums[2] += t.lighting.cpu_wall_ms;
+      sums[3] += t.lighting.cpu_submit_ms;
+      sums[4] += t.shadow.gpu_ms;
+      sums[5] += t.lighting.gpu_ms;
+    }
+    state.counters["shadow_wall_ms"] = Counter(sums[0], Counter::kAvgIterations);
+    state.counters["shadow_submit_ms"] = Counter(sums[1], Counter::kAvgIterations);
+    state.counters["lighting_wall_ms"] = Counter(sums[2], Counter::kAvgIterations);
+    state.counters["lighting_submit_ms"] = Counter(sums[3], Counter::kAvgIterations);
+    std::vector<FrameTiming> checked = r.warmup;
+    checked.insert(checked.end(), frames.begin(), frames.end());
+    GpuTimerCheck gpu = check_gpu_timer(checked);
+    state.counters["gpu_timer_reliable"] = Counter(gpu.reliable ? 1.0 : 0.0);
+    if (gpu.reliable) {
+      state.counters["shadow_gpu_ms"] = Counter(sums[4], Counter::kAvgIterations);
+      state.counters["lighting_gpu_ms"] = Counter(sums[5], Counter::kAvgIterations);
+    }
+    set_pass_counters(state, "shadow", r.counters.shadow);
+    set_pass_counters(state, "lighting", r.counters.lighting);
+    state.SetLabel(std::string(to_string(r.status)));
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = std::string("while timing: ") + e.what();
+    state.SkipWithError(("failed: " + r.reason).c_str());
+  }
+  r.frames.insert(r.frames.end(), frames.begin(), frames.end());
+  ++r.repetitions;
+  std::vector<FrameTiming> all = r.warmup;
+  all.insert(all.end(), r.frames.begin(), r.frames.end());
+  r.gpu_timer = check_gpu_timer(all);
+}
+
+}  // namespace
+
+void run_timed(Harness& harness, std::vector<CaseResult>& results, int repetitions,
+               const std::function<void()>& after_case) {
+  Progress progress;
+  for (CaseResult& r : results) {
+    benchmark::RegisterBenchmark(r.config.id().c_str(),
+                                 [&harness, &r, &progress, &after_case](benchmark::State& state) {
+                                   time_case(harness, r, state, progress);
+                                   after_case();
+                                 })
+        ->UseManualTime()
+        ->Iterations(harness.options().frames)
+        ->Unit(benchmark::kMillisecond);
+  }
+  progress.total = static_cast<int>(results.size()) * repetitions;
+
+  CompactConsoleReporter console;
+  benchmark::JSONReporter json;  // writes to --benchmark_out, which main() always sets
+  benchmark::RunSpecifiedBenchmarks(&console, &json);
+  benchmark::ClearRegisteredBenchmarks();
+}
+
+}  // namespace omnishadow::bench

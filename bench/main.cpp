@@ -1,0 +1,127 @@
+// omnishadow: benchmark and profiling harness for omnidirectional (cube-map) shadow mapping.
+// `omnishadow list` shows what this machine can run; `omnishadow run ...` runs a matrix. See README.md.
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bench/commands.h"
+
+using namespace omnishadow;
+using namespace omnishadow::bench;
+
+int main(int argc, char** argv) {
+  // Google Benchmark's flags go to Google Benchmark; everything else is ours.
+  std::vector<std::string> ours, benchmark_args;
+  std::string command_line = argv[0];
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    command_line += " " + a;
+    (a.rfind("--benchmark_", 0) == 0 ? benchmark_args : ours).push_back(a);
+  }
+
+  CLI::App app{"omnishadow: benchmark harness for point-light (cube-map) shadow mapping"};
+  app.require_subcommand(1);
+  std::string scenes_dir = OMNISHADOW_SCENES_DIR;
+  std::string egl_platform = "surfaceless", gl_device = "0";
+  auto add_common = [&](CLI::App* sub) {
+    sub->add_option("--scenes-dir", scenes_dir, "folder holding <scene>.json files")->capture_default_str();
+    sub->add_option("--egl-platform", egl_platform, "surfaceless (Mesa) or device (EGL_EXT_platform_device)")
+        ->capture_default_str();
+    sub->add_option("--gl-device", gl_device, "EGL device index with --egl-platform device")->capture_default_str();
+  };
+
+  CLI::App* list = app.add_subcommand("list", "backends, scenes, techniques, filters and what this machine supports");
+  add_common(list);
+
+  RunCommand run;
+  std::string backends = "gl", scenes = "room,heavy", cubes = "512,1024", frames_sizes, techniques, filters,
+              storages = "linear_depth", depth_formats = "d32f", shard_text;
+  techniques = "six_pass,geometry_shader,geometry_shader_instanced,vs_layer";
+  filters = "hard,pcf_grid64,pcf_disk20";
+  CLI::App* r = app.add_subcommand("run", "run a benchmark matrix (Google Benchmark --benchmark_* flags apply)");
+  add_common(r);
+  r->add_option("--backend", backends, "comma list of backends: gl")->capture_default_str();
+  r->add_option("--scene", scenes, "comma list of scene names (scenes/<name>.json) or .json paths")
+      ->capture_default_str();
+  r->add_option("--cube", cubes, "comma list of cube face sizes in texels")->capture_default_str();
+  r->add_option("--frame", frames_sizes, "comma list of WIDTHxHEIGHT (default: each scene's camera size)");
+  r->add_option("--technique", techniques, "comma list: " + valid_values<Technique>())->capture_default_str();
+  r->add_option("--filter", filters, "comma list: " + valid_values<Filter>())->capture_default_str();
+  r->add_option("--storage", storages, "comma list: " + valid_values<Storage>())->capture_default_str();
+  r->add_option("--depth-format", depth_formats, "comma list: " + valid_values<DepthFormat>())
+      ->capture_default_str();
+  r->add_option("--out", run.out_dir, "output folder (must not hold a run already); default results/run-<time>");
+  r->add_option("--frames", run.frames, "timed frames per repetition")->capture_default_str()->check(
+      CLI::Range(1, 1000000));
+  r->add_option("--warmup", run.warmup_frames, "untimed warm-up frames per repetition")->capture_default_str()->check(
+      CLI::Range(0, 1000000));
+  r->add_option("--check-frame", run.check_frame, "frame index whose images are written and compared")
+      ->capture_default_str()->check(CLI::Range(0, 100000000));
+  r->add_option("--face-tolerance", run.face_tolerance, "allowed |difference| of cube texels, world units")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e30));
+  r->add_option("--lit-tolerance", run.lit_tolerance, "allowed |difference| of lit pixels, 8-bit levels")
+      ->capture_default_str()->check(CLI::Range(0.0, 255.0));
+  bool no_images = false;
+  r->add_flag("--no-images", no_images, "do not write images (checks still run)");
+  r->add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
+  r->add_option("--shard", shard_text, "i/N: run the i-th of N deterministic slices of the matrix");
+
+  try {
+    std::vector<std::string> reversed(ours.rbegin(), ours.rend());  // CLI11 parses a reversed vector
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    print_error(e.what());
+    return 2;
+  }
+
+  std::map<std::string, std::string> backend_options = {{"egl_platform", egl_platform}, {"gl_device", gl_device}};
+  if (list->parsed()) {
+    if (!benchmark_args.empty()) {
+      print_error(benchmark_args.front() + " applies to 'run' only");
+      return 2;
+    }
+    return list_command(scenes_dir, backend_options);
+  }
+
+  try {
+    run.matrix.backends = split_list(backends);
+    run.matrix.scenes = split_list(scenes);
+    if (run.matrix.backends.empty()) throw std::invalid_argument("--backend: empty list");
+    if (run.matrix.scenes.empty()) throw std::invalid_argument("--scene: empty list");
+    run.matrix.cube_sizes = parse_int_list(cubes, "--cube");
+    if (!frames_sizes.empty()) run.matrix.frame_sizes = parse_size_list(frames_sizes, "--frame");
+    run.matrix.techniques = parse_enum_list<Technique>(techniques, "--technique");
+    run.matrix.filters = parse_enum_list<Filter>(filters, "--filter");
+    run.matrix.storages = parse_enum_list<Storage>(storages, "--storage");
+    run.matrix.depth_formats = parse_enum_list<DepthFormat>(depth_formats, "--depth-format");
+    if (!shard_text.empty()) {
+      int consumed = 0;
+      if (std::sscanf(shard_text.c_str(), "%d/%d%n", &run.shard_index, &run.shard_count, &consumed) != 2 ||
+          consumed != static_cast<int>(shard_text.size()) || run.shard_count < 1 || run.shard_index < 0 ||
+          run.shard_index >= run.shard_count)
+        throw std::invalid_argument("--shard: expected i/N with 0 <= i < N, got '" + shard_text + "'");
+    }
+  } catch (const std::invalid_argument& e) {
+    print_error(e.what());
+    return 2;
+  }
+  for (const std::string& a : benchmark_args)
+    if (a.rfind("--benchmark_out", 0) == 0) {
+      print_error(a + ": omnishadow writes results.json itself; choose the folder with --out");
+      return 2;
+    }
+  run.write_images = !no_images;
+  run.scenes_dir = scenes_dir;
+  run.backend_options = backend_options;
+  run.benchmark_args = benchmark_args;
+  run.command_line = command_line;
+  return run_command(run);
+}

@@ -1,0 +1,99 @@
+#include "bench/matrix.h"
+
+#include <stdexcept>
+
+namespace omnishadow::bench {
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t comma = text.find(',', start);
+    if (comma == std::string::npos) comma = text.size();
+    std::string item = text.substr(start, comma - start);
+    if (!item.empty()) out.push_back(item);
+    start = comma + 1;
+  }
+  return out;
+}
+
+namespace {
+
+int parse_positive(const std::string& item, const std::string& option, const char* what) {
+  size_t used = 0;
+  long value = 0;
+  try {
+    value = std::stol(item, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != item.size() || item.empty() || value < 1 || value > (1 << 20))
+    throw std::invalid_argument(option + ": '" + item + "' is not a valid " + what +
+                                " (a whole number from 1 to 1048576)");
+  return static_cast<int>(value);
+}
+
+}  // namespace
+
+std::vector<int> parse_int_list(const std::string& text, const std::string& option) {
+  std::vector<int> out;
+  for (const std::string& item : split_list(text)) out.push_back(parse_positive(item, option, "size"));
+  if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  return out;
+}
+
+std::vector<std::pair<int, int>> parse_size_list(const std::string& text, const std::string& option) {
+  std::vector<std::pair<int, int>> out;
+  for (const std::string& item : split_list(text)) {
+    size_t x = item.find('x');
+    if (x == std::string::npos) throw std::invalid_argument(option + ": '" + item + "' is not WIDTHxHEIGHT");
+    out.emplace_back(parse_positive(item.substr(0, x), option, "width"),
+                     parse_positive(item.substr(x + 1), option, "height"));
+  }
+  if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  return out;
+}
+
+std::vector<CaseConfig> expand(const MatrixSpec& spec,
+                               const std::map<std::string, std::pair<int, int>>& scene_sizes) {
+  std::vector<CaseConfig> cases;
+  for (const auto& backend : spec.backends)
+    for (const auto& scene : spec.scenes) {
+      std::vector<std::pair<int, int>> sizes = spec.frame_sizes;
+      if (sizes.empty()) {
+        auto it = scene_sizes.find(scene);
+        if (it == scene_sizes.end()) throw std::invalid_argument("no frame size known for scene " + scene);
+        sizes.push_back(it->second);
+      }
+      for (int cube : spec.cube_sizes)
+        for (const auto& [w, h] : sizes)
+          for (Storage storage : spec.storages)
+            for (DepthFormat depth : spec.depth_formats)
+              for (Filter filter : spec.filters)
+                for (Technique technique : spec.techniques) {
+                  CaseConfig c;
+                  c.backend = backend;
+                  c.scene = scene;
+                  c.cube_size = cube;
+                  c.width = w;
+                  c.height = h;
+                  c.storage = storage;
+                  c.depth_format = depth;
+                  c.filter = filter;
+                  c.technique = technique;
+                  cases.push_back(c);
+                }
+    }
+  return cases;
+}
+
+std::vector<CaseConfig> shard(const std::vector<CaseConfig>& cases, int index, int count) {
+  if (count < 1 || index < 0 || index >= count)
+    throw std::invalid_argument("--shard: expected i/N with 0 <= i < N");
+  std::vector<CaseConfig> out;
+  for (size_t i = 0; i < cases.size(); ++i)
+    if (static_cast<int>(i % static_cast<size_t>(count)) == index) out.push_back(cases[i]);
+  return out;
+}
+
+}  // namespace omnishadow::bench

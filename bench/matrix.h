@@ -1,0 +1,54 @@
+#pragma once
+// The benchmark matrix: lists per axis, expanded into cases in a fixed order (backend, scene, cube size,
+// frame size, storage, depth format, filter, technique). Technique is innermost so that each single-pass case
+// runs right after the six_pass case it is checked against.
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "backends/common/case_config.h"
+
+namespace omnishadow::bench {
+
+struct MatrixSpec {
+  std::vector<std::string> backends{"gl"};
+  std::vector<std::string> scenes{"room", "heavy"};
+  std::vector<int> cube_sizes{512, 1024};
+  std::vector<std::pair<int, int>> frame_sizes;  // empty: each scene's own camera size
+  std::vector<Technique> techniques{Technique::six_pass, Technique::geometry_shader,
+                                    Technique::geometry_shader_instanced, Technique::vs_layer};
+  std::vector<Filter> filters{Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20};
+  std::vector<Storage> storages{Storage::linear_depth};
+  std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
+};
+
+// scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.
+std::vector<CaseConfig> expand(const MatrixSpec& spec, const std::map<std::string, std::pair<int, int>>& scene_sizes);
+
+// Deterministic sharding: shard `index` of `count` keeps cases whose position modulo count equals index.
+std::vector<CaseConfig> shard(const std::vector<CaseConfig>& cases, int index, int count);
+
+// "256,512" -> {256, 512}; throws std::invalid_argument naming `option` on anything but positive integers.
+std::vector<int> parse_int_list(const std::string& text, const std::string& option);
+// "800x600,1920x1080"
+std::vector<std::pair<int, int>> parse_size_list(const std::string& text, const std::string& option);
+std::vector<std::string> split_list(const std::string& text);
+
+template <typename E>
+std::vector<E> parse_enum_list(const std::string& text, const std::string& option) {
+  std::vector<E> out;
+  for (const std::string& item : split_list(text)) {
+    try {
+      out.push_back(parse_enum<E>(item));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(option + ": " + e.what());
+    }
+  }
+  if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  return out;
+}
+
+}  // namespace omnishadow::bench

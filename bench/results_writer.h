@@ -1,0 +1,34 @@
+#pragma once
+// results.json: Google Benchmark's JSON (so tools/compare.py reads it) with an "omnishadow" section holding
+// every case's axes, status, checks, work counters, timing summaries and images, plus device and machine.
+// Written atomically after every case, so a run killed at any point leaves a valid file with what finished.
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench/case_runner.h"
+
+namespace omnishadow::bench {
+
+struct RunInfo {
+  std::string command_line;
+  std::map<std::string, DeviceInfo> devices;  // by backend name
+  RunOptions options;
+};
+
+// Google Benchmark writes non-JSON tokens (NaN, inf) for aggregates such as the coefficient of variation of a
+// counter that is 0 in every repetition; they are read here as null.
+nlohmann::json parse_gbench_json(const std::string& text);
+
+nlohmann::json case_to_json(const CaseResult& r);
+nlohmann::json device_to_json(const DeviceInfo& d);
+
+// `gbench` is Google Benchmark's own JSON for the run, or null while timing has not finished; `complete`
+// says whether every case of the matrix is in.
+void write_results(const std::string& path, const RunInfo& run, const std::vector<CaseResult>& results,
+                   const nlohmann::json& gbench, bool complete);
+
+}  // namespace omnishadow::bench

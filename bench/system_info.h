@@ -1,0 +1,14 @@
+#pragma once
+// Facts about the machine and build that belong in every results file.
+
+#include <map>
+#include <string>
+
+namespace omnishadow::bench {
+
+// cpu_model, cpu_count, LP_NUM_THREADS (or "unset: one raster thread per core"), GALLIUM_DRIVER,
+// MESA_LOADER_DRIVER_OVERRIDE, kernel, commit, build_type.
+std::map<std::string, std::string> system_info();
+std::string build_commit();
+
+}  // namespace omnishadow::bench

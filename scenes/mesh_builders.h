@@ -1,0 +1,25 @@
+#pragma once
+// Unit primitives in object space, as non-indexed counter-clockwise triangle lists with outward normals.
+// Sizes follow the seeds: the box spans [-1, 1]^3 (LearnOpenGL's renderCube), so "scale 5" gives the
+// 10-unit room of seeds 000/001.
+
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+namespace omnishadow::scene {
+
+struct MeshVertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+};
+
+std::vector<MeshVertex> make_box();                                   // [-1,1]^3, 12 triangles
+std::vector<MeshVertex> make_plane();                                 // [-1,1]^2 in XZ, normal +Y, 2 triangles
+std::vector<MeshVertex> make_sphere(int longitude_segments, int latitude_segments);  // radius 1
+// Triangulated OBJ (v, vn optional, f with any polygon size fanned). Throws std::runtime_error on bad lines,
+// naming the line number; the caller adds the scene file and pointer.
+std::vector<MeshVertex> load_obj(const std::string& path);
+
+}  // namespace omnishadow::scene

@@ -1,0 +1,81 @@
+#pragma once
+// A scene holds only what shadows need: triangle geometry with a colour, lights and a camera.
+// Units are world units; the light path is a function of the frame index (never wall-clock time), so any
+// frame of any case can be reproduced bit for bit.
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace omnishadow::scene {
+
+// Raised for every defect in a scene file; what() is one line naming the file and the JSON pointer.
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Vertex {
+  glm::vec3 position;  // world space (instances are baked at load: the scene is static, only lights move)
+  glm::vec3 normal;    // world space, unit length, pointing to the side that is lit
+  glm::vec3 color;     // linear RGB albedo
+};
+
+// One scene object after baking: a contiguous range of triangles in Scene::vertices.
+struct Object {
+  std::string name;
+  std::string kind;        // box, plane, sphere, obj
+  uint32_t first_vertex = 0;
+  uint32_t vertex_count = 0;
+  bool cull_back_faces = false;  // closed convex meshes seen from outside; false for rooms and quads
+  glm::vec3 bounds_min{0.0f};
+  glm::vec3 bounds_max{0.0f};
+};
+
+// Light position as a function of the frame: position = base + amplitude * sin(frequency * t),
+// t = frame * seconds_per_frame. Seeds 000/001: base (0,0,0), amplitude (0,0,3), frequency 0.5.
+struct LightPath {
+  glm::vec3 base{0.0f};
+  glm::vec3 amplitude{0.0f};
+  float frequency = 0.0f;          // radians per second of scene time
+  float seconds_per_frame = 1.0f / 60.0f;
+  glm::vec3 at(int frame) const;
+};
+
+struct PointLight {
+  LightPath path;
+  float near_plane = 1.0f;  // world units; the 90-degree face projections use these
+  float far_plane = 25.0f;
+  glm::vec3 color{0.3f};     // seed 001/002 lighting: lightColor 0.3, ambient 0.3 * albedo
+};
+
+struct Camera {
+  glm::vec3 position{0.0f, 0.0f, 3.0f};
+  glm::vec3 target{0.0f, 0.0f, 0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fov_y_degrees = 45.0f;
+  float near_plane = 0.1f;
+  float far_plane = 100.0f;
+  int width = 800;
+  int height = 600;
+};
+
+struct Scene {
+  std::string name;    // file stem: "room"
+  std::string source;  // file the scene came from, for error messages
+  std::vector<Vertex> vertices;  // non-indexed triangle list, all objects back to back
+  std::vector<Object> objects;
+  PointLight light;
+  Camera camera;
+  uint64_t triangle_count() const { return vertices.size() / 3; }
+};
+
+// Loads and validates a scene file. Throws SceneError("file: /objects/3/scale: must be > 0") on any defect.
+Scene load_scene_file(const std::string& path);
+// Same from text already in memory; `source` is only used to name errors.
+Scene load_scene_text(const std::string& text, const std::string& source);
+
+}  // namespace omnishadow::scene

@@ -1,0 +1,271 @@
+// Scene files: strict JSON with every field checked, so a typo is an error naming its JSON pointer rather than a
+// silently different scene. The format is documented in scenes/README.md.
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "scenes/mesh_builders.h"
+#include "scenes/scene.h"
+
+namespace omnishadow::scene {
+
+glm::vec3 LightPath::at(int frame) const {
+  float t = static_cast<float>(frame) * seconds_per_frame;
+  return base + amplitude * std::sin(frequency * t);
+}
+
+namespace {
+
+using nlohmann::json;
+
+// A JSON value with the pointer that reached it, so that every error can name /objects/3/scale.
+class Node {
+ public:
+  Node(const json& value, std::string pointer, const std::string& source)
+      : value_(value), pointer_(std::move(pointer)), source_(source) {}
+
+  [[noreturn]] void fail(const std::string& why) const {
+    throw SceneError(source_ + ": " + (pointer_.empty() ? "/" : pointer_) + ": " + why);
+  }
+  const json& value() const { return value_; }
+  const std::string& pointer() const { return pointer_; }
+
+  bool has(const char* key) const { return value_.contains(key); }
+  Node at(const char* key) const {
+    if (!value_.contains(key)) Node(value_, pointer_ + "/" + key, source_).fail("missing required field");
+    return Node(value_.at(key), pointer_ + "/" + key, source_);
+  }
+  Node at(size_t index) const { return Node(value_.at(index), pointer_ + "/" + std::to_string(index), source_); }
+
+  void expect_object(const std::set<std::string>& allowed) const {
+    if (!value_.is_object()) fail("expected an object");
+    for (const auto& [key, _] : value_.items())
+      if (!allowed.count(key)) Node(value_[key], pointer_ + "/" + key, source_).fail("unknown field");
+  }
+  double number() const {
+    if (!value_.is_number()) fail("expected a number");
+    double v = value_.get<double>();
+    if (!std::isfinite(v) || std::fabs(v) > 1e30) fail("number must be finite and below 1e30 in magnitude");
+    return v;
+  }
+  double number_in(double lo, double hi) const {
+    double v = number();
+    if (v < lo || v > hi) {
+      std::ostringstream s;
+      s << "must be in [" << lo << ", " << hi << "], got " << v;
+      fail(s.str());
+    }
+    return v;
+  }
+  int integer_in(int lo, int hi) const {
+    if (!value_.is_number_integer()) fail("expected an integer");
+    auto v = value_.get<long long>();
+    if (v < lo || v > hi) fail("must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return static_cast<int>(v);
+  }
+  bool boolean() const {
+    if (!value_.is_boolean()) fail("expected true or false");
+    return value_.get<bool>();
+  }
+  std::string string() const {
+    if (!value_.is_string()) fail("expected a string");
+    return value_.get<std::string>();
+  }
+  glm::vec3 vec3() const {
+    if (!value_.is_array() || value_.size() != 3) fail("expected an array of 3 numbers");
+    return {at(size_t{0}).number(), at(size_t{1}).number(), at(size_t{2}).number()};
+  }
+  // A scale: one positive number (uniform) or three.
+  glm::vec3 scale() const {
+    glm::vec3 s = value_.is_number() ? glm::vec3(static_cast<float>(number())) : vec3();
+    if (!(s.x > 0.0f && s.y > 0.0f && s.z > 0.0f)) fail("scale must be > 0 on every axis");
+    return s;
+  }
+
+ private:
+  const json& value_;
+  std::string pointer_;
+  const std::string& source_;
+};
+
+Camera parse_camera(const Node& n) {
+  n.expect_object({"position", "target", "up", "fov_y_degrees", "near", "far", "size"});
+  Camera c;
+  if (n.has("position")) c.position = n.at("position").vec3();
+  if (n.has("target")) c.target = n.at("target").vec3();
+  if (n.has("up")) c.up = n.at("up").vec3();
+  if (glm::length(c.target - c.position) == 0.0f) n.at("target").fail("target must differ from position");
+  if (n.has("fov_y_degrees")) c.fov_y_degrees = static_cast<float>(n.at("fov_y_degrees").number_in(1, 179));
+  if (n.has("near")) c.near_plane = static_cast<float>(n.at("near").number_in(1e-6, 1e30));
+  if (n.has("far")) c.far_plane = static_cast<float>(n.at("far").number_in(1e-6, 1e30));
+  if (c.far_plane <= c.near_plane) n.at("far").fail("far must be greater than near");
+  if (n.has("size")) {
+    Node s = n.at("size");
+    if (!s.value().is_array() || s.value().size() != 2) s.fail("expected [width, height]");
+    c.width = s.at(size_t{0}).integer_in(1, 16384);
+    c.height = s.at(size_t{1}).integer_in(1, 16384);
+  }
+  return c;
+}
+
+PointLight parse_light(const Node& n) {
+  n.expect_object({"type", "position", "path", "near", "far", "color"});
+  PointLight l;
+  if (n.has("type") && n.at("type").string() != "point") n.at("type").fail("only \"point\" lights are supported");
+  if (n.has("position")) l.path.base = n.at("position").vec3();
+  if (n.has("path")) {
+    Node p = n.at("path");
+    p.expect_object({"amplitude", "frequency", "seconds_per_frame"});
+    if (p.has("amplitude")) l.path.amplitude = p.at("amplitude").vec3();
+    if (p.has("frequency")) l.path.frequency = static_cast<float>(p.at("frequency").number());
+    if (p.has("seconds_per_frame"))
+      l.path.seconds_per_frame = static_cast<float>(p.at("seconds_per_frame").number_in(0, 3600));
+  }
+  if (n.has("near")) l.near_plane = static_cast<float>(n.at("near").number_in(1e-9, 1e30));
+  if (n.has("far")) l.far_plane = static_cast<float>(n.at("far").number_in(1e-9, 1e30));
+  if (l.far_plane <= l.near_plane) n.at("far").fail("far must be greater than near");
+  if (n.has("color")) l.color = n.at("color").vec3();
+  return l;
+}
+
+std::vector<MeshVertex> build_shape(const Node& n, const std::string& type, const std::string& scene_dir) {
+  if (type == "box") return make_box();
+  if (type == "plane") return make_plane();
+  if (type == "sphere") {
+    int lon = 32, lat = 16;
+    if (n.has("segments")) {
+      Node s = n.at("segments");
+      if (!s.value().is_array() || s.value().size() != 2) s.fail("expected [longitude, latitude]");
+      lon = s.at(size_t{0}).integer_in(3, 4096);
+      lat = s.at(size_t{1}).integer_in(2, 4096);
+    }
+    return make_sphere(lon, lat);
+  }
+  if (type == "obj") {
+    std::filesystem::path file = n.at("file").string();
+    if (file.is_relative()) file = std::filesystem::path(scene_dir) / file;
+    try {
+      return load_obj(file.string());
+    } catch (const std::exception& e) {
+      n.at("file").fail(e.what());
+    }
+  }
+  n.at("type").fail("unknown object type '" + type + "' (valid: box, plane, sphere, obj)");
+}
+
+void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_t index) {
+  n.expect_object({"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file", "array"});
+  std::string type = n.at("type").string();
+  std::vector<MeshVertex> mesh = build_shape(n, type, scene_dir);
+
+  glm::vec3 translate(0.0f), scale(1.0f), color(0.8f);
+  glm::mat4 rotation(1.0f);
+  if (n.has("translate")) translate = n.at("translate").vec3();
+  if (n.has("scale")) scale = n.at("scale").scale();
+  if (n.has("color")) {
+    color = n.at("color").vec3();
+    if (glm::any(glm::lessThan(color, glm::vec3(0.0f)))) n.at("color").fail("colour components must be >= 0");
+  }
+  if (n.has("rotate")) {
+    Node r = n.at("rotate");
+    r.expect_object({"degrees", "axis"});
+    glm::vec3 axis = r.at("axis").vec3();
+    if (glm::length(axis) == 0.0f) r.at("axis").fail("axis must not be zero");
+    rotation = glm::rotate(glm::mat4(1.0f), glm::radians(static_cast<float>(r.at("degrees").number())),
+                           glm::normalize(axis));
+  }
+  bool inside = n.has("inside") && n.at("inside").boolean();
+
+  // Optional grid replication, so a geometry-heavy scene stays a short file: count [x,y,z], spacing [x,y,z].
+  glm::ivec3 count(1);
+  glm::vec3 spacing(0.0f);
+  if (n.has("array")) {
+    Node a = n.at("array");
+    a.expect_object({"count", "spacing"});
+    Node c = a.at("count");
+    if (!c.value().is_array() || c.value().size() != 3) c.fail("expected [nx, ny, nz]");
+    for (int k = 0; k < 3; ++k) count[k] = c.at(static_cast<size_t>(k)).integer_in(1, 1000);
+    spacing = a.at("spacing").vec3();
+  }
+  if (static_cast<uint64_t>(count.x) * count.y * count.z * mesh.size() + scene.vertices.size() > (1ull << 28))
+    n.fail("object too large: more than 2^28 vertices in the scene");
+
+  std::string base_name = n.has("name") ? n.at("name").string() : type + "#" + std::to_string(index);
+  for (int ix = 0; ix < count.x; ++ix)
+    for (int iy = 0; iy < count.y; ++iy)
+      for (int iz = 0; iz < count.z; ++iz) {
+        glm::vec3 offset = spacing * glm::vec3(ix, iy, iz);
+        // Seed order: model = T * R * S.
+        glm::mat4 model = glm::translate(glm::mat4(1.0f), translate + offset) * rotation *
+                          glm::scale(glm::mat4(1.0f), scale);
+        glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(model)));
+        Object obj;
+        obj.name = count == glm::ivec3(1) ? base_name
+                                          : base_name + "[" + std::to_string(ix) + "," + std::to_string(iy) +
+                                                "," + std::to_string(iz) + "]";
+        obj.kind = type;
+        obj.first_vertex = static_cast<uint32_t>(scene.vertices.size());
+        obj.vertex_count = static_cast<uint32_t>(mesh.size());
+        obj.cull_back_faces = !inside && (type == "box" || type == "sphere");
+        obj.bounds_min = glm::vec3(INFINITY);
+        obj.bounds_max = glm::vec3(-INFINITY);
+        for (const MeshVertex& mv : mesh) {
+          Vertex v;
+          v.position = glm::vec3(model * glm::vec4(mv.position, 1.0f));
+          glm::vec3 nrm = normal_matrix * mv.normal;
+          float len = glm::length(nrm);
+          v.normal = len > 0.0f ? nrm / len : glm::vec3(0, 1, 0);
+          if (inside) v.normal = -v.normal;  // seen from inside: the seed's reverseNormals
+          v.color = color;
+          obj.bounds_min = glm::min(obj.bounds_min, v.position);
+          obj.bounds_max = glm::max(obj.bounds_max, v.position);
+          scene.vertices.push_back(v);
+        }
+        scene.objects.push_back(obj);
+      }
+}
+
+}  // namespace
+
+Scene load_scene_text(const std::string& text, const std::string& source) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw SceneError(source + ": malformed JSON at byte " + std::to_string(e.byte) + ": " +
+                     std::string(e.what()).substr(std::string(e.what()).rfind(':') + 2));
+  }
+  Node root(doc, "", source);
+  root.expect_object({"format", "description", "camera", "light", "objects"});
+  if (root.has("format") && root.at("format").string() != "omnishadow-scene/1")
+    root.at("format").fail("unsupported format (expected \"omnishadow-scene/1\")");
+
+  Scene scene;
+  scene.source = source;
+  scene.name = std::filesystem::path(source).stem().string();
+  if (root.has("camera")) scene.camera = parse_camera(root.at("camera"));
+  scene.light = parse_light(root.at("light"));
+
+  Node objects = root.at("objects");
+  if (!objects.value().is_array()) objects.fail("expected an array of objects");
+  if (objects.value().empty()) objects.fail("a scene needs at least one object");
+  std::string scene_dir = std::filesystem::path(source).parent_path().string();
+  for (size_t i = 0; i < objects.value().size(); ++i) add_object(scene, objects.at(i), scene_dir, i);
+  return scene;
+}
+
+Scene load_scene_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot open scene file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return load_scene_text(buffer.str(), path);
+}
+
+}  // namespace omnishadow::scene

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The main job: dependencies, build, then the default matrix on this machine's default driver.
+# Writes results/default-<UTC time>/ (results.json, summary.md, images/). Extra arguments go to `omnishadow run`.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+out="results/default-$(date -u +%Y%m%d-%H%M%S)"
+./build/release/omnishadow run --out "$out" "$@"

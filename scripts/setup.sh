@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs everything omnishadow needs from Debian 12's packages. Idempotent: installs only what is missing.
+set -euo pipefail
+
+packages=(
+  cmake g++ make pkg-config git
+  libepoxy-dev libegl-dev libgl-dev libglm-dev nlohmann-json3-dev libcli11-dev libstb-dev
+  libbenchmark-dev libbenchmark-tools libgtest-dev
+  libegl-mesa0 libgl1-mesa-dri            # Mesa: llvmpipe through EGL surfaceless on machines without a GPU
+  python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages present"
+  exit 0
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+echo "setup: installing ${missing[*]}"
+$sudo apt-get update -q
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"

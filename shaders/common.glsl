@@ -1,0 +1,19 @@
+// Shared by the GL and Vulkan backends. The block layout mirrors FrameUniforms in
+// backends/common/gpu_layout.h; change both together.
+
+layout(std140, binding = 0) uniform FrameUniforms {
+  mat4 camera_view_proj;
+  mat4 face_view_proj[6];  // face order +X, -X, +Y, -Y, +Z, -Z (backends/common/cube_faces.h)
+  vec4 camera_position;    // xyz, world units
+  vec4 light_position;     // xyz world units; w = far plane of the light (world units)
+  vec4 light_color;        // rgb; w = near plane of the light
+} frame;
+
+// The face a six_pass draw renders. Vulkan pushes it; GL binds one of six prebuilt ranges.
+#ifdef VULKAN
+layout(push_constant) uniform PassUniforms { int face; } pass;
+#else
+layout(std140, binding = 1) uniform PassUniforms { int face; } pass;
+#endif
+
+float light_far() { return frame.light_position.w; }

@@ -1,0 +1,189 @@
+// The omnishadow binary end to end: bad input gives one line naming the culprit and exit code 2; a small run
+// writes results that Google Benchmark's compare.py reads; --check turns failed checks into exit code 1.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "bench/file_io.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+fs::path scratch(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("omnishadow_cli_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir.parent_path());
+  return dir;
+}
+
+Outcome run(const std::string& args) {
+  fs::path base = scratch("io");
+  fs::create_directories(base);
+  std::string cmd = std::string(OMNISHADOW_BINARY) + " " + args + " >" + (base / "out").string() + " 2>" +
+                    (base / "err").string();
+  int status = std::system(cmd.c_str());
+  Outcome o{WIFEXITED(status) ? WEXITSTATUS(status) : -1, omnishadow::bench::read_file((base / "out").string()),
+            omnishadow::bench::read_file((base / "err").string())};
+  return o;
+}
+
+bool gl_available(std::string& why) {
+  Outcome o = run("list");
+  if (o.out.find("gl: unavailable") != std::string::npos || o.exit_code != 0) {
+    why = "OpenGL backend unavailable here: " + o.out.substr(o.out.find("gl:"), 200);
+    return false;
+  }
+  return true;
+}
+
+// Everything on stderr but the progress lines: what a user reads when the run refuses to start.
+std::string error_lines(const std::string& err) {
+  std::istringstream in(err);
+  std::string line, out;
+  while (std::getline(in, line))
+    if (line.rfind("omnishadow: error: ", 0) == 0) out += line + "\n";
+  return out;
+}
+
+struct BadInput {
+  const char* args;
+  const char* expected;  // substring of the single error line
+};
+
+class CliBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(CliBadInput, OneLineErrorAndExitCodeTwo) {
+  std::string why;
+  if (!gl_available(why)) GTEST_SKIP() << why;
+  fs::path bad_scene = scratch("bad_scene.json");
+  { std::ofstream(bad_scene) << R"({"light": {}, "objects": [{"type": "box", "scale": -1}]})"; }
+  std::string args = GetParam().args;
+  size_t at = args.find("@BAD_SCENE@");
+  if (at != std::string::npos) args.replace(at, 11, bad_scene.string());
+  at = args.find("@OUT@");
+  if (at != std::string::npos) args.replace(at, 5, scratch("out").string());
+  Outcome o = run(args);
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  std::string lines = error_lines(o.err);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), '\n'), 1) << o.err;
+  EXPECT_NE(lines.find(GetParam().expected), std::string::npos) << "expected '" << GetParam().expected << "' in " << o.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, CliBadInput,
+    ::testing::Values(BadInput{"run --technique teapot --out @OUT@", "--technique: unknown technique 'teapot'"},
+                      BadInput{"run --filter pcf9 --out @OUT@", "valid: hard, pcf_grid64, pcf_disk20, hw_compare2x2"},
+                      BadInput{"run --storage cubes --out @OUT@", "--storage: unknown storage"},
+                      BadInput{"run --cube 0 --out @OUT@", "--cube: '0' is not a valid size"},
+                      BadInput{"run --cube 1048576 --out @OUT@", "above the largest cube map"},
+                      BadInput{"run --frame 0x600 --out @OUT@", "--frame"},
+                      BadInput{"run --backend metal --out @OUT@", "unknown backend 'metal'"},
+                      BadInput{"run --scene @BAD_SCENE@ --out @OUT@", "bad_scene.json: /objects/0/scale"},
+                      BadInput{"run --scene nosuchscene --out @OUT@", "nosuchscene.json: cannot open scene file"},
+                      BadInput{"run --scene room --out /proc/omnishadow", "--out /proc/omnishadow"},
+                      BadInput{"run --frobnicate", "frobnicate"},
+                      BadInput{"run --shard 3/2 --out @OUT@", "--shard"},
+                      BadInput{"run --out @OUT@ --benchmark_filter=nothing-matches-this", "empty"},
+                      BadInput{"run --out @OUT@ --benchmark_out=x.json", "--benchmark_out"}),
+    [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
+
+class CliRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string why;
+    if (!gl_available(why)) GTEST_SKIP() << why;
+  }
+};
+
+TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
+  fs::path out = scratch("run");
+  Outcome o = run("run --scene room --cube 64 --technique six_pass,geometry_shader,vs_layer "
+                  "--filter hard,hw_compare2x2 --storage linear_depth,r32f_distance --frames 2 --warmup 1 --check "
+                  "--out " + out.string() + " --benchmark_repetitions=2");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_NE(o.err.find("[check 12/12]"), std::string::npos) << "progress on stderr";
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  const auto& cases = j["omnishadow"]["cases"];
+  ASSERT_EQ(cases.size(), 12u);
+  EXPECT_TRUE(j["omnishadow"]["complete"].get<bool>());
+  EXPECT_FALSE(j["omnishadow"]["devices"]["gl"]["renderer"].get<std::string>().empty());
+  EXPECT_TRUE(j["omnishadow"]["system"].contains("LP_NUM_THREADS"));
+  EXPECT_TRUE(j["omnishadow"]["system"].contains("cpu_model"));
+  int ok = 0, unsupported = 0;
+  for (const auto& c : cases) {
+    std::string status = c["status"];
+    if (status == "unsupported") {
+      ++unsupported;
+      EXPECT_NE(c["reason"].get<std::string>(), "");
+      continue;
+    }
+    ASSERT_EQ(status, "ok") << c.dump();
+    ++ok;
+    EXPECT_EQ(c["timing"]["repetitions"], 2);
+    EXPECT_EQ(c["timing"]["timed_frames"], 4);
+    EXPECT_TRUE(c["timing"]["shadow"]["cpu_wall_ms"]["median"].get<double>() > 0);
+    EXPECT_TRUE(c["counters"]["shadow"]["draw_calls"].get<int>() > 0);
+    EXPECT_TRUE(c["gpu_timer"].contains("reliable"));
+    EXPECT_TRUE(fs::exists(out / c["images"]["lit"].get<std::string>()));
+    EXPECT_TRUE(fs::exists(out / c["images"]["cube_faces"].get<std::string>()));
+    EXPECT_TRUE(fs::exists(out / c["images"]["world_position"].get<std::string>()));
+    if (c["axes"]["technique"] != "six_pass") {
+      EXPECT_EQ(c["checks"].size(), 3u);
+    }
+  }
+  EXPECT_EQ(ok, 9);
+  EXPECT_EQ(unsupported, 3);  // hw_compare2x2 with r32f_distance, for each of the three techniques
+  // Google Benchmark entries: one per case and repetition (unsupported cases too, as errors), plus
+  // aggregates; each points at its case.
+  size_t entries = 0;
+  for (const auto& b : j["benchmarks"]) {
+    ASSERT_TRUE(b.contains("omnishadow_case")) << b.dump();
+    entries += b["run_type"] == "iteration";
+  }
+  EXPECT_EQ(entries, 12u * 2u);
+  EXPECT_TRUE(fs::exists(out / "summary.md"));
+  EXPECT_NE(o.out.find("ratio to six_pass"), std::string::npos);
+
+  // A second run into the same folder must not clobber the first.
+  Outcome again = run("run --scene room --cube 64 --out " + out.string());
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_NE(again.err.find("already holds a run"), std::string::npos) << again.err;
+}
+
+TEST_F(CliRun, CompareScriptReadsTwoRuns) {
+  const char* compare = "/usr/share/benchmark/compare.py";
+  if (!fs::exists(compare)) GTEST_SKIP() << "Google Benchmark's compare.py not installed (Debian: libbenchmark-tools)";
+  fs::path a = scratch("a"), b = scratch("b");
+  for (const fs::path& out : {a, b})
+    ASSERT_EQ(run("run --scene room --cube 32 --technique six_pass,geometry_shader --filter hard --frames 2 "
+                  "--no-images --out " + out.string() + " --benchmark_repetitions=3").exit_code, 0);
+  fs::path log = scratch("compare.log");
+  std::string cmd = std::string("/usr/bin/python3 ") + compare + " benchmarks " + (a / "results.json").string() + " " +
+                    (b / "results.json").string() + " >" + log.string() + " 2>&1";
+  int status = std::system(cmd.c_str());
+  std::string text = omnishadow::bench::read_file(log.string());
+  ASSERT_EQ(WEXITSTATUS(status), 0) << text;
+  EXPECT_NE(text.find("gl/room/c32/f800x600/geometry_shader/hard"), std::string::npos) << text;
+  EXPECT_NE(text.find("U Test"), std::string::npos) << text;
+}
+
+TEST_F(CliRun, ListShowsWhatThisMachineSupports) {
+  Outcome o = run("list");
+  ASSERT_EQ(o.exit_code, 0);
+  for (const char* s : {"gl:", "room:", "heavy:", "ogldev:", "techniques: six_pass", "unsupported on gl"})
+    EXPECT_NE(o.out.find(s), std::string::npos) << s << " missing from:\n" << o.out;
+}
+
+}  // namespace

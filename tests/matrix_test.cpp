@@ -1,0 +1,80 @@
+// Matrix expansion: every combination once, in the documented order, split deterministically by --shard.
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "bench/matrix.h"
+
+namespace omnishadow::bench {
+namespace {
+
+const std::map<std::string, std::pair<int, int>> kSizes = {{"room", {800, 600}}, {"heavy", {640, 480}}};
+
+TEST(Matrix, ExpandsEveryCombinationOnceWithTechniqueInnermost) {
+  MatrixSpec spec;
+  spec.scenes = {"room", "heavy"};
+  spec.cube_sizes = {256, 512, 1024};
+  auto cases = expand(spec, kSizes);
+  EXPECT_EQ(cases.size(), 2u * 3u * 3u * 4u);
+  std::set<std::string> ids;
+  for (const auto& c : cases) ids.insert(c.id());
+  EXPECT_EQ(ids.size(), cases.size());
+  EXPECT_EQ(cases[0].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f");
+  EXPECT_EQ(cases[1].technique, Technique::geometry_shader);
+  EXPECT_EQ(cases[4].filter, Filter::pcf_grid64);
+  EXPECT_EQ(cases.back().scene, "heavy");
+  EXPECT_EQ(cases.back().width, 640);  // the scene's own camera size when --frame is not given
+}
+
+TEST(Matrix, ExplicitFrameSizesOverrideTheScenes) {
+  MatrixSpec spec;
+  spec.scenes = {"room"};
+  spec.frame_sizes = {{320, 240}, {1920, 1080}};
+  auto cases = expand(spec, kSizes);
+  EXPECT_EQ(cases.size(), 2u * 2u * 3u * 4u);
+  EXPECT_EQ(cases[0].width, 320);
+}
+
+TEST(Matrix, ShardsPartitionTheMatrix) {
+  MatrixSpec spec;
+  auto cases = expand(spec, kSizes);
+  std::multiset<std::string> all;
+  for (int i = 0; i < 3; ++i)
+    for (const auto& c : shard(cases, i, 3)) all.insert(c.id());
+  EXPECT_EQ(all.size(), cases.size());
+  std::set<std::string> unique(all.begin(), all.end());
+  EXPECT_EQ(unique.size(), cases.size());
+  EXPECT_EQ(shard(cases, 1, 3), shard(cases, 1, 3));
+  EXPECT_THROW(shard(cases, 3, 3), std::invalid_argument);
+}
+
+TEST(Matrix, ListParsingNamesTheOptionAndTheValidValues) {
+  EXPECT_EQ(parse_int_list("256,512", "--cube"), (std::vector<int>{256, 512}));
+  EXPECT_EQ(parse_size_list("800x600", "--frame"), (std::vector<std::pair<int, int>>{{800, 600}}));
+  auto message = [](auto fn) {
+    try {
+      fn();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message([] { parse_int_list("0", "--cube"); }).rfind("--cube: '0' is not a valid size", 0), 0u);
+  EXPECT_NE(message([] { parse_int_list("512,abc", "--cube"); }).find("'abc'"), std::string::npos);
+  EXPECT_NE(message([] { parse_size_list("800", "--frame"); }).find("WIDTHxHEIGHT"), std::string::npos);
+  std::string t = message([] { parse_enum_list<Technique>("six_pass,teapot", "--technique"); });
+  EXPECT_NE(t.find("--technique: unknown technique 'teapot'"), std::string::npos) << t;
+  EXPECT_NE(t.find("valid: six_pass, geometry_shader"), std::string::npos) << t;
+  EXPECT_THROW(parse_enum_list<Filter>("", "--filter"), std::invalid_argument);
+}
+
+TEST(Matrix, EnumNamesRoundTrip) {
+  for (Technique t : all_values<Technique>()) EXPECT_EQ(parse_enum<Technique>(to_string(t)), t);
+  for (Filter f : all_values<Filter>()) EXPECT_EQ(parse_enum<Filter>(to_string(f)), f);
+  for (Storage s : all_values<Storage>()) EXPECT_EQ(parse_enum<Storage>(to_string(s)), s);
+  for (DepthFormat d : all_values<DepthFormat>()) EXPECT_EQ(parse_enum<DepthFormat>(to_string(d)), d);
+}
+
+}  // namespace
+}  // namespace omnishadow::bench

@@ -1,0 +1,128 @@
+// Scene files: the seed scenes load as the seeds describe them, and every malformed form is an error that
+// names the file and the JSON pointer of the offending field.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scenes/scene.h"
+
+namespace omnishadow::scene {
+namespace {
+
+const std::string kScenes = OMNISHADOW_TEST_SCENES_DIR;
+
+TEST(SceneLoader, RoomIsTheSeedScene) {
+  Scene s = load_scene_file(kScenes + "/room.json");
+  EXPECT_EQ(s.name, "room");
+  ASSERT_EQ(s.objects.size(), 6u);
+  EXPECT_EQ(s.triangle_count(), 72u);
+  // The room: a [-1,1] cube scaled 5, normals pointing inwards, never back-face culled.
+  EXPECT_EQ(s.objects[0].bounds_min, glm::vec3(-5));
+  EXPECT_EQ(s.objects[0].bounds_max, glm::vec3(5));
+  EXPECT_FALSE(s.objects[0].cull_back_faces);
+  for (uint32_t i = 0; i < s.objects[0].vertex_count; ++i) {
+    const Vertex& v = s.vertices[i];
+    EXPECT_LT(glm::dot(v.normal, v.position), 0.0f) << "room normals must face inwards";
+  }
+  // cube1: T(4,-3.5,0) S0.5.
+  EXPECT_EQ(s.objects[1].bounds_min, glm::vec3(3.5f, -4.0f, -0.5f));
+  EXPECT_EQ(s.objects[1].bounds_max, glm::vec3(4.5f, -3.0f, 0.5f));
+  EXPECT_TRUE(s.objects[1].cull_back_faces);
+  // cube5 is rotated 60 degrees about normalize(1,0,1): its bounds exceed the unrotated 0.75 half-size.
+  glm::vec3 half = (s.objects[5].bounds_max - s.objects[5].bounds_min) * 0.5f;
+  EXPECT_GT(half.y, 0.8f);
+  EXPECT_NEAR((s.objects[5].bounds_max.y + s.objects[5].bounds_min.y) * 0.5f, 2.0f, 1e-5);
+  // The light: near 1, far 25; at the origin on frame 0, z = 3 sin(0.5 t) after that.
+  EXPECT_EQ(s.light.near_plane, 1.0f);
+  EXPECT_EQ(s.light.far_plane, 25.0f);
+  EXPECT_EQ(s.light.path.at(0), glm::vec3(0));
+  glm::vec3 p = s.light.path.at(120);  // t = 2 s at 60 frames per second
+  EXPECT_NEAR(p.z, 3.0f * std::sin(1.0f), 1e-4);
+  EXPECT_EQ(s.camera.position, glm::vec3(0, 0, 3));
+  EXPECT_EQ(s.camera.width, 800);
+  EXPECT_EQ(s.camera.height, 600);
+}
+
+TEST(SceneLoader, OgldevAndHeavyLoad) {
+  Scene o = load_scene_file(kScenes + "/ogldev.json");
+  EXPECT_EQ(o.objects.size(), 4u);
+  EXPECT_EQ(o.light.path.at(77), glm::vec3(0, 5, 0));
+  EXPECT_EQ(o.light.far_plane, 100.0f);
+  Scene h = load_scene_file(kScenes + "/heavy.json");
+  EXPECT_GE(h.triangle_count(), 100000u);
+}
+
+TEST(SceneLoader, NormalsAreUnitAndTrianglesCounterClockwiseFromTheLitSide) {
+  Scene s = load_scene_file(kScenes + "/ogldev.json");
+  for (size_t i = 0; i < s.vertices.size(); i += 3) {
+    const Vertex &a = s.vertices[i], &b = s.vertices[i + 1], &c = s.vertices[i + 2];
+    glm::vec3 face_normal = glm::cross(b.position - a.position, c.position - a.position);
+    if (glm::length(face_normal) < 1e-9f) continue;
+    EXPECT_NEAR(glm::length(a.normal), 1.0f, 1e-4);
+    EXPECT_GT(glm::dot(face_normal, a.normal + b.normal + c.normal), 0.0f) << "triangle " << i / 3;
+  }
+}
+
+struct BadScene {
+  const char* text;
+  const char* expected;  // a substring of the one-line error
+};
+
+class SceneLoaderErrors : public ::testing::TestWithParam<BadScene> {};
+
+TEST_P(SceneLoaderErrors, NameFileAndPointer) {
+  const BadScene& bad = GetParam();
+  try {
+    load_scene_text(bad.text, "scenes/bad.json");
+    FAIL() << "accepted: " << bad.text;
+  } catch (const SceneError& e) {
+    std::string what = e.what();
+    EXPECT_EQ(what.find('\n'), std::string::npos) << "error must be one line: " << what;
+    EXPECT_EQ(what.rfind("scenes/bad.json: ", 0), 0u) << what;
+    EXPECT_NE(what.find(bad.expected), std::string::npos) << "expected '" << bad.expected << "' in: " << what;
+  }
+}
+
+#define LIGHT R"("light": {"position": [0, 0, 0]})"
+INSTANTIATE_TEST_SUITE_P(
+    Malformed, SceneLoaderErrors,
+    ::testing::Values(
+        BadScene{"{", "malformed JSON"},
+        BadScene{"", "malformed JSON"},
+        BadScene{"[1, 2]", "/: expected an object"},
+        BadScene{R"({"objects": [{"type": "box"}]})", "/light: missing required field"},
+        BadScene{"{" LIGHT "}", "/objects: missing required field"},
+        BadScene{"{" LIGHT R"(, "objects": []})", "/objects: a scene needs at least one object"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "teapot"}]})", "/objects/0/type: unknown object type 'teapot'"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box"}, {"type": "box", "scale": 0}]})",
+                 "/objects/1/scale: scale must be > 0"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "scale": [1, -2, 1]}]})", "/objects/0/scale"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "translate": [1, 2]}]})",
+                 "/objects/0/translate: expected an array of 3 numbers"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "translate": [1, "x", 2]}]})",
+                 "/objects/0/translate/1: expected a number"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "translate": [1e300, 0, 0]}]})",
+                 "/objects/0/translate/0: number must be finite"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "sclae": 2}]})", "/objects/0/sclae: unknown field"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "rotate": {"degrees": 30, "axis": [0, 0, 0]}}]})",
+                 "/objects/0/rotate/axis: axis must not be zero"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [2, 8]}]})", "/objects/0/segments/0"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "obj", "file": "missing.obj"}]})",
+                 "/objects/0/file: cannot open OBJ file"},
+        BadScene{R"({"light": {"near": 5, "far": 1}, "objects": [{"type": "box"}]})",
+                 "/light/far: far must be greater than near"},
+        BadScene{R"({"light": {"type": "spot"}, "objects": [{"type": "box"}]})", "/light/type"},
+        BadScene{R"({"format": "other/2", )" LIGHT R"(, "objects": [{"type": "box"}]})", "/format: unsupported"},
+        BadScene{"{" LIGHT R"(, "camera": {"size": [0, 600]}, "objects": [{"type": "box"}]})",
+                 "/camera/size/0: must be an integer in [1, 16384]"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "array": {"count": [2000, 1, 1], "spacing": [1, 0, 0]}}]})",
+                 "/objects/0/array/count/0"}),
+    [](const ::testing::TestParamInfo<BadScene>& info) { return "case" + std::to_string(info.index); });
+
+TEST(SceneLoader, MissingFileIsAnError) {
+  EXPECT_THROW(load_scene_file("/nonexistent/scene.json"), SceneError);
+}
+
+}  // namespace
+}  // namespace omnishadow::scene

@@ -1,0 +1,52 @@
+// Timing summaries and the GPU-timer sanity check.
+
+#include <gtest/gtest.h>
+
+#include "bench/timing_stats.h"
+
+namespace omnishadow::bench {
+namespace {
+
+FrameTiming frame(double shadow_wall, double shadow_gpu, double lighting_wall, double lighting_gpu) {
+  FrameTiming f;
+  f.shadow = {shadow_wall / 2, shadow_wall, shadow_gpu};
+  f.lighting = {lighting_wall / 2, lighting_wall, lighting_gpu};
+  f.frame_wall_ms = shadow_wall + lighting_wall;
+  return f;
+}
+
+TEST(TimingStats, Summary) {
+  Summary s = summarize({4, 1, 3, 2});
+  EXPECT_EQ(s.count, 4);
+  EXPECT_DOUBLE_EQ(s.median, 2.5);
+  EXPECT_DOUBLE_EQ(s.mean, 2.5);
+  EXPECT_DOUBLE_EQ(s.min, 1);
+  EXPECT_DOUBLE_EQ(s.max, 4);
+  EXPECT_NEAR(s.stddev, 1.2909944, 1e-6);
+  EXPECT_EQ(summarize({}).count, 0);
+}
+
+TEST(TimingStats, GpuFiguresWithinWallTimeAreTrusted) {
+  GpuTimerCheck c = check_gpu_timer({frame(10, 9.5, 5, 4.9), frame(10, 10.2, 5, 5)});  // 10.2 within slack
+  EXPECT_TRUE(c.available);
+  EXPECT_TRUE(c.reliable);
+  EXPECT_EQ(c.frames_checked, 2);
+}
+
+TEST(TimingStats, ImpossibleGpuFiguresAreFlagged) {
+  // llvmpipe's first GL_TIME_ELAPSED after context creation: ~5e5 ms for a 90 ms pass.
+  GpuTimerCheck c = check_gpu_timer({frame(92.6, 516371.5, 20, 19), frame(10, 9, 5, 4)});
+  EXPECT_FALSE(c.reliable);
+  EXPECT_EQ(c.frames_failing, 1);
+  EXPECT_NE(c.note.find("shadow pass: gpu 516371.500 ms"), std::string::npos) << c.note;
+  EXPECT_FALSE(check_gpu_timer({frame(10, 0, 5, 4)}).reliable);  // zero is no measurement
+}
+
+TEST(TimingStats, NoGpuFiguresIsNotReliable) {
+  GpuTimerCheck c = check_gpu_timer({frame(10, -1, 5, -1)});
+  EXPECT_FALSE(c.available);
+  EXPECT_FALSE(c.reliable);
+}
+
+}  // namespace
+}  // namespace omnishadow::bench
