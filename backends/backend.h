@@ -88,9 +88,13 @@ class Backend {
   virtual FrameTiming render(int frame) = 0;                    // blocks until the frame has completed
   virtual FrameCounters count_work(int frame) = 0;              // renders `frame` once with statistics queries
   virtual Images read_back() = 0;                               // results of the last rendered frame
+  // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
+  // when the checking mode is off. Drained outside timed loops.
+  virtual std::vector<std::string> drain_api_errors() = 0;
 };
 
-// Creates a backend by name ("gl"). Options are backend-specific (e.g. "egl_platform" = surfaceless|device).
+// Creates a backend by name ("gl"). Options are backend-specific: "egl_platform" = surfaceless|device,
+// "gl_device" = EGL device index, "api_checks" = "1" for the checking mode (debug context, error capture).
 // Throws std::runtime_error with a one-line reason when the API cannot be brought up on this machine.
 std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<std::string, std::string>& options);
 std::vector<std::string> backend_names();

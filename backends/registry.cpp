@@ -27,7 +27,8 @@ std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<
     } catch (const std::exception&) {
       throw std::runtime_error("--gl-device expects an EGL device index, got '" + device + "'");
     }
-    return std::make_unique<gl::GlBackend>(option(options, "egl_platform", "surfaceless"), index);
+    return std::make_unique<gl::GlBackend>(option(options, "egl_platform", "surfaceless"), index,
+                                           option(options, "api_checks", "0") == "1");
   }
   std::string valid;
   for (const auto& n : backend_names()) valid += (valid.empty() ? "" : ", ") + n;

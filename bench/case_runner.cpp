@@ -88,6 +88,11 @@ Backend& Harness::backend(const std::string& name) {
   return ref;
 }
 
+void Harness::add_backend(const std::string& name, std::unique_ptr<Backend> backend) {
+  backends_[name] = std::move(backend);
+  loaded_scene_.erase(name);
+}
+
 std::string Harness::scene_path(const std::string& name) const {
   if (name.find('/') != std::string::npos || name.ends_with(".json")) return name;
   return (fs::path(options_.scenes_dir) / (name + ".json")).string();
@@ -125,6 +130,10 @@ void Harness::prepare(CaseResult& r) {
     b.render(options_.check_frame);
     Images images = b.read_back();
     r.counters = b.count_work(options_.check_frame);
+    std::vector<std::string> api_errors = b.drain_api_errors();
+    if (!api_errors.empty())
+      throw std::runtime_error("API error (checking mode): " + api_errors.front() +
+                               (api_errors.size() > 1 ? " (+" + std::to_string(api_errors.size() - 1) + " more)" : ""));
     if (options_.write_images) write_images(r, images);
     if (r.config.technique == Technique::six_pass) {
       reference_key_ = group_key(r.config);

@@ -59,6 +59,8 @@ class Harness {
 
   // Creates the backend on first use; throws std::runtime_error when the API cannot be brought up.
   Backend& backend(const std::string& name);
+  // Uses `backend` for `name` instead of the registry's (tests substitute scripted backends).
+  void add_backend(const std::string& name, std::unique_ptr<Backend> backend);
   // Loads (and caches) a scene by name or path; throws scene::SceneError.
   const scene::Scene& scene(const std::string& name_or_path);
   // Makes `config` the backend's current case (loading its scene first if needed).

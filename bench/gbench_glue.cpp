@@ -75,6 +75,8 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
       sums[4] += t.shadow.gpu_ms;
       sums[5] += t.lighting.gpu_ms;
     }
+    std::vector<std::string> api_errors = b.drain_api_errors();  // outside the timed loop
+    if (!api_errors.empty()) throw std::runtime_error("API error (checking mode): " + api_errors.front());
     state.counters["shadow_wall_ms"] = Counter(sums[0], Counter::kAvgIterations);
     state.counters["shadow_submit_ms"] = Counter(sums[1], Counter::kAvgIterations);
     state.counters["lighting_wall_ms"] = Counter(sums[2], Counter::kAvgIterations);

@@ -27,11 +27,14 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::string scenes_dir = OMNISHADOW_SCENES_DIR;
   std::string egl_platform = "surfaceless", gl_device = "0";
+  bool api_checks = false;
   auto add_common = [&](CLI::App* sub) {
     sub->add_option("--scenes-dir", scenes_dir, "folder holding <scene>.json files")->capture_default_str();
     sub->add_option("--egl-platform", egl_platform, "surfaceless (Mesa) or device (EGL_EXT_platform_device)")
         ->capture_default_str();
     sub->add_option("--gl-device", gl_device, "EGL device index with --egl-platform device")->capture_default_str();
+    sub->add_flag("--api-checks", api_checks,
+                  "checking mode: debug context, any GL error fails its case (slower; not for timing)");
   };
 
   CLI::App* list = app.add_subcommand("list", "backends, scenes, techniques, filters and what this machine supports");
@@ -82,7 +85,8 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  std::map<std::string, std::string> backend_options = {{"egl_platform", egl_platform}, {"gl_device", gl_device}};
+  std::map<std::string, std::string> backend_options = {
+      {"egl_platform", egl_platform}, {"gl_device", gl_device}, {"api_checks", api_checks ? "1" : "0"}};
   if (list->parsed()) {
     if (!benchmark_args.empty()) {
       print_error(benchmark_args.front() + " applies to 'run' only");

@@ -25,34 +25,39 @@ std::string cell(double value, double base) {
   return buf;
 }
 
-// One row per group of cases that differ only in `axis`; one column per value of the axis, each the median
-// of `metric` over the timed frames and its ratio to the `base` value's.
+// The axes a pass's cost depends on, as a row key: the shadow pass does not depend on the filter and the
+// lighting pass not on the technique, so each row pools every case of its group over the other axis.
+std::string pass_group(const CaseConfig& c) {
+  return c.backend + "/" + c.scene + "/c" + std::to_string(c.cube_size) + "/f" + std::to_string(c.width) + "x" +
+         std::to_string(c.height) + "/" + std::string(to_string(c.storage)) + "/" +
+         std::string(to_string(c.depth_format));
+}
+
+// One row per pass group, one column per value of `axis`: the median of `metric` over all timed frames of the
+// group's cases with that value, and its ratio to the `base` column.
 template <typename E>
 void ratio_table(std::ostringstream& md, const std::vector<CaseResult>& results, const std::string& title,
                  E CaseConfig::*axis, E base, double (*metric)(const FrameTiming&)) {
   const std::vector<E> values = all_values<E>();
-  md << "\n## " << title << "\n\n| case group |";
+  md << "\n## " << title << "\n\n| backend/scene/cube/frame/storage/depth |";
   for (E v : values) md << " " << to_string(v) << " |";
   md << "\n|---|";
   for (size_t i = 0; i < values.size(); ++i) md << "---|";
   md << "\n";
-  std::map<std::string, std::map<E, double>> by_group;
+  std::map<std::string, std::map<E, std::vector<FrameTiming>>> by_group;
   std::vector<std::string> group_order;
-  const std::string base_part = "/" + std::string(to_string(base));
   for (const CaseResult& r : results) {
     if (r.frames.empty()) continue;
-    CaseConfig g = r.config;
-    g.*axis = base;
-    std::string key = g.id();
-    key.erase(key.find(base_part), base_part.size());
+    std::string key = pass_group(r.config);
     if (!by_group.count(key)) group_order.push_back(key);
-    by_group[key][r.config.*axis] = median_of(r.frames, metric);
+    auto& frames = by_group[key][r.config.*axis];
+    frames.insert(frames.end(), r.frames.begin(), r.frames.end());
   }
   for (const std::string& key : group_order) {
     auto& row = by_group[key];
-    double base_value = row.count(base) ? row[base] : 0.0;
+    double base_value = row.count(base) ? median_of(row[base], metric) : 0.0;
     md << "| `" << key << "` |";
-    for (E v : values) md << " " << (row.count(v) ? cell(row[v], base_value) : "-") << " |";
+    for (E v : values) md << " " << (row.count(v) ? cell(median_of(row[v], metric), base_value) : "-") << " |";
     md << "\n";
   }
 }
@@ -68,9 +73,9 @@ std::string summary_markdown(const std::vector<CaseResult>& results) {
   for (const CaseResult& r : results)
     if (r.status != Status::ok) md << "  - `" << r.config.id() << "` " << to_string(r.status) << ": " << r.reason << "\n";
 
-  ratio_table<Technique>(md, results, "Shadow pass: median wall time per technique (ratio to six_pass)",
+  ratio_table<Technique>(md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
                          &CaseConfig::technique, Technique::six_pass, shadow_wall);
-  ratio_table<Filter>(md, results, "Lighting pass: median wall time per filter (ratio to hard)", &CaseConfig::filter,
+  ratio_table<Filter>(md, results, "Lighting pass: median wall time per filter, all techniques pooled (ratio to hard)", &CaseConfig::filter,
                       Filter::hard, lighting_wall);
   return md.str();
 }

@@ -96,7 +96,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"run --frobnicate", "frobnicate"},
                       BadInput{"run --shard 3/2 --out @OUT@", "--shard"},
                       BadInput{"run --out @OUT@ --benchmark_filter=nothing-matches-this", "empty"},
-                      BadInput{"run --out @OUT@ --benchmark_out=x.json", "--benchmark_out"}),
+                      BadInput{"run --out @OUT@ --benchmark_out=x.json", "--benchmark_out"},
+                      BadInput{"run --egl-platform wayland --out @OUT@", "unknown --egl-platform 'wayland'"},
+                      BadInput{"run --egl-platform device --gl-device 99 --out @OUT@", "--gl-device 99"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
 
 class CliRun : public ::testing::Test {

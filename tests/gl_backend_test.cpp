@@ -8,6 +8,7 @@
 
 #include "backends/backend.h"
 #include "backends/reference/ray_caster.h"
+#include <epoxy/gl.h>
 
 namespace omnishadow {
 namespace {
@@ -189,6 +190,55 @@ TEST_F(GlBackendTest, UnsupportedCasesSayWhy) {
   huge.cube_size = 0;
   EXPECT_FALSE(backend_->supports(huge).ok);
   EXPECT_THROW(backend_->configure(huge), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace omnishadow
+
+namespace omnishadow {
+namespace {
+
+// The checking mode: a debug context whose KHR_debug errors reach the harness.
+TEST(GlApiChecks, EveryTechniqueRunsCleanAndErrorsAreCaptured) {
+  std::unique_ptr<Backend> backend;
+  try {
+    backend = create_backend("gl", {{"api_checks", "1"}});
+  } catch (const std::exception& e) {
+    GTEST_SKIP() << "no OpenGL 4.5 context through EGL on this machine: " << e.what();
+  }
+  backend->load(scene::load_scene_file(kScenes + "/ogldev.json"));
+  for (Technique t : all_values<Technique>())
+    for (Storage s : all_values<Storage>()) {
+      CaseConfig c;
+      c.scene = "ogldev";
+      c.cube_size = 64;
+      c.technique = t;
+      c.storage = s;
+      c.filter = s == Storage::linear_depth ? Filter::hw_compare2x2 : Filter::pcf_disk20;
+      if (!backend->supports(c).ok) continue;
+      backend->configure(c);
+      backend->render(3);
+      backend->count_work(3);
+      backend->read_back();
+      std::vector<std::string> errors = backend->drain_api_errors();
+      EXPECT_TRUE(errors.empty()) << c.id() << ": " << errors.front();
+    }
+  glEnable(0x7fff);  // not a capability: GL_INVALID_ENUM, reported through KHR_debug
+  std::vector<std::string> errors = backend->drain_api_errors();
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_TRUE(backend->drain_api_errors().empty()) << "drained once";
+}
+
+TEST(GlPlatforms, DevicePlatformOrAClearError) {
+  try {
+    auto backend = create_backend("gl", {{"egl_platform", "device"}, {"gl_device", "0"}});
+    EXPECT_NE(backend->device().platform.find("device"), std::string::npos);
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);  // one line, whatever the reason
+  }
+  EXPECT_THROW(create_backend("gl", {{"egl_platform", "wayland"}}), std::runtime_error);
+  EXPECT_THROW(create_backend("gl", {{"egl_platform", "device"}, {"gl_device", "999"}}), std::runtime_error);
+  EXPECT_THROW(create_backend("vulkan-not-yet", {}), std::invalid_argument);
 }
 
 }  // namespace

@@ -42,7 +42,7 @@ EGLDisplay open_display(const std::string& platform, int device_index) {
 
 }  // namespace
 
-EglContext::EglContext(const std::string& platform, int device_index) : platform_(platform) {
+EglContext::EglContext(const std::string& platform, int device_index, bool debug) : platform_(platform) {
   display_ = open_display(platform, device_index);
   if (display_ == EGL_NO_DISPLAY) egl_fail("eglGetPlatformDisplayEXT");
   EGLint major = 0, minor = 0;
@@ -60,6 +60,7 @@ EglContext::EglContext(const std::string& platform, int device_index) : platform
   }
   const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
                                     EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                    EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE,
                                     EGL_NONE};
   context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, context_attribs);
   if (context_ == EGL_NO_CONTEXT) egl_fail("eglCreateContext(OpenGL 4.5 core)");

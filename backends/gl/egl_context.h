@@ -12,7 +12,8 @@ namespace omnishadow::gl {
 class EglContext {
  public:
   // Throws std::runtime_error naming the EGL call that failed and the EGL error code.
-  EglContext(const std::string& platform, int device_index);
+  // `debug` asks for a debug context (KHR_debug messages for the checking mode).
+  EglContext(const std::string& platform, int device_index, bool debug);
   ~EglContext();
   EglContext(const EglContext&) = delete;
   EglContext& operator=(const EglContext&) = delete;

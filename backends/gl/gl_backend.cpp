@@ -50,9 +50,20 @@ std::string filter_define(Filter f) {
   return "";
 }
 
+// KHR_debug: keep errors and undefined behaviour (what would make a figure or an image wrong); drop the
+// performance and informational chatter.
+void GLAPIENTRY collect_debug_message(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
+                                      const void* user) {
+  if (type != GL_DEBUG_TYPE_ERROR && type != GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR && severity != GL_DEBUG_SEVERITY_HIGH)
+    return;
+  auto* errors = static_cast<std::vector<std::string>*>(const_cast<void*>(user));
+  if (errors->size() < 100) errors->emplace_back(message);
+}
+
 }  // namespace
 
-GlBackend::GlBackend(const std::string& egl_platform, int device_index) : context_(egl_platform, device_index) {
+GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api_checks)
+    : context_(egl_platform, device_index, api_checks) {
   GLint major = 0, minor = 0;
   glGetIntegerv(GL_MAJOR_VERSION, &major);
   glGetIntegerv(GL_MINOR_VERSION, &minor);
@@ -75,6 +86,12 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index) : contex
   info_.extra["GL_ARB_shader_viewport_layer_array"] = has_layer_array_ ? "yes" : "no";
   info_.extra["GL_ARB_pipeline_statistics_query"] = has_pipeline_statistics_ ? "yes" : "no";
   info_.extra["GL_SHADING_LANGUAGE_VERSION"] = gl_string(GL_SHADING_LANGUAGE_VERSION);
+  info_.extra["api_checks"] = api_checks ? "KHR_debug errors captured (debug context)" : "off";
+  if (api_checks) {
+    glEnable(GL_DEBUG_OUTPUT);
+    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);  // messages arrive before the call returns: attributable to a case
+    glDebugMessageCallback(collect_debug_message, &api_errors_);
+  }
 
   glCreateBuffers(1, &frame_ubo_);
   glNamedBufferStorage(frame_ubo_, sizeof(gpu::FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -332,6 +349,12 @@ FrameCounters GlBackend::count_work(int frame) {
   c.shadow.draw_calls = shadow.draw_calls;
   c.lighting.draw_calls = lighting.draw_calls;
   return c;
+}
+
+std::vector<std::string> GlBackend::drain_api_errors() {
+  std::vector<std::string> out;
+  out.swap(api_errors_);
+  return out;
 }
 
 Images GlBackend::read_back() {

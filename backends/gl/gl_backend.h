@@ -20,7 +20,7 @@ namespace omnishadow::gl {
 
 class GlBackend final : public Backend {
  public:
-  GlBackend(const std::string& egl_platform, int device_index);
+  GlBackend(const std::string& egl_platform, int device_index, bool api_checks);
   ~GlBackend() override;
 
   const DeviceInfo& device() const override { return info_; }
@@ -30,6 +30,7 @@ class GlBackend final : public Backend {
   FrameTiming render(int frame) override;
   FrameCounters count_work(int frame) override;
   Images read_back() override;
+  std::vector<std::string> drain_api_errors() override;
 
  private:
   struct DrawStats {
@@ -64,6 +65,7 @@ class GlBackend final : public Backend {
   GLuint shadow_program_ = 0;
   GLuint lighting_program_ = 0;
   std::unique_ptr<FrameQueries> queries_;
+  std::vector<std::string> api_errors_;  // filled by the KHR_debug callback in the checking mode
 };
 
 }  // namespace omnishadow::gl
