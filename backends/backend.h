@@ -24,11 +24,6 @@ struct DeviceInfo {
   std::map<std::string, std::string> extra;  // anything else worth recording (extensions that matter, ...)
 };
 
-struct Support {
-  bool ok = true;
-  std::string reason;  // why not, in one line: "GL_ARB_shader_viewport_layer_array not exposed"
-};
-
 // Per-pass work counters from pipeline-statistics queries: deterministic for a given case and frame, so any
 // change is a change of work, not noise. `valid` is false where the API or driver cannot count.
 struct PassCounters {
@@ -94,7 +89,8 @@ class Backend {
 };
 
 // Creates a backend by name ("gl"). Options are backend-specific: "egl_platform" = surfaceless|device,
-// "gl_device" = EGL device index, "api_checks" = "1" for the checking mode (debug context, error capture).
+// "gl_device" = EGL device index, "vk_device" = Vulkan device index or part of its name, "api_checks" = "1"
+// for the checking mode (GL debug context / Vulkan validation layer, errors captured).
 // Throws std::runtime_error with a one-line reason when the API cannot be brought up on this machine.
 std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<std::string, std::string>& options);
 std::vector<std::string> backend_names();

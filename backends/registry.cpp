@@ -4,6 +4,7 @@
 
 #include "backends/backend.h"
 #include "backends/gl/gl_backend.h"
+#include "backends/vulkan/vk_backend.h"
 
 namespace omnishadow {
 namespace {
@@ -16,7 +17,7 @@ std::string option(const std::map<std::string, std::string>& options, const std:
 
 }  // namespace
 
-std::vector<std::string> backend_names() { return {"gl"}; }
+std::vector<std::string> backend_names() { return {"gl", "vulkan"}; }
 
 std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<std::string, std::string>& options) {
   if (name == "gl") {
@@ -30,6 +31,8 @@ std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<
     return std::make_unique<gl::GlBackend>(option(options, "egl_platform", "surfaceless"), index,
                                            option(options, "api_checks", "0") == "1");
   }
+  if (name == "vulkan")
+    return std::make_unique<vk::VkBackend>(option(options, "vk_device", ""), option(options, "api_checks", "0") == "1");
   std::string valid;
   for (const auto& n : backend_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown backend '" + name + "' (valid: " + valid + ")");

@@ -1,9 +1,11 @@
 #include "bench/case_runner.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <filesystem>
 #include <stdexcept>
 
+#include "backends/common/cube_faces.h"
 #include "bench/image_io.h"
 
 namespace omnishadow::bench {
@@ -56,6 +58,35 @@ bool all_faces_identical(const Images& img) {
   for (int f = 1; f < 6; ++f)
     if (img.cube_distance[static_cast<size_t>(f)] != img.cube_distance[0]) return false;
   return true;
+}
+
+// A face nothing was drawn to still holds the clear value everywhere: far (linear storage) or FLT_MAX (r32f).
+std::vector<int> untouched_faces(const Images& img, float far_plane) {
+  std::vector<int> out;
+  for (int f = 0; f < 6; ++f) {
+    const auto& face = img.cube_distance[static_cast<size_t>(f)];
+    float first = face.empty() ? 0.0f : face.front();
+    bool clear = (first == far_plane || first == FLT_MAX) &&
+                 std::all_of(face.begin(), face.end(), [&](float v) { return v == first; });
+    if (clear) out.push_back(f);
+  }
+  return out;
+}
+
+// Evidence from the images that the driver, not the technique, went wrong; empty when there is none.
+std::string driver_evidence(const Images& img, const Images& ref, float far_plane) {
+  if (all_faces_identical(img) && !all_faces_identical(ref))
+    return "all six faces hold the same image while six_pass's differ: the driver rendered every layer/view "
+           "into one face";
+  std::vector<int> mine = untouched_faces(img, far_plane), theirs = untouched_faces(ref, far_plane);
+  std::vector<int> lost;
+  for (int f : mine)
+    if (std::find(theirs.begin(), theirs.end(), f) == theirs.end()) lost.push_back(f);
+  if (lost.empty()) return "";
+  std::string names;
+  for (int f : lost) names += (names.empty() ? "" : " ") + std::string(cube::kFaceNames[static_cast<size_t>(f)]);
+  return std::to_string(lost.size()) + " of 6 faces (" + names +
+         ") were never written while six_pass wrote them: the driver did not route every layer/view to its face";
 }
 
 std::string fmt(double v) {
@@ -135,11 +166,11 @@ void Harness::prepare(CaseResult& r) {
       throw std::runtime_error("API error (checking mode): " + api_errors.front() +
                                (api_errors.size() > 1 ? " (+" + std::to_string(api_errors.size() - 1) + " more)" : ""));
     if (options_.write_images) write_images(r, images);
+    if (r.config.technique != Technique::six_pass) check_against_six_pass(r, images);
+    check_against_other_backend(r, images);
     if (r.config.technique == Technique::six_pass) {
       reference_key_ = group_key(r.config);
       reference_ = std::move(images);
-    } else {
-      check_against_six_pass(r, images);
     }
   } catch (const std::exception& e) {
     r.status = Status::failed;
@@ -160,54 +191,84 @@ void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
   }
   const Images& ref = *reference_;
   const float far_plane = scene(r.config.scene).light.far_plane;
-  fs::path dir = fs::path("images") / r.config.id();
-
-  auto record = [&](CheckResult c, const std::vector<float>& a, const std::vector<float>& b,
-                    const std::vector<float>& grey, int w, int h, double scale, bool flip) {
-    c.against = ref_config.id();
-    c.passed = c.difference.differing == 0;
-    if (!c.passed && options_.write_images) {
-      c.diff_image = (dir / ("diff_" + c.name + ".png")).string();
-      fs::create_directories(fs::path(options_.out_dir) / dir);
-      write_png_rgb_top_down((fs::path(options_.out_dir) / c.diff_image).string(), w, h,
-                             diff_image_rgb(a, b, grey, w, h, c.tolerance, scale, flip));
-    }
-    r.checks.push_back(c);
-  };
 
   // Cube faces, in world units: the technique must store what six_pass stores.
   std::vector<float> faces = concat_faces(images), ref_faces = concat_faces(ref);
-  CheckResult faces_check{"cube_faces"};
+  CheckResult faces_check{"cube_faces", ref_config.id()};
   faces_check.tolerance = options_.face_tolerance;
   faces_check.difference = compare_values(faces, ref_faces, options_.face_tolerance);
-  record(faces_check, faces, ref_faces, scaled(ref_faces, 1.0f / far_plane), images.cube_size * 6, images.cube_size,
+  record_check(r, faces_check, faces, ref_faces, scaled(ref_faces, 1.0f / far_plane), images.cube_size * 6, images.cube_size,
          far_plane * 0.05, false);
 
-  CheckResult shadow_check{"shadow_factor"};
+  CheckResult shadow_check{"shadow_factor", ref_config.id()};
   shadow_check.tolerance = 0.0;
   shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, 0.0);
-  record(shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height, 1.0,
+  record_check(r, shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height, 1.0,
          true);
 
-  CheckResult lit_check{"lit"};
+  CheckResult lit_check{"lit", ref_config.id()};
   lit_check.tolerance = options_.lit_tolerance;
   lit_check.difference = compare_values(images.lit_rgba8, ref.lit_rgba8, options_.lit_tolerance);
   std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit_rgba8);
-  record(lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8), images.width,
+  record_check(r, lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8), images.width,
          images.height, 64.0, true);
 
   std::string failures;
   for (const CheckResult& c : r.checks)
     if (!c.passed)
-      failures += (failures.empty() ? "" : "; ") + c.name + " differ from six_pass in " +
+      failures += (failures.empty() ? "" : "; ") + c.name + " differ from " + c.against + " in " +
                   fmt(c.difference.percent_differing()) + "% of values (max abs " + fmt(c.difference.max_abs) + ")";
   if (!failures.empty()) {
     r.status = Status::failed_check;
     r.reason = failures;
-    if (all_faces_identical(images) && !all_faces_identical(ref))
-      r.reason += "; all six faces hold the same image while six_pass's differ: the driver rendered every "
-                  "layer/view into one face";
+    std::string evidence = driver_evidence(images, ref, far_plane);
+    if (!evidence.empty()) r.reason += "; " + evidence;
   }
+}
+
+void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float>& a, const std::vector<float>& b,
+                           const std::vector<float>& grey, int width, int height, double scale, bool flip) {
+  c.passed = c.max_percent > 0 ? c.difference.percent_differing() <= c.max_percent : c.difference.differing == 0;
+  if (!c.passed && options_.write_images) {
+    fs::path dir = fs::path("images") / r.config.id();
+    c.diff_image = (dir / ("diff_" + c.name + ".png")).string();
+    fs::create_directories(fs::path(options_.out_dir) / dir);
+    write_png_rgb_top_down((fs::path(options_.out_dir) / c.diff_image).string(), width, height,
+                           diff_image_rgb(a, b, grey, width, height, c.tolerance, scale, flip));
+  }
+  r.checks.push_back(c);
+}
+
+void Harness::check_against_other_backend(CaseResult& r, const Images& images) {
+  std::string id = r.config.id();
+  std::string key = id.substr(id.find('/'));
+  auto it = cross_.find(key);
+  if (it == cross_.end()) {
+    cross_[key] = {id, images.lit_rgba8, images.shadow_factor};
+    return;
+  }
+  const CrossReference& ref = it->second;
+  if (ref.case_id.substr(0, ref.case_id.find('/')) == r.config.backend) return;
+
+  CheckResult shadow{"cross_backend_shadow_factor", ref.case_id};
+  shadow.tolerance = options_.cross_shadow_tolerance;
+  shadow.max_percent = options_.cross_max_percent;
+  shadow.difference = compare_values(images.shadow_factor, ref.shadow_factor, options_.cross_shadow_tolerance);
+  record_check(r, shadow, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height,
+               1.0, true);
+  CheckResult lit{"cross_backend_lit", ref.case_id};
+  lit.tolerance = options_.cross_lit_tolerance;
+  lit.max_percent = options_.cross_max_percent;
+  lit.difference = compare_values(images.lit_rgba8, ref.lit, options_.cross_lit_tolerance);
+  std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit);
+  record_check(r, lit, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit), images.width,
+               images.height, 64.0, true);
+  for (const CheckResult* c : {&r.checks[r.checks.size() - 2], &r.checks.back()})
+    if (!c->passed) {
+      r.status = Status::failed_check;
+      r.reason += (r.reason.empty() ? "" : "; ") + c->name + ": " + fmt(c->difference.percent_differing()) +
+                  "% of values differ from " + c->against + " (allowed " + fmt(c->max_percent) + "%)";
+    }
 }
 
 void Harness::write_images(CaseResult& r, const Images& img) {

@@ -22,15 +22,23 @@ struct RunOptions {
   int check_frame = 0;                // the frame whose images are written and compared
   double face_tolerance = 0.0;        // world units; single-pass faces are expected bit-identical to six_pass
   double lit_tolerance = 0.0;         // 8-bit levels per channel
+  // Across backends (same case on another API) interpolation may differ in the last bits, which moves a PCF
+  // sample across a texel edge now and then: a lit channel may differ by `cross_lit_tolerance` levels, a
+  // shadow factor by `cross_shadow_tolerance` (0.1 = two of the disk's 20 samples), and up to
+  // `cross_max_percent` of the values may exceed those before the check fails.
+  double cross_lit_tolerance = 2.0;
+  double cross_shadow_tolerance = 0.1;
+  double cross_max_percent = 0.1;
   bool write_images = true;
   std::map<std::string, std::string> backend_options;  // egl_platform, gl_device
 };
 
 struct CheckResult {
-  std::string name;     // cube_faces, shadow_factor, lit
+  std::string name;     // cube_faces, shadow_factor, lit; cross_backend_lit, cross_backend_shadow_factor
   std::string against;  // id of the case compared with
   Difference difference;
-  double tolerance = 0.0;
+  double tolerance = 0.0;    // per value
+  double max_percent = 0.0;  // of values beyond the tolerance; 0 = none may differ
   bool passed = true;
   std::string diff_image;  // relative to out_dir, written on failure only
 };
@@ -70,6 +78,9 @@ class Harness {
 
  private:
   void check_against_six_pass(CaseResult& result, const Images& images);
+  void check_against_other_backend(CaseResult& result, const Images& images);
+  void record_check(CaseResult& result, CheckResult check, const std::vector<float>& a, const std::vector<float>& b,
+                    const std::vector<float>& grey, int width, int height, double scale, bool flip);
   void write_images(CaseResult& result, const Images& images);
   std::string scene_path(const std::string& name_or_path) const;
 
@@ -80,6 +91,13 @@ class Harness {
   // The six_pass images of the latest case group (same case but technique), kept for the checks.
   std::string reference_key_;
   std::optional<Images> reference_;
+  // The first backend's lit frame and shadow factor per case (id without the backend), for the cross-API check.
+  struct CrossReference {
+    std::string case_id;
+    std::vector<uint8_t> lit;
+    std::vector<float> shadow_factor;
+  };
+  std::map<std::string, CrossReference> cross_;
 };
 
 }  // namespace omnishadow::bench

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <regex>
 
+#include "backends/vulkan/vk_context.h"
 #include "bench/case_runner.h"
 #include "bench/file_io.h"
 #include "bench/gbench_glue.h"
@@ -87,6 +88,9 @@ int run_command(const RunCommand& cmd) {
   options.check_frame = cmd.check_frame;
   options.face_tolerance = cmd.face_tolerance;
   options.lit_tolerance = cmd.lit_tolerance;
+  options.cross_lit_tolerance = cmd.cross_lit_tolerance;
+  options.cross_shadow_tolerance = cmd.cross_shadow_tolerance;
+  options.cross_max_percent = cmd.cross_max_percent;
   options.write_images = cmd.write_images;
   options.backend_options = cmd.backend_options;
   Harness harness(options);
@@ -216,6 +220,14 @@ int list_command(const std::string& scenes_dir, const std::map<std::string, std:
     } catch (const std::exception& e) {
       std::cout << "  " << name << ": unavailable: " << e.what() << "\n";
     }
+  }
+  try {
+    std::cout << "vulkan devices (--vk-device):\n";
+    for (const auto& d : vk::VkContext::list_devices())
+      std::cout << "  " << d.index << ": " << d.name << " | " << d.type << " | Vulkan " << d.api_version << " | "
+                << d.driver << "\n";
+  } catch (const std::exception& e) {
+    std::cout << "  none: " << e.what() << "\n";
   }
   std::cout << "scenes (" << scenes_dir << "):\n";
   std::error_code ec;

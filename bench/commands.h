@@ -19,6 +19,9 @@ struct RunCommand {
   int check_frame = 0;
   double face_tolerance = 0.0;
   double lit_tolerance = 0.0;
+  double cross_lit_tolerance = 2.0;
+  double cross_shadow_tolerance = 0.1;
+  double cross_max_percent = 0.1;
   bool write_images = true;
   bool check = false;          // exit 1 if any case failed or failed its checks
   int shard_index = 0;

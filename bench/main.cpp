@@ -26,15 +26,17 @@ int main(int argc, char** argv) {
   CLI::App app{"omnishadow: benchmark harness for point-light (cube-map) shadow mapping"};
   app.require_subcommand(1);
   std::string scenes_dir = OMNISHADOW_SCENES_DIR;
-  std::string egl_platform = "surfaceless", gl_device = "0";
+  std::string egl_platform = "surfaceless", gl_device = "0", vk_device;
   bool api_checks = false;
   auto add_common = [&](CLI::App* sub) {
     sub->add_option("--scenes-dir", scenes_dir, "folder holding <scene>.json files")->capture_default_str();
     sub->add_option("--egl-platform", egl_platform, "surfaceless (Mesa) or device (EGL_EXT_platform_device)")
         ->capture_default_str();
     sub->add_option("--gl-device", gl_device, "EGL device index with --egl-platform device")->capture_default_str();
+    sub->add_option("--vk-device", vk_device, "Vulkan device: index or part of its name (default: device 0)");
     sub->add_flag("--api-checks", api_checks,
-                  "checking mode: debug context, any GL error fails its case (slower; not for timing)");
+                  "checking mode: GL debug context / Vulkan validation layer; any API error or validation "
+                  "message fails its case (slower: not for timing)");
   };
 
   CLI::App* list = app.add_subcommand("list", "backends, scenes, techniques, filters and what this machine supports");
@@ -43,11 +45,11 @@ int main(int argc, char** argv) {
   RunCommand run;
   std::string backends = "gl", scenes = "room,heavy", cubes = "512,1024", frames_sizes, techniques, filters,
               storages = "linear_depth", depth_formats = "d32f", shard_text;
-  techniques = "six_pass,geometry_shader,geometry_shader_instanced,vs_layer";
+  techniques = "six_pass,geometry_shader,geometry_shader_instanced,vs_layer,multiview";
   filters = "hard,pcf_grid64,pcf_disk20";
   CLI::App* r = app.add_subcommand("run", "run a benchmark matrix (Google Benchmark --benchmark_* flags apply)");
   add_common(r);
-  r->add_option("--backend", backends, "comma list of backends: gl")->capture_default_str();
+  r->add_option("--backend", backends, "comma list of backends: gl, vulkan")->capture_default_str();
   r->add_option("--scene", scenes, "comma list of scene names (scenes/<name>.json) or .json paths")
       ->capture_default_str();
   r->add_option("--cube", cubes, "comma list of cube face sizes in texels")->capture_default_str();
@@ -68,6 +70,15 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0.0, 1e30));
   r->add_option("--lit-tolerance", run.lit_tolerance, "allowed |difference| of lit pixels, 8-bit levels")
       ->capture_default_str()->check(CLI::Range(0.0, 255.0));
+  r->add_option("--cross-lit-tolerance", run.cross_lit_tolerance,
+                "across backends: allowed |difference| of lit pixels, 8-bit levels")
+      ->capture_default_str()->check(CLI::Range(0.0, 255.0));
+  r->add_option("--cross-shadow-tolerance", run.cross_shadow_tolerance,
+                "across backends: allowed |difference| of shadow factors")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  r->add_option("--cross-max-percent", run.cross_max_percent,
+                "across backends: % of values allowed beyond those tolerances")
+      ->capture_default_str()->check(CLI::Range(0.0, 100.0));
   bool no_images = false;
   r->add_flag("--no-images", no_images, "do not write images (checks still run)");
   r->add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
@@ -86,7 +97,10 @@ int main(int argc, char** argv) {
   }
 
   std::map<std::string, std::string> backend_options = {
-      {"egl_platform", egl_platform}, {"gl_device", gl_device}, {"api_checks", api_checks ? "1" : "0"}};
+      {"egl_platform", egl_platform},
+      {"gl_device", gl_device},
+      {"vk_device", vk_device},
+      {"api_checks", api_checks ? "1" : "0"}};
   if (list->parsed()) {
     if (!benchmark_args.empty()) {
       print_error(benchmark_args.front() + " applies to 'run' only");

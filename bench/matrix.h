@@ -19,7 +19,8 @@ struct MatrixSpec {
   std::vector<int> cube_sizes{512, 1024};
   std::vector<std::pair<int, int>> frame_sizes;  // empty: each scene's own camera size
   std::vector<Technique> techniques{Technique::six_pass, Technique::geometry_shader,
-                                    Technique::geometry_shader_instanced, Technique::vs_layer};
+                                    Technique::geometry_shader_instanced, Technique::vs_layer,
+                                    Technique::multiview};
   std::vector<Filter> filters{Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20};
   std::vector<Storage> storages{Storage::linear_depth};
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};

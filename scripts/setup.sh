@@ -7,6 +7,7 @@ packages=(
   libepoxy-dev libegl-dev libgl-dev libglm-dev nlohmann-json3-dev libcli11-dev libstb-dev
   libbenchmark-dev libbenchmark-tools libgtest-dev
   libegl-mesa0 libgl1-mesa-dri            # Mesa: llvmpipe through EGL surfaceless on machines without a GPU
+  libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers  # Vulkan loader, SPIR-V compiler, lavapipe
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
 )
 

@@ -98,7 +98,11 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"run --out @OUT@ --benchmark_filter=nothing-matches-this", "empty"},
                       BadInput{"run --out @OUT@ --benchmark_out=x.json", "--benchmark_out"},
                       BadInput{"run --egl-platform wayland --out @OUT@", "unknown --egl-platform 'wayland'"},
-                      BadInput{"run --egl-platform device --gl-device 99 --out @OUT@", "--gl-device 99"}),
+                      BadInput{"run --egl-platform device --gl-device 99 --out @OUT@", "--gl-device 99"},
+                      BadInput{"run --backend vulkan --vk-device no-such-gpu --out @OUT@",
+                               "--vk-device 'no-such-gpu' matches no Vulkan device"},
+                      BadInput{"run --backend vulkan --vk-device 7 --out @OUT@", "--vk-device 7 is out of range"},
+                      BadInput{"run --backend gl,vulkan --cube 40000 --out @OUT@", "above the largest cube map"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
 
 class CliRun : public ::testing::Test {

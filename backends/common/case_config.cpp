@@ -10,10 +10,11 @@ namespace {
 template <typename E, size_t N>
 using Names = std::array<std::pair<E, std::string_view>, N>;
 
-constexpr Names<Technique, 4> kTechniques = {{{Technique::six_pass, "six_pass"},
+constexpr Names<Technique, 5> kTechniques = {{{Technique::six_pass, "six_pass"},
                                               {Technique::geometry_shader, "geometry_shader"},
                                               {Technique::geometry_shader_instanced, "geometry_shader_instanced"},
-                                              {Technique::vs_layer, "vs_layer"}}};
+                                              {Technique::vs_layer, "vs_layer"},
+                                              {Technique::multiview, "multiview"}}};
 constexpr Names<Filter, 4> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::pcf_grid64, "pcf_grid64"},
                                         {Filter::pcf_disk20, "pcf_disk20"},
@@ -75,6 +76,14 @@ OMNISHADOW_INSTANTIATE(Filter)
 OMNISHADOW_INSTANTIATE(Storage)
 OMNISHADOW_INSTANTIATE(DepthFormat)
 #undef OMNISHADOW_INSTANTIATE
+
+Support common_support(const CaseConfig& c) {
+  if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
+    return {false, "hw_compare2x2 needs a depth texture to compare against (storage linear_depth); " +
+                       std::string(to_string(c.storage)) + " stores distance in a colour texture"};
+  if (c.cube_size < 1 || c.width < 1 || c.height < 1) return {false, "cube and frame sizes must be at least 1"};
+  return {};
+}
 
 std::string CaseConfig::id() const {
   return backend + "/" + scene + "/c" + std::to_string(cube_size) + "/f" + std::to_string(width) + "x" +

@@ -13,6 +13,7 @@ enum class Technique {
   geometry_shader,            // one layered pass; the GS loops over 6 faces (seed 000's form, 18 vertices out)
   geometry_shader_instanced,  // one layered pass; GS invocations = 6, one face per invocation
   vs_layer,                   // one layered pass; 6 instances, gl_Layer written by the vertex shader
+  multiview,                  // one pass with a 6-view mask; gl_ViewIndex picks the face (Vulkan)
 };
 enum class Filter {
   hard,           // one lookup, bias 0.05 (seed 000)
@@ -38,6 +39,15 @@ template <typename E>
 std::vector<E> all_values();
 template <typename E>
 std::string valid_values();  // "six_pass, geometry_shader, ..."
+
+struct Support {
+  bool ok = true;
+  std::string reason;  // why not, in one line: "GL_ARB_shader_viewport_layer_array not exposed"
+};
+
+struct CaseConfig;
+// Rules that hold on every backend (a compare sampler needs depth storage; sizes must be positive).
+Support common_support(const CaseConfig& config);
 
 struct CaseConfig {
   std::string backend = "gl";

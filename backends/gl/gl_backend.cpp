@@ -1,7 +1,5 @@
 #include "backends/gl/gl_backend.h"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <algorithm>
 #include <cfloat>
 #include <chrono>
@@ -10,6 +8,7 @@
 #include <stdexcept>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
 
 namespace omnishadow::gl {
@@ -32,6 +31,7 @@ std::vector<std::string> technique_defines(Technique t) {
     case Technique::geometry_shader: return {"TECHNIQUE_GEOMETRY_SHADER"};
     case Technique::geometry_shader_instanced: return {"TECHNIQUE_GEOMETRY_SHADER", "GS_INSTANCED"};
     case Technique::vs_layer: return {"TECHNIQUE_VS_LAYER"};
+    case Technique::multiview: return {"TECHNIQUE_MULTIVIEW"};
   }
   return {};
 }
@@ -135,9 +135,9 @@ GlBackend::~GlBackend() {
 Support GlBackend::supports(const CaseConfig& c) const {
   if (c.technique == Technique::vs_layer && !has_layer_array_)
     return {false, "GL_ARB_shader_viewport_layer_array is not exposed by " + info_.renderer};
-  if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
-    return {false, "hw_compare2x2 needs a depth texture to compare against (storage linear_depth); " +
-                       std::string(to_string(c.storage)) + " stores distance in a colour texture"};
+  if (Support s = common_support(c); !s.ok) return s;
+  if (c.technique == Technique::multiview)
+    return {false, "multiview is implemented with VK_KHR_multiview (backend vulkan); GL_OVR_multiview2 is not"};
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
@@ -223,19 +223,8 @@ void GlBackend::configure(const CaseConfig& c) {
 }
 
 void GlBackend::update_frame_uniforms(int frame) {
-  const scene::Camera& cam = scene_->camera;
-  const scene::PointLight& light = scene_->light;
-  glm::vec3 light_position = light.path.at(frame);
-  gpu::FrameUniforms u;
-  float aspect = static_cast<float>(config_->width) / static_cast<float>(config_->height);
-  u.camera_view_proj = glm::perspectiveRH_NO(glm::radians(cam.fov_y_degrees), aspect, cam.near_plane, cam.far_plane) *
-                       glm::lookAtRH(cam.position, cam.target, cam.up);
-  auto faces = cube::face_view_projections(light_position, light.near_plane, light.far_plane,
-                                           cube::DepthRange::minus_one_to_one);
-  std::copy(faces.begin(), faces.end(), u.face_view_proj.begin());
-  u.camera_position = glm::vec4(cam.position, 1.0f);
-  u.light_position = glm::vec4(light_position, light.far_plane);
-  u.light_color = glm::vec4(light.color, light.near_plane);
+  gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
+                                                  cube::DepthRange::minus_one_to_one);
   glNamedBufferSubData(frame_ubo_, 0, sizeof u, &u);
 }
 

@@ -1,0 +1,30 @@
+#include "backends/common/frame_uniforms.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+
+namespace omnishadow::gpu {
+
+FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, int width, int height,
+                                  cube::DepthRange range) {
+  const scene::Camera& cam = scene.camera;
+  const scene::PointLight& light = scene.light;
+  const glm::vec3 light_position = light.path.at(frame);
+  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  const float fov = glm::radians(cam.fov_y_degrees);
+  // No y flip in either API: both put clip y = -1 on the first row in memory (see cube_faces.h).
+  glm::mat4 projection = range == cube::DepthRange::zero_to_one
+                             ? glm::perspectiveRH_ZO(fov, aspect, cam.near_plane, cam.far_plane)
+                             : glm::perspectiveRH_NO(fov, aspect, cam.near_plane, cam.far_plane);
+  FrameUniforms u;
+  u.camera_view_proj = projection * glm::lookAtRH(cam.position, cam.target, cam.up);
+  auto faces = cube::face_view_projections(light_position, light.near_plane, light.far_plane, range);
+  std::copy(faces.begin(), faces.end(), u.face_view_proj.begin());
+  u.camera_position = glm::vec4(cam.position, 1.0f);
+  u.light_position = glm::vec4(light_position, light.far_plane);
+  u.light_color = glm::vec4(light.color, light.near_plane);
+  return u;
+}
+
+}  // namespace omnishadow::gpu

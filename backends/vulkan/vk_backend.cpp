@@ -1,0 +1,507 @@
+#include "backends/vulkan/vk_backend.h"
+
+#include <cfloat>
+#include <chrono>
+#include <cstring>
+
+#include "backends/common/frame_uniforms.h"
+#include "backends/common/gpu_layout.h"
+
+namespace omnishadow::vk {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+std::string technique_key(Technique t) {
+  switch (t) {
+    case Technique::six_pass: return "TECHNIQUE_SIX_PASS";
+    case Technique::vs_layer: return "TECHNIQUE_VS_LAYER";
+    case Technique::multiview: return "TECHNIQUE_MULTIVIEW";
+    default: return "TECHNIQUE_GEOMETRY_SHADER";
+  }
+}
+
+std::string storage_key(Storage s) {
+  return s == Storage::r32f_distance ? "STORAGE_R32F_DISTANCE" : "STORAGE_LINEAR_DEPTH";
+}
+
+std::string filter_key(Filter f) {
+  switch (f) {
+    case Filter::hard: return "FILTER_HARD";
+    case Filter::pcf_grid64: return "FILTER_PCF_GRID64";
+    case Filter::pcf_disk20: return "FILTER_PCF_DISK20";
+    case Filter::hw_compare2x2: return "FILTER_HW_COMPARE2X2";
+  }
+  return "";
+}
+
+const char* format_name(VkFormat f) {
+  switch (f) {
+    case VK_FORMAT_D16_UNORM: return "VK_FORMAT_D16_UNORM";
+    case VK_FORMAT_X8_D24_UNORM_PACK32: return "VK_FORMAT_X8_D24_UNORM_PACK32";
+    case VK_FORMAT_D32_SFLOAT: return "VK_FORMAT_D32_SFLOAT";
+    default: return "format";
+  }
+}
+
+// Pipeline-statistics flags in the order vkGetQueryPoolResults returns them (bit order), matching PassCounters.
+constexpr VkQueryPipelineStatisticFlags kStatistics =
+    VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_VERTICES_BIT | VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_PRIMITIVES_BIT |
+    VK_QUERY_PIPELINE_STATISTIC_VERTEX_SHADER_INVOCATIONS_BIT |
+    VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_INVOCATIONS_BIT |
+    VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_PRIMITIVES_BIT | VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT |
+    VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT | VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT;
+
+}  // namespace
+
+VkBackend::VkBackend(const std::string& device_selector, bool validation)
+    : ctx_(std::make_unique<VkContext>(device_selector, validation)),
+      modules_(std::make_unique<ShaderModules>(*ctx_)) {
+  const VkPhysicalDeviceProperties& p = ctx_->properties();
+  info_.api = "Vulkan " + std::to_string(VK_API_VERSION_MAJOR(p.apiVersion)) + "." +
+              std::to_string(VK_API_VERSION_MINOR(p.apiVersion)) + "." +
+              std::to_string(VK_API_VERSION_PATCH(p.apiVersion));
+  char vendor[16];
+  std::snprintf(vendor, sizeof vendor, "0x%04x", p.vendorID);
+  info_.vendor = vendor;
+  info_.renderer = p.deviceName;
+  info_.version = std::string(ctx_->driver().driverName) + " " + ctx_->driver().driverInfo;
+  info_.platform = "headless (no surface)";
+  info_.max_cube_size = static_cast<int>(p.limits.maxImageDimensionCube);
+  info_.extra["max_2d_size"] =
+      std::to_string(std::min(p.limits.maxImageDimension2D, std::min(p.limits.maxFramebufferWidth,
+                                                                      p.limits.maxFramebufferHeight)));
+  info_.extra["timestampPeriod_ns"] = std::to_string(p.limits.timestampPeriod);
+  info_.extra["timestampValidBits"] = std::to_string(ctx_->timestamp_valid_bits());
+  info_.extra["geometryShader"] = ctx_->has_geometry_shader() ? "yes" : "no";
+  info_.extra["multiview"] = ctx_->has_multiview() ? "yes" : "no";
+  info_.extra["shaderOutputLayer"] = ctx_->has_layer_output() ? "yes" : "no";
+  info_.extra["pipelineStatisticsQuery"] = ctx_->has_pipeline_statistics() ? "yes" : "no";
+  info_.extra["api_checks"] = validation ? "VK_LAYER_KHRONOS_validation" : "off";
+  VkDevice d = ctx_->device();
+
+  const VkShaderStageFlags geometry_stages =
+      VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
+      (ctx_->has_geometry_shader() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
+  VkDescriptorSetLayoutBinding bindings[2] = {
+      {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, geometry_stages, nullptr},
+      {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  set_info.bindingCount = 1;
+  set_info.pBindings = bindings;
+  OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &shadow_set_layout_));
+  set_info.bindingCount = 2;
+  OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &lighting_set_layout_));
+  // Six 4x4 matrices do not fit the 128 bytes of push constants lavapipe guarantees: they live in the uniform
+  // buffer, and only the face index is pushed.
+  VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(int32_t)};
+  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &shadow_set_layout_;
+  layout_info.pushConstantRangeCount = 1;
+  layout_info.pPushConstantRanges = &push;
+  OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &shadow_layout_));
+  layout_info.pSetLayouts = &lighting_set_layout_;
+  layout_info.pushConstantRangeCount = 0;
+  OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &lighting_layout_));
+
+  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
+  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool_info.maxSets = 2;
+  pool_info.poolSizeCount = 2;
+  pool_info.pPoolSizes = sizes;
+  OMNISHADOW_VK(vkCreateDescriptorPool(d, &pool_info, nullptr, &descriptor_pool_));
+  VkDescriptorSetLayout layouts[2] = {shadow_set_layout_, lighting_set_layout_};
+  VkDescriptorSet sets[2];
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = descriptor_pool_;
+  alloc.descriptorSetCount = 2;
+  alloc.pSetLayouts = layouts;
+  OMNISHADOW_VK(vkAllocateDescriptorSets(d, &alloc, sets));
+  shadow_set_ = sets[0];
+  lighting_set_ = sets[1];
+
+  frame_uniforms_ = create_buffer(*ctx_, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
+  VkDescriptorBufferInfo ubo{frame_uniforms_.buffer, 0, sizeof(gpu::FrameUniforms)};
+  VkWriteDescriptorSet writes[2] = {};
+  for (int i = 0; i < 2; ++i) {
+    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    writes[i].dstSet = sets[i];
+    writes[i].dstBinding = gpu::kFrameUniformsBinding;
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    writes[i].pBufferInfo = &ubo;
+  }
+  vkUpdateDescriptorSets(d, 2, writes, 0, nullptr);
+
+  VkSamplerCreateInfo sampler{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  sampler.magFilter = sampler.minFilter = VK_FILTER_NEAREST;  // seed 000: NEAREST
+  sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  sampler.addressModeU = sampler.addressModeV = sampler.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  OMNISHADOW_VK(vkCreateSampler(d, &sampler, nullptr, &nearest_sampler_));
+  sampler.magFilter = sampler.minFilter = VK_FILTER_LINEAR;  // hw_compare2x2: 2x2 bilinear compare
+  sampler.compareEnable = VK_TRUE;
+  sampler.compareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+  OMNISHADOW_VK(vkCreateSampler(d, &sampler, nullptr, &compare_sampler_));
+
+  if (ctx_->timestamp_valid_bits() > 0) {
+    VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    q.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    q.queryCount = 4;
+    OMNISHADOW_VK(vkCreateQueryPool(d, &q, nullptr, &timestamps_));
+  }
+  if (ctx_->has_pipeline_statistics()) {
+    VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    q.queryType = VK_QUERY_TYPE_PIPELINE_STATISTICS;
+    q.queryCount = 2;
+    q.pipelineStatistics = kStatistics;
+    OMNISHADOW_VK(vkCreateQueryPool(d, &q, nullptr, &statistics_));
+  }
+  VkCommandBufferAllocateInfo cb_alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cb_alloc.commandPool = ctx_->command_pool();
+  cb_alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cb_alloc.commandBufferCount = 2;
+  OMNISHADOW_VK(vkAllocateCommandBuffers(d, &cb_alloc, command_buffers_.data()));
+}
+
+VkBackend::~VkBackend() {
+  VkDevice d = ctx_->device();
+  vkDeviceWaitIdle(d);
+  release_case();
+  destroy(*ctx_, vertex_buffer_);
+  destroy(*ctx_, frame_uniforms_);
+  vkFreeCommandBuffers(d, ctx_->command_pool(), 2, command_buffers_.data());
+  if (timestamps_) vkDestroyQueryPool(d, timestamps_, nullptr);
+  if (statistics_) vkDestroyQueryPool(d, statistics_, nullptr);
+  vkDestroySampler(d, nearest_sampler_, nullptr);
+  vkDestroySampler(d, compare_sampler_, nullptr);
+  vkDestroyDescriptorPool(d, descriptor_pool_, nullptr);
+  vkDestroyPipelineLayout(d, shadow_layout_, nullptr);
+  vkDestroyPipelineLayout(d, lighting_layout_, nullptr);
+  vkDestroyDescriptorSetLayout(d, shadow_set_layout_, nullptr);
+  vkDestroyDescriptorSetLayout(d, lighting_set_layout_, nullptr);
+  modules_.reset();
+}
+
+Support VkBackend::supports(const CaseConfig& c) const {
+  if (Support s = common_support(c); !s.ok) return s;
+  const std::string device = info_.renderer;
+  switch (c.technique) {
+    case Technique::geometry_shader:
+    case Technique::geometry_shader_instanced:
+      if (!ctx_->has_geometry_shader()) return {false, "geometryShader feature not supported by " + device};
+      break;
+    case Technique::vs_layer:
+      if (!ctx_->has_layer_output()) return {false, "shaderOutputLayer (Vulkan 1.2) not supported by " + device};
+      break;
+    case Technique::multiview:
+      if (!ctx_->has_multiview()) return {false, "multiview feature not supported by " + device};
+      break;
+    case Technique::six_pass: break;
+  }
+  if (c.cube_size > info_.max_cube_size)
+    return {false, "cube size " + std::to_string(c.cube_size) + " above maxImageDimensionCube " +
+                       std::to_string(info_.max_cube_size)};
+  VkFormat format = depth_format_of(c.depth_format);
+  VkFormatFeatureFlags features = ctx_->format_properties(format).optimalTilingFeatures;
+  if (!(features & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
+    return {false, std::string(format_name(format)) + " cannot be a depth attachment on " + device};
+  if (c.storage == Storage::linear_depth && !(features & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
+    return {false, std::string(format_name(format)) + " cannot be sampled on " + device + " (linear_depth samples it)"};
+  if (c.filter == Filter::hw_compare2x2 && !(features & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT))
+    return {false, std::string(format_name(format)) + " has no linear filtering on " + device +
+                       " (hw_compare2x2 needs it)"};
+  return {};
+}
+
+void VkBackend::load(const scene::Scene& scene) {
+  vkDeviceWaitIdle(ctx_->device());
+  release_case();
+  destroy(*ctx_, vertex_buffer_);
+  vertex_buffer_ = upload_buffer(*ctx_, scene.vertices.data(), scene.vertices.size() * sizeof(scene::Vertex),
+                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+  scene_ = scene;
+  scene_->vertices.clear();
+  scene_->vertices.shrink_to_fit();
+}
+
+void VkBackend::release_case() {
+  VkDevice d = ctx_->device();
+  for (VkPipeline p : shadow_pipelines_)
+    if (p) vkDestroyPipeline(d, p, nullptr);
+  for (VkPipeline p : lighting_pipelines_)
+    if (p) vkDestroyPipeline(d, p, nullptr);
+  shadow_pipelines_ = {};
+  lighting_pipelines_ = {};
+  destroy(*ctx_, shadow_);
+  destroy(*ctx_, lighting_);
+  config_.reset();
+}
+
+void VkBackend::configure(const CaseConfig& c) {
+  if (!scene_) throw std::logic_error("configure() before load()");
+  if (config_ && *config_ == c) return;
+  Support s = supports(c);
+  if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
+  vkDeviceWaitIdle(ctx_->device());
+  release_case();
+  try {
+    shadow_ = create_shadow_targets(*ctx_, c);
+    lighting_ = create_lighting_targets(*ctx_, static_cast<uint32_t>(c.width), static_cast<uint32_t>(c.height));
+
+    PipelineDesc shadow;
+    shadow.stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, "shadow_depth.vert:" + technique_key(c.technique)});
+    if (c.technique == Technique::geometry_shader)
+      shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER"});
+    if (c.technique == Technique::geometry_shader_instanced)
+      shadow.stages.push_back(
+          {VK_SHADER_STAGE_GEOMETRY_BIT, "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER,GS_INSTANCED"});
+    shadow.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, "shadow_depth.frag:" + storage_key(c.storage)});
+    shadow.layout = shadow_layout_;
+    shadow.render_pass = shadow_.render_pass;
+    shadow.color_attachments = c.storage == Storage::r32f_distance ? 1 : 0;
+    shadow.position_only = true;
+    PipelineDesc lighting;
+    lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "lighting.vert:NONE"},
+                       {VK_SHADER_STAGE_FRAGMENT_BIT,
+                        "lighting.frag:" + storage_key(c.storage) + "," + filter_key(c.filter)}};
+    lighting.layout = lighting_layout_;
+    lighting.render_pass = lighting_.render_pass;
+    lighting.color_attachments = 3;
+    for (int cull = 0; cull < 2; ++cull) {
+      shadow.cull = lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
+      shadow_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, shadow);
+      lighting_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);
+    }
+
+    // Written before any command buffer binds the set: lavapipe crashes on a bound, never-written sampler.
+    VkDescriptorImageInfo image{c.filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_,
+                                shadow_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = lighting_set_;
+    write.dstBinding = gpu::kShadowMapBinding;
+    write.descriptorCount = 1;
+    write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    write.pImageInfo = &image;
+    vkUpdateDescriptorSets(ctx_->device(), 1, &write, 0, nullptr);
+  } catch (...) {
+    release_case();
+    throw;
+  }
+  config_ = c;
+}
+
+void VkBackend::begin(VkCommandBuffer cb) {
+  OMNISHADOW_VK(vkResetCommandBuffer(cb, 0));
+  VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  OMNISHADOW_VK(vkBeginCommandBuffer(cb, &info));
+}
+
+void VkBackend::draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
+                             VkDescriptorSet set, uint32_t instances, uint64_t& draws) {
+  int bound = -1;
+  for (const scene::Object& obj : scene_->objects) {
+    int want = obj.cull_back_faces ? 1 : 0;
+    if (want != bound) {
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[static_cast<size_t>(want)]);
+      if (bound < 0) vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+      bound = want;
+    }
+    vkCmdDraw(cb, obj.vertex_count, instances, obj.first_vertex, 0);
+    ++draws;
+  }
+}
+
+void VkBackend::record_shadow(VkCommandBuffer cb, bool statistics, uint64_t& draws) {
+  begin(cb);
+  if (timestamps_) vkCmdResetQueryPool(cb, timestamps_, 0, 2);
+  if (statistics) {
+    vkCmdResetQueryPool(cb, statistics_, 0, 1);
+    vkCmdBeginQuery(cb, statistics_, 0, 0);
+  }
+  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
+  VkClearValue clears[2];
+  clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (seed 004)
+  clears[1].depthStencil = {1.0f, 0};
+  const bool r32f = shadow_.storage == Storage::r32f_distance;
+  VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  rp.renderPass = shadow_.render_pass;
+  rp.renderArea = {{0, 0}, {shadow_.size, shadow_.size}};
+  rp.clearValueCount = r32f ? 2 : 1;
+  rp.pClearValues = r32f ? clears : clears + 1;
+  VkViewport viewport{0, 0, float(shadow_.size), float(shadow_.size), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
+  VkDeviceSize offset = 0;
+  uint32_t instances = config_->technique == Technique::vs_layer ? 6 : 1;
+  for (size_t f = 0; f < shadow_.framebuffers.size(); ++f) {
+    rp.framebuffer = shadow_.framebuffers[f];
+    vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
+    vkCmdSetViewport(cb, 0, 1, &viewport);
+    vkCmdSetScissor(cb, 0, 1, &scissor);
+    vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
+    int32_t face = static_cast<int32_t>(f);
+    vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof face, &face);
+    draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws);
+    vkCmdEndRenderPass(cb);
+  }
+  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
+  if (statistics) vkCmdEndQuery(cb, statistics_, 0);
+  OMNISHADOW_VK(vkEndCommandBuffer(cb));
+}
+
+void VkBackend::record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& draws) {
+  begin(cb);
+  if (timestamps_) vkCmdResetQueryPool(cb, timestamps_, 2, 2);
+  if (statistics) {
+    vkCmdResetQueryPool(cb, statistics_, 1, 1);
+    vkCmdBeginQuery(cb, statistics_, 1, 0);
+  }
+  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 2);
+  VkClearValue clears[4];
+  clears[0].color = {{0.1f, 0.1f, 0.1f, 1.0f}};  // same background as GL
+  clears[1].color = {{0, 0, 0, 0}};
+  clears[2].color = {{0, 0, 0, 0}};
+  clears[3].depthStencil = {1.0f, 0};
+  VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  rp.renderPass = lighting_.render_pass;
+  rp.framebuffer = lighting_.framebuffer;
+  rp.renderArea = {{0, 0}, {lighting_.width, lighting_.height}};
+  rp.clearValueCount = 4;
+  rp.pClearValues = clears;
+  vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
+  VkViewport viewport{0, 0, float(lighting_.width), float(lighting_.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {lighting_.width, lighting_.height}};
+  vkCmdSetViewport(cb, 0, 1, &viewport);
+  vkCmdSetScissor(cb, 0, 1, &scissor);
+  VkDeviceSize offset = 0;
+  vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
+  draw_objects(cb, lighting_pipelines_, lighting_layout_, lighting_set_, 1, draws);
+  vkCmdEndRenderPass(cb);
+  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 3);
+  if (statistics) vkCmdEndQuery(cb, statistics_, 1);
+  OMNISHADOW_VK(vkEndCommandBuffer(cb));
+}
+
+double VkBackend::timestamp_ms(uint32_t first) const {
+  if (!timestamps_) return -1.0;
+  uint64_t ticks[2] = {0, 0};
+  OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), timestamps_, first, 2, sizeof ticks, ticks, sizeof(uint64_t),
+                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  const uint32_t bits = ctx_->timestamp_valid_bits();
+  const uint64_t mask = bits >= 64 ? ~0ull : ((1ull << bits) - 1);
+  const uint64_t delta = ((ticks[1] & mask) - (ticks[0] & mask)) & mask;  // wraps within the valid bits
+  return static_cast<double>(delta) * ctx_->properties().limits.timestampPeriod * 1e-6;
+}
+
+FrameTiming VkBackend::render(int frame) {
+  if (!config_) throw std::logic_error("render() before configure()");
+  // Each pass is its own submission, waited on before the next, so its wall time is its own (as GL's glFinish).
+  // cpu_submit covers uniform update, command recording and vkQueueSubmit.
+  FrameTiming t;
+  uint64_t draws = 0;
+  auto t0 = Clock::now();
+  gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
+                                                  cube::DepthRange::zero_to_one);
+  std::memcpy(frame_uniforms_.mapped, &u, sizeof u);
+  record_shadow(command_buffers_[0], false, draws);
+  ctx_->submit(command_buffers_[0]);
+  auto t1 = Clock::now();
+  ctx_->wait();
+  auto t2 = Clock::now();
+  record_lighting(command_buffers_[1], false, draws);
+  ctx_->submit(command_buffers_[1]);
+  auto t3 = Clock::now();
+  ctx_->wait();
+  auto t4 = Clock::now();
+  t.shadow = {ms_between(t0, t1), ms_between(t0, t2), timestamp_ms(0)};
+  t.lighting = {ms_between(t2, t3), ms_between(t2, t4), timestamp_ms(2)};
+  t.frame_wall_ms = ms_between(t0, t4);
+  return t;
+}
+
+FrameCounters VkBackend::count_work(int frame) {
+  if (!config_) throw std::logic_error("count_work() before configure()");
+  gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
+                                                  cube::DepthRange::zero_to_one);
+  std::memcpy(frame_uniforms_.mapped, &u, sizeof u);
+  const bool stats = statistics_ != VK_NULL_HANDLE;
+  FrameCounters c;
+  record_shadow(command_buffers_[0], stats, c.shadow.draw_calls);
+  ctx_->submit(command_buffers_[0]);
+  ctx_->wait();
+  record_lighting(command_buffers_[1], stats, c.lighting.draw_calls);
+  ctx_->submit(command_buffers_[1]);
+  ctx_->wait();
+  if (stats) {
+    uint64_t values[2][8] = {};
+    OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), statistics_, 0, 2, sizeof values, values, sizeof values[0],
+                                        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    PassCounters* passes[2] = {&c.shadow, &c.lighting};
+    for (int p = 0; p < 2; ++p) {
+      PassCounters& k = *passes[p];
+      k.valid = true;
+      k.vertices_submitted = values[p][0];
+      k.primitives_submitted = values[p][1];
+      k.vs_invocations = values[p][2];
+      k.gs_invocations = values[p][3];
+      k.gs_primitives = values[p][4];
+      k.clipping_input = values[p][5];
+      k.clipping_output = values[p][6];
+      k.fs_invocations = values[p][7];
+    }
+  }
+  return c;
+}
+
+Images VkBackend::read_back() {
+  if (!config_) throw std::logic_error("read_back() before configure()");
+  Images img;
+  img.width = static_cast<int>(lighting_.width);
+  img.height = static_cast<int>(lighting_.height);
+  const VkImageLayout ready = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  img.lit_rgba8 = read_image(*ctx_, lighting_.color, ready, 4);
+  auto floats = [](const std::vector<uint8_t>& bytes) {
+    std::vector<float> out(bytes.size() / sizeof(float));
+    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(float));
+    return out;
+  };
+  img.shadow_factor = floats(read_image(*ctx_, lighting_.shadow_factor, ready, 4));
+  img.world_position = floats(read_image(*ctx_, lighting_.position, ready, 16));
+
+  img.cube_size = static_cast<int>(shadow_.size);
+  const Image& stored = shadow_.stored();
+  const bool r32f = shadow_.storage == Storage::r32f_distance;
+  const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
+  std::vector<uint8_t> bytes = read_image(*ctx_, stored, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, texel_bytes);
+  const size_t texels = size_t(shadow_.size) * shadow_.size;
+  const float far_plane = scene_->light.far_plane;
+  for (size_t f = 0; f < 6; ++f) {
+    auto& face = img.cube_distance[f];
+    face.resize(texels);
+    const uint8_t* src = bytes.data() + f * texels * texel_bytes;
+    for (size_t i = 0; i < texels; ++i) {
+      float v;
+      if (stored.format == VK_FORMAT_D16_UNORM) {
+        uint16_t x;
+        std::memcpy(&x, src + 2 * i, 2);
+        v = static_cast<float>(x) / 65535.0f;
+      } else if (stored.format == VK_FORMAT_X8_D24_UNORM_PACK32) {
+        uint32_t x;
+        std::memcpy(&x, src + 4 * i, 4);
+        v = static_cast<float>(x & 0xFFFFFFu) / 16777215.0f;
+      } else {
+        std::memcpy(&v, src + 4 * i, 4);
+      }
+      face[i] = r32f ? v : v * far_plane;  // linear_depth stores distance / far
+    }
+  }
+  return img;
+}
+
+}  // namespace omnishadow::vk

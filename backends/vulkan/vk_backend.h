@@ -1,0 +1,71 @@
+#pragma once
+// Vulkan backend, headless. Every technique is native Vulkan: six_pass renders the six 2D views of one
+// cube-compatible image; geometry_shader / geometry_shader_instanced / vs_layer render once into a 6-layer
+// framebuffer; multiview renders once with a 6-view mask.
+
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <memory>
+#include <optional>
+
+#include "backends/backend.h"
+#include "backends/vulkan/vk_context.h"
+#include "backends/vulkan/vk_pipelines.h"
+#include "backends/vulkan/vk_resources.h"
+#include "backends/vulkan/vk_targets.h"
+
+namespace omnishadow::vk {
+
+class VkBackend final : public Backend {
+ public:
+  VkBackend(const std::string& device_selector, bool validation);
+  ~VkBackend() override;
+
+  const DeviceInfo& device() const override { return info_; }
+  Support supports(const CaseConfig& config) const override;
+  void load(const scene::Scene& scene) override;
+  void configure(const CaseConfig& config) override;
+  FrameTiming render(int frame) override;
+  FrameCounters count_work(int frame) override;
+  Images read_back() override;
+  std::vector<std::string> drain_api_errors() override { return ctx_->drain_messages(); }
+
+ private:
+  void record_shadow(VkCommandBuffer cb, bool statistics, uint64_t& draws);
+  void record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& draws);
+  void draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
+                    VkDescriptorSet set, uint32_t instances, uint64_t& draws);
+  void begin(VkCommandBuffer cb);
+  void release_case();
+  double timestamp_ms(uint32_t first) const;
+
+  std::unique_ptr<VkContext> ctx_;
+  std::unique_ptr<ShaderModules> modules_;
+  DeviceInfo info_;
+
+  VkDescriptorSetLayout shadow_set_layout_ = VK_NULL_HANDLE;    // binding 0: frame uniforms
+  VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;  // + binding 2: the shadow cube
+  VkPipelineLayout shadow_layout_ = VK_NULL_HANDLE;             // + push constant: face (six_pass)
+  VkPipelineLayout lighting_layout_ = VK_NULL_HANDLE;
+  VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet shadow_set_ = VK_NULL_HANDLE;
+  VkDescriptorSet lighting_set_ = VK_NULL_HANDLE;
+  VkSampler nearest_sampler_ = VK_NULL_HANDLE;
+  VkSampler compare_sampler_ = VK_NULL_HANDLE;
+  Buffer frame_uniforms_;  // host-visible; written before each frame, which waits for the previous one
+  VkQueryPool timestamps_ = VK_NULL_HANDLE;  // 0,1: shadow pass; 2,3: lighting pass
+  VkQueryPool statistics_ = VK_NULL_HANDLE;  // 0: shadow pass, 1: lighting pass
+  std::array<VkCommandBuffer, 2> command_buffers_{};
+
+  std::optional<scene::Scene> scene_;  // objects, light path and camera; vertices live in vertex_buffer_
+  Buffer vertex_buffer_;
+
+  std::optional<CaseConfig> config_;
+  ShadowTargets shadow_;
+  LightingTargets lighting_;
+  std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
+  std::array<VkPipeline, 2> lighting_pipelines_{};
+};
+
+}  // namespace omnishadow::vk

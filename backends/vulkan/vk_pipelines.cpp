@@ -1,0 +1,93 @@
+#include "backends/vulkan/vk_pipelines.h"
+
+#include "backends/common/gpu_layout.h"
+#include "backends/vulkan/vk_spirv.h"
+
+namespace omnishadow::vk {
+
+ShaderModules::~ShaderModules() {
+  for (auto& [key, module] : modules_) vkDestroyShaderModule(ctx_.device(), module, nullptr);
+}
+
+VkShaderModule ShaderModules::get(const std::string& key) {
+  auto it = modules_.find(key);
+  if (it != modules_.end()) return it->second;
+  auto code = embedded_spirv().find(key);
+  if (code == embedded_spirv().end()) throw std::runtime_error("SPIR-V variant '" + key + "' was not compiled");
+  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  info.codeSize = code->second.size() * sizeof(uint32_t);
+  info.pCode = code->second.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  OMNISHADOW_VK(vkCreateShaderModule(ctx_.device(), &info, nullptr, &module));
+  modules_[key] = module;
+  return module;
+}
+
+VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc) {
+  std::vector<VkPipelineShaderStageCreateInfo> stages;
+  for (const auto& [stage, key] : desc.stages) {
+    VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    s.stage = stage;
+    s.module = modules.get(key);
+    s.pName = "main";
+    stages.push_back(s);
+  }
+  VkVertexInputBindingDescription binding{0, static_cast<uint32_t>(gpu::kVertexStride), VK_VERTEX_INPUT_RATE_VERTEX};
+  VkVertexInputAttributeDescription attributes[] = {
+      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, static_cast<uint32_t>(gpu::kPositionOffset)},
+      {1, 0, VK_FORMAT_R32G32B32_SFLOAT, static_cast<uint32_t>(gpu::kNormalOffset)},
+      {2, 0, VK_FORMAT_R32G32B32_SFLOAT, static_cast<uint32_t>(gpu::kColorOffset)}};
+  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertex_input.vertexBindingDescriptionCount = 1;
+  vertex_input.pVertexBindingDescriptions = &binding;
+  vertex_input.vertexAttributeDescriptionCount = desc.position_only ? 1 : 3;
+  vertex_input.pVertexAttributeDescriptions = attributes;
+  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = desc.cull;
+  // Clip space is not flipped (cube_faces.h), so framebuffer rows match GL's window rows; Vulkan's
+  // signed-area formula has the opposite sign of GL's, hence clockwise here for GL's counter-clockwise.
+  raster.frontFace = VK_FRONT_FACE_CLOCKWISE;
+  raster.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_LESS;
+  std::vector<VkPipelineColorBlendAttachmentState> blend(desc.color_attachments);
+  for (auto& b : blend)
+    b.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                       VK_COLOR_COMPONENT_A_BIT;
+  VkPipelineColorBlendStateCreateInfo color{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  color.attachmentCount = desc.color_attachments;
+  color.pAttachments = blend.data();
+  VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamic_states;
+
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  info.stageCount = static_cast<uint32_t>(stages.size());
+  info.pStages = stages.data();
+  info.pVertexInputState = &vertex_input;
+  info.pInputAssemblyState = &assembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depth;
+  info.pColorBlendState = &color;
+  info.pDynamicState = &dynamic;
+  info.layout = desc.layout;
+  info.renderPass = desc.render_pass;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  OMNISHADOW_VK(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+  return pipeline;
+}
+
+}  // namespace omnishadow::vk

@@ -1,0 +1,37 @@
+#pragma once
+// Shader modules from the embedded SPIR-V, and the graphics pipelines both passes use.
+
+#include <vulkan/vulkan.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "backends/vulkan/vk_context.h"
+
+namespace omnishadow::vk {
+
+class ShaderModules {
+ public:
+  explicit ShaderModules(VkContext& ctx) : ctx_(ctx) {}
+  ~ShaderModules();
+  // key "shadow_depth.vert:TECHNIQUE_SIX_PASS" (see vk_spirv.h); throws if the variant was not compiled.
+  VkShaderModule get(const std::string& key);
+
+ private:
+  VkContext& ctx_;
+  std::map<std::string, VkShaderModule> modules_;
+};
+
+struct PipelineDesc {
+  std::vector<std::pair<VkShaderStageFlagBits, std::string>> stages;  // stage, SPIR-V key
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  uint32_t color_attachments = 0;
+  bool position_only = false;  // the shadow pass reads location 0 only
+  VkCullModeFlags cull = VK_CULL_MODE_NONE;
+};
+
+VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc);
+
+}  // namespace omnishadow::vk

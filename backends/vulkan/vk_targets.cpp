@@ -1,0 +1,191 @@
+#include "backends/vulkan/vk_targets.h"
+
+namespace omnishadow::vk {
+namespace {
+
+VkAttachmentDescription attachment(VkFormat format, VkAttachmentStoreOp store, VkImageLayout final_layout) {
+  VkAttachmentDescription a{};
+  a.format = format;
+  a.samples = VK_SAMPLE_COUNT_1_BIT;
+  a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // every frame starts from the clear values
+  a.storeOp = store;
+  a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  a.finalLayout = final_layout;
+  return a;
+}
+
+// One subpass: `colors` colour attachments first, then the depth attachment. The external dependencies order
+// the pass after earlier reads of its images (sampling, copies) and make its writes visible to `consumer`.
+VkRenderPass create_render_pass(VkContext& ctx, const std::vector<VkAttachmentDescription>& attachments,
+                                uint32_t colors, VkPipelineStageFlags consumer_stage, VkAccessFlags consumer_access,
+                                uint32_t view_mask) {
+  std::vector<VkAttachmentReference> color_refs;
+  for (uint32_t i = 0; i < colors; ++i) color_refs.push_back({i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
+  VkAttachmentReference depth_ref{colors, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription subpass{};
+  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  subpass.colorAttachmentCount = colors;
+  subpass.pColorAttachments = color_refs.data();
+  subpass.pDepthStencilAttachment = &depth_ref;
+  const VkPipelineStageFlags attachment_stages = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                                                 VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
+                                                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  const VkAccessFlags attachment_writes =
+      VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  VkSubpassDependency deps[2] = {};
+  deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+  deps[0].dstSubpass = 0;
+  deps[0].srcStageMask = consumer_stage | attachment_stages;
+  deps[0].dstStageMask = attachment_stages;
+  deps[0].srcAccessMask = attachment_writes;
+  deps[0].dstAccessMask = attachment_writes | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+  deps[1].srcSubpass = 0;
+  deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+  deps[1].srcStageMask = attachment_stages;
+  deps[1].dstStageMask = consumer_stage;
+  deps[1].srcAccessMask = attachment_writes;
+  deps[1].dstAccessMask = consumer_access;
+  VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  info.attachmentCount = static_cast<uint32_t>(attachments.size());
+  info.pAttachments = attachments.data();
+  info.subpassCount = 1;
+  info.pSubpasses = &subpass;
+  info.dependencyCount = 2;
+  info.pDependencies = deps;
+  VkRenderPassMultiviewCreateInfo multiview{VK_STRUCTURE_TYPE_RENDER_PASS_MULTIVIEW_CREATE_INFO};
+  multiview.subpassCount = 1;
+  multiview.pViewMasks = &view_mask;
+  if (view_mask) info.pNext = &multiview;
+  VkRenderPass pass = VK_NULL_HANDLE;
+  OMNISHADOW_VK(vkCreateRenderPass(ctx.device(), &info, nullptr, &pass));
+  return pass;
+}
+
+VkFramebuffer create_framebuffer(VkContext& ctx, VkRenderPass pass, const std::vector<VkImageView>& views,
+                                 uint32_t width, uint32_t height, uint32_t layers) {
+  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  info.renderPass = pass;
+  info.attachmentCount = static_cast<uint32_t>(views.size());
+  info.pAttachments = views.data();
+  info.width = width;
+  info.height = height;
+  info.layers = layers;
+  VkFramebuffer fb = VK_NULL_HANDLE;
+  OMNISHADOW_VK(vkCreateFramebuffer(ctx.device(), &info, nullptr, &fb));
+  return fb;
+}
+
+}  // namespace
+
+VkFormat depth_format_of(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::d16: return VK_FORMAT_D16_UNORM;
+    case DepthFormat::d24: return VK_FORMAT_X8_D24_UNORM_PACK32;
+    case DepthFormat::d32f: return VK_FORMAT_D32_SFLOAT;
+  }
+  return VK_FORMAT_D32_SFLOAT;
+}
+
+ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
+  ShadowTargets t;
+  t.storage = c.storage;
+  t.size = static_cast<uint32_t>(c.cube_size);
+  const bool r32f = c.storage == Storage::r32f_distance;
+  const VkFormat depth_format = depth_format_of(c.depth_format);
+  try {
+    t.depth = create_image(ctx, depth_format, t.size, t.size, 6, true,
+                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                               (r32f ? 0 : VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
+    if (r32f)
+      t.color = create_image(ctx, VK_FORMAT_R32_SFLOAT, t.size, t.size, 6, true,
+                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+    t.sampled_view = create_view(ctx, t.stored(), VK_IMAGE_VIEW_TYPE_CUBE, 0, 6);
+
+    std::vector<VkAttachmentDescription> attachments;
+    if (r32f)
+      attachments.push_back(
+          attachment(VK_FORMAT_R32_SFLOAT, VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    attachments.push_back(attachment(depth_format,
+                                     r32f ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
+                                     r32f ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+                                          : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    const uint32_t view_mask = c.technique == Technique::multiview ? 0b111111u : 0u;
+    t.render_pass = create_render_pass(ctx, attachments, r32f ? 1 : 0,
+                                       VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT, view_mask);
+
+    // six_pass: each face a framebuffer of single-layer views. Layered: one framebuffer of 6-layer array views
+    // (layers = 6; gl_Layer picks the face). Multiview: the same views with layers = 1; the view mask routes.
+    auto views_for = [&](uint32_t first, uint32_t count) {
+      std::vector<VkImageView> views;
+      VkImageViewType type = count == 1 ? VK_IMAGE_VIEW_TYPE_2D : VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+      if (r32f) views.push_back(create_view(ctx, t.color, type, first, count));
+      views.push_back(create_view(ctx, t.depth, type, first, count));
+      t.attachment_views.insert(t.attachment_views.end(), views.begin(), views.end());
+      return views;
+    };
+    if (c.technique == Technique::six_pass) {
+      for (uint32_t f = 0; f < 6; ++f)
+        t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(f, 1), t.size, t.size, 1));
+    } else {
+      uint32_t layers = c.technique == Technique::multiview ? 1 : 6;
+      t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(0, 6), t.size, t.size, layers));
+    }
+  } catch (...) {
+    destroy(ctx, t);
+    throw;
+  }
+  return t;
+}
+
+void destroy(VkContext& ctx, ShadowTargets& t) {
+  for (VkFramebuffer fb : t.framebuffers) vkDestroyFramebuffer(ctx.device(), fb, nullptr);
+  for (VkImageView v : t.attachment_views) vkDestroyImageView(ctx.device(), v, nullptr);
+  if (t.sampled_view) vkDestroyImageView(ctx.device(), t.sampled_view, nullptr);
+  if (t.render_pass) vkDestroyRenderPass(ctx.device(), t.render_pass, nullptr);
+  destroy(ctx, t.color);
+  destroy(ctx, t.depth);
+  t = ShadowTargets{};
+}
+
+LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t height) {
+  LightingTargets t;
+  t.width = width;
+  t.height = height;
+  try {
+    const VkImageUsageFlags color_usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    t.color = create_image(ctx, VK_FORMAT_R8G8B8A8_UNORM, width, height, 1, false, color_usage);
+    t.shadow_factor = create_image(ctx, VK_FORMAT_R32_SFLOAT, width, height, 1, false, color_usage);
+    t.position = create_image(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, width, height, 1, false, color_usage);
+    t.depth = create_image(ctx, VK_FORMAT_D32_SFLOAT, width, height, 1, false,
+                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+    std::vector<VkAttachmentDescription> attachments;
+    for (const Image* i : {&t.color, &t.shadow_factor, &t.position})
+      attachments.push_back(
+          attachment(i->format, VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL));
+    attachments.push_back(attachment(VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                                     VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL));
+    t.render_pass = create_render_pass(ctx, attachments, 3, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                       VK_ACCESS_TRANSFER_READ_BIT, 0);
+    for (const Image* i : {&t.color, &t.shadow_factor, &t.position, &t.depth})
+      t.views.push_back(create_view(ctx, *i, VK_IMAGE_VIEW_TYPE_2D, 0, 1));
+    t.framebuffer = create_framebuffer(ctx, t.render_pass, t.views, width, height, 1);
+  } catch (...) {
+    destroy(ctx, t);
+    throw;
+  }
+  return t;
+}
+
+void destroy(VkContext& ctx, LightingTargets& t) {
+  if (t.framebuffer) vkDestroyFramebuffer(ctx.device(), t.framebuffer, nullptr);
+  for (VkImageView v : t.views) vkDestroyImageView(ctx.device(), v, nullptr);
+  if (t.render_pass) vkDestroyRenderPass(ctx.device(), t.render_pass, nullptr);
+  for (Image* i : {&t.color, &t.shadow_factor, &t.position, &t.depth}) destroy(ctx, *i);
+  t = LightingTargets{};
+}
+
+}  // namespace omnishadow::vk

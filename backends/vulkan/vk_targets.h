@@ -1,0 +1,45 @@
+#pragma once
+// The render targets of one case: the shadow cube with the views, render pass and framebuffers its technique
+// needs, and the lighting targets (lit colour, shadow factor, world position).
+
+#include <vulkan/vulkan.h>
+
+#include <array>
+
+#include "backends/common/case_config.h"
+#include "backends/vulkan/vk_resources.h"
+
+namespace omnishadow::vk {
+
+struct ShadowTargets {
+  Storage storage = Storage::linear_depth;
+  uint32_t size = 0;
+  Image depth;  // the depth test's cube; also what is stored for linear_depth
+  Image color;  // r32f_distance only: the stored distances
+  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE view of what the lighting pass samples
+  std::vector<VkImageView> attachment_views;  // owned; referenced by the framebuffers
+  VkRenderPass render_pass = VK_NULL_HANDLE;  // multiview pass for Technique::multiview
+  std::vector<VkFramebuffer> framebuffers;    // six_pass: one per face; otherwise one, all six layers
+  const Image& stored() const { return storage == Storage::r32f_distance ? color : depth; }
+};
+
+struct LightingTargets {
+  uint32_t width = 0, height = 0;
+  Image color;          // RGBA8
+  Image shadow_factor;  // R32F
+  Image position;       // RGBA32F
+  Image depth;          // D32F
+  std::vector<VkImageView> views;
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+};
+
+VkFormat depth_format_of(DepthFormat format);
+// After the shadow pass the stored cube is in SHADER_READ_ONLY_OPTIMAL; the lighting targets end in
+// TRANSFER_SRC_OPTIMAL, ready for read-back.
+ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& config);
+void destroy(VkContext& ctx, ShadowTargets& t);
+LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t height);
+void destroy(VkContext& ctx, LightingTargets& t);
+
+}  // namespace omnishadow::vk
