@@ -166,6 +166,16 @@ void Harness::prepare(CaseResult& r) {
       throw std::runtime_error("API error (checking mode): " + api_errors.front() +
                                (api_errors.size() > 1 ? " (+" + std::to_string(api_errors.size() - 1) + " more)" : ""));
     if (options_.write_images) write_images(r, images);
+    if (options_.accuracy) {
+      const Truth& truth = truth_for(r.config, images);
+      r.accuracy = measure_accuracy(truth, images);
+      if (options_.write_images) {
+        fs::path rel = fs::path("images") / r.config.id() / "error_heatmap.png";
+        write_png_rgb_top_down((fs::path(options_.out_dir) / rel).string(), images.width, images.height,
+                               error_heatmap(truth, images));
+        r.images["error_heatmap"] = rel.string();
+      }
+    }
     if (r.config.technique != Technique::six_pass) check_against_six_pass(r, images);
     check_against_other_backend(r, images);
     if (r.config.technique == Technique::six_pass) {
@@ -224,6 +234,17 @@ void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
     std::string evidence = driver_evidence(images, ref, far_plane);
     if (!evidence.empty()) r.reason += "; " + evidence;
   }
+}
+
+const Truth& Harness::truth_for(const CaseConfig& c, const Images& images) {
+  std::string key = c.scene + "/" + std::to_string(options_.check_frame) + "/" +
+                    std::to_string(positions_fingerprint(images));
+  auto it = truths_.find(key);
+  if (it != truths_.end()) return it->second;
+  const scene::Scene& s = scene(c.scene);
+  auto& caster = casters_[c.scene];
+  if (!caster) caster = std::make_unique<reference::RayCaster>(s);
+  return truths_.emplace(key, compute_truth(*caster, s, options_.check_frame, images, options_.truth)).first->second;
 }
 
 void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float>& a, const std::vector<float>& b,

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "backends/backend.h"
+#include "bench/accuracy.h"
 #include "bench/image_compare.h"
 #include "bench/timing_stats.h"
 
@@ -30,7 +31,9 @@ struct RunOptions {
   double cross_shadow_tolerance = 0.1;
   double cross_max_percent = 0.1;
   bool write_images = true;
-  std::map<std::string, std::string> backend_options;  // egl_platform, gl_device
+  bool accuracy = true;     // shadow error against exact visibility (ray-cast reference)
+  TruthOptions truth;       // the spherical light of the soft reference
+  std::map<std::string, std::string> backend_options;  // egl_platform, gl_device, vk_device, api_checks
 };
 
 struct CheckResult {
@@ -57,6 +60,7 @@ struct CaseResult {
   std::vector<FrameTiming> frames;            // every timed frame of every repetition
   GpuTimerCheck gpu_timer;
   int repetitions = 0;
+  std::optional<Accuracy> accuracy;  // against the ray-cast reference, for the check frame
 };
 
 class Harness {
@@ -83,6 +87,7 @@ class Harness {
                     const std::vector<float>& grey, int width, int height, double scale, bool flip);
   void write_images(CaseResult& result, const Images& images);
   std::string scene_path(const std::string& name_or_path) const;
+  const Truth& truth_for(const CaseConfig& config, const Images& images);
 
   RunOptions options_;
   std::map<std::string, std::unique_ptr<Backend>> backends_;
@@ -98,6 +103,8 @@ class Harness {
     std::vector<float> shadow_factor;
   };
   std::map<std::string, CrossReference> cross_;
+  std::map<std::string, std::unique_ptr<reference::RayCaster>> casters_;  // by scene
+  std::map<std::string, Truth> truths_;  // by scene, frame and positions fingerprint: shared by all its cases
 };
 
 }  // namespace omnishadow::bench

@@ -92,6 +92,9 @@ int run_command(const RunCommand& cmd) {
   options.cross_shadow_tolerance = cmd.cross_shadow_tolerance;
   options.cross_max_percent = cmd.cross_max_percent;
   options.write_images = cmd.write_images;
+  options.accuracy = cmd.accuracy;
+  options.truth.light_radius = cmd.light_radius;
+  options.truth.samples_per_axis = cmd.light_samples_per_axis;
   options.backend_options = cmd.backend_options;
   Harness harness(options);
   RunInfo info;
@@ -147,8 +150,15 @@ int run_command(const RunCommand& cmd) {
     results[i].config = cases[i];
     harness.prepare(results[i]);
     double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "[check %zu/%zu] %s: %s%s%s  (elapsed %.0fs, eta %.0fs)\n", i + 1, cases.size(),
-                 cases[i].id().c_str(), std::string(to_string(results[i].status)).c_str(),
+    std::string error;
+    if (results[i].accuracy) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, " [misclassified %.3f%%, mae %.4f]", results[i].accuracy->misclassified_percent,
+                    results[i].accuracy->mae_point);
+      error = buf;
+    }
+    std::fprintf(stderr, "[check %zu/%zu] %s: %s%s%s%s  (elapsed %.0fs, eta %.0fs)\n", i + 1, cases.size(),
+                 cases[i].id().c_str(), std::string(to_string(results[i].status)).c_str(), error.c_str(),
                  results[i].reason.empty() ? "" : " - ", results[i].reason.c_str(), elapsed,
                  elapsed / static_cast<double>(i + 1) * static_cast<double>(cases.size() - i - 1));
     save(nullptr, false);

@@ -23,6 +23,9 @@ struct RunCommand {
   double cross_shadow_tolerance = 0.1;
   double cross_max_percent = 0.1;
   bool write_images = true;
+  bool accuracy = true;
+  float light_radius = 0.1f;
+  int light_samples_per_axis = 8;
   bool check = false;          // exit 1 if any case failed or failed its checks
   int shard_index = 0;
   int shard_count = 1;

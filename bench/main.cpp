@@ -79,6 +79,14 @@ int main(int argc, char** argv) {
   r->add_option("--cross-max-percent", run.cross_max_percent,
                 "across backends: % of values allowed beyond those tolerances")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+  bool no_accuracy = false;
+  r->add_flag("--no-accuracy", no_accuracy, "skip the shadow error against the ray-cast reference");
+  r->add_option("--light-radius", run.light_radius,
+                "radius of the spherical light of the soft reference, world units (0: point light only)")
+      ->capture_default_str()->check(CLI::Range(0.0f, 1e6f));
+  r->add_option("--light-samples", run.light_samples_per_axis,
+                "stratified samples per axis on that light (8 = 64 rays per pixel)")
+      ->capture_default_str()->check(CLI::Range(1, 64));
   bool no_images = false;
   r->add_flag("--no-images", no_images, "do not write images (checks still run)");
   r->add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
@@ -137,6 +145,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   run.write_images = !no_images;
+  run.accuracy = !no_accuracy;
   run.scenes_dir = scenes_dir;
   run.backend_options = backend_options;
   run.benchmark_args = benchmark_args;

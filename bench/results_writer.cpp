@@ -90,6 +90,22 @@ json case_to_json(const CaseResult& r) {
                       {"diff_image", k.diff_image.empty() ? json(nullptr) : json(k.diff_image)}});
   j["checks"] = checks;
   j["images"] = r.images;
+  if (r.accuracy) {
+    const Accuracy& a = *r.accuracy;
+    auto db = [](double v) { return v < 0 ? json(nullptr) : json(v); };  // null: identical to the reference
+    j["accuracy"] = {
+        {"reference", "exact visibility by ray casting the scene's triangles (BVH) from the GPU's world positions"},
+        {"pixels", a.pixels},
+        {"misclassified_percent", a.misclassified_percent},
+        {"false_shadow_percent", a.false_shadow_percent},
+        {"missed_shadow_percent", a.missed_shadow_percent},
+        {"mae_point", a.mae_point},
+        {"psnr_point_db", db(a.psnr_point_db)}};
+    if (a.mae_sphere >= 0) {
+      j["accuracy"]["mae_sphere"] = a.mae_sphere;
+      j["accuracy"]["psnr_sphere_db"] = db(a.psnr_sphere_db);
+    }
+  }
   if (r.repetitions > 0) {
     std::vector<double> frame_wall;
     for (const FrameTiming& f : r.frames) frame_wall.push_back(f.frame_wall_ms);
@@ -141,7 +157,10 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                          {"lit_tolerance", o.lit_tolerance},
                          {"cross_lit_tolerance", o.cross_lit_tolerance},
                          {"cross_shadow_tolerance", o.cross_shadow_tolerance},
-                         {"cross_max_percent", o.cross_max_percent}}},
+                         {"cross_max_percent", o.cross_max_percent},
+                         {"accuracy", o.accuracy},
+                         {"light_radius", o.truth.light_radius},
+                         {"light_samples", o.truth.samples_per_axis * o.truth.samples_per_axis}}},
                        {"system", system_info()},
                        {"devices", devices},
                        {"cases", cases}};

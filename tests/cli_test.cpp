@@ -117,6 +117,7 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
   fs::path out = scratch("run");
   Outcome o = run("run --scene room --cube 64 --technique six_pass,geometry_shader,vs_layer "
                   "--filter hard,hw_compare2x2 --storage linear_depth,r32f_distance --frames 2 --warmup 1 --check "
+                  "--light-radius 0.2 --light-samples 2 "
                   "--out " + out.string() + " --benchmark_repetitions=2");
   ASSERT_EQ(o.exit_code, 0) << o.err;
   EXPECT_NE(o.err.find("[check 12/12]"), std::string::npos) << "progress on stderr";
@@ -145,6 +146,9 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
     EXPECT_TRUE(fs::exists(out / c["images"]["lit"].get<std::string>()));
     EXPECT_TRUE(fs::exists(out / c["images"]["cube_faces"].get<std::string>()));
     EXPECT_TRUE(fs::exists(out / c["images"]["world_position"].get<std::string>()));
+    EXPECT_TRUE(fs::exists(out / c["images"]["error_heatmap"].get<std::string>()));
+    EXPECT_LT(c["accuracy"]["misclassified_percent"].get<double>(), 5.0);
+    EXPECT_TRUE(c["accuracy"].contains("mae_sphere"));
     if (c["axes"]["technique"] != "six_pass") {
       EXPECT_EQ(c["checks"].size(), 3u);
     }
@@ -174,7 +178,7 @@ TEST_F(CliRun, CompareScriptReadsTwoRuns) {
   fs::path a = scratch("a"), b = scratch("b");
   for (const fs::path& out : {a, b})
     ASSERT_EQ(run("run --scene room --cube 32 --technique six_pass,geometry_shader --filter hard --frames 2 "
-                  "--no-images --out " + out.string() + " --benchmark_repetitions=3").exit_code, 0);
+                  "--no-images --no-accuracy --out " + out.string() + " --benchmark_repetitions=3").exit_code, 0);
   fs::path log = scratch("compare.log");
   std::string cmd = std::string("/usr/bin/python3 ") + compare + " benchmarks " + (a / "results.json").string() + " " +
                     (b / "results.json").string() + " >" + log.string() + " 2>&1";

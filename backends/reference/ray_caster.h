@@ -1,30 +1,64 @@
 #pragma once
-// Exact visibility from the scene's own triangles, never from a shadow map: the ground truth the GPU shadow
-// factor is held against. This first version tests every triangle (fine for the seed scenes, ~100 triangles);
-// an acceleration structure belongs here before it is used on the heavy scene.
+// Exact visibility from the scene's own triangles, never from a shadow map: the ground truth every GPU shadow
+// factor is held against. A bounding-volume hierarchy keeps 800x600 pixels x 64 light samples on the heavy
+// scene (110k triangles) to seconds.
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <vector>
 
 #include "scenes/scene.h"
 
 namespace omnishadow::reference {
 
+struct Hit {
+  bool hit = false;
+  double distance = 0.0;  // along the unit direction
+  uint32_t triangle = 0;
+  double u = 0.0, v = 0.0;  // barycentrics of vertices 1 and 2
+};
+
 class RayCaster {
  public:
   explicit RayCaster(const scene::Scene& scene);
 
-  // True if any triangle crosses the open segment from `light` to `point`, ignoring hits within
-  // `end_epsilon` (world units) of either end, so that the surface holding `point` does not hide itself.
-  bool blocked(const glm::vec3& light, const glm::vec3& point, float end_epsilon) const;
+  // True if any triangle crosses the segment from `from` to `to`, ignoring hits within `end_epsilon` (world
+  // units) of either end, so that the surface holding an end point does not hide it from itself. Both sides
+  // of every triangle block: shadow casters are not culled.
+  bool blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon) const;
+  // The nearest hit along `direction` (unit) within (0, max_distance].
+  Hit closest(const glm::vec3& origin, const glm::vec3& direction, double max_distance) const;
 
+  // Shading data of a hit: the interpolated vertex normal (unit, the scene's lit side) and the albedo.
+  glm::vec3 normal_at(const Hit& hit) const;
+  glm::vec3 color_at(const Hit& hit) const;
+  size_t triangle_count() const { return triangles_.size(); }
 
  private:
   struct Triangle {
-    glm::vec3 a, e1, e2;  // a, b - a, c - a
+    glm::dvec3 a, e1, e2;  // a, b - a, c - a (double: the answer must not hinge on float rounding at edges)
   };
+  struct Node {
+    glm::vec3 min, max;
+    uint32_t first;  // leaf: first index into order_; inner: index of the left child (right = left + 1)
+    uint32_t count;  // leaf: triangle count; inner: 0
+  };
+  // Calls hit(triangle index, distance) for triangles whose bounds the ray meets within `max_distance`, nearest
+  // nodes first; `hit` returns the new max distance (or < 0 to stop).
+  template <typename OnTriangle>
+  void traverse(const glm::dvec3& origin, const glm::dvec3& direction, double max_distance, OnTriangle on) const;
+  void build(uint32_t index, uint32_t first, uint32_t count, int depth);
+
   std::vector<Triangle> triangles_;
+  std::vector<const scene::Vertex*> vertices_;  // three per triangle, into the scene (kept alive by the caller)
+  std::vector<uint32_t> order_;
+  std::vector<Node> nodes_;
+  std::vector<glm::vec3> centroids_, tri_min_, tri_max_;
 };
+
+// Intersects a unit-direction ray with one triangle (Moller-Trumbore); returns the distance or -1.
+double intersect(const glm::dvec3& origin, const glm::dvec3& dir, const glm::dvec3& a, const glm::dvec3& e1,
+                 const glm::dvec3& e2, double* u, double* v);
 
 }  // namespace omnishadow::reference

@@ -1,0 +1,178 @@
+#include "bench/accuracy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <thread>
+
+namespace omnishadow::bench {
+namespace {
+
+// Deterministic jitter in [0, 1): a hash of the pixel and the stratum, never a random generator.
+float jitter(uint32_t a, uint32_t b) {
+  uint32_t h = a * 0x9E3779B1u ^ (b + 0x7F4A7C15u + (a << 6) + (a >> 2));
+  h ^= h >> 16;
+  h *= 0x85EBCA6Bu;
+  h ^= h >> 13;
+  h *= 0xC2B2AE35u;
+  h ^= h >> 16;
+  return static_cast<float>(h >> 8) / 16777216.0f;
+}
+
+// Shirley's concentric map: stratified samples on the unit square stay stratified on the disk.
+glm::vec2 concentric(float u, float v) {
+  float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
+  if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
+  const float quarter_pi = std::numbers::pi_v<float> / 4.0f;
+  float r, phi;
+  if (std::fabs(a) > std::fabs(b)) {
+    r = a;
+    phi = quarter_pi * (b / a);
+  } else {
+    r = b;
+    phi = 2.0f * quarter_pi - quarter_pi * (a / b);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+template <typename Body>
+void parallel_rows(int height, Body body) {
+  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      for (int y = static_cast<int>(t); y < height; y += static_cast<int>(threads)) body(y);
+    });
+  for (auto& th : pool) th.join();
+}
+
+double psnr(double squared_error_sum, uint64_t values) {
+  if (values == 0 || squared_error_sum == 0.0) return -1.0;
+  return 10.0 * std::log10(static_cast<double>(values) / squared_error_sum);  // peak 1.0
+}
+
+}  // namespace
+
+Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& img,
+                    const TruthOptions& options) {
+  Truth t;
+  t.width = img.width;
+  t.height = img.height;
+  t.options = options;
+  const size_t n = static_cast<size_t>(img.width) * static_cast<size_t>(img.height);
+  t.covered.assign(n, 0);
+  t.point_shadow.assign(n, 0.0f);
+  if (options.light_radius > 0) t.sphere_shadow.assign(n, 0.0f);
+  t.direct.assign(n, glm::vec3(0.0f));
+  t.has_direct.assign(n, 0);
+  const glm::vec3 light = scene.light.path.at(frame);
+  const glm::vec3 camera = scene.camera.position;
+  const int k = std::max(1, options.samples_per_axis);
+
+  parallel_rows(img.height, [&](int y) {
+    for (int x = 0; x < img.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x);
+      if (img.world_position[4 * i + 3] != 1.0f) continue;
+      t.covered[i] = 1;
+      const glm::vec3 p(img.world_position[4 * i], img.world_position[4 * i + 1], img.world_position[4 * i + 2]);
+      // End tolerance: relative to the distance, so that a point does not hide behind its own surface.
+      const float eps = 1e-4f * (1.0f + glm::length(p - light));
+      t.point_shadow[i] = caster.blocked(light, p, eps) ? 1.0f : 0.0f;
+
+      if (options.light_radius > 0) {
+        // The sphere seen from p is a disk facing p; sample it stratified.
+        glm::vec3 w = glm::normalize(light - p);
+        glm::vec3 helper = std::fabs(w.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        glm::vec3 u = glm::normalize(glm::cross(helper, w)), v = glm::cross(w, u);
+        int hidden = 0;
+        for (int a = 0; a < k; ++a)
+          for (int b = 0; b < k; ++b) {
+            uint32_t stratum = static_cast<uint32_t>(a * k + b);
+            glm::vec2 d = concentric((static_cast<float>(a) + jitter(static_cast<uint32_t>(i), 2 * stratum)) / k,
+                                     (static_cast<float>(b) + jitter(static_cast<uint32_t>(i), 2 * stratum + 1)) / k);
+            glm::vec3 sample = light + options.light_radius * (d.x * u + d.y * v);
+            hidden += caster.blocked(sample, p, eps);
+          }
+        t.sphere_shadow[i] = static_cast<float>(hidden) / static_cast<float>(k * k);
+      }
+
+      // The exact surface under the pixel, for the unshadowed lighting terms (same Blinn-Phong as the shader).
+      glm::vec3 to_p = p - camera;
+      float distance = glm::length(to_p);
+      reference::Hit hit = caster.closest(camera, to_p / distance, distance * 1.001 + 1e-3);
+      if (hit.hit && std::fabs(hit.distance - distance) < 1e-3 * (1.0 + distance)) {
+        glm::vec3 n = caster.normal_at(hit), albedo = caster.color_at(hit);
+        glm::vec3 l = glm::normalize(light - p), view = glm::normalize(camera - p);
+        float diff = std::max(glm::dot(l, n), 0.0f);
+        float spec = std::pow(std::max(glm::dot(n, glm::normalize(l + view)), 0.0f), 64.0f);
+        t.direct[i] = (diff + spec) * scene.light.color * albedo;
+        t.has_direct[i] = 1;
+      }
+    }
+  });
+  return t;
+}
+
+Accuracy measure_accuracy(const Truth& t, const Images& img) {
+  Accuracy a;
+  uint64_t wrong = 0, false_shadow = 0, missed = 0, lit_values = 0;
+  double abs_point = 0, abs_sphere = 0, sq_point = 0, sq_sphere = 0;
+  for (size_t i = 0; i < t.covered.size(); ++i) {
+    if (!t.covered[i]) continue;
+    ++a.pixels;
+    const float gpu = img.shadow_factor[i];
+    const bool gpu_shadowed = gpu > 0.5f, truth_shadowed = t.point_shadow[i] > 0.5f;
+    wrong += gpu_shadowed != truth_shadowed;
+    false_shadow += gpu_shadowed && !truth_shadowed;
+    missed += !gpu_shadowed && truth_shadowed;
+    abs_point += std::fabs(gpu - t.point_shadow[i]);
+    if (!t.sphere_shadow.empty()) abs_sphere += std::fabs(gpu - t.sphere_shadow[i]);
+    if (t.has_direct[i]) {
+      // lit(s) = base + (1 - s) * direct, so two shadow factors change the lit colour by (s1 - s2) * direct.
+      for (int c = 0; c < 3; ++c) {
+        double dp = (gpu - t.point_shadow[i]) * t.direct[i][c];
+        sq_point += dp * dp;
+        if (!t.sphere_shadow.empty()) {
+          double ds = (gpu - t.sphere_shadow[i]) * t.direct[i][c];
+          sq_sphere += ds * ds;
+        }
+      }
+      lit_values += 3;
+    }
+  }
+  if (a.pixels == 0) return a;
+  const double n = static_cast<double>(a.pixels);
+  a.misclassified_percent = 100.0 * static_cast<double>(wrong) / n;
+  a.false_shadow_percent = 100.0 * static_cast<double>(false_shadow) / n;
+  a.missed_shadow_percent = 100.0 * static_cast<double>(missed) / n;
+  a.mae_point = abs_point / n;
+  if (!t.sphere_shadow.empty()) a.mae_sphere = abs_sphere / n;
+  a.psnr_point_db = psnr(sq_point, lit_values);
+  if (!t.sphere_shadow.empty()) a.psnr_sphere_db = psnr(sq_sphere, lit_values);
+  return a;
+}
+
+std::vector<uint8_t> error_heatmap(const Truth& t, const Images& img) {
+  std::vector<uint8_t> rgb(static_cast<size_t>(t.width) * static_cast<size_t>(t.height) * 3, 0);
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x) {
+      size_t src = static_cast<size_t>(t.height - 1 - y) * static_cast<size_t>(t.width) + static_cast<size_t>(x);
+      size_t o = (static_cast<size_t>(y) * static_cast<size_t>(t.width) + static_cast<size_t>(x)) * 3;
+      if (!t.covered[src]) continue;
+      float d = img.shadow_factor[src] - t.point_shadow[src];
+      auto level = static_cast<uint8_t>(std::clamp(80.0f + 175.0f * std::fabs(d), 0.0f, 255.0f));
+      if (d > 0.01f) rgb[o] = level;            // false shadow
+      else if (d < -0.01f) rgb[o + 2] = level;  // missed shadow
+      else rgb[o] = rgb[o + 1] = rgb[o + 2] = t.point_shadow[src] > 0.5f ? 60 : 150;
+    }
+  return rgb;
+}
+
+uint64_t positions_fingerprint(const Images& img) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a over the raw float bytes
+  const auto* bytes = reinterpret_cast<const uint8_t*>(img.world_position.data());
+  for (size_t i = 0; i < img.world_position.size() * sizeof(float); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+  return h ^ (static_cast<uint64_t>(img.width) << 32) ^ static_cast<uint64_t>(img.height);
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,56 @@
+#pragma once
+// Shadow error against exact visibility. The truth is computed per pixel from the world positions the GPU
+// rendered, by casting rays against the scene's own triangles (backends/reference): a point light's exact
+// visibility, and the fractional visibility of a spherical light of a stated radius (stratified samples),
+// which is the penumbra that PCF imitates.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "backends/backend.h"
+#include "backends/reference/ray_caster.h"
+
+namespace omnishadow::bench {
+
+struct TruthOptions {
+  float light_radius = 0.1f;  // world units; 0 = point light only
+  int samples_per_axis = 8;   // stratified samples on the light's disk: 8 x 8 = 64
+};
+
+struct Truth {
+  int width = 0, height = 0;
+  TruthOptions options;
+  std::vector<uint8_t> covered;       // 1 where the GPU drew a surface
+  std::vector<float> point_shadow;    // 1 = the point light is hidden, 0 = visible
+  std::vector<float> sphere_shadow;   // hidden fraction of the spherical light (empty when radius is 0)
+  std::vector<glm::vec3> direct;      // unshadowed (diffuse + specular) * albedo, from the exact surface hit
+  std::vector<uint8_t> has_direct;    // 0 where the camera ray found no surface at the GPU's position
+};
+
+Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& images,
+                    const TruthOptions& options);
+
+struct Accuracy {
+  uint64_t pixels = 0;                 // covered pixels compared
+  double misclassified_percent = 0;    // (GPU shadow factor > 0.5) != point-light truth
+  double false_shadow_percent = 0;     // GPU shadowed where the light is visible (acne, over-darkening)
+  double missed_shadow_percent = 0;    // GPU lit where the light is hidden (leaks, peter panning)
+  double mae_point = 0;                // mean |GPU shadow factor - point-light truth|
+  double mae_sphere = -1;              // mean |GPU shadow factor - spherical-light truth|; -1 without it
+  double psnr_point_db = -1;           // lit frame vs the same frame lit with exact point visibility; -1 = identical
+  double psnr_sphere_db = -1;          // ... with the spherical light's visibility; -1 = identical or absent
+};
+
+Accuracy measure_accuracy(const Truth& truth, const Images& images);
+
+// Top-down RGB: grey = agreement (light grey lit, dark grey shadowed), red = false shadow, blue = missed shadow,
+// brightness by |difference| against the point-light truth.
+std::vector<uint8_t> error_heatmap(const Truth& truth, const Images& images);
+
+// A 64-bit fingerprint of the world positions: equal positions share one truth.
+uint64_t positions_fingerprint(const Images& images);
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,115 @@
+// The ray-cast reference on cases whose answers are known in closed form.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "backends/reference/ray_caster.h"
+#include "bench/accuracy.h"
+
+namespace omnishadow::reference {
+namespace {
+
+// Light at (0,5,0) above a ground plane y = 0 (20 x 20) with one occluder.
+scene::Scene make_scene(const std::string& occluder) {
+  return scene::load_scene_text(R"({"light": {"position": [0, 5, 0], "far": 50}, "objects": [
+      {"type": "plane", "scale": [10, 1, 10]}, )" + occluder + "]}",
+                                "test.json");
+}
+
+TEST(RayCaster, BoxShadowMatchesItsAnalyticOutline) {
+  // Box [-0.5,0.5] x [2,3] x [-0.5,0.5]: its top face (y = 3) projects from the light onto y = 0 scaled by
+  // 5 / (5 - 3) = 2.5, so the shadow is the square |x|, |z| <= 1.25 (the bottom face's 5/3 is inside it).
+  scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
+  RayCaster caster(s);
+  const glm::vec3 light(0, 5, 0);
+  for (float x = -2.0f; x <= 2.0f; x += 0.05f)
+    for (float z : {0.0f, 0.6f, 1.2f, 1.3f, -1.0f}) {
+      glm::vec3 p(x, 0, z);
+      bool inside = std::fabs(x) < 1.25f && std::fabs(z) < 1.25f;
+      bool near_edge = std::fabs(std::fabs(x) - 1.25f) < 1e-3f || std::fabs(std::fabs(z) - 1.25f) < 1e-3f;
+      if (near_edge) continue;
+      EXPECT_EQ(caster.blocked(light, p, 1e-4f), inside) << "x " << x << " z " << z;
+    }
+  EXPECT_FALSE(caster.blocked(light, {0, 3.0001f, 0}, 1e-3f)) << "the top face holds itself";
+}
+
+TEST(RayCaster, SphereShadowIsADiscOfTheAnalyticRadius) {
+  // Unit sphere scaled 0.5 at height 2.5: the tangent cone from the light has sin(a) = 0.5 / 2.5, so the shadow
+  // on y = 0 (5 below the light) has radius 5 tan(a) = 1.0206. The tessellated sphere is inscribed: its shadow
+  // is at most that, and within one segment's sagitta of it.
+  scene::Scene s = make_scene(R"({"type": "sphere", "segments": [128, 64], "translate": [0, 2.5, 0], "scale": 0.5})");
+  RayCaster caster(s);
+  const double exact = 5.0 * std::tan(std::asin(0.2));
+  for (int k = 0; k < 16; ++k) {
+    double angle = 2.0 * 3.14159265358979 * k / 16.0 + 0.1;
+    glm::vec3 dir(static_cast<float>(std::cos(angle)), 0, static_cast<float>(std::sin(angle)));
+    EXPECT_TRUE(caster.blocked({0, 5, 0}, dir * static_cast<float>(exact * 0.99), 1e-4f)) << angle;
+    EXPECT_FALSE(caster.blocked({0, 5, 0}, dir * static_cast<float>(exact * 1.01), 1e-4f)) << angle;
+  }
+}
+
+TEST(RayCaster, ClosestHitGivesTheSurfaceAndItsShading) {
+  scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5, "color": [1, 0, 0]})");
+  RayCaster caster(s);
+  Hit h = caster.closest({0, 10, 0}, {0, -1, 0}, 100.0);
+  ASSERT_TRUE(h.hit);
+  EXPECT_NEAR(h.distance, 7.0, 1e-9);  // the box top at y = 3
+  EXPECT_EQ(caster.color_at(h), glm::vec3(1, 0, 0));
+  EXPECT_NEAR(caster.normal_at(h).y, 1.0f, 1e-6);
+  Hit ground = caster.closest({3, 10, 3}, {0, -1, 0}, 100.0);
+  ASSERT_TRUE(ground.hit);
+  EXPECT_NEAR(ground.distance, 10.0, 1e-9);
+  EXPECT_FALSE(caster.closest({30, 10, 30}, {0, -1, 0}, 100.0).hit);
+}
+
+TEST(Truth, SphericalLightGivesAPenumbraBetweenUmbraAndLight) {
+  // Box shadow edge at x = 1.25 (point light). With a light of radius 0.5 the edge blurs: full shadow well
+  // inside, none well outside, a fraction strictly between near the edge, growing monotonically inwards.
+  scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
+  RayCaster caster(s);
+  Images img;
+  img.width = 9;
+  img.height = 1;
+  const float xs[9] = {0.0f, 0.6f, 0.9f, 1.1f, 1.25f, 1.4f, 1.6f, 2.0f, 3.0f};
+  for (float x : xs) img.world_position.insert(img.world_position.end(), {x, 0.0f, 0.0f, 1.0f});
+  img.shadow_factor.assign(9, 0.0f);
+  bench::TruthOptions o;
+  o.light_radius = 0.5f;
+  o.samples_per_axis = 16;
+  bench::Truth t = bench::compute_truth(caster, s, 0, img, o);
+  EXPECT_EQ(t.sphere_shadow[0], 1.0f);
+  EXPECT_EQ(t.sphere_shadow[8], 0.0f);
+  EXPECT_GT(t.sphere_shadow[4], 0.2f);
+  EXPECT_LT(t.sphere_shadow[4], 0.8f);
+  for (int i = 1; i < 9; ++i) EXPECT_LE(t.sphere_shadow[i], t.sphere_shadow[i - 1]) << "x " << xs[i];
+  EXPECT_EQ(t.point_shadow[3], 1.0f);
+  EXPECT_EQ(t.point_shadow[5], 0.0f);
+  // Deterministic: the same request gives the same samples.
+  EXPECT_EQ(bench::compute_truth(caster, s, 0, img, o).sphere_shadow, t.sphere_shadow);
+}
+
+TEST(Truth, MetricsCountFalseAndMissedShadowsApart) {
+  bench::Truth t;
+  t.width = 4;
+  t.height = 1;
+  t.covered = {1, 1, 1, 0};
+  t.point_shadow = {1, 0, 1, 0};
+  t.direct.assign(4, glm::vec3(0.5f));
+  t.has_direct = {1, 1, 1, 0};
+  Images img;
+  img.shadow_factor = {1.0f, 1.0f, 0.0f, 1.0f};  // right, false shadow, missed shadow, uncovered
+  bench::Accuracy a = bench::measure_accuracy(t, img);
+  EXPECT_EQ(a.pixels, 3u);
+  EXPECT_NEAR(a.misclassified_percent, 200.0 / 3.0, 1e-9);
+  EXPECT_NEAR(a.false_shadow_percent, 100.0 / 3.0, 1e-9);
+  EXPECT_NEAR(a.missed_shadow_percent, 100.0 / 3.0, 1e-9);
+  EXPECT_NEAR(a.mae_point, 2.0 / 3.0, 1e-9);
+  // Two pixels off by 1 in shadow: each changes 3 channels by 0.5 -> MSE = 6 * 0.25 / 9.
+  EXPECT_NEAR(a.psnr_point_db, 10.0 * std::log10(9.0 / 1.5), 1e-9);
+  img.shadow_factor = {1.0f, 0.0f, 1.0f, 0.0f};
+  EXPECT_EQ(bench::measure_accuracy(t, img).psnr_point_db, -1.0) << "identical: no finite PSNR";
+}
+
+}  // namespace
+}  // namespace omnishadow::reference
