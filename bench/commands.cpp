@@ -127,6 +127,7 @@ int run_command(const RunCommand& cmd) {
     cases = expand(cmd.matrix, scene_sizes);
     cases = shard(cases, cmd.shard_index, cmd.shard_count);
     cases = apply_benchmark_filter(cases, cmd.benchmark_args);
+    for (CaseConfig& c : cases) c.injected_work = cmd.injected_work;
     if (cases.empty()) throw std::invalid_argument("the matrix (after --shard and --benchmark_filter) is empty");
     prepare_out_dir(options.out_dir);
   } catch (const std::exception& e) {

@@ -27,6 +27,7 @@ struct RunCommand {
   float light_radius = 0.1f;
   int light_samples_per_axis = 8;
   bool check = false;          // exit 1 if any case failed or failed its checks
+  int injected_work = 0;       // --inject-fragment-work
   int shard_index = 0;
   int shard_count = 1;
   std::map<std::string, std::string> backend_options;

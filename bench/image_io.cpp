@@ -9,6 +9,10 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #include <stb/stb_image_write.h>
+#define STB_IMAGE_IMPLEMENTATION
+#define STB_IMAGE_STATIC
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
 #include "bench/file_io.h"
@@ -78,6 +82,18 @@ FloatImage read_pfm(const std::string& path) {
   if (bytes.size() < offset + count * sizeof(float)) throw std::runtime_error(path + ": truncated PFM file");
   img.values.resize(count);
   std::memcpy(img.values.data(), bytes.data() + offset, count * sizeof(float));
+  return img;
+}
+
+ByteImage read_png(const std::string& path) {
+  std::string bytes = read_file(path);
+  ByteImage img;
+  unsigned char* data = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()),
+                                              static_cast<int>(bytes.size()), &img.width, &img.height,
+                                              &img.channels, 0);
+  if (!data) throw std::runtime_error(path + ": not a readable PNG (" + stbi_failure_reason() + ")");
+  img.pixels.assign(data, data + static_cast<size_t>(img.width) * img.height * img.channels);
+  stbi_image_free(data);
   return img;
 }
 

@@ -24,5 +24,12 @@ struct FloatImage {
   std::vector<float> values;
 };
 FloatImage read_pfm(const std::string& path);  // throws std::runtime_error naming the file
+struct ByteImage {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<uint8_t> pixels;  // top-down, as the PNG stores them
+};
+ByteImage read_png(const std::string& path);  // throws std::runtime_error naming the file
 
 }  // namespace omnishadow::bench

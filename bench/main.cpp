@@ -4,11 +4,14 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <iostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "bench/commands.h"
+#include "bench/compare.h"
+#include "bench/merge.h"
 
 using namespace omnishadow;
 using namespace omnishadow::bench;
@@ -79,6 +82,9 @@ int main(int argc, char** argv) {
   r->add_option("--cross-max-percent", run.cross_max_percent,
                 "across backends: % of values allowed beyond those tolerances")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+  r->add_option("--inject-fragment-work", run.injected_work,
+                "sensitivity experiments only: N extra dependent ALU steps per lighting fragment (default 0)")
+      ->capture_default_str()->check(CLI::Range(0, 1000000));
   bool no_accuracy = false;
   r->add_flag("--no-accuracy", no_accuracy, "skip the shadow error against the ray-cast reference");
   r->add_option("--light-radius", run.light_radius,
@@ -92,6 +98,34 @@ int main(int argc, char** argv) {
   r->add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
   r->add_option("--shard", shard_text, "i/N: run the i-th of N deterministic slices of the matrix");
 
+  CompareOptions compare;
+  std::string base_run, new_run;
+  CLI::App* cmp = app.add_subcommand("compare", "compare two runs: timing (U-test), work counters, images");
+  cmp->add_option("base", base_run, "baseline run folder or results.json")->required();
+  cmp->add_option("new", new_run, "new run folder or results.json")->required();
+  cmp->add_option("--alpha", compare.alpha, "family-wise significance level (Holm-corrected)")
+      ->capture_default_str()->check(CLI::Range(1e-9, 0.5));
+  cmp->add_option("--min-effect", compare.min_effect, "smallest relative time change reported (0.05 = 5%)")
+      ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  cmp->add_option("--out", compare.out_dir, "folder for summary.md and diffs/ (default NEW/compare)");
+  bool no_timing = false;
+  cmp->add_flag("--no-timing", no_timing, "compare work counters and images only");
+  bool timing_report_only = false;
+  cmp->add_flag("--timing-report-only", timing_report_only,
+                "report timing verdicts but fail (exit 1) on work and image changes only");
+  cmp->add_flag("--allow-device-mismatch", compare.allow_device_mismatch,
+                "compare runs from different devices anyway");
+
+  std::string merge_out;
+  std::vector<std::string> merge_inputs;
+  CLI::App* mrg = app.add_subcommand("merge", "join the results of --shard runs into one run");
+  mrg->add_option("out", merge_out, "folder for the merged results.json")->required();
+  mrg->add_option("runs", merge_inputs, "run folders or results.json files")->required();
+
+  std::string key_run;
+  CLI::App* key = app.add_subcommand("device-key", "print the device key of each backend of a run (baselines/)");
+  key->add_option("run", key_run, "run folder or results.json")->required();
+
   try {
     std::vector<std::string> reversed(ours.rbegin(), ours.rend());  // CLI11 parses a reversed vector
     app.parse(reversed);
@@ -102,6 +136,30 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     print_error(e.what());
     return 2;
+  }
+
+  if (cmp->parsed() || mrg->parsed() || key->parsed()) {
+    if (!benchmark_args.empty()) {
+      print_error(benchmark_args.front() + " applies to 'run' only");
+      return 2;
+    }
+    try {
+      if (cmp->parsed()) {
+        compare.timing = !no_timing;
+        compare.timing_fails = !timing_report_only;
+        return compare_command(base_run, new_run, compare);
+      }
+      if (mrg->parsed()) {
+        merge_runs(merge_out, merge_inputs);
+        std::cout << "merged " << merge_inputs.size() << " runs into " << merge_out << "/results.json\n";
+        return 0;
+      }
+      for (const auto& [backend, device] : device_keys(load_run(key_run))) std::cout << device << "\n";
+      return 0;
+    } catch (const std::exception& e) {
+      print_error(e.what());
+      return 2;
+    }
   }
 
   std::map<std::string, std::string> backend_options = {

@@ -151,6 +151,7 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                        {"command_line", run.command_line},
                        {"options",
                         {{"warmup_frames", o.warmup_frames},
+                         {"injected_fragment_work", results.empty() ? 0 : results.front().config.injected_work},
                          {"frames", o.frames},
                          {"check_frame", o.check_frame},
                          {"face_tolerance", o.face_tolerance},

@@ -7,6 +7,7 @@ layout(std140, binding = 0) uniform FrameUniforms {
   vec4 camera_position;    // xyz, world units
   vec4 light_position;     // xyz world units; w = far plane of the light (world units)
   vec4 light_color;        // rgb; w = near plane of the light
+  vec4 knobs;              // x = injected fragment work (iterations; 0 unless --inject-fragment-work)
 } frame;
 
 // The face a six_pass draw renders. Vulkan pushes it; GL binds one of six prebuilt ranges.

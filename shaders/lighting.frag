@@ -23,7 +23,12 @@ void main() {
   vec3 specular = pow(max(dot(normal, halfway), 0.0), 64.0) * light_color;
 
   float shadow = shadow_factor(world_position);
-  out_color = vec4((ambient + (1.0 - shadow) * (diffuse + specular)) * albedo, 1.0);
+  // Injected work, off by default (--inject-fragment-work N): N dependent multiply-adds per fragment, real work
+  // of a known size for proving that the regression statistics see a slowdown. It cannot change the image:
+  // 1e-9 * acc is below half an ulp of 1.0.
+  float acc = 0.0;
+  for (int i = 0; i < int(frame.knobs.x); ++i) acc = fract(acc * 1.61803 + 0.31831);
+  out_color = vec4((ambient + (1.0 - shadow) * (diffuse + specular)) * albedo, 1.0 - 1e-9 * acc);
   out_shadow_factor = shadow;
   out_position = vec4(world_position, 1.0);
 }

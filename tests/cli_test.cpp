@@ -197,3 +197,36 @@ TEST_F(CliRun, ListShowsWhatThisMachineSupports) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(CliRun, ShardsMergeIntoTheSameRunAndCompareReadsIt) {
+  fs::path full = scratch("full"), s0 = scratch("s0"), s1 = scratch("s1"), merged = scratch("merged");
+  const std::string matrix = "run --scene room --cube 32 --technique six_pass,geometry_shader --filter hard,pcf_disk20 "
+                             "--frame 64x48 --frames 1 --warmup 0 --light-radius 0 ";
+  ASSERT_EQ(run(matrix + "--out " + full.string()).exit_code, 0);
+  ASSERT_EQ(run(matrix + "--shard 0/2 --out " + s0.string()).exit_code, 0);
+  ASSERT_EQ(run(matrix + "--shard 1/2 --out " + s1.string()).exit_code, 0);
+  Outcome m = run("merge " + merged.string() + " " + s0.string() + " " + s1.string());
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((merged / "results.json").string()));
+  EXPECT_EQ(j["omnishadow"]["cases"].size(), 4u);
+  // Deterministic rendering: the merged shards hold the full run's work and images exactly.
+  Outcome c = run("compare --no-timing " + full.string() + " " + merged.string());
+  EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
+  EXPECT_NE(c.out.find("4 cases compared"), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("0 work changes, 0 image changes"), std::string::npos) << c.out;
+  Outcome twice = run("merge " + scratch("m2").string() + " " + s0.string() + " " + s0.string());
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("is in more than one run"), std::string::npos) << twice.err;
+}
+
+TEST_F(CliRun, CompareRefusesBadInput) {
+  Outcome missing = run("compare /nonexistent/a /nonexistent/b");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("cannot read"), std::string::npos) << missing.err;
+  Outcome usage = run("compare only-one-argument");
+  EXPECT_EQ(usage.exit_code, 2);
+}
+
+}  // namespace

@@ -59,6 +59,9 @@ struct CaseConfig {
   Filter filter = Filter::hard;
   Storage storage = Storage::linear_depth;
   DepthFormat depth_format = DepthFormat::d32f;
+  // Not an axis and not in the id: extra fragment work for sensitivity experiments (--inject-fragment-work),
+  // so that an injected run's cases compare against the same ids without it.
+  int injected_work = 0;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
   // usable in --benchmark_filter regexes and as a folder path for the case's images.

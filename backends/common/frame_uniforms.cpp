@@ -7,7 +7,7 @@
 namespace omnishadow::gpu {
 
 FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, int width, int height,
-                                  cube::DepthRange range) {
+                                  cube::DepthRange range, int injected_work) {
   const scene::Camera& cam = scene.camera;
   const scene::PointLight& light = scene.light;
   const glm::vec3 light_position = light.path.at(frame);
@@ -24,6 +24,7 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, int widt
   u.camera_position = glm::vec4(cam.position, 1.0f);
   u.light_position = glm::vec4(light_position, light.far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);
+  u.knobs = glm::vec4(static_cast<float>(injected_work), 0.0f, 0.0f, 0.0f);
   return u;
 }
 

@@ -7,7 +7,8 @@
 
 namespace omnishadow::gpu {
 
+// injected_work: iterations of extra fragment work per lighting fragment (CaseConfig::injected_work).
 FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, int width, int height,
-                                  cube::DepthRange range);
+                                  cube::DepthRange range, int injected_work);
 
 }  // namespace omnishadow::gpu

@@ -16,8 +16,9 @@ struct FrameUniforms {
   glm::vec4 camera_position;
   glm::vec4 light_position;  // w = light far plane
   glm::vec4 light_color;     // w = light near plane
+  glm::vec4 knobs{0.0f};     // x = injected fragment work (iterations)
 };
-static_assert(sizeof(FrameUniforms) == 7 * 64 + 3 * 16, "std140 layout of FrameUniforms");
+static_assert(sizeof(FrameUniforms) == 7 * 64 + 4 * 16, "std140 layout of FrameUniforms");
 
 struct PassUniforms {
   int face;

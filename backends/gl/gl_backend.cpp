@@ -224,7 +224,7 @@ void GlBackend::configure(const CaseConfig& c) {
 
 void GlBackend::update_frame_uniforms(int frame) {
   gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
-                                                  cube::DepthRange::minus_one_to_one);
+                                                  cube::DepthRange::minus_one_to_one, config_->injected_work);
   glNamedBufferSubData(frame_ubo_, 0, sizeof u, &u);
 }
 

@@ -407,7 +407,7 @@ FrameTiming VkBackend::render(int frame) {
   uint64_t draws = 0;
   auto t0 = Clock::now();
   gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
-                                                  cube::DepthRange::zero_to_one);
+                                                  cube::DepthRange::zero_to_one, config_->injected_work);
   std::memcpy(frame_uniforms_.mapped, &u, sizeof u);
   record_shadow(command_buffers_[0], false, draws);
   ctx_->submit(command_buffers_[0]);
@@ -428,7 +428,7 @@ FrameTiming VkBackend::render(int frame) {
 FrameCounters VkBackend::count_work(int frame) {
   if (!config_) throw std::logic_error("count_work() before configure()");
   gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
-                                                  cube::DepthRange::zero_to_one);
+                                                  cube::DepthRange::zero_to_one, config_->injected_work);
   std::memcpy(frame_uniforms_.mapped, &u, sizeof u);
   const bool stats = statistics_ != VK_NULL_HANDLE;
   FrameCounters c;

@@ -1,0 +1,72 @@
+#pragma once
+// `omnishadow compare BASE NEW`: per case, a timing verdict (Mann-Whitney U over the repetitions, Holm-corrected
+// across cases, and a minimum effect), an exact comparison of the work counters, and an image comparison
+// (checksum first, then metrics and a diff PNG). Exit codes: 0 no regression, 1 regression (timing, work or
+// image change), 2 usage or input error.
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace omnishadow::bench {
+
+class CompareError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct CompareOptions {
+  double alpha = 0.05;        // family-wise, over all compared cases (Holm)
+  double min_effect = 0.05;   // a significant change smaller than this (relative) is "no change"
+  bool timing = true;         // false: counters and images only
+  bool timing_fails = true;   // false: timing verdicts are reported but only work and image changes fail
+  bool allow_device_mismatch = false;
+  std::string out_dir;        // summary.md, comparison.json and diffs/; empty = NEW's folder/compare
+};
+
+// A results file, or a run folder holding results.json. Throws CompareError naming the file on anything else.
+struct RunData {
+  std::string dir;   // folder that image paths are relative to
+  std::string file;  // the results.json read
+  nlohmann::json doc;
+  std::map<std::string, const nlohmann::json*> cases;    // by case id
+  std::map<std::string, std::vector<double>> samples;   // per case: mean frame time of each repetition, ms
+};
+RunData load_run(const std::string& path);
+
+// "gl-llvmpipe-llvm-15.0.6-256-bits-4.5-core-profile-mesa-22.3.6-lp-unset": what must match for timings to be
+// comparable (API, device, driver version, raster threads). One per backend in the run.
+std::map<std::string, std::string> device_keys(const RunData& run);
+
+struct CaseComparison {
+  std::string id;
+  std::string verdict;  // regression, improvement, no change, not timed
+  double base_ms = 0, new_ms = 0, change = 0;  // medians over repetitions; change = new / base - 1
+  double p = 1.0, p_adjusted = 1.0;
+  size_t base_n = 0, new_n = 0;
+  std::vector<std::string> work_changes;   // "shadow gs_primitives 432 -> 72"
+  std::vector<std::string> image_changes;  // "lit: 1.2% of values differ (max 64), diff: ..."
+  bool regressed(bool timing_counts = true) const {
+    return (timing_counts && verdict == "regression") || !work_changes.empty() || !image_changes.empty();
+  }
+};
+
+struct Comparison {
+  std::vector<CaseComparison> cases;       // in both runs
+  std::vector<std::string> only_in_base;   // listed, not an error
+  std::vector<std::string> only_in_new;
+  std::map<std::string, std::string> base_devices, new_devices;
+};
+
+Comparison compare_runs(const RunData& base, const RunData& fresh, const CompareOptions& options);
+std::string comparison_table(const Comparison& c, const CompareOptions& options);     // for stdout
+std::string comparison_markdown(const Comparison& c, const CompareOptions& options);  // for a CI job page
+nlohmann::json comparison_json(const Comparison& c, const CompareOptions& options);  // for scripts
+
+// The CLI entry point: prints the table, writes summary.md, returns the exit code.
+int compare_command(const std::string& base, const std::string& fresh, const CompareOptions& options);
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,13 @@
+#pragma once
+// `omnishadow merge OUT RUN...`: joins the results of shards (`run --shard i/N`) into one results.json in OUT,
+// with image paths rewritten relative to OUT, so that compare works on the merged run.
+
+#include <string>
+#include <vector>
+
+namespace omnishadow::bench {
+
+// Throws CompareError on unreadable inputs, a case in two shards, or one backend on two different devices.
+void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs);
+
+}  // namespace omnishadow::bench

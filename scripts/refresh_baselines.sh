@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Re-measures the CI matrix on this machine and stores it as the baseline for this machine's device key
+# (results/baselines/<key>/): results.json plus the images compare reads (lit, shadow factor, cube faces).
+# Commit the folder after looking at its summary. Usage: scripts/refresh_baselines.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+bash scripts/ci_matrix.sh "$tmp/run" >/dev/null 2>"$tmp/log" || { cat "$tmp/log"; exit 2; }
+key="$(./build/release/omnishadow device-key "$tmp/run" | head -n 1)"
+dest="results/baselines/$key"
+rm -rf "$dest"
+mkdir -p "$dest"
+cp "$tmp/run/results.json" "$tmp/run/summary.md" "$dest/"
+(cd "$tmp/run" && find images \( -name lit.png -o -name shadow_factor.pfm -o -name cube_faces.png \) -print0 |
+  xargs -0 -I{} cp --parents {} "$OLDPWD/$dest/")
+echo "baseline for device key $key: $dest ($(du -sh "$dest" | cut -f1))"

@@ -1,0 +1,149 @@
+#!/usr/bin/python3
+"""How sensitive, and how trustworthy, is `omnishadow compare` on this machine? A benchmark, not a test.
+
+Runs the CI matrix (scripts/ci_matrix.sh) K times in each of four arms per trial, in a shuffled order: a base
+run, the same build again, and the same build with injected fragment work (--inject-fragment-work) calibrated to
+slow the median case by 5% and by 10%. Every arm is compared with its trial's base run by `omnishadow compare`;
+the decisions are then re-derived for a grid of (alpha, minimum effect) gates from the Holm-adjusted p-values and
+changes it reports. Writes sensitivity.json and sensitivity.md: false-alarm rate (same build against itself),
+detection rates for 5% and 10%, per gate; and the smallest gate meeting <= 1% false alarms.
+
+Usage: scripts/sensitivity.py [--trials 20] [--out results/sensitivity-<time>] [--write-gate]
+--write-gate stores the recommended gate in results/baselines/<device key>/gate.json for scripts/ci_compare.sh.
+"""
+import argparse
+import json
+import os
+import random
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BINARY = os.path.join(ROOT, "build", "release", "omnishadow")
+ALPHAS = [0.01, 0.05]
+EFFECTS = [0.0, 0.02, 0.03, 0.05, 0.075, 0.10, 0.15, 0.25, 0.5]
+
+
+def run_matrix(out, injected):
+    cmd = ["bash", os.path.join(ROOT, "scripts", "ci_matrix.sh"), out, "--no-images", "--no-accuracy",
+           f"--inject-fragment-work={injected}"]
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        sys.exit(f"sensitivity: {' '.join(cmd)} failed:\n{done.stderr[-2000:]}")
+
+
+def compare(base, new, out):
+    # alpha 0.5, effect 0: the raw material (adjusted p, change) for re-deciding under every gate below.
+    cmd = [BINARY, "compare", base, new, "--alpha", "0.5", "--min-effect", "0", "--out", out]
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode not in (0, 1):
+        sys.exit(f"sensitivity: compare failed: {done.stderr}")
+    with open(os.path.join(out, "comparison.json")) as f:
+        return json.load(f)["cases"]
+
+
+def median_times(run):
+    with open(os.path.join(run, "results.json")) as f:
+        doc = json.load(f)
+    samples = {}
+    for b in doc["benchmarks"]:
+        if b.get("run_type") == "iteration" and "omnishadow_case" in b:
+            samples.setdefault(b["omnishadow_case"], []).append(b["real_time"])
+    return {k: statistics.median(v) for k, v in samples.items()}
+
+
+def calibrate(work_dir):
+    """Extra time per injected iteration, relative to each case's time: pick N for +5% and +10% at the median."""
+    probe = 40
+    base, heavy = os.path.join(work_dir, "cal0"), os.path.join(work_dir, f"cal{probe}")
+    run_matrix(base, 0)
+    run_matrix(heavy, probe)
+    t0, t1 = median_times(base), median_times(heavy)
+    per_iteration = statistics.median((t1[k] - t0[k]) / t0[k] / probe for k in t0)
+    if per_iteration <= 0:
+        sys.exit("sensitivity: injected work did not slow the matrix down; cannot calibrate")
+    return max(1, round(0.05 / per_iteration)), max(1, round(0.10 / per_iteration)), per_iteration
+
+
+def decide(case, alpha, effect):
+    return case["p_adjusted"] < alpha and abs(case["change"]) > effect
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--trials", type=int, default=20)
+    parser.add_argument("--out", default=os.path.join(ROOT, "results", time.strftime("sensitivity-%Y%m%d-%H%M%S")))
+    parser.add_argument("--write-gate", action="store_true")
+    args = parser.parse_args()
+    if not os.path.exists(BINARY):
+        sys.exit(f"sensitivity: {BINARY} missing; run scripts/build.sh first")
+    os.makedirs(args.out, exist_ok=True)
+    started = time.time()
+
+    n5, n10, per_iteration = calibrate(args.out)
+    print(f"calibration: {100 * per_iteration:.2f}% per iteration; +5% = {n5}, +10% = {n10} iterations", flush=True)
+    arms = {"same": 0, "slow5": n5, "slow10": n10}
+    outcomes = {arm: [] for arm in arms}  # per trial: list of compared cases
+    rng = random.Random(12345)
+    for trial in range(args.trials):
+        order = ["base"] + list(arms)
+        rng.shuffle(order)  # no arm always runs first or last: drift must not look like an effect
+        runs = {}
+        for arm in order:
+            runs[arm] = os.path.join(args.out, f"t{trial:02d}-{arm}")
+            run_matrix(runs[arm], 0 if arm == "base" else arms[arm])
+        for arm in arms:
+            outcomes[arm].append(compare(runs["base"], runs[arm], os.path.join(runs[arm], "compare")))
+        print(f"trial {trial + 1}/{args.trials} done ({time.time() - started:.0f}s)", flush=True)
+
+    grid = []
+    for alpha in ALPHAS:
+        for effect in EFFECTS:
+            row = {"alpha": alpha, "min_effect": effect}
+            for arm in arms:
+                cases = [c for trial in outcomes[arm] for c in trial]
+                flagged = [c for c in cases if decide(c, alpha, effect) and (arm == "same" or c["change"] > 0)]
+                runs_flagged = sum(any(decide(c, alpha, effect) for c in trial) for trial in outcomes[arm])
+                row[arm] = {"case_rate": len(flagged) / len(cases), "run_rate": runs_flagged / len(outcomes[arm])}
+            grid.append(row)
+    realized = {arm: statistics.median(c["change"] for trial in outcomes[arm] for c in trial) for arm in arms}
+    ok = [r for r in grid if r["same"]["case_rate"] <= 0.01]
+    gate = min(ok, key=lambda r: (r["min_effect"], -r["alpha"])) if ok else None
+    result = {"trials": args.trials, "cases_per_run": len(outcomes["same"][0]), "injected_iterations": arms,
+              "per_iteration_fraction": per_iteration, "realized_median_change": realized, "grid": grid,
+              "recommended_gate": gate, "seconds": time.time() - started}
+    with open(os.path.join(args.out, "sensitivity.json"), "w") as f:
+        json.dump(result, f, indent=2)
+
+    md = [f"# Regression-detection sensitivity\n\n{args.trials} trials x {result['cases_per_run']} cases (CI matrix, "
+          "9 interleaved repetitions per run); every run a separate process. Realized median change: "
+          + ", ".join(f"{a} {100 * v:+.1f}%" for a, v in realized.items()) + ".\n",
+          "| alpha | min effect | false alarms (cases) | false alarms (runs) | detect 5% (cases) | detect 10% (cases) "
+          "| detect 10% (runs) |", "|---|---|---|---|---|---|---|"]
+    for r in grid:
+        md.append(f"| {r['alpha']} | {100 * r['min_effect']:.1f}% | {100 * r['same']['case_rate']:.1f}% | "
+                  f"{100 * r['same']['run_rate']:.0f}% | {100 * r['slow5']['case_rate']:.1f}% | "
+                  f"{100 * r['slow10']['case_rate']:.1f}% | {100 * r['slow10']['run_rate']:.0f}% |")
+    md.append("\nRecommended gate (smallest minimum effect with <= 1% false alarms per case): "
+              + (f"alpha {gate['alpha']}, minimum effect {100 * gate['min_effect']:.1f}%" if gate else "none"))
+    with open(os.path.join(args.out, "sensitivity.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+
+    if args.write_gate and gate:
+        key = subprocess.run([BINARY, "device-key", os.path.join(args.out, "cal0")], capture_output=True,
+                             text=True).stdout.split()[0]
+        path = os.path.join(ROOT, "results", "baselines", key, "gate.json")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as f:
+            json.dump({"alpha": gate["alpha"], "min_effect": gate["min_effect"],
+                       "false_alarm_case_rate": gate["same"]["case_rate"],
+                       "detect_5_case_rate": gate["slow5"]["case_rate"],
+                       "detect_10_case_rate": gate["slow10"]["case_rate"], "trials": args.trials}, f, indent=2)
+        print(f"gate written to {path}")
+
+
+if __name__ == "__main__":
+    main()

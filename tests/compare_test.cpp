@@ -1,0 +1,175 @@
+// Regression decisions: the U-test against scipy's figures, Holm's correction, and `compare` on synthetic runs
+// (timing, work counters, images, devices, bad input).
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "bench/compare.h"
+#include "bench/file_io.h"
+#include "bench/image_io.h"
+#include "bench/statistics.h"
+
+namespace omnishadow::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+TEST(Statistics, MannWhitneyMatchesScipy) {
+  // scipy.stats.mannwhitneyu(..., alternative='two-sided'), exact and asymptotic with continuity.
+  EXPECT_NEAR(mann_whitney_p({1, 2, 3}, {4, 5, 6}), 0.1, 1e-12);
+  EXPECT_NEAR(mann_whitney_p({1, 2, 3, 4, 5}, {6, 7, 8, 9, 10}), 2.0 / 252.0, 1e-12);
+  EXPECT_NEAR(mann_whitney_p({1.5, 2.1, 3.3, 0.4}, {2.0, 5.5, 4.1, 6.2, 7.0}), 0.06349206349206349, 1e-12);
+  EXPECT_NEAR(mann_whitney_p({1, 2, 2, 3, 4, 5}, {3, 4, 4, 5, 6, 7, 8}), 0.0364709007712748, 1e-9);
+  // Nine against nine, as the CI matrix's repetitions: exact without ties, asymptotic with one tie.
+  EXPECT_NEAR(mann_whitney_p({10.1, 10.3, 9.8, 10.0, 10.2, 10.4, 9.9, 10.15, 10.05},
+                             {11.0, 10.9, 11.2, 10.8, 11.1, 10.95, 11.3, 10.85, 11.05}),
+              4.113533525298231e-05, 1e-12);
+  EXPECT_NEAR(mann_whitney_p({10.1, 10.3, 9.8, 10.0, 10.2, 10.4, 9.9, 10.1, 10.05},
+                             {11.0, 10.9, 11.2, 10.8, 11.1, 10.95, 11.3, 10.85, 11.05}),
+              0.0004094601088531576, 1e-12);
+  EXPECT_EQ(mann_whitney_p({}, {1, 2}), 1.0);
+  EXPECT_EQ(mann_whitney_p({3, 3, 3}, {3, 3, 3}), 1.0);
+}
+
+TEST(Statistics, HolmControlsTheFamily) {
+  std::vector<double> adjusted = holm_adjust({0.01, 0.04, 0.03, 0.5});
+  EXPECT_NEAR(adjusted[0], 0.04, 1e-12);  // 4 x 0.01
+  EXPECT_NEAR(adjusted[2], 0.09, 1e-12);  // 3 x 0.03
+  EXPECT_NEAR(adjusted[1], 0.09, 1e-12);  // max(2 x 0.04, 0.09): monotone
+  EXPECT_NEAR(adjusted[3], 0.5, 1e-12);
+  EXPECT_DOUBLE_EQ(median({3, 1, 2, 10}), 2.5);
+}
+
+// A run folder with one results.json written from scratch, like `omnishadow run` writes it.
+class CompareTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("omnishadow_compare_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write_run(const std::string& name, const std::map<std::string, std::vector<double>>& times,
+                        uint64_t gs_primitives = 432, float shadow_value = 0.0f,
+                        const std::string& renderer = "llvmpipe") {
+    fs::path run = dir_ / name;
+    fs::create_directories(run / "img");
+    json doc{{"context", json::object()}, {"benchmarks", json::array()}};
+    json cases = json::array();
+    for (const auto& [id, samples] : times) {
+      for (size_t i = 0; i < samples.size(); ++i)
+        doc["benchmarks"].push_back({{"name", id + "/iterations:3/manual_time"}, {"run_type", "iteration"},
+                                     {"real_time", samples[i]}, {"cpu_time", 0.1}, {"time_unit", "ms"},
+                                     {"omnishadow_case", id}});
+      std::string file = "img/" + std::to_string(cases.size()) + ".pfm";
+      std::vector<float> pixels(16, 0.0f);
+      pixels[5] = shadow_value;
+      write_pfm((run / file).string(), 4, 4, 1, pixels);
+      cases.push_back({{"id", id}, {"status", "ok"}, {"images", {{"shadow_factor", file}}},
+                       {"counters", {{"shadow", {{"valid", true}, {"gs_primitives", gs_primitives}}}}}});
+    }
+    doc["omnishadow"] = {{"format", "omnishadow-results/1"},
+                         {"cases", cases},
+                         {"system", {{"LP_NUM_THREADS", "unset"}}},
+                         {"devices", {{"gl", {{"renderer", renderer}, {"version", "4.5 Mesa 22.3.6"}}}}}};
+    write_file_atomic((run / "results.json").string(), doc.dump());
+    return run.string();
+  }
+
+  fs::path dir_;
+};
+
+const std::vector<double> kBase = {10.0, 10.2, 9.9, 10.1, 10.0, 9.8, 10.3, 10.1, 9.9};
+
+std::vector<double> scaled(const std::vector<double>& v, double f) {
+  std::vector<double> out;
+  for (double x : v) out.push_back(x * f);
+  return out;
+}
+
+TEST_F(CompareTest, TimingVerdictsNeedSignificanceAndEffect) {
+  std::string base = write_run("base", {{"a", kBase}, {"b", kBase}, {"c", kBase}});
+  std::string fresh = write_run("new", {{"a", scaled(kBase, 1.2)}, {"b", scaled(kBase, 1.02)}, {"c", scaled(kBase, 0.8)}});
+  CompareOptions o;
+  o.min_effect = 0.05;
+  Comparison c = compare_runs(load_run(base), load_run(fresh), o);
+  ASSERT_EQ(c.cases.size(), 3u);
+  EXPECT_EQ(c.cases[0].verdict, "regression");
+  EXPECT_NEAR(c.cases[0].change, 0.2, 1e-9);
+  EXPECT_EQ(c.cases[1].verdict, "no change") << "2% is significant but below the minimum effect";
+  EXPECT_EQ(c.cases[2].verdict, "improvement");
+  EXPECT_FALSE(c.cases[2].regressed());
+  EXPECT_EQ(compare_command(base, fresh, o), 1);
+  EXPECT_TRUE(fs::exists(fs::path(fresh) / "compare" / "summary.md"));
+  EXPECT_EQ(compare_command(base, base, o), 0);
+}
+
+TEST_F(CompareTest, WorkAndImageChangesAreRegressionsWhateverTheTiming) {
+  std::string base = write_run("base", {{"a", kBase}});
+  std::string work = write_run("work", {{"a", kBase}}, 72);
+  std::string image = write_run("image", {{"a", kBase}}, 432, 1.0f);
+  Comparison w = compare_runs(load_run(base), load_run(work), {});
+  ASSERT_EQ(w.cases[0].work_changes.size(), 1u);
+  EXPECT_EQ(w.cases[0].work_changes[0], "shadow gs_primitives 432 -> 72");
+  EXPECT_TRUE(w.cases[0].regressed());
+  Comparison i = compare_runs(load_run(base), load_run(image), {});
+  ASSERT_EQ(i.cases[0].image_changes.size(), 1u);
+  EXPECT_NE(i.cases[0].image_changes[0].find("6.25% of values differ (max 1)"), std::string::npos)
+      << i.cases[0].image_changes[0];
+  EXPECT_TRUE(fs::exists(fs::path(image) / "compare" / "diffs" / "a" / "diff_shadow_factor.png"));
+}
+
+TEST_F(CompareTest, MismatchedMatricesAreListedNotFailed) {
+  std::string base = write_run("base", {{"a", kBase}, {"gone", kBase}});
+  std::string fresh = write_run("new", {{"a", kBase}, {"added", kBase}});
+  Comparison c = compare_runs(load_run(base), load_run(fresh), {});
+  EXPECT_EQ(c.cases.size(), 1u);
+  EXPECT_EQ(c.only_in_base, std::vector<std::string>{"gone"});
+  EXPECT_EQ(c.only_in_new, std::vector<std::string>{"added"});
+  EXPECT_EQ(compare_command(base, fresh, {}), 0);
+}
+
+TEST_F(CompareTest, BadInputIsAClearError) {
+  std::string base = write_run("base", {{"a", kBase}});
+  std::string other = write_run("other", {{"a", kBase}}, 432, 0.0f, "NVIDIA GeForce");
+  auto message = [&](const std::string& b, const std::string& n) {
+    try {
+      compare_command(b, n, {});
+    } catch (const CompareError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(base, other).find("different devices"), std::string::npos);
+  write_file_atomic((dir_ / "truncated.json").string(), R"({"omnishadow": {"format": "omnishadow-res)");
+  EXPECT_NE(message(base, (dir_ / "truncated.json").string()).find("not valid JSON"), std::string::npos);
+  write_file_atomic((dir_ / "foreign.json").string(), R"({"context": {}, "benchmarks": []})");
+  EXPECT_NE(message(base, (dir_ / "foreign.json").string()).find("not an omnishadow results file"), std::string::npos);
+  EXPECT_NE(message(base, (dir_ / "missing").string()).find("cannot read"), std::string::npos);
+  CompareOptions allow;
+  allow.allow_device_mismatch = true;
+  EXPECT_EQ(compare_command(base, other, allow), 0);
+}
+
+}  // namespace
+}  // namespace omnishadow::bench
+
+namespace omnishadow::bench {
+namespace {
+
+TEST_F(CompareTest, TimingCanBeReportedWithoutFailing) {
+  std::string base = write_run("base", {{"a", kBase}});
+  std::string slow = write_run("slow", {{"a", scaled(kBase, 1.5)}});
+  CompareOptions report_only;
+  report_only.timing_fails = false;
+  EXPECT_EQ(compare_command(base, slow, report_only), 0);
+  EXPECT_EQ(compare_command(base, slow, {}), 1);
+  std::string work = write_run("work", {{"a", kBase}}, 1);
+  EXPECT_EQ(compare_command(base, work, report_only), 1) << "work changes fail even when timing only reports";
+}
+
+}  // namespace
+}  // namespace omnishadow::bench
