@@ -8,7 +8,11 @@ the decisions are then re-derived for a grid of (alpha, minimum effect) gates fr
 changes it reports. Writes sensitivity.json and sensitivity.md: false-alarm rate (same build against itself),
 detection rates for 5% and 10%, per gate; and the smallest gate meeting <= 1% false alarms.
 
-Usage: scripts/sensitivity.py [--trials 20] [--out results/sensitivity-<time>] [--write-gate]
+With --alternate R each arm's sample is pooled from R separate runs of 9/R repetitions, alternated with the
+base's runs (base, arm, base, arm, ...), so that machine-wide slow spells hit both sides alike: the design to
+use when comparing two builds on a shared machine.
+
+Usage: scripts/sensitivity.py [--trials 20] [--alternate R] [--out results/sensitivity-<time>] [--write-gate]
 --write-gate stores the recommended gate in results/baselines/<device key>/gate.json for scripts/ci_compare.sh.
 """
 import argparse
@@ -26,9 +30,9 @@ ALPHAS = [0.01, 0.05]
 EFFECTS = [0.0, 0.02, 0.03, 0.05, 0.075, 0.10, 0.15, 0.25, 0.5]
 
 
-def run_matrix(out, injected):
+def run_matrix(out, injected, repetitions=9):
     cmd = ["bash", os.path.join(ROOT, "scripts", "ci_matrix.sh"), out, "--no-images", "--no-accuracy",
-           f"--inject-fragment-work={injected}"]
+           f"--inject-fragment-work={injected}", f"--benchmark_repetitions={repetitions}"]
     done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if done.returncode != 0:
         sys.exit(f"sensitivity: {' '.join(cmd)} failed:\n{done.stderr[-2000:]}")
@@ -44,6 +48,19 @@ def compare(base, new, out):
         return json.load(f)["cases"]
 
 
+def pool(runs, out):
+    """One results.json whose benchmark entries are all the runs' repetitions: compare pools them per case."""
+    with open(os.path.join(runs[0], "results.json")) as f:
+        doc = json.load(f)
+    for run in runs[1:]:
+        with open(os.path.join(run, "results.json")) as f:
+            doc["benchmarks"].extend(json.load(f)["benchmarks"])
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "results.json"), "w") as f:
+        json.dump(doc, f)
+    return out
+
+
 def median_times(run):
     with open(os.path.join(run, "results.json")) as f:
         doc = json.load(f)
@@ -56,11 +73,15 @@ def median_times(run):
 
 def calibrate(work_dir):
     """Extra time per injected iteration, relative to each case's time: pick N for +5% and +10% at the median."""
-    probe = 40
-    base, heavy = os.path.join(work_dir, "cal0"), os.path.join(work_dir, f"cal{probe}")
-    run_matrix(base, 0)
-    run_matrix(heavy, probe)
-    t0, t1 = median_times(base), median_times(heavy)
+    probe = 80
+    bases, heavies = [], []
+    for r in range(3):  # alternated and pooled: one slow spell must not skew the calibration
+        bases.append(os.path.join(work_dir, f"cal0-{r}"))
+        heavies.append(os.path.join(work_dir, f"cal{probe}-{r}"))
+        run_matrix(bases[-1], 0)
+        run_matrix(heavies[-1], probe)
+    t0 = median_times(pool(bases, os.path.join(work_dir, "cal0")))
+    t1 = median_times(pool(heavies, os.path.join(work_dir, f"cal{probe}")))
     per_iteration = statistics.median((t1[k] - t0[k]) / t0[k] / probe for k in t0)
     if per_iteration <= 0:
         sys.exit("sensitivity: injected work did not slow the matrix down; cannot calibrate")
@@ -76,6 +97,7 @@ def main():
     parser.add_argument("--trials", type=int, default=20)
     parser.add_argument("--out", default=os.path.join(ROOT, "results", time.strftime("sensitivity-%Y%m%d-%H%M%S")))
     parser.add_argument("--write-gate", action="store_true")
+    parser.add_argument("--alternate", type=int, default=1, help="runs per arm, alternated with the base's")
     args = parser.parse_args()
     if not os.path.exists(BINARY):
         sys.exit(f"sensitivity: {BINARY} missing; run scripts/build.sh first")
@@ -88,14 +110,28 @@ def main():
     outcomes = {arm: [] for arm in arms}  # per trial: list of compared cases
     rng = random.Random(12345)
     for trial in range(args.trials):
-        order = ["base"] + list(arms)
-        rng.shuffle(order)  # no arm always runs first or last: drift must not look like an effect
         runs = {}
-        for arm in order:
-            runs[arm] = os.path.join(args.out, f"t{trial:02d}-{arm}")
-            run_matrix(runs[arm], 0 if arm == "base" else arms[arm])
+        if args.alternate <= 1:
+            order = ["base"] + list(arms)
+            rng.shuffle(order)  # no arm always runs first or last: drift must not look like an effect
+            for arm in order:
+                runs[arm] = os.path.join(args.out, f"t{trial:02d}-{arm}")
+                run_matrix(runs[arm], 0 if arm == "base" else arms[arm])
+            bases = {arm: runs["base"] for arm in arms}
+        else:
+            bases = {}
+            reps = max(1, 9 // args.alternate)
+            for arm in arms:
+                pair = {"base": [], arm: []}
+                for r in range(args.alternate):
+                    for side in (["base", arm] if r % 2 == 0 else [arm, "base"]):
+                        path = os.path.join(args.out, f"t{trial:02d}-{arm}-{side}-{r}")
+                        run_matrix(path, 0 if side == "base" else arms[arm], reps)
+                        pair[side].append(path)
+                bases[arm] = pool(pair["base"], os.path.join(args.out, f"t{trial:02d}-{arm}-base"))
+                runs[arm] = pool(pair[arm], os.path.join(args.out, f"t{trial:02d}-{arm}-pooled"))
         for arm in arms:
-            outcomes[arm].append(compare(runs["base"], runs[arm], os.path.join(runs[arm], "compare")))
+            outcomes[arm].append(compare(bases[arm], runs[arm], os.path.join(runs[arm], "compare")))
         print(f"trial {trial + 1}/{args.trials} done ({time.time() - started:.0f}s)", flush=True)
 
     grid = []
@@ -111,14 +147,16 @@ def main():
     realized = {arm: statistics.median(c["change"] for trial in outcomes[arm] for c in trial) for arm in arms}
     ok = [r for r in grid if r["same"]["case_rate"] <= 0.01]
     gate = min(ok, key=lambda r: (r["min_effect"], -r["alpha"])) if ok else None
-    result = {"trials": args.trials, "cases_per_run": len(outcomes["same"][0]), "injected_iterations": arms,
+    result = {"trials": args.trials, "alternate": args.alternate, "cases_per_run": len(outcomes["same"][0]), "injected_iterations": arms,
               "per_iteration_fraction": per_iteration, "realized_median_change": realized, "grid": grid,
               "recommended_gate": gate, "seconds": time.time() - started}
     with open(os.path.join(args.out, "sensitivity.json"), "w") as f:
         json.dump(result, f, indent=2)
 
+    design = ("9 interleaved repetitions in one run per side" if args.alternate <= 1 else
+              f"{args.alternate} alternating runs of {max(1, 9 // args.alternate)} repetitions per side, pooled")
     md = [f"# Regression-detection sensitivity\n\n{args.trials} trials x {result['cases_per_run']} cases (CI matrix, "
-          "9 interleaved repetitions per run); every run a separate process. Realized median change: "
+          f"{design}); every run a separate process. Realized median change: "
           + ", ".join(f"{a} {100 * v:+.1f}%" for a, v in realized.items()) + ".\n",
           "| alpha | min effect | false alarms (cases) | false alarms (runs) | detect 5% (cases) | detect 10% (cases) "
           "| detect 10% (runs) |", "|---|---|---|---|---|---|---|"]
