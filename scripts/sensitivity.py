@@ -12,7 +12,7 @@ With --alternate R each arm's sample is pooled from R separate runs of 9/R repet
 base's runs (base, arm, base, arm, ...), so that machine-wide slow spells hit both sides alike: the design to
 use when comparing two builds on a shared machine.
 
-Usage: scripts/sensitivity.py [--trials 20] [--alternate R] [--out results/sensitivity-<time>] [--write-gate]
+Usage: scripts/sensitivity.py [--trials 20] [--alternate R] [--repetitions N] [--out DIR] [--write-gate]
 --write-gate stores the recommended gate in results/baselines/<device key>/gate.json for scripts/ci_compare.sh.
 """
 import argparse
@@ -98,6 +98,7 @@ def main():
     parser.add_argument("--out", default=os.path.join(ROOT, "results", time.strftime("sensitivity-%Y%m%d-%H%M%S")))
     parser.add_argument("--write-gate", action="store_true")
     parser.add_argument("--alternate", type=int, default=1, help="runs per arm, alternated with the base's")
+    parser.add_argument("--repetitions", type=int, default=9, help="repetitions per side (split over the runs)")
     args = parser.parse_args()
     if not os.path.exists(BINARY):
         sys.exit(f"sensitivity: {BINARY} missing; run scripts/build.sh first")
@@ -116,11 +117,11 @@ def main():
             rng.shuffle(order)  # no arm always runs first or last: drift must not look like an effect
             for arm in order:
                 runs[arm] = os.path.join(args.out, f"t{trial:02d}-{arm}")
-                run_matrix(runs[arm], 0 if arm == "base" else arms[arm])
+                run_matrix(runs[arm], 0 if arm == "base" else arms[arm], args.repetitions)
             bases = {arm: runs["base"] for arm in arms}
         else:
             bases = {}
-            reps = max(1, 9 // args.alternate)
+            reps = max(1, args.repetitions // args.alternate)
             for arm in arms:
                 pair = {"base": [], arm: []}
                 for r in range(args.alternate):
@@ -147,14 +148,15 @@ def main():
     realized = {arm: statistics.median(c["change"] for trial in outcomes[arm] for c in trial) for arm in arms}
     ok = [r for r in grid if r["same"]["case_rate"] <= 0.01]
     gate = min(ok, key=lambda r: (r["min_effect"], -r["alpha"])) if ok else None
-    result = {"trials": args.trials, "alternate": args.alternate, "cases_per_run": len(outcomes["same"][0]), "injected_iterations": arms,
+    result = {"trials": args.trials, "alternate": args.alternate, "repetitions": args.repetitions, "cases_per_run": len(outcomes["same"][0]), "injected_iterations": arms,
               "per_iteration_fraction": per_iteration, "realized_median_change": realized, "grid": grid,
               "recommended_gate": gate, "seconds": time.time() - started}
     with open(os.path.join(args.out, "sensitivity.json"), "w") as f:
         json.dump(result, f, indent=2)
 
-    design = ("9 interleaved repetitions in one run per side" if args.alternate <= 1 else
-              f"{args.alternate} alternating runs of {max(1, 9 // args.alternate)} repetitions per side, pooled")
+    design = (f"{args.repetitions} interleaved repetitions in one run per side" if args.alternate <= 1 else
+              f"{args.alternate} alternating runs of {max(1, args.repetitions // args.alternate)} repetitions per "
+              "side, pooled")
     md = [f"# Regression-detection sensitivity\n\n{args.trials} trials x {result['cases_per_run']} cases (CI matrix, "
           f"{design}); every run a separate process. Realized median change: "
           + ", ".join(f"{a} {100 * v:+.1f}%" for a, v in realized.items()) + ".\n",
