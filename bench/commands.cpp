@@ -3,6 +3,7 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -20,6 +21,10 @@ namespace omnishadow::bench {
 namespace {
 
 namespace fs = std::filesystem;
+
+// Set by SIGINT/SIGTERM: the run finishes the case in hand, saves what finished and exits 128 + signal.
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void request_stop(int signal_number) { g_stop_signal = signal_number; }
 
 std::string default_out_dir() {
   std::time_t now = std::time(nullptr);
@@ -136,20 +141,32 @@ int run_command(const RunCommand& cmd) {
   }
 
   std::vector<CaseResult> results(cases.size());
+  size_t prepared = 0;  // results[0, prepared) hold finished cases; the rest are not written
   const std::string results_path = (fs::path(options.out_dir) / "results.json").string();
   auto save = [&](const nlohmann::json& gbench, bool complete) {
     try {
-      write_results(results_path, info, results, gbench, complete);
+      std::vector<CaseResult> finished(results.begin(), results.begin() + static_cast<ptrdiff_t>(prepared));
+      write_results(results_path, info, finished, gbench, complete);
     } catch (const std::exception& e) {
       print_error(std::string("saving results: ") + e.what());
     }
   };
 
+  g_stop_signal = 0;
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  auto stopped = [&] {
+    if (!g_stop_signal) return false;
+    info.stopped_by = g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM";
+    return true;
+  };
+
   // Untimed part: images, checks and work counters, in matrix order.
   auto start = std::chrono::steady_clock::now();
-  for (size_t i = 0; i < cases.size(); ++i) {
+  for (size_t i = 0; i < cases.size() && !stopped(); ++i) {
     results[i].config = cases[i];
     harness.prepare(results[i]);
+    prepared = i + 1;
     double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::string error;
     if (results[i].accuracy) {
@@ -163,6 +180,14 @@ int run_command(const RunCommand& cmd) {
                  results[i].reason.empty() ? "" : " - ", results[i].reason.c_str(), elapsed,
                  elapsed / static_cast<double>(i + 1) * static_cast<double>(cases.size() - i - 1));
     save(nullptr, false);
+  }
+
+  if (stopped()) {
+    results.resize(prepared);
+    save(nullptr, false);
+    std::fprintf(stderr, "omnishadow: stopped by %s after %zu of %zu cases; %s holds them\n",
+                 info.stopped_by.c_str(), prepared, cases.size(), results_path.c_str());
+    return 128 + static_cast<int>(g_stop_signal);
   }
 
   // Timed part, through Google Benchmark.
@@ -191,7 +216,7 @@ int run_command(const RunCommand& cmd) {
   const char* threads = std::getenv("LP_NUM_THREADS");
   device_context("LP_NUM_THREADS", threads ? threads : "unset");
 
-  run_timed(harness, results, repetitions_of(cmd.benchmark_args), [&] { save(nullptr, false); });
+  run_timed(harness, results, repetitions_of(cmd.benchmark_args), [&] { save(nullptr, false); }, stopped);
 
   nlohmann::json gbench;
   try {
@@ -200,7 +225,8 @@ int run_command(const RunCommand& cmd) {
   } catch (const std::exception& e) {
     print_error(std::string("reading Google Benchmark's output: ") + e.what());
   }
-  save(gbench, true);
+  const bool interrupted = stopped();
+  save(gbench, !interrupted);
   std::string summary = summary_markdown(results);
   try {
     write_file_atomic((fs::path(options.out_dir) / "summary.md").string(), summary);
@@ -208,6 +234,11 @@ int run_command(const RunCommand& cmd) {
     print_error(e.what());
   }
   std::cout << "\n" << summary << "\nresults: " << results_path << "\n";
+  if (interrupted) {
+    std::fprintf(stderr, "omnishadow: stopped by %s; cases not timed are marked interrupted in %s\n",
+                 info.stopped_by.c_str(), results_path.c_str());
+    return 128 + static_cast<int>(g_stop_signal);
+  }
 
   if (cmd.check)
     for (const CaseResult& r : results)

@@ -50,8 +50,16 @@ struct Progress {
   }
 };
 
-void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progress& progress) {
+void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progress& progress, bool stop) {
   progress.step(r.config.id());
+  if (stop) {
+    if (r.status == Status::ok || r.status == Status::failed_check) {
+      r.status = Status::failed;
+      r.reason = "interrupted: the run was stopped before this case was timed";
+    }
+    state.SkipWithError(r.reason.c_str());
+    return;
+  }
   if (r.status == Status::unsupported || r.status == Status::failed) {
     state.SkipWithError((std::string(to_string(r.status)) + ": " + r.reason).c_str());
     return;
@@ -107,12 +115,12 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
 }  // namespace
 
 void run_timed(Harness& harness, std::vector<CaseResult>& results, int repetitions,
-               const std::function<void()>& after_case) {
+               const std::function<void()>& after_case, const std::function<bool()>& stop_requested) {
   Progress progress;
   for (CaseResult& r : results) {
     benchmark::RegisterBenchmark(r.config.id().c_str(),
-                                 [&harness, &r, &progress, &after_case](benchmark::State& state) {
-                                   time_case(harness, r, state, progress);
+                                 [&harness, &r, &progress, &after_case, &stop_requested](benchmark::State& state) {
+                                   time_case(harness, r, state, progress, stop_requested());
                                    after_case();
                                  })
         ->UseManualTime()

@@ -14,7 +14,8 @@ namespace omnishadow::bench {
 // they still appear in the JSON), runs them with console output on stdout and Google Benchmark's JSON to
 // the file named by --benchmark_out. Timings are appended to each result; `after_case` runs after every
 // timed repetition (the caller saves partial results there). `repetitions` only feeds the progress line.
+// When `stop_requested` turns true (SIGINT/SIGTERM), the cases not yet timed are skipped as "interrupted".
 void run_timed(Harness& harness, std::vector<CaseResult>& results, int repetitions,
-               const std::function<void()>& after_case);
+               const std::function<void()>& after_case, const std::function<bool()>& stop_requested);
 
 }  // namespace omnishadow::bench

@@ -147,6 +147,7 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
   const RunOptions& o = run.options;
   out["omnishadow"] = {{"format", "omnishadow-results/1"},
                        {"complete", complete},
+                       {"stopped_by", run.stopped_by.empty() ? json(nullptr) : json(run.stopped_by)},
                        {"commit", build_commit()},
                        {"command_line", run.command_line},
                        {"options",

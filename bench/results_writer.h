@@ -17,6 +17,7 @@ struct RunInfo {
   std::string command_line;
   std::map<std::string, DeviceInfo> devices;  // by backend name
   RunOptions options;
+  std::string stopped_by;  // "SIGINT" / "SIGTERM" when the run was interrupted
 };
 
 // Google Benchmark writes non-JSON tokens (NaN, inf) for aggregates such as the coefficient of variation of a

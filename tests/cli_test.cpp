@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 
 #include <filesystem>
 #include <fstream>
@@ -227,6 +230,41 @@ TEST_F(CliRun, CompareRefusesBadInput) {
   EXPECT_NE(missing.err.find("cannot read"), std::string::npos) << missing.err;
   Outcome usage = run("compare only-one-argument");
   EXPECT_EQ(usage.exit_code, 2);
+}
+
+}  // namespace
+
+namespace {
+
+// SIGINT mid-matrix: the run stops after the case in hand, exits 130 and leaves valid JSON with what finished.
+TEST_F(CliRun, InterruptedRunLeavesValidResults) {
+  fs::path out = scratch("interrupted");
+  fs::path log = scratch("interrupted.log");
+  std::string cmd = std::string(OMNISHADOW_BINARY) + " run --scene room,ogldev --cube 16,32,64,128,256,512 " +
+                    "--frames 50 --light-radius 0 --no-images --out " + out.string() + " 2>" + log.string();
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until at least one case is saved, then interrupt.
+  fs::path results = out / "results.json";
+  for (int i = 0; i < 600 && !fs::exists(results); ++i) usleep(50 * 1000);
+  ASSERT_TRUE(fs::exists(results)) << "no results.json after 30 s";
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "the run must exit, not die by the signal";
+  EXPECT_EQ(WEXITSTATUS(status), 130) << omnishadow::bench::read_file(log.string());
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file(results.string()));  // valid JSON, whole
+  EXPECT_FALSE(j["omnishadow"]["complete"].get<bool>());
+  EXPECT_EQ(j["omnishadow"]["stopped_by"], "SIGINT");
+  size_t cases = j["omnishadow"]["cases"].size();
+  EXPECT_GE(cases, 1u);
+  EXPECT_LE(cases, 2u * 6u * 5u * 3u);
+  for (const auto& c : j["omnishadow"]["cases"]) EXPECT_TRUE(c.contains("status")) << c.dump();
+  EXPECT_NE(omnishadow::bench::read_file(log.string()).find("stopped by SIGINT"), std::string::npos);
 }
 
 }  // namespace

@@ -154,7 +154,7 @@ TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {
   int argc = static_cast<int>(argv.size());
   benchmark::Initialize(&argc, argv.data());
   int saves = 0;
-  run_timed(*harness_, results, 2, [&] { ++saves; });
+  run_timed(*harness_, results, 2, [&] { ++saves; }, [] { return false; });
   EXPECT_EQ(saves, 16);  // 8 cases x 2 repetitions
   for (const CaseResult& r : results) {
     if (r.status == Status::unsupported || r.status == Status::failed) {
