@@ -10,6 +10,7 @@
 #include "backends/common/cube_faces.h"
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
+#include "backends/common/shader_variants.h"
 
 namespace omnishadow::gl {
 namespace {
@@ -23,31 +24,6 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
 std::string gl_string(GLenum name) {
   const GLubyte* s = glGetString(name);
   return s ? reinterpret_cast<const char*>(s) : "?";
-}
-
-std::vector<std::string> technique_defines(Technique t) {
-  switch (t) {
-    case Technique::six_pass: return {"TECHNIQUE_SIX_PASS"};
-    case Technique::geometry_shader: return {"TECHNIQUE_GEOMETRY_SHADER"};
-    case Technique::geometry_shader_instanced: return {"TECHNIQUE_GEOMETRY_SHADER", "GS_INSTANCED"};
-    case Technique::vs_layer: return {"TECHNIQUE_VS_LAYER"};
-    case Technique::multiview: return {"TECHNIQUE_MULTIVIEW"};
-  }
-  return {};
-}
-
-std::string storage_define(Storage s) {
-  return s == Storage::r32f_distance ? "STORAGE_R32F_DISTANCE" : "STORAGE_LINEAR_DEPTH";
-}
-
-std::string filter_define(Filter f) {
-  switch (f) {
-    case Filter::hard: return "FILTER_HARD";
-    case Filter::pcf_grid64: return "FILTER_PCF_GRID64";
-    case Filter::pcf_disk20: return "FILTER_PCF_DISK20";
-    case Filter::hw_compare2x2: return "FILTER_HW_COMPARE2X2";
-  }
-  return "";
 }
 
 // KHR_debug: keep errors and undefined behaviour (what would make a figure or an image wrong); drop the
@@ -201,15 +177,15 @@ void GlBackend::configure(const CaseConfig& c) {
   if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
   release_case();
 
-  std::vector<std::string> shadow_defines = technique_defines(c.technique);
-  shadow_defines.push_back(storage_define(c.storage));
+  std::vector<std::string> shadow_defines = gpu::technique_defines(c.technique);
+  shadow_defines.push_back(gpu::storage_define(c.storage));
   std::vector<ShaderStage> shadow_stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"},
                                             {GL_FRAGMENT_SHADER, "shadow_depth.frag"}};
   if (c.technique == Technique::geometry_shader || c.technique == Technique::geometry_shader_instanced)
     shadow_stages.insert(shadow_stages.begin() + 1, {GL_GEOMETRY_SHADER, "shadow_depth.geom"});
   shadow_program_ = program(shadow_stages, shadow_defines);
   lighting_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "lighting.frag"}},
-                              {storage_define(c.storage), filter_define(c.filter)});
+                              {gpu::storage_define(c.storage), gpu::filter_define(c.filter)});
 
   shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format);
   lighting_ = create_lighting_targets(c.width, c.height);

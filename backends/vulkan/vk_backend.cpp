@@ -6,6 +6,7 @@
 
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
+#include "backends/common/shader_variants.h"
 
 namespace omnishadow::vk {
 namespace {
@@ -14,29 +15,6 @@ using Clock = std::chrono::steady_clock;
 
 double ms_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-std::string technique_key(Technique t) {
-  switch (t) {
-    case Technique::six_pass: return "TECHNIQUE_SIX_PASS";
-    case Technique::vs_layer: return "TECHNIQUE_VS_LAYER";
-    case Technique::multiview: return "TECHNIQUE_MULTIVIEW";
-    default: return "TECHNIQUE_GEOMETRY_SHADER";
-  }
-}
-
-std::string storage_key(Storage s) {
-  return s == Storage::r32f_distance ? "STORAGE_R32F_DISTANCE" : "STORAGE_LINEAR_DEPTH";
-}
-
-std::string filter_key(Filter f) {
-  switch (f) {
-    case Filter::hard: return "FILTER_HARD";
-    case Filter::pcf_grid64: return "FILTER_PCF_GRID64";
-    case Filter::pcf_disk20: return "FILTER_PCF_DISK20";
-    case Filter::hw_compare2x2: return "FILTER_HW_COMPARE2X2";
-  }
-  return "";
 }
 
 const char* format_name(VkFormat f) {
@@ -255,13 +233,15 @@ void VkBackend::configure(const CaseConfig& c) {
     lighting_ = create_lighting_targets(*ctx_, static_cast<uint32_t>(c.width), static_cast<uint32_t>(c.height));
 
     PipelineDesc shadow;
-    shadow.stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, "shadow_depth.vert:" + technique_key(c.technique)});
-    if (c.technique == Technique::geometry_shader)
-      shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER"});
-    if (c.technique == Technique::geometry_shader_instanced)
-      shadow.stages.push_back(
-          {VK_SHADER_STAGE_GEOMETRY_BIT, "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER,GS_INSTANCED"});
-    shadow.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, "shadow_depth.frag:" + storage_key(c.storage)});
+    // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
+    const std::vector<std::string> technique = gpu::technique_defines(c.technique);
+    shadow.stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, "shadow_depth.vert:" + technique.front()});
+    if (c.technique == Technique::geometry_shader || c.technique == Technique::geometry_shader_instanced) {
+      std::string key = "shadow_depth.geom:";
+      for (size_t i = 0; i < technique.size(); ++i) key += (i ? "," : "") + technique[i];
+      shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, key});
+    }
+    shadow.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, "shadow_depth.frag:" + gpu::storage_define(c.storage)});
     shadow.layout = shadow_layout_;
     shadow.render_pass = shadow_.render_pass;
     shadow.color_attachments = c.storage == Storage::r32f_distance ? 1 : 0;
@@ -269,7 +249,7 @@ void VkBackend::configure(const CaseConfig& c) {
     PipelineDesc lighting;
     lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "lighting.vert:NONE"},
                        {VK_SHADER_STAGE_FRAGMENT_BIT,
-                        "lighting.frag:" + storage_key(c.storage) + "," + filter_key(c.filter)}};
+                        "lighting.frag:" + gpu::storage_define(c.storage) + "," + gpu::filter_define(c.filter)}};
     lighting.layout = lighting_layout_;
     lighting.render_pass = lighting_.render_pass;
     lighting.color_attachments = 3;
