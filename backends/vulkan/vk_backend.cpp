@@ -276,11 +276,25 @@ void VkBackend::configure(const CaseConfig& c) {
   config_ = c;
 }
 
-void VkBackend::begin(VkCommandBuffer cb) {
+// A pass's command buffer opens with its queries: timestamps 2 * pass and 2 * pass + 1 bracket it, and in
+// count_work() the pipeline-statistics query `pass` spans it.
+void VkBackend::begin_pass(VkCommandBuffer cb, uint32_t pass, bool statistics) {
   OMNISHADOW_VK(vkResetCommandBuffer(cb, 0));
   VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   OMNISHADOW_VK(vkBeginCommandBuffer(cb, &info));
+  if (timestamps_) vkCmdResetQueryPool(cb, timestamps_, 2 * pass, 2);
+  if (statistics) {
+    vkCmdResetQueryPool(cb, statistics_, pass, 1);
+    vkCmdBeginQuery(cb, statistics_, pass, 0);
+  }
+  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 2 * pass);
+}
+
+void VkBackend::end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics) {
+  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 2 * pass + 1);
+  if (statistics) vkCmdEndQuery(cb, statistics_, pass);
+  OMNISHADOW_VK(vkEndCommandBuffer(cb));
 }
 
 void VkBackend::draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
@@ -299,13 +313,7 @@ void VkBackend::draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>
 }
 
 void VkBackend::record_shadow(VkCommandBuffer cb, bool statistics, uint64_t& draws) {
-  begin(cb);
-  if (timestamps_) vkCmdResetQueryPool(cb, timestamps_, 0, 2);
-  if (statistics) {
-    vkCmdResetQueryPool(cb, statistics_, 0, 1);
-    vkCmdBeginQuery(cb, statistics_, 0, 0);
-  }
-  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
+  begin_pass(cb, 0, statistics);
   VkClearValue clears[2];
   clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (seed 004)
   clears[1].depthStencil = {1.0f, 0};
@@ -330,19 +338,11 @@ void VkBackend::record_shadow(VkCommandBuffer cb, bool statistics, uint64_t& dra
     draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws);
     vkCmdEndRenderPass(cb);
   }
-  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
-  if (statistics) vkCmdEndQuery(cb, statistics_, 0);
-  OMNISHADOW_VK(vkEndCommandBuffer(cb));
+  end_pass(cb, 0, statistics);
 }
 
 void VkBackend::record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& draws) {
-  begin(cb);
-  if (timestamps_) vkCmdResetQueryPool(cb, timestamps_, 2, 2);
-  if (statistics) {
-    vkCmdResetQueryPool(cb, statistics_, 1, 1);
-    vkCmdBeginQuery(cb, statistics_, 1, 0);
-  }
-  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 2);
+  begin_pass(cb, 1, statistics);
   VkClearValue clears[4];
   clears[0].color = {{0.1f, 0.1f, 0.1f, 1.0f}};  // same background as GL
   clears[1].color = {{0, 0, 0, 0}};
@@ -363,9 +363,7 @@ void VkBackend::record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& d
   vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
   draw_objects(cb, lighting_pipelines_, lighting_layout_, lighting_set_, 1, draws);
   vkCmdEndRenderPass(cb);
-  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 3);
-  if (statistics) vkCmdEndQuery(cb, statistics_, 1);
-  OMNISHADOW_VK(vkEndCommandBuffer(cb));
+  end_pass(cb, 1, statistics);
 }
 
 double VkBackend::timestamp_ms(uint32_t first) const {

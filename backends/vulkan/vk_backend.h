@@ -36,7 +36,8 @@ class VkBackend final : public Backend {
   void record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& draws);
   void draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
                     VkDescriptorSet set, uint32_t instances, uint64_t& draws);
-  void begin(VkCommandBuffer cb);
+  void begin_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);  // pass 0 shadow, 1 lighting
+  void end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);
   void release_case();
   double timestamp_ms(uint32_t first) const;
 
