@@ -21,6 +21,8 @@ struct DeviceInfo {
   std::string version;      // GL_VERSION / driverVersion
   std::string platform;     // EGL platform, ICD path, ...
   int max_cube_size = 0;    // GL_MAX_CUBE_MAP_TEXTURE_SIZE / maxImageDimensionCube
+  uint64_t device_memory_bytes = 0;  // largest device-local heap / GL_NVX_gpu_memory_info; 0 = unknown
+  bool shares_host_memory = false;   // CPU drivers (llvmpipe, lavapipe): targets live in host memory
   std::map<std::string, std::string> extra;  // anything else worth recording (extensions that matter, ...)
 };
 

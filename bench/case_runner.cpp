@@ -7,6 +7,7 @@
 
 #include "backends/common/cube_faces.h"
 #include "bench/image_io.h"
+#include "bench/memory_budget.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -157,6 +158,15 @@ void Harness::prepare(CaseResult& r) {
       r.reason = s.reason;
       return;
     }
+    if (options_.memory_precheck) {
+      std::string shortfall =
+          memory_shortfall(estimate_case_memory(r.config), host_memory_available(), b.device());
+      if (!shortfall.empty()) {
+        r.status = Status::failed;
+        r.reason = shortfall;
+        return;
+      }
+    }
     activate(r.config);
     b.render(options_.check_frame);
     Images images = b.read_back();
@@ -182,6 +192,14 @@ void Harness::prepare(CaseResult& r) {
       reference_key_ = group_key(r.config);
       reference_ = std::move(images);
     }
+  } catch (const std::bad_alloc&) {
+    // Host allocation failed (a read-back copy, or a CPU driver's texture): the case fails, the run goes on.
+    reference_key_.clear();
+    reference_ = Images{};
+    r.status = Status::failed;
+    MemoryNeed need = estimate_case_memory(r.config);
+    r.reason = "out of host memory (std::bad_alloc): the case needs about " + format_bytes(need.device_bytes) +
+               " of targets and " + format_bytes(need.host_bytes) + " of read-back copies";
   } catch (const std::exception& e) {
     r.status = Status::failed;
     r.reason = e.what();

@@ -32,6 +32,7 @@ struct RunOptions {
   double cross_max_percent = 0.1;
   bool write_images = true;
   bool accuracy = true;     // shadow error against exact visibility (ray-cast reference)
+  bool memory_precheck = true;  // fail a case that cannot fit before it allocates (bench/memory_budget.h)
   TruthOptions truth;       // the spherical light of the soft reference
   std::map<std::string, std::string> backend_options;  // egl_platform, gl_device, vk_device, api_checks
 };

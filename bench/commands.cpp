@@ -14,6 +14,7 @@
 #include "bench/case_runner.h"
 #include "bench/file_io.h"
 #include "bench/gbench_glue.h"
+#include "bench/results_reader.h"
 #include "bench/results_writer.h"
 #include "bench/summary_table.h"
 
@@ -98,6 +99,7 @@ int run_command(const RunCommand& cmd) {
   options.cross_max_percent = cmd.cross_max_percent;
   options.write_images = cmd.write_images;
   options.accuracy = cmd.accuracy;
+  options.memory_precheck = cmd.memory_precheck;
   options.truth.light_radius = cmd.light_radius;
   options.truth.samples_per_axis = cmd.light_samples_per_axis;
   options.backend_options = cmd.backend_options;

@@ -24,6 +24,7 @@ struct RunCommand {
   double cross_max_percent = 0.1;
   bool write_images = true;
   bool accuracy = true;
+  bool memory_precheck = true;
   float light_radius = 0.1f;
   int light_samples_per_axis = 8;
   bool check = false;          // exit 1 if any case failed or failed its checks

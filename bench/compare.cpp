@@ -117,44 +117,6 @@ void compare_image(const RunData& base, const RunData& fresh, const json& bc, co
 
 }  // namespace
 
-RunData load_run(const std::string& path) {
-  RunData run;
-  std::error_code ec;
-  run.file = fs::is_directory(path, ec) ? (fs::path(path) / "results.json").string() : path;
-  run.dir = fs::path(run.file).parent_path().string();
-  if (run.dir.empty()) run.dir = ".";
-  std::string text;
-  try {
-    text = read_file(run.file);
-  } catch (const std::exception&) {
-    throw CompareError(run.file + ": cannot read (give a run folder or its results.json)");
-  }
-  try {
-    run.doc = parse_gbench_json(text);
-  } catch (const json::parse_error& e) {
-    throw CompareError(run.file + ": not valid JSON (truncated or corrupt) at byte " + std::to_string(e.byte));
-  }
-  if (!run.doc.is_object() || !run.doc.contains("omnishadow") || !run.doc["omnishadow"].is_object() ||
-      run.doc["omnishadow"].value("format", "") != "omnishadow-results/1")
-    throw CompareError(run.file + ": not an omnishadow results file (no \"omnishadow\" section of format "
-                                  "omnishadow-results/1)");
-  const json& cases = run.doc["omnishadow"]["cases"];
-  if (!cases.is_array()) throw CompareError(run.file + ": /omnishadow/cases is not an array");
-  for (const json& c : cases) {
-    if (!c.is_object() || !c.contains("id") || !c["id"].is_string())
-      throw CompareError(run.file + ": a case without an id");
-    run.cases[c["id"].get<std::string>()] = &c;
-  }
-  if (run.doc.contains("benchmarks") && run.doc["benchmarks"].is_array())
-    for (const json& b : run.doc["benchmarks"]) {
-      if (!b.is_object() || b.value("run_type", "") != "iteration" || b.value("error_occurred", false)) continue;
-      std::string id = b.value("omnishadow_case", "");
-      if (id.empty() || !b.contains("real_time") || !b["real_time"].is_number()) continue;
-      run.samples[id].push_back(b["real_time"].get<double>());
-    }
-  return run;
-}
-
 std::map<std::string, std::string> device_keys(const RunData& run) {
   std::map<std::string, std::string> keys;
   const json& o = run.doc["omnishadow"];

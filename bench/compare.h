@@ -11,12 +11,9 @@
 #include <string>
 #include <vector>
 
-namespace omnishadow::bench {
+#include "bench/results_reader.h"
 
-class CompareError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace omnishadow::bench {
 
 struct CompareOptions {
   double alpha = 0.05;        // family-wise, over all compared cases (Holm)
@@ -26,16 +23,6 @@ struct CompareOptions {
   bool allow_device_mismatch = false;
   std::string out_dir;        // summary.md, comparison.json and diffs/; empty = NEW's folder/compare
 };
-
-// A results file, or a run folder holding results.json. Throws CompareError naming the file on anything else.
-struct RunData {
-  std::string dir;   // folder that image paths are relative to
-  std::string file;  // the results.json read
-  nlohmann::json doc;
-  std::map<std::string, const nlohmann::json*> cases;    // by case id
-  std::map<std::string, std::vector<double>> samples;   // per case: mean frame time of each repetition, ms
-};
-RunData load_run(const std::string& path);
 
 // "gl-llvmpipe-llvm-15.0.6-256-bits-4.5-core-profile-mesa-22.3.6-lp-unset": what must match for timings to be
 // comparable (API, device, driver version, raster threads). One per backend in the run.

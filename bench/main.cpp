@@ -93,6 +93,9 @@ int main(int argc, char** argv) {
   r->add_option("--light-samples", run.light_samples_per_axis,
                 "stratified samples per axis on that light (8 = 64 rays per pixel)")
       ->capture_default_str()->check(CLI::Range(1, 64));
+  bool no_memory_precheck = false;
+  r->add_flag("--no-memory-precheck", no_memory_precheck,
+              "allocate even when a case is predicted not to fit (tests the driver's own out-of-memory path)");
   bool no_images = false;
   r->add_flag("--no-images", no_images, "do not write images (checks still run)");
   r->add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
@@ -204,6 +207,7 @@ int main(int argc, char** argv) {
     }
   run.write_images = !no_images;
   run.accuracy = !no_accuracy;
+  run.memory_precheck = !no_memory_precheck;
   run.scenes_dir = scenes_dir;
   run.backend_options = backend_options;
   run.benchmark_args = benchmark_args;

@@ -1,7 +1,5 @@
 #include "bench/results_writer.h"
 
-#include <regex>
-
 #include "bench/file_io.h"
 #include "bench/system_info.h"
 
@@ -46,14 +44,10 @@ json pass_timing_to_json(const std::vector<FrameTiming>& frames, PassTiming Fram
 
 }  // namespace
 
-json parse_gbench_json(const std::string& text) {
-  static const std::regex non_finite(R"((:\s*)-?(NaN|nan|Infinity|inf)\b)");
-  return json::parse(std::regex_replace(text, non_finite, "$1null"));
-}
-
 json device_to_json(const DeviceInfo& d) {
   json j{{"api", d.api},          {"vendor", d.vendor},     {"renderer", d.renderer},
-         {"version", d.version},  {"platform", d.platform}, {"max_cube_size", d.max_cube_size}};
+         {"version", d.version},  {"platform", d.platform}, {"max_cube_size", d.max_cube_size},
+         {"device_memory_bytes", d.device_memory_bytes}, {"shares_host_memory", d.shares_host_memory}};
   for (const auto& [k, v] : d.extra) j["extra"][k] = v;
   return j;
 }

@@ -20,10 +20,6 @@ struct RunInfo {
   std::string stopped_by;  // "SIGINT" / "SIGTERM" when the run was interrupted
 };
 
-// Google Benchmark writes non-JSON tokens (NaN, inf) for aggregates such as the coefficient of variation of a
-// counter that is 0 in every repetition; they are read here as null.
-nlohmann::json parse_gbench_json(const std::string& text);
-
 nlohmann::json case_to_json(const CaseResult& r);
 nlohmann::json device_to_json(const DeviceInfo& d);
 

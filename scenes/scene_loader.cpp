@@ -4,6 +4,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +24,20 @@ glm::vec3 LightPath::at(int frame) const {
 namespace {
 
 using nlohmann::json;
+
+// 2^24 vertices (5.6 M triangles, ~600 MB baked): 50x the heavy scene, and a bound on what a file can ask for.
+constexpr uint64_t kMaxSceneVertices = 1ull << 24;
+
+bool finite(const glm::vec3& v) { return !glm::any(glm::isnan(v)) && !glm::any(glm::isinf(v)); }
+
+// Unit vector of v for |v| anywhere in float's range: the squares in glm::length overflow above ~1e19.
+// A zero or non-finite v gives NaN, which the caller rejects.
+glm::vec3 normalize_wide(glm::vec3 v) {
+  float m = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+  if (!(m > 0.0f) || std::isinf(m)) return glm::vec3(NAN);
+  v /= m;
+  return v / glm::length(v);
+}
 
 // A JSON value with the pointer that reached it, so that every error can name /objects/3/scale.
 class Node {
@@ -101,6 +116,9 @@ Camera parse_camera(const Node& n) {
   if (n.has("target")) c.target = n.at("target").vec3();
   if (n.has("up")) c.up = n.at("up").vec3();
   if (glm::length(c.target - c.position) == 0.0f) n.at("target").fail("target must differ from position");
+  // lookAt builds its basis from cross(view, up): a zero or parallel up gives NaN in every matrix downstream.
+  glm::vec3 side = glm::cross(glm::normalize(c.target - c.position), c.up);
+  if (!(glm::length(side) > 1e-6f)) (n.has("up") ? n.at("up") : n).fail("up must not be zero or parallel to the view");
   if (n.has("fov_y_degrees")) c.fov_y_degrees = static_cast<float>(n.at("fov_y_degrees").number_in(1, 179));
   if (n.has("near")) c.near_plane = static_cast<float>(n.at("near").number_in(1e-6, 1e30));
   if (n.has("far")) c.far_plane = static_cast<float>(n.at("far").number_in(1e-6, 1e30));
@@ -142,14 +160,17 @@ std::vector<MeshVertex> build_shape(const Node& n, const std::string& type, cons
     if (n.has("segments")) {
       Node s = n.at("segments");
       if (!s.value().is_array() || s.value().size() != 2) s.fail("expected [longitude, latitude]");
-      lon = s.at(size_t{0}).integer_in(3, 4096);
-      lat = s.at(size_t{1}).integer_in(2, 4096);
+      // 1024 x 1024 segments = 6.3 M vertices, under the scene's vertex cap below.
+      lon = s.at(size_t{0}).integer_in(3, 1024);
+      lat = s.at(size_t{1}).integer_in(2, 1024);
     }
     return make_sphere(lon, lat);
   }
   if (type == "obj") {
     std::filesystem::path file = n.at("file").string();
     if (file.is_relative()) file = std::filesystem::path(scene_dir) / file;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) n.at("file").fail("cannot open OBJ file " + file.string() + " (missing or not a regular file)");
     try {
       return load_obj(file.string());
     } catch (const std::exception& e) {
@@ -193,8 +214,8 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
     for (int k = 0; k < 3; ++k) count[k] = c.at(static_cast<size_t>(k)).integer_in(1, 1000);
     spacing = a.at("spacing").vec3();
   }
-  if (static_cast<uint64_t>(count.x) * count.y * count.z * mesh.size() + scene.vertices.size() > (1ull << 28))
-    n.fail("object too large: more than 2^28 vertices in the scene");
+  if (static_cast<uint64_t>(count.x) * count.y * count.z * mesh.size() + scene.vertices.size() > kMaxSceneVertices)
+    n.fail("object too large: more than " + std::to_string(kMaxSceneVertices) + " vertices in the scene");
 
   std::string base_name = n.has("name") ? n.at("name").string() : type + "#" + std::to_string(index);
   for (int ix = 0; ix < count.x; ++ix)
@@ -204,7 +225,9 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
         // Seed order: model = T * R * S.
         glm::mat4 model = glm::translate(glm::mat4(1.0f), translate + offset) * rotation *
                           glm::scale(glm::mat4(1.0f), scale);
-        glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(model)));
+        // Normals of T * R * S transform by R * S^-1. Dividing by the scale directly (not inverting the 3x3)
+        // keeps them finite for scales down to ~1e-30, where the matrix determinant underflows to 0.
+        glm::mat3 normal_rotation(rotation);
         Object obj;
         obj.name = count == glm::ivec3(1) ? base_name
                                           : base_name + "[" + std::to_string(ix) + "," + std::to_string(iy) +
@@ -218,11 +241,13 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
         for (const MeshVertex& mv : mesh) {
           Vertex v;
           v.position = glm::vec3(model * glm::vec4(mv.position, 1.0f));
-          glm::vec3 nrm = normal_matrix * mv.normal;
-          float len = glm::length(nrm);
-          v.normal = len > 0.0f ? nrm / len : glm::vec3(0, 1, 0);
+          v.normal = normalize_wide(normal_rotation * (mv.normal / scale));
           if (inside) v.normal = -v.normal;  // seen from inside: the seed's reverseNormals
           v.color = color;
+          // Defensive: inputs are bounded by 1e30, but a subnormal scale makes normal / scale overflow. Such
+          // geometry would put NaN/Inf into every buffer.
+          if (!finite(v.position) || !finite(v.normal))
+            n.fail("transform gives non-finite vertex positions or normals (scale/translate too extreme)");
           obj.bounds_min = glm::min(obj.bounds_min, v.position);
           obj.bounds_max = glm::max(obj.bounds_max, v.position);
           scene.vertices.push_back(v);
@@ -240,6 +265,8 @@ Scene load_scene_text(const std::string& text, const std::string& source) {
   } catch (const json::parse_error& e) {
     throw SceneError(source + ": malformed JSON at byte " + std::to_string(e.byte) + ": " +
                      std::string(e.what()).substr(std::string(e.what()).rfind(':') + 2));
+  } catch (const json::exception& e) {  // out_of_range 406: a number beyond double ("1e400")
+    throw SceneError(source + ": malformed JSON: " + std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
   }
   Node root(doc, "", source);
   root.expect_object({"format", "description", "camera", "light", "objects"});

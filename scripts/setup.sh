@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs everything omnishadow needs from Debian 12's packages. Idempotent: installs only what is missing.
+# --fuzz adds clang and its runtime (libFuzzer) for scripts/fuzz.sh.
 set -euo pipefail
 
 packages=(
@@ -10,6 +11,7 @@ packages=(
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers  # Vulkan loader, SPIR-V compiler, lavapipe
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
 )
+[ "${1:-}" = "--fuzz" ] && packages+=(clang-14 libclang-rt-14-dev)
 
 missing=()
 for p in "${packages[@]}"; do

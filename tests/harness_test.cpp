@@ -9,6 +9,7 @@
 #include "bench/case_runner.h"
 #include "bench/file_io.h"
 #include "bench/gbench_glue.h"
+#include "bench/results_reader.h"
 #include "bench/results_writer.h"
 
 namespace omnishadow::bench {

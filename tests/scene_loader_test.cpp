@@ -117,7 +117,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"{" LIGHT R"(, "camera": {"size": [0, 600]}, "objects": [{"type": "box"}]})",
                  "/camera/size/0: must be an integer in [1, 16384]"},
         BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "array": {"count": [2000, 1, 1], "spacing": [1, 0, 0]}}]})",
-                 "/objects/0/array/count/0"}),
+                 "/objects/0/array/count/0"},
+        // Found by the fuzzer: a number beyond double escaped as nlohmann's out_of_range.
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "translate": [1e999, 0, 0]}]})", "malformed JSON"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "scale": 1e-40}]})", "/objects/0: transform gives non-finite"},
+        BadScene{"{" LIGHT R"(, "camera": {"position": [0, 5, 0], "target": [0, 0, 0], "up": [0, 1, 0]},
+                 "objects": [{"type": "box"}]})", "/camera/up: up must not be zero or parallel"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "obj", "file": "/proc"}]})", "/objects/0/file: cannot open OBJ file"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [4096, 4096]}]})", "/objects/0/segments/0"}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return "case" + std::to_string(info.index); });
 
 TEST(SceneLoader, MissingFileIsAnError) {

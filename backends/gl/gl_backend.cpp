@@ -52,6 +52,15 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   info_.version = gl_string(GL_VERSION);
   info_.platform = "EGL " + context_.egl_version() + " (" + egl_platform + ")";
   glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &info_.max_cube_size);
+  // GL has no standard memory query: software rasterisers allocate from host memory; NVIDIA reports its
+  // dedicated video memory (kB) through GL_NVX_gpu_memory_info. Elsewhere the device figure stays unknown.
+  for (const char* software : {"llvmpipe", "softpipe", "swrast"})
+    if (info_.renderer.find(software) != std::string::npos) info_.shares_host_memory = true;
+  if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+    GLint kib = 0;
+    glGetIntegerv(0x9047 /* GL_GPU_MEMORY_INFO_DEDICATED_VIDMEM_NVX */, &kib);
+    info_.device_memory_bytes = uint64_t(kib) * 1024;
+  }
   glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &uniform_alignment_);
   GLint max_texture = 0, max_renderbuffer = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);

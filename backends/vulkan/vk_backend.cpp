@@ -50,6 +50,12 @@ VkBackend::VkBackend(const std::string& device_selector, bool validation)
   info_.version = std::string(ctx_->driver().driverName) + " " + ctx_->driver().driverInfo;
   info_.platform = "headless (no surface)";
   info_.max_cube_size = static_cast<int>(p.limits.maxImageDimensionCube);
+  info_.shares_host_memory = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  VkPhysicalDeviceMemoryProperties memory{};
+  vkGetPhysicalDeviceMemoryProperties(ctx_->physical(), &memory);
+  for (uint32_t h = 0; h < memory.memoryHeapCount; ++h)
+    if (memory.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      info_.device_memory_bytes = std::max<uint64_t>(info_.device_memory_bytes, memory.memoryHeaps[h].size);
   info_.extra["max_2d_size"] =
       std::to_string(std::min(p.limits.maxImageDimension2D, std::min(p.limits.maxFramebufferWidth,
                                                                       p.limits.maxFramebufferHeight)));

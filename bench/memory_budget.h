@@ -1,0 +1,32 @@
+#pragma once
+// Out-of-memory as a result, not a crash: before a case allocates, its targets and the harness's read-back copies
+// are estimated and compared with what the process can get (MemAvailable, the cgroup's memory.max, RLIMIT_AS,
+// and the device heap where the backend knows it). A case that cannot fit fails with both figures in its reason;
+// allocations that fail anyway (GL_OUT_OF_MEMORY, VK_ERROR_OUT_OF_*_MEMORY, std::bad_alloc) are caught per case.
+
+#include <cstdint>
+#include <string>
+
+#include "backends/backend.h"
+
+namespace omnishadow::bench {
+
+struct MemoryNeed {
+  uint64_t device_bytes = 0;  // cube (stored + depth) and lighting targets, on the device
+  uint64_t host_bytes = 0;    // read-back copies the harness holds at once (images, reference, accuracy)
+};
+MemoryNeed estimate_case_memory(const CaseConfig& config);
+
+struct MemoryAvailable {
+  uint64_t host_bytes = 0;  // min(MemAvailable, cgroup memory.max - memory.current, RLIMIT_AS - VmSize)
+  std::string host_limit;   // which of those applied, for the reason
+};
+MemoryAvailable host_memory_available();
+
+// "" when the case fits; otherwise the reason: "out of memory (predicted): needs 9.4 GiB ..., 2.1 GiB available
+// (RLIMIT_AS)". Device memory that is host memory (CPU drivers) counts against the host figure.
+std::string memory_shortfall(const MemoryNeed& need, const MemoryAvailable& host, const DeviceInfo& device);
+
+std::string format_bytes(uint64_t bytes);
+
+}  // namespace omnishadow::bench
