@@ -70,8 +70,9 @@ struct Images {
   std::vector<float> shadow_factor;     // per pixel: 1 = fully shadowed, 0 = fully lit (seed's `shadow`)
   std::vector<float> world_position;    // RGBA32F: xyz world position, w = 1 where geometry was drawn
   int cube_size = 0;
+  float light_far = 0.0f;  // the far plane the cube was rendered with (the scene's, or fitted: fit_range)
   // Per face, the light distance in world units that the shadow pass stored (linear_depth values are
-  // multiplied back by far; texels nothing was drawn to hold far, or FLT_MAX for r32f_distance).
+  // multiplied back by light_far; texels nothing was drawn to hold light_far, or FLT_MAX for r32f_distance).
   std::array<std::vector<float>, 6> cube_distance;
 };
 

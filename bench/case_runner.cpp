@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/shadow_plan.h"
 #include "bench/image_io.h"
 #include "bench/memory_budget.h"
 
@@ -15,11 +16,17 @@ namespace {
 namespace fs = std::filesystem;
 
 // The case id with the technique removed: every technique of one group shares the six_pass reference.
-std::string group_key(const CaseConfig& c) {
+// The case every other case of its group is checked against: six_pass without culling or caching (which must
+// not change a single value). fit_range stays: it changes the stored depth's scale, so it has its own reference.
+CaseConfig reference_config(const CaseConfig& c) {
   CaseConfig k = c;
   k.technique = Technique::six_pass;
-  return k.id();
+  k.optimizations.face_culling = false;
+  k.optimizations.static_cache = false;
+  return k;
 }
+
+std::string group_key(const CaseConfig& c) { return reference_config(c).id(); }
 
 std::vector<float> concat_faces(const Images& img) {
   // Faces side by side, face order left to right, so one PNG shows the whole cube.
@@ -168,9 +175,22 @@ void Harness::prepare(CaseResult& r) {
       }
     }
     activate(r.config);
-    b.render(options_.check_frame);
+    r.first_frame = b.render(options_.check_frame);  // cold: right after configure, nothing cached
+    // With static caching the frame is rendered again, so the images checked are the ones served from the cache.
+    if (r.config.optimizations.static_cache) b.render(options_.check_frame);
     Images images = b.read_back();
-    r.counters = b.count_work(options_.check_frame);
+    r.light_far = images.light_far;
+    {
+      const scene::Scene& sc = scene(r.config.scene);
+      cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, sc.light.path.at(options_.check_frame),
+                                                          sc.light.near_plane, images.light_far,
+                                                          r.config.optimizations.face_culling);
+      r.empty_faces = plan.empty_faces;
+      for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
+    }
+    // With static caching the work of a frame depends on the one before: count the frame after the check frame,
+    // rendered right after it (the steady state: zero shadow work while the light stands still).
+    r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
     std::vector<std::string> api_errors = b.drain_api_errors();
     if (!api_errors.empty())
       throw std::runtime_error("API error (checking mode): " + api_errors.front() +
@@ -186,9 +206,10 @@ void Harness::prepare(CaseResult& r) {
         r.images["error_heatmap"] = rel.string();
       }
     }
-    if (r.config.technique != Technique::six_pass) check_against_six_pass(r, images);
+    const bool is_reference = r.config == reference_config(r.config);
+    if (!is_reference) check_against_six_pass(r, images);
     check_against_other_backend(r, images);
-    if (r.config.technique == Technique::six_pass) {
+    if (is_reference) {
       reference_key_ = group_key(r.config);
       reference_ = std::move(images);
     }
@@ -207,8 +228,7 @@ void Harness::prepare(CaseResult& r) {
 }
 
 void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
-  CaseConfig ref_config = r.config;
-  ref_config.technique = Technique::six_pass;
+  CaseConfig ref_config = reference_config(r.config);
   if (reference_key_ != group_key(r.config)) {
     // six_pass is not in the matrix (or ran in another shard): render it now, untimed.
     Backend& b = activate(ref_config);
@@ -218,7 +238,7 @@ void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
     activate(r.config);  // leave the backend on the case being measured
   }
   const Images& ref = *reference_;
-  const float far_plane = scene(r.config.scene).light.far_plane;
+  const float far_plane = ref.light_far;
 
   // Cube faces, in world units: the technique must store what six_pass stores.
   std::vector<float> faces = concat_faces(images), ref_faces = concat_faces(ref);
@@ -332,7 +352,7 @@ void Harness::write_images(CaseResult& r, const Images& img) {
   }
   write_pfm(out("world_position", "world_position.pfm"), img.width, img.height, 3, xyz);
   write_pfm(out("coverage", "coverage.pfm"), img.width, img.height, 1, coverage);
-  const float far_plane = scene(r.config.scene).light.far_plane;
+  const float far_plane = img.light_far;
   write_png_gray(out("cube_faces", "cube_faces.png"), img.cube_size * 6, img.cube_size, concat_faces(img), 0.0f,
                  far_plane, false);
 }

@@ -62,6 +62,10 @@ struct CaseResult {
   GpuTimerCheck gpu_timer;
   int repetitions = 0;
   std::optional<Accuracy> accuracy;  // against the ray-cast reference, for the check frame
+  std::optional<FrameTiming> first_frame;  // the check frame rendered cold, right after configure
+  float light_far = 0.0f;                  // far plane of the check frame's cube (fitted with fit_range)
+  int empty_faces = 0;                     // faces with no caster at the check frame (with face culling: cleared only)
+  int object_face_pairs = 0;               // object x face draws the plan asks for (six_pass draws per frame)
 };
 
 class Harness {

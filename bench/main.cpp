@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
 
   RunCommand run;
   std::string backends = "gl", scenes = "room,heavy", cubes = "512,1024", frames_sizes, techniques, filters,
-              storages = "linear_depth", depth_formats = "d32f", shard_text;
+              storages = "linear_depth", depth_formats = "d32f", optimize = "none", shard_text;
   techniques = "six_pass,geometry_shader,geometry_shader_instanced,vs_layer,multiview";
   filters = "hard,pcf_grid64,pcf_disk20";
   CLI::App* r = app.add_subcommand("run", "run a benchmark matrix (Google Benchmark --benchmark_* flags apply)");
@@ -61,6 +61,11 @@ int main(int argc, char** argv) {
   r->add_option("--filter", filters, "comma list: " + valid_values<Filter>())->capture_default_str();
   r->add_option("--storage", storages, "comma list: " + valid_values<Storage>())->capture_default_str();
   r->add_option("--depth-format", depth_formats, "comma list: " + valid_values<DepthFormat>())
+      ->capture_default_str();
+  r->add_option("--optimize", optimize,
+                "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "
+                "cleared only), fit (far plane fitted to the scene), cache (static cube not re-rendered): "
+                "--optimize none,cull measures culling on and off")
       ->capture_default_str();
   r->add_option("--out", run.out_dir, "output folder (must not hold a run already); default results/run-<time>");
   r->add_option("--frames", run.frames, "timed frames per repetition")->capture_default_str()->check(
@@ -189,6 +194,15 @@ int main(int argc, char** argv) {
     run.matrix.filters = parse_enum_list<Filter>(filters, "--filter");
     run.matrix.storages = parse_enum_list<Storage>(storages, "--storage");
     run.matrix.depth_formats = parse_enum_list<DepthFormat>(depth_formats, "--depth-format");
+    run.matrix.optimizations.clear();
+    for (const std::string& item : split_list(optimize)) {
+      try {
+        run.matrix.optimizations.push_back(parse_optimizations(item));
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string("--optimize: ") + e.what());
+      }
+    }
+    if (run.matrix.optimizations.empty()) throw std::invalid_argument("--optimize: empty list");
     if (!shard_text.empty()) {
       int consumed = 0;
       if (std::sscanf(shard_text.c_str(), "%d/%d%n", &run.shard_index, &run.shard_count, &consumed) != 2 ||

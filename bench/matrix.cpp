@@ -70,6 +70,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
           for (Storage storage : spec.storages)
             for (DepthFormat depth : spec.depth_formats)
               for (Filter filter : spec.filters)
+                for (const Optimizations& optimizations : spec.optimizations)
                 for (Technique technique : spec.techniques) {
                   CaseConfig c;
                   c.backend = backend;
@@ -81,6 +82,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.depth_format = depth;
                   c.filter = filter;
                   c.technique = technique;
+                  c.optimizations = optimizations;
                   cases.push_back(c);
                 }
     }

@@ -1,7 +1,7 @@
 #pragma once
 // The benchmark matrix: lists per axis, expanded into cases in a fixed order (backend, scene, cube size,
-// frame size, storage, depth format, filter, technique). Technique is innermost so that each single-pass case
-// runs right after the six_pass case it is checked against.
+// frame size, storage, depth format, filter, optimisations, technique). Technique is innermost so that each
+// single-pass case runs right after the six_pass case it is checked against.
 
 #include <map>
 #include <stdexcept>
@@ -24,6 +24,7 @@ struct MatrixSpec {
   std::vector<Filter> filters{Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20};
   std::vector<Storage> storages{Storage::linear_depth};
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
+  std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
 };
 
 // scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.

@@ -64,7 +64,8 @@ json case_to_json(const CaseResult& r) {
            {"technique", to_string(c.technique)},
            {"filter", to_string(c.filter)},
            {"storage", to_string(c.storage)},
-           {"depth_format", to_string(c.depth_format)}}},
+           {"depth_format", to_string(c.depth_format)},
+           {"optimizations", to_string(c.optimizations)}}},
          {"status", to_string(r.status)},
          {"reason", r.reason}};
   if (r.status == Status::unsupported) return j;
@@ -84,6 +85,19 @@ json case_to_json(const CaseResult& r) {
                       {"diff_image", k.diff_image.empty() ? json(nullptr) : json(k.diff_image)}});
   j["checks"] = checks;
   j["images"] = r.images;
+  // What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
+  j["shadow_plan"] = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces},
+                      {"light_far", r.light_far}};
+  if (c.storage == Storage::linear_depth) {
+    // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
+    const int bits = c.depth_format == DepthFormat::d16 ? 16 : 24;
+    j["shadow_plan"]["depth_step_world"] = r.light_far / double(1u << bits);
+  }
+  if (r.first_frame) {
+    j["first_frame"] = {{"shadow_wall_ms", r.first_frame->shadow.cpu_wall_ms},
+                        {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
+                        {"frame_wall_ms", r.first_frame->frame_wall_ms}};
+  }
   if (r.accuracy) {
     const Accuracy& a = *r.accuracy;
     auto db = [](double v) { return v < 0 ? json(nullptr) : json(v); };  // null: identical to the reference

@@ -10,11 +10,13 @@ layout(std140, binding = 0) uniform FrameUniforms {
   vec4 knobs;              // x = injected fragment work (iterations; 0 unless --inject-fragment-work)
 } frame;
 
-// The face a six_pass draw renders. Vulkan pushes it; GL binds one of six prebuilt ranges.
+// Per draw of the shadow pass: the face a six_pass draw renders, and for vs_layer with face culling the faces
+// the object's bounds touch (bit f = face f). Vulkan pushes them; GL binds one of 64 prebuilt ranges (entry k
+// holds face k and mask k). Mirrors gpu::PassUniforms.
 #ifdef VULKAN
-layout(push_constant) uniform PassUniforms { int face; } pass;
+layout(push_constant) uniform PassUniforms { int face; uint face_mask; } pass;
 #else
-layout(std140, binding = 1) uniform PassUniforms { int face; } pass;
+layout(std140, binding = 1) uniform PassUniforms { int face; uint face_mask; } pass;
 #endif
 
 float light_far() { return frame.light_position.w; }

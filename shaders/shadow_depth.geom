@@ -12,11 +12,32 @@ layout(triangle_strip, max_vertices = 18) out;
 
 layout(location = 0) out vec3 world_position;
 
+#if defined(FACE_CULLING)
+// All three vertices beyond one clip plane: the clipper would discard the triangle in this face, so it is not
+// emitted at all (the same clip-space values are tested and emitted, so the images cannot change).
+bool beyond_one_plane(vec4 c0, vec4 c1, vec4 c2) {
+#ifdef VULKAN
+  vec3 near_z = vec3(0.0);  // clip z >= 0
+#else
+  vec3 near_z = -vec3(c0.w, c1.w, c2.w);  // clip z >= -w
+#endif
+  vec3 x = vec3(c0.x, c1.x, c2.x), y = vec3(c0.y, c1.y, c2.y), z = vec3(c0.z, c1.z, c2.z);
+  vec3 w = vec3(c0.w, c1.w, c2.w);
+  return all(greaterThan(x, w)) || all(lessThan(x, -w)) || all(greaterThan(y, w)) || all(lessThan(y, -w)) ||
+         all(greaterThan(z, w)) || all(lessThan(z, near_z));
+}
+#endif
+
 void emit_face(int face) {
+  vec4 clip[3];
+  for (int i = 0; i < 3; ++i) clip[i] = frame.face_view_proj[face] * gl_in[i].gl_Position;
+#if defined(FACE_CULLING)
+  if (beyond_one_plane(clip[0], clip[1], clip[2])) return;
+#endif
   for (int i = 0; i < 3; ++i) {
     gl_Layer = face;  // per vertex: outputs are undefined after EmitVertex
     world_position = gl_in[i].gl_Position.xyz;
-    gl_Position = frame.face_view_proj[face] * gl_in[i].gl_Position;
+    gl_Position = clip[i];
     EmitVertex();
   }
   EndPrimitive();

@@ -18,11 +18,18 @@ void main() {
   world_position = in_position;
   gl_Position = frame.face_view_proj[pass.face] * vec4(in_position, 1.0);
 #elif defined(TECHNIQUE_VS_LAYER)
-  // Six instances, one per face, in face order.
 #ifdef VULKAN
-  int face = gl_InstanceIndex;
+  int instance = gl_InstanceIndex;
 #else
-  int face = gl_InstanceID;
+  int instance = gl_InstanceID;
+#endif
+#if defined(FACE_CULLING)
+  // One instance per face the object's bounds touch: instance k renders the k-th set bit of the mask.
+  uint mask = pass.face_mask;
+  for (int k = 0; k < instance; ++k) mask &= mask - 1u;
+  int face = findLSB(mask);
+#else
+  int face = instance;  // six instances, one per face, in face order
 #endif
   gl_Layer = face;
   world_position = in_position;

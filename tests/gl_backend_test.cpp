@@ -10,6 +10,7 @@
 #include "backends/backend.h"
 #include "backends/reference/ray_caster.h"
 #include "bench/accuracy.h"
+#include "tests/optimization_checks.h"
 #include <epoxy/gl.h>
 
 namespace omnishadow {
@@ -57,6 +58,19 @@ class GlBackendTest : public ::testing::Test {
 std::unique_ptr<Backend> GlBackendTest::backend_;
 std::unique_ptr<scene::Scene> GlBackendTest::room_;
 std::string GlBackendTest::skip_reason_;
+
+// Issue 7's switches: the same checks on every backend (tests/optimization_checks.h). Each leaves room loaded.
+TEST_F(GlBackendTest, FaceCullingChangesNoValueAndCutsWork) {
+  testing::check_face_culling(*backend_, "gl", kScenes);
+  backend_->load(*room_);
+}
+
+TEST_F(GlBackendTest, StaticCacheReusesTheCubeWhileTheLightStandsStill) {
+  testing::check_static_cache(*backend_, "gl", kScenes);
+  backend_->load(*room_);
+}
+
+TEST_F(GlBackendTest, FittedFarIsTighterAndConsistent) { testing::check_fit_range(*backend_, "gl", *room_); }
 
 TEST_F(GlBackendTest, DeviceIsDescribed) {
   const DeviceInfo& d = backend_->device();

@@ -12,6 +12,7 @@
 #include "backends/reference/ray_caster.h"
 #include "backends/vulkan/vk_context.h"
 #include "bench/accuracy.h"
+#include "tests/optimization_checks.h"
 #include "bench/case_runner.h"
 
 namespace omnishadow {
@@ -65,6 +66,19 @@ class VkBackendTest : public ::testing::Test {
 std::unique_ptr<Backend> VkBackendTest::backend_;
 std::unique_ptr<scene::Scene> VkBackendTest::room_;
 std::string VkBackendTest::skip_reason_;
+
+// Issue 7's switches: the same checks on every backend (tests/optimization_checks.h). Each leaves room loaded.
+TEST_F(VkBackendTest, FaceCullingChangesNoValueAndCutsWork) {
+  testing::check_face_culling(*backend_, "vulkan", kScenes);
+  backend_->load(*room_);
+}
+
+TEST_F(VkBackendTest, StaticCacheReusesTheCubeWhileTheLightStandsStill) {
+  testing::check_static_cache(*backend_, "vulkan", kScenes);
+  backend_->load(*room_);
+}
+
+TEST_F(VkBackendTest, FittedFarIsTighterAndConsistent) { testing::check_fit_range(*backend_, "vulkan", *room_); }
 
 TEST_F(VkBackendTest, DeviceIsDescribed) {
   const DeviceInfo& d = backend_->device();

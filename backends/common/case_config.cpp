@@ -82,13 +82,48 @@ Support common_support(const CaseConfig& c) {
     return {false, "hw_compare2x2 needs a depth texture to compare against (storage linear_depth); " +
                        std::string(to_string(c.storage)) + " stores distance in a colour texture"};
   if (c.cube_size < 1 || c.width < 1 || c.height < 1) return {false, "cube and frame sizes must be at least 1"};
+  if (c.optimizations.face_culling && c.technique == Technique::multiview)
+    return {false, "face culling: a multiview pass renders every view of each draw (the view mask is per render "
+                   "pass), so there is nothing to cull per face"};
   return {};
 }
 
 std::string CaseConfig::id() const {
-  return backend + "/" + scene + "/c" + std::to_string(cube_size) + "/f" + std::to_string(width) + "x" +
-         std::to_string(height) + "/" + std::string(to_string(technique)) + "/" + std::string(to_string(filter)) +
-         "/" + std::string(to_string(storage)) + "/" + std::string(to_string(depth_format));
+  std::string id = backend + "/" + scene + "/c" + std::to_string(cube_size) + "/f" + std::to_string(width) + "x" +
+                   std::to_string(height) + "/" + std::string(to_string(technique)) + "/" +
+                   std::string(to_string(filter)) + "/" + std::string(to_string(storage)) + "/" +
+                   std::string(to_string(depth_format));
+  if (optimizations.face_culling) id += "/cull";
+  if (optimizations.fit_range) id += "/fit";
+  if (optimizations.static_cache) id += "/cache";
+  return id;
+}
+
+Optimizations parse_optimizations(std::string_view text) {
+  Optimizations o;
+  if (text == "none") return o;
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t end = text.find('+', start);
+    std::string_view word = text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start);
+    if (word == "cull") o.face_culling = true;
+    else if (word == "fit") o.fit_range = true;
+    else if (word == "cache") o.static_cache = true;
+    else
+      throw std::invalid_argument("unknown optimisation '" + std::string(word) +
+                                  "' (valid: none, cull, fit, cache, or a '+' join such as cull+fit)");
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return o;
+}
+
+std::string to_string(const Optimizations& o) {
+  std::string out;
+  if (o.face_culling) out += "cull";
+  if (o.fit_range) out += std::string(out.empty() ? "" : "+") + "fit";
+  if (o.static_cache) out += std::string(out.empty() ? "" : "+") + "cache";
+  return out.empty() ? "none" : out;
 }
 
 }  // namespace omnishadow

@@ -45,6 +45,23 @@ struct Support {
   std::string reason;  // why not, in one line: "GL_ARB_shader_viewport_layer_array not exposed"
 };
 
+// Work-avoiding switches (issue: do only the work a scene requires). Each is measured on and off in one run;
+// images must agree with the unoptimised six_pass case (bit-exact for culling and caching, where the maths is
+// the same; fit_range changes the stored depth's scale and is checked against six_pass with the same switch).
+struct Optimizations {
+  bool face_culling = false;  // six_pass: objects culled per face on the CPU, empty faces only cleared;
+                              // GS techniques: triangles emitted only to faces they touch; vs_layer: per-object
+                              // face masks (instances only for faces the bounds touch). multiview: unsupported.
+  bool fit_range = false;     // light far plane fitted to the scene bounds around the light (never beyond the
+                              // scene's far): linear depth's step is far / 2^bits, so a tighter far is precision
+  bool static_cache = false;  // the cube is not re-rendered while the light stands still (casters are static)
+  bool any() const { return face_culling || fit_range || static_cache; }
+  bool operator==(const Optimizations&) const = default;
+};
+// "none", "cull", "fit", "cache" or a '+' join such as "cull+fit"; throws std::invalid_argument naming the word.
+Optimizations parse_optimizations(std::string_view text);
+std::string to_string(const Optimizations& o);  // the same spellings; "none" when all are off
+
 struct CaseConfig;
 // Rules that hold on every backend (a compare sampler needs depth storage; sizes must be positive).
 Support common_support(const CaseConfig& config);
@@ -59,12 +76,14 @@ struct CaseConfig {
   Filter filter = Filter::hard;
   Storage storage = Storage::linear_depth;
   DepthFormat depth_format = DepthFormat::d32f;
+  Optimizations optimizations;
   // Not an axis and not in the id: extra fragment work for sensitivity experiments (--inject-fragment-work),
   // so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
-  // usable in --benchmark_filter regexes and as a folder path for the case's images.
+  // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are on
+  // append a segment each (/cull, /fit, /cache), so ids without them are unchanged.
   std::string id() const;
   bool operator==(const CaseConfig&) const = default;
 };

@@ -4,10 +4,13 @@
 
 #include <algorithm>
 
+#include "backends/common/shadow_plan.h"
+
 namespace omnishadow::gpu {
 
-FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, int width, int height,
-                                  cube::DepthRange range, int injected_work) {
+FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const CaseConfig& config,
+                                  cube::DepthRange range) {
+  const int width = config.width, height = config.height, injected_work = config.injected_work;
   const scene::Camera& cam = scene.camera;
   const scene::PointLight& light = scene.light;
   const glm::vec3 light_position = light.path.at(frame);
@@ -19,10 +22,13 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, int widt
                              : glm::perspectiveRH_NO(fov, aspect, cam.near_plane, cam.far_plane);
   FrameUniforms u;
   u.camera_view_proj = projection * glm::lookAtRH(cam.position, cam.target, cam.up);
-  auto faces = cube::face_view_projections(light_position, light.near_plane, light.far_plane, range);
+  const float far_plane = config.optimizations.fit_range
+                              ? cube::fitted_far(scene, light_position, light.near_plane, light.far_plane)
+                              : light.far_plane;
+  auto faces = cube::face_view_projections(light_position, light.near_plane, far_plane, range);
   std::copy(faces.begin(), faces.end(), u.face_view_proj.begin());
   u.camera_position = glm::vec4(cam.position, 1.0f);
-  u.light_position = glm::vec4(light_position, light.far_plane);
+  u.light_position = glm::vec4(light_position, far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);
   u.knobs = glm::vec4(static_cast<float>(injected_work), 0.0f, 0.0f, 0.0f);
   return u;

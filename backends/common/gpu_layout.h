@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 
 #include "scenes/scene.h"
 
@@ -22,8 +23,10 @@ static_assert(sizeof(FrameUniforms) == 7 * 64 + 4 * 16, "std140 layout of FrameU
 
 struct PassUniforms {
   int face;
-  int pad[3];  // std140 rounds a block to 16 bytes
+  uint32_t face_mask;  // vs_layer with face culling: bit f = face f
+  int pad[2];          // std140 rounds a block to 16 bytes
 };
+inline constexpr int kPassUniformEntries = 64;  // GL: entry k = {face k, mask k}, bound per draw
 
 // Bindings shared by both APIs (shaders/common.glsl, shaders/shadow_filters.glsl).
 inline constexpr int kFrameUniformsBinding = 0;

@@ -2,15 +2,32 @@
 
 namespace omnishadow::gpu {
 
-std::vector<std::string> technique_defines(Technique t) {
-  switch (t) {
+std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
+  const bool cull = c.optimizations.face_culling;
+  switch (c.technique) {
     case Technique::six_pass: return {"TECHNIQUE_SIX_PASS"};
-    case Technique::geometry_shader: return {"TECHNIQUE_GEOMETRY_SHADER"};
-    case Technique::geometry_shader_instanced: return {"TECHNIQUE_GEOMETRY_SHADER", "GS_INSTANCED"};
-    case Technique::vs_layer: return {"TECHNIQUE_VS_LAYER"};
+    case Technique::geometry_shader:
+    case Technique::geometry_shader_instanced: return {"TECHNIQUE_GEOMETRY_SHADER"};
+    case Technique::vs_layer:
+      return cull ? std::vector<std::string>{"TECHNIQUE_VS_LAYER", "FACE_CULLING"}
+                  : std::vector<std::string>{"TECHNIQUE_VS_LAYER"};
     case Technique::multiview: return {"TECHNIQUE_MULTIVIEW"};
   }
   return {"TECHNIQUE_SIX_PASS"};
+}
+
+std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
+  if (c.technique != Technique::geometry_shader && c.technique != Technique::geometry_shader_instanced) return {};
+  std::vector<std::string> d{"TECHNIQUE_GEOMETRY_SHADER"};
+  if (c.technique == Technique::geometry_shader_instanced) d.push_back("GS_INSTANCED");
+  if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
+  return d;
+}
+
+std::string variant_key(const std::string& file, const std::vector<std::string>& defines) {
+  std::string key = file + ":";
+  for (size_t i = 0; i < defines.size(); ++i) key += (i ? "," : "") + defines[i];
+  return key;
 }
 
 std::string storage_define(Storage s) {

@@ -9,8 +9,13 @@
 
 namespace omnishadow::gpu {
 
-// The first define is the technique's own (the vertex-shader variant); GS_INSTANCED follows for the GS form.
-std::vector<std::string> technique_defines(Technique t);
+// Shadow pass: the vertex stage's defines (the technique's own; FACE_CULLING for vs_layer with culling) and the
+// geometry stage's (TECHNIQUE_GEOMETRY_SHADER, GS_INSTANCED for the instanced form, FACE_CULLING); empty when
+// the technique has no geometry stage. CMakeLists.txt compiles SPIR-V under exactly these lists.
+std::vector<std::string> shadow_vertex_defines(const CaseConfig& c);
+std::vector<std::string> shadow_geometry_defines(const CaseConfig& c);
+// "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER,FACE_CULLING": the key a variant is embedded under.
+std::string variant_key(const std::string& file, const std::vector<std::string>& defines);
 std::string storage_define(Storage s);
 std::string filter_define(Filter f);
 

@@ -1,6 +1,7 @@
 #include "backends/gl/gl_backend.h"
 
 #include <algorithm>
+#include <bit>
 #include <cfloat>
 #include <chrono>
 #include <cstdlib>
@@ -80,10 +81,10 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
 
   glCreateBuffers(1, &frame_ubo_);
   glNamedBufferStorage(frame_ubo_, sizeof(gpu::FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
-  std::vector<uint8_t> pass_data(static_cast<size_t>(uniform_alignment_) * 6, 0);
-  for (int f = 0; f < 6; ++f) {
-    gpu::PassUniforms p{f, {0, 0, 0}};
-    std::memcpy(pass_data.data() + static_cast<size_t>(f * uniform_alignment_), &p, sizeof p);
+  std::vector<uint8_t> pass_data(static_cast<size_t>(uniform_alignment_) * gpu::kPassUniformEntries, 0);
+  for (int k = 0; k < gpu::kPassUniformEntries; ++k) {
+    gpu::PassUniforms p{k, static_cast<uint32_t>(k), {0, 0}};
+    std::memcpy(pass_data.data() + static_cast<size_t>(k * uniform_alignment_), &p, sizeof p);
   }
   glCreateBuffers(1, &pass_ubo_);
   glNamedBufferStorage(pass_ubo_, static_cast<GLsizeiptr>(pass_data.size()), pass_data.data(), 0);
@@ -186,7 +187,10 @@ void GlBackend::configure(const CaseConfig& c) {
   if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
   release_case();
 
-  std::vector<std::string> shadow_defines = gpu::technique_defines(c.technique);
+  // GL compiles every stage with one list: the union of the vertex and geometry stages' defines.
+  std::vector<std::string> shadow_defines = gpu::shadow_vertex_defines(c);
+  for (const std::string& d : gpu::shadow_geometry_defines(c))
+    if (std::find(shadow_defines.begin(), shadow_defines.end(), d) == shadow_defines.end()) shadow_defines.push_back(d);
   shadow_defines.push_back(gpu::storage_define(c.storage));
   std::vector<ShaderStage> shadow_stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"},
                                             {GL_FRAGMENT_SHADER, "shadow_depth.frag"}};
@@ -205,18 +209,21 @@ void GlBackend::configure(const CaseConfig& c) {
     throw std::runtime_error("GL error " + std::to_string(error) + " while configuring " + c.id());
   }
   config_ = c;
+  planner_.reset();
 }
 
-void GlBackend::update_frame_uniforms(int frame) {
-  gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
-                                                  cube::DepthRange::minus_one_to_one, config_->injected_work);
-  glNamedBufferSubData(frame_ubo_, 0, sizeof u, &u);
+gpu::ShadowFrame GlBackend::update_frame_uniforms(int frame) {
+  gpu::ShadowFrame f = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::minus_one_to_one);
+  glNamedBufferSubData(frame_ubo_, 0, sizeof f.uniforms, &f.uniforms);
+  return f;
 }
 
-void GlBackend::draw_objects(GLsizei instances, DrawStats& stats) {
+void GlBackend::draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset) {
   bool culling = false;
   glDisable(GL_CULL_FACE);
-  for (const scene::Object& obj : scene_->objects) {
+  const size_t count = subset ? subset->size() : scene_->objects.size();
+  for (size_t i = 0; i < count; ++i) {
+    const scene::Object& obj = scene_->objects[subset ? (*subset)[i] : i];
     if (obj.cull_back_faces != culling) {
       culling = obj.cull_back_faces;
       culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
@@ -227,8 +234,30 @@ void GlBackend::draw_objects(GLsizei instances, DrawStats& stats) {
   }
 }
 
-GlBackend::DrawStats GlBackend::shadow_pass() {
+// vs_layer with face culling: per object, one instance per face its bounds touch; the pass range holding the
+// object's mask tells the vertex shader which faces those are.
+void GlBackend::draw_masked_instances(const gpu::ShadowFrame& f, DrawStats& stats) {
+  bool culling = false;
+  glDisable(GL_CULL_FACE);
+  for (size_t i = 0; i < scene_->objects.size(); ++i) {
+    const scene::Object& obj = scene_->objects[i];
+    const uint8_t mask = f.plan.object_faces[i];
+    if (mask == 0) continue;
+    if (obj.cull_back_faces != culling) {
+      culling = obj.cull_back_faces;
+      culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
+    }
+    glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_, mask * uniform_alignment_,
+                      sizeof(gpu::PassUniforms));
+    glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex), static_cast<GLsizei>(obj.vertex_count),
+                          std::popcount(mask));
+    ++stats.draw_calls;
+  }
+}
+
+GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   DrawStats stats;
+  if (frame.reuse_cube) return stats;  // static caching: the cube already holds this light
   glViewport(0, 0, shadow_.size, shadow_.size);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -248,12 +277,22 @@ GlBackend::DrawStats GlBackend::shadow_pass() {
       clear(shadow_.face_fbos[f]);
       glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_, f * uniform_alignment_,
                         sizeof(gpu::PassUniforms));
-      draw_objects(1, stats);
+      draw_objects(1, stats, &frame.plan.face_objects[f]);  // every object unless face culling; none: cleared only
     }
   } else {
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_.layered_fbo);
     clear(shadow_.layered_fbo);  // clears all six layers
-    draw_objects(config_->technique == Technique::vs_layer ? 6 : 1, stats);
+    if (config_->technique == Technique::vs_layer && config_->optimizations.face_culling) {
+      draw_masked_instances(frame, stats);
+    } else if (config_->optimizations.face_culling) {
+      // Geometry shader forms cull per triangle and face on the GPU; objects that reach no face are not drawn.
+      std::vector<uint32_t> reaching;
+      for (uint32_t i = 0; i < frame.plan.object_faces.size(); ++i)
+        if (frame.plan.object_faces[i]) reaching.push_back(i);
+      draw_objects(1, stats, &reaching);
+    } else {
+      draw_objects(config_->technique == Technique::vs_layer ? 6 : 1, stats);
+    }
   }
   return stats;
 }
@@ -288,9 +327,10 @@ FrameTiming GlBackend::render(int frame) {
   // LP_NUM_THREADS worker threads and completes inside glFinish.
   FrameTiming t;
   auto t0 = Clock::now();
-  update_frame_uniforms(frame);
+  gpu::ShadowFrame plan = update_frame_uniforms(frame);
   queries_->begin_timer(kShadowPass);
-  shadow_pass();
+  shadow_pass(plan);
+  planner_.rendered(plan, *config_);
   queries_->end_timer();
   auto t1 = Clock::now();
   glFinish();
@@ -310,9 +350,10 @@ FrameTiming GlBackend::render(int frame) {
 FrameCounters GlBackend::count_work(int frame) {
   if (!config_) throw std::logic_error("count_work() before configure()");
   FrameCounters c;
-  update_frame_uniforms(frame);
+  gpu::ShadowFrame plan = update_frame_uniforms(frame);
   if (queries_->has_statistics()) queries_->begin_statistics(kShadowPass);
-  DrawStats shadow = shadow_pass();
+  DrawStats shadow = shadow_pass(plan);
+  planner_.rendered(plan, *config_);
   if (queries_->has_statistics()) queries_->end_statistics();
   if (queries_->has_statistics()) queries_->begin_statistics(kLightingPass);
   DrawStats lighting = lighting_pass();
@@ -350,7 +391,8 @@ Images GlBackend::read_back() {
   img.cube_size = shadow_.size;
   size_t texels = static_cast<size_t>(shadow_.size) * static_cast<size_t>(shadow_.size);
   bool linear = shadow_.storage == Storage::linear_depth;
-  float far_plane = scene_->light.far_plane;
+  const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
+  img.light_far = far_plane;
   for (int f = 0; f < 6; ++f) {
     auto& face = img.cube_distance[static_cast<size_t>(f)];
     face.resize(texels);

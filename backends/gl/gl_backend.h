@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "backends/backend.h"
+#include "backends/common/shadow_frame.h"
 #include "backends/gl/egl_context.h"
 #include "backends/gl/gl_program.h"
 #include "backends/gl/gl_queries.h"
@@ -37,10 +38,12 @@ class GlBackend final : public Backend {
     uint64_t draw_calls = 0;
   };
   GLuint program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
-  void update_frame_uniforms(int frame);
-  DrawStats shadow_pass();
+  gpu::ShadowFrame update_frame_uniforms(int frame);
+  DrawStats shadow_pass(const gpu::ShadowFrame& f);
   DrawStats lighting_pass();
-  void draw_objects(GLsizei instances, DrawStats& stats);
+  // All objects, or only `subset` (indices into scene_->objects); instances per object from `instances`.
+  void draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset = nullptr);
+  void draw_masked_instances(const gpu::ShadowFrame& f, DrawStats& stats);
   void release_case();
 
   EglContext context_;
@@ -54,7 +57,7 @@ class GlBackend final : public Backend {
   GLuint shadow_vao_ = 0;    // position only
   GLuint lighting_vao_ = 0;  // position, normal, colour
   GLuint frame_ubo_ = 0;
-  GLuint pass_ubo_ = 0;      // six PassUniforms, one per face, each at a multiple of uniform_alignment_
+  GLuint pass_ubo_ = 0;      // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
   GLuint nearest_sampler_ = 0;
   GLuint compare_sampler_ = 0;
   std::map<std::string, GLuint> programs_;  // by stages + defines; programs outlive cases
@@ -65,6 +68,7 @@ class GlBackend final : public Backend {
   GLuint shadow_program_ = 0;
   GLuint lighting_program_ = 0;
   std::unique_ptr<FrameQueries> queries_;
+  gpu::ShadowFramePlanner planner_;
   std::vector<std::string> api_errors_;  // filled by the KHR_debug callback in the checking mode
 };
 

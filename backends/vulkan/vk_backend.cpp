@@ -1,5 +1,7 @@
 #include "backends/vulkan/vk_backend.h"
 
+#include <algorithm>
+#include <bit>
 #include <cfloat>
 #include <chrono>
 #include <cstring>
@@ -81,8 +83,8 @@ VkBackend::VkBackend(const std::string& device_selector, bool validation)
   set_info.bindingCount = 2;
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &lighting_set_layout_));
   // Six 4x4 matrices do not fit the 128 bytes of push constants lavapipe guarantees: they live in the uniform
-  // buffer, and only the face index is pushed.
-  VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(int32_t)};
+  // buffer, and only the face index and face mask (gpu::PassUniforms' first 8 bytes) are pushed.
+  VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t)};
   VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   layout_info.setLayoutCount = 1;
   layout_info.pSetLayouts = &shadow_set_layout_;
@@ -240,13 +242,10 @@ void VkBackend::configure(const CaseConfig& c) {
 
     PipelineDesc shadow;
     // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
-    const std::vector<std::string> technique = gpu::technique_defines(c.technique);
-    shadow.stages.push_back({VK_SHADER_STAGE_VERTEX_BIT, "shadow_depth.vert:" + technique.front()});
-    if (c.technique == Technique::geometry_shader || c.technique == Technique::geometry_shader_instanced) {
-      std::string key = "shadow_depth.geom:";
-      for (size_t i = 0; i < technique.size(); ++i) key += (i ? "," : "") + technique[i];
-      shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, key});
-    }
+    shadow.stages.push_back(
+        {VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("shadow_depth.vert", gpu::shadow_vertex_defines(c))});
+    if (std::vector<std::string> gs = gpu::shadow_geometry_defines(c); !gs.empty())
+      shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key("shadow_depth.geom", gs)});
     shadow.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, "shadow_depth.frag:" + gpu::storage_define(c.storage)});
     shadow.layout = shadow_layout_;
     shadow.render_pass = shadow_.render_pass;
@@ -280,6 +279,7 @@ void VkBackend::configure(const CaseConfig& c) {
     throw;
   }
   config_ = c;
+  planner_.reset();
 }
 
 // A pass's command buffer opens with its queries: timestamps 2 * pass and 2 * pass + 1 bracket it, and in
@@ -304,9 +304,20 @@ void VkBackend::end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics) {
 }
 
 void VkBackend::draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
-                             VkDescriptorSet set, uint32_t instances, uint64_t& draws) {
+                             VkDescriptorSet set, uint32_t instances, uint64_t& draws,
+                             const std::vector<uint32_t>* subset, const std::vector<uint8_t>* face_masks) {
   int bound = -1;
-  for (const scene::Object& obj : scene_->objects) {
+  const size_t count = subset ? subset->size() : scene_->objects.size();
+  for (size_t i = 0; i < count; ++i) {
+    const size_t index = subset ? (*subset)[i] : i;
+    const scene::Object& obj = scene_->objects[index];
+    if (face_masks) {
+      const uint8_t mask = (*face_masks)[index];
+      if (mask == 0) continue;
+      instances = static_cast<uint32_t>(std::popcount(mask));
+      const gpu::PassUniforms pass{0, mask, {0, 0}};
+      vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
+    }
     int want = obj.cull_back_faces ? 1 : 0;
     if (want != bound) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[static_cast<size_t>(want)]);
@@ -318,8 +329,12 @@ void VkBackend::draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>
   }
 }
 
-void VkBackend::record_shadow(VkCommandBuffer cb, bool statistics, uint64_t& draws) {
+void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws) {
   begin_pass(cb, 0, statistics);
+  if (frame.reuse_cube) {  // static caching: the cube already holds this light; timestamps and queries still close
+    end_pass(cb, 0, statistics);
+    return;
+  }
   VkClearValue clears[2];
   clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (seed 004)
   clears[1].depthStencil = {1.0f, 0};
@@ -332,16 +347,29 @@ void VkBackend::record_shadow(VkCommandBuffer cb, bool statistics, uint64_t& dra
   VkViewport viewport{0, 0, float(shadow_.size), float(shadow_.size), 0.0f, 1.0f};
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
   VkDeviceSize offset = 0;
-  uint32_t instances = config_->technique == Technique::vs_layer ? 6 : 1;
+  const bool cull = config_->optimizations.face_culling;
+  const bool six_pass = config_->technique == Technique::six_pass;
+  const uint32_t instances = config_->technique == Technique::vs_layer ? 6 : 1;
+  // Single pass with face culling: objects that reach no face are not drawn (the GS culls per triangle too).
+  std::vector<uint32_t> reaching;
+  if (cull && !six_pass)
+    for (uint32_t i = 0; i < frame.plan.object_faces.size(); ++i)
+      if (frame.plan.object_faces[i]) reaching.push_back(i);
   for (size_t f = 0; f < shadow_.framebuffers.size(); ++f) {
     rp.framebuffer = shadow_.framebuffers[f];
     vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
     vkCmdSetViewport(cb, 0, 1, &viewport);
     vkCmdSetScissor(cb, 0, 1, &scissor);
     vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-    int32_t face = static_cast<int32_t>(f);
-    vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof face, &face);
-    draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws);
+    const gpu::PassUniforms pass{static_cast<int32_t>(f), 0, {0, 0}};
+    vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
+    if (six_pass)  // every object unless face culling; a face with none is cleared only
+      draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, 1, draws, &frame.plan.face_objects[f]);
+    else if (cull)
+      draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws, &reaching,
+                   config_->technique == Technique::vs_layer ? &frame.plan.object_faces : nullptr);
+    else
+      draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws);
     vkCmdEndRenderPass(cb);
   }
   end_pass(cb, 0, statistics);
@@ -390,11 +418,11 @@ FrameTiming VkBackend::render(int frame) {
   FrameTiming t;
   uint64_t draws = 0;
   auto t0 = Clock::now();
-  gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
-                                                  cube::DepthRange::zero_to_one, config_->injected_work);
-  std::memcpy(frame_uniforms_.mapped, &u, sizeof u);
-  record_shadow(command_buffers_[0], false, draws);
+  gpu::ShadowFrame plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
+  std::memcpy(frame_uniforms_.mapped, &plan.uniforms, sizeof plan.uniforms);
+  record_shadow(command_buffers_[0], plan, false, draws);
   ctx_->submit(command_buffers_[0]);
+  planner_.rendered(plan, *config_);
   auto t1 = Clock::now();
   ctx_->wait();
   auto t2 = Clock::now();
@@ -411,13 +439,13 @@ FrameTiming VkBackend::render(int frame) {
 
 FrameCounters VkBackend::count_work(int frame) {
   if (!config_) throw std::logic_error("count_work() before configure()");
-  gpu::FrameUniforms u = gpu::make_frame_uniforms(*scene_, frame, config_->width, config_->height,
-                                                  cube::DepthRange::zero_to_one, config_->injected_work);
-  std::memcpy(frame_uniforms_.mapped, &u, sizeof u);
+  gpu::ShadowFrame plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
+  std::memcpy(frame_uniforms_.mapped, &plan.uniforms, sizeof plan.uniforms);
   const bool stats = statistics_ != VK_NULL_HANDLE;
   FrameCounters c;
-  record_shadow(command_buffers_[0], stats, c.shadow.draw_calls);
+  record_shadow(command_buffers_[0], plan, stats, c.shadow.draw_calls);
   ctx_->submit(command_buffers_[0]);
+  planner_.rendered(plan, *config_);
   ctx_->wait();
   record_lighting(command_buffers_[1], stats, c.lighting.draw_calls);
   ctx_->submit(command_buffers_[1]);
@@ -464,7 +492,8 @@ Images VkBackend::read_back() {
   const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
   std::vector<uint8_t> bytes = read_image(*ctx_, stored, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, texel_bytes);
   const size_t texels = size_t(shadow_.size) * shadow_.size;
-  const float far_plane = scene_->light.far_plane;
+  const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
+  img.light_far = far_plane;
   for (size_t f = 0; f < 6; ++f) {
     auto& face = img.cube_distance[f];
     face.resize(texels);

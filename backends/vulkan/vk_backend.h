@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "backends/backend.h"
+#include "backends/common/shadow_frame.h"
 #include "backends/vulkan/vk_context.h"
 #include "backends/vulkan/vk_pipelines.h"
 #include "backends/vulkan/vk_resources.h"
@@ -32,10 +33,13 @@ class VkBackend final : public Backend {
   std::vector<std::string> drain_api_errors() override { return ctx_->drain_messages(); }
 
  private:
-  void record_shadow(VkCommandBuffer cb, bool statistics, uint64_t& draws);
+  void record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws);
   void record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& draws);
+  // All objects, or `subset` (indices into the scene's objects). With `face_masks` (vs_layer + face culling), each
+  // object is drawn with one instance per set bit of its mask, the mask pushed for the vertex shader.
   void draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
-                    VkDescriptorSet set, uint32_t instances, uint64_t& draws);
+                    VkDescriptorSet set, uint32_t instances, uint64_t& draws,
+                    const std::vector<uint32_t>* subset = nullptr, const std::vector<uint8_t>* face_masks = nullptr);
   void begin_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);  // pass 0 shadow, 1 lighting
   void end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);
   void release_case();
@@ -64,6 +68,7 @@ class VkBackend final : public Backend {
 
   std::optional<CaseConfig> config_;
   ShadowTargets shadow_;
+  gpu::ShadowFramePlanner planner_;
   LightingTargets lighting_;
   std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
   std::array<VkPipeline, 2> lighting_pipelines_{};

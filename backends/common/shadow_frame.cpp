@@ -1,0 +1,26 @@
+#include "backends/common/shadow_frame.h"
+
+#include "backends/common/frame_uniforms.h"
+
+namespace omnishadow::gpu {
+
+ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, const CaseConfig& config,
+                                        cube::DepthRange range) {
+  ShadowFrame f;
+  f.uniforms = make_frame_uniforms(scene, frame, config, range);
+  // Casters never move (scenes are baked at load), so the light's position and range decide the cube's content.
+  // Exact float equality: a light that moves by one ulp renders again.
+  f.reuse_cube = config.optimizations.static_cache && cube_light_ && *cube_light_ == f.uniforms.light_position;
+  if (!f.reuse_cube)
+    f.plan = cube::plan_shadow_draws(scene, glm::vec3(f.uniforms.light_position), scene.light.near_plane,
+                                     f.uniforms.light_position.w, config.optimizations.face_culling);
+  return f;
+}
+
+void ShadowFramePlanner::rendered(const ShadowFrame& f, const CaseConfig& config) {
+  if (f.reuse_cube) return;
+  cube_far_ = f.uniforms.light_position.w;
+  if (config.optimizations.static_cache) cube_light_ = f.uniforms.light_position;
+}
+
+}  // namespace omnishadow::gpu
