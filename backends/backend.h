@@ -59,6 +59,10 @@ struct FrameTiming {
   PassTiming shadow;
   PassTiming lighting;
   double frame_wall_ms = 0.0;
+  // CPU time the whole process spent on the frame (all threads: on CPU drivers such as llvmpipe and lavapipe
+  // that is the rendering itself). Filled by the harness around render(); a measure of work that other load on
+  // the machine disturbs far less than wall time does. Negative when not measured.
+  double process_cpu_ms = -1.0;
 };
 
 // Everything read back after a frame. Images are stored as the API holds them: row 0 is the bottom row of the

@@ -146,8 +146,10 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
     CaseComparison cc;
     cc.id = id;
     cc.verdict = "not timed";
-    auto bs = base.samples.find(id), ns = fresh.samples.find(id);
-    if (options.timing && bs != base.samples.end() && ns != fresh.samples.end()) {
+    const auto& base_samples = options.metric == "cpu" ? base.cpu_samples : base.samples;
+    const auto& new_samples = options.metric == "cpu" ? fresh.cpu_samples : fresh.samples;
+    auto bs = base_samples.find(id), ns = new_samples.find(id);
+    if (options.timing && bs != base_samples.end() && ns != new_samples.end()) {
       cc.base_n = bs->second.size();
       cc.new_n = ns->second.size();
       cc.base_ms = median(bs->second);
@@ -207,7 +209,7 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
 
 std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
   std::ostringstream s;
-  s << "# omnishadow compare\n\nMann-Whitney U over repetitions, Holm-corrected (alpha " << o.alpha
+  s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << (o.metric == "cpu" ? "process CPU time" : "wall time") << " per frame, Holm-corrected (alpha " << o.alpha
     << "), minimum effect " << 100 * o.min_effect << "%. Work counters compared exactly; images by checksum, "
     << "then metrics.\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
     << "|---|---|---|---|---|---|---|\n";
@@ -245,6 +247,7 @@ nlohmann::json comparison_json(const Comparison& c, const CompareOptions& o) {
                      {"work_changes", cc.work_changes},
                      {"image_changes", cc.image_changes}});
   return {{"alpha", o.alpha},           {"min_effect", o.min_effect},       {"cases", cases},
+          {"metric", o.metric},
           {"only_in_base", c.only_in_base}, {"only_in_new", c.only_in_new},
           {"base_devices", c.base_devices}, {"new_devices", c.new_devices}};
 }

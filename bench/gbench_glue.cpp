@@ -3,12 +3,27 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 
 namespace omnishadow::bench {
 namespace {
 
 using benchmark::Counter;
+
+double process_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+// One frame with the process's CPU time around it (every thread: the driver's workers included).
+FrameTiming render_measured(Backend& b, int frame) {
+  double before = process_cpu_ms();
+  FrameTiming t = b.render(frame);
+  t.process_cpu_ms = process_cpu_ms() - before;
+  return t;
+}
 
 void set_pass_counters(benchmark::State& state, const std::string& pass, const PassCounters& c) {
   if (!c.valid) return;
@@ -69,12 +84,13 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
   try {
     Backend& b = harness.activate(r.config);
     // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings.
-    for (int i = 0; i < o.warmup_frames; ++i) r.warmup.push_back(b.render(i));
+    for (int i = 0; i < o.warmup_frames; ++i) r.warmup.push_back(render_measured(b, i));
     int frame = o.warmup_frames;
-    double sums[6] = {0, 0, 0, 0, 0, 0};
+    double sums[7] = {0, 0, 0, 0, 0, 0, 0};
     for (auto _ : state) {
-      FrameTiming t = b.render(frame++);
+      FrameTiming t = render_measured(b, frame++);
       state.SetIterationTime(t.frame_wall_ms * 1e-3);
+      sums[6] += t.process_cpu_ms;
       frames.push_back(t);
       sums[0] += t.shadow.cpu_wall_ms;
       sums[1] += t.shadow.cpu_submit_ms;
@@ -89,6 +105,7 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
     state.counters["shadow_submit_ms"] = Counter(sums[1], Counter::kAvgIterations);
     state.counters["lighting_wall_ms"] = Counter(sums[2], Counter::kAvgIterations);
     state.counters["lighting_submit_ms"] = Counter(sums[3], Counter::kAvgIterations);
+    state.counters["frame_cpu_ms"] = Counter(sums[6], Counter::kAvgIterations);  // compare --metric cpu
     std::vector<FrameTiming> checked = r.warmup;
     checked.insert(checked.end(), frames.begin(), frames.end());
     GpuTimerCheck gpu = check_gpu_timer(checked);

@@ -115,6 +115,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1e-9, 0.5));
   cmp->add_option("--min-effect", compare.min_effect, "smallest relative time change reported (0.05 = 5%)")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  cmp->add_option("--metric", compare.metric,
+                  "time to test: wall (frame wall time) or cpu (process CPU time per frame, all threads: the work "
+                  "itself on CPU drivers, less disturbed by other load)")
+      ->capture_default_str()->check(CLI::IsMember({"wall", "cpu"}));
   cmp->add_option("--out", compare.out_dir, "folder for summary.md and diffs/ (default NEW/compare)");
   bool no_timing = false;
   cmp->add_flag("--no-timing", no_timing, "compare work counters and images only");

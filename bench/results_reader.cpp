@@ -84,6 +84,7 @@ void check_benchmark(const Shape& shape, const json& b, const std::string& where
   shape.optional(b, where, "error_occurred", json::value_t::boolean);
   shape.optional(b, where, "omnishadow_case", json::value_t::string);
   shape.optional(b, where, "real_time", json::value_t::number_float);
+  shape.optional(b, where, "frame_cpu_ms", json::value_t::number_float);
 }
 
 }  // namespace
@@ -171,6 +172,12 @@ RunData parse_run(const std::string& text, const std::string& file, const std::s
       if (!std::isfinite(ms) || ms < 0)
         shape.fail("/benchmarks/" + std::to_string(i) + "/real_time", "not a finite, non-negative time");
       run.samples[id].push_back(ms);
+      if (b.contains("frame_cpu_ms") && b["frame_cpu_ms"].is_number()) {
+        double cpu = b["frame_cpu_ms"].get<double>();
+        if (!std::isfinite(cpu) || cpu < 0)
+          shape.fail("/benchmarks/" + std::to_string(i) + "/frame_cpu_ms", "not a finite, non-negative time");
+        run.cpu_samples[id].push_back(cpu);
+      }
     }
   }
   return run;

@@ -27,7 +27,8 @@ struct RunData {
   std::string file;  // the results.json read
   nlohmann::json doc;
   std::map<std::string, const nlohmann::json*> cases;   // by case id, pointing into doc
-  std::map<std::string, std::vector<double>> samples;  // per case: mean frame time of each repetition, ms
+  std::map<std::string, std::vector<double>> samples;      // per case: mean frame wall time of each repetition, ms
+  std::map<std::string, std::vector<double>> cpu_samples;  // per case: mean process CPU time per frame, ms
 };
 
 // Throws CompareError naming the file (and the JSON pointer) on anything that is not an omnishadow results file.

@@ -18,8 +18,10 @@ fi
 if [ -f "$base/gate.json" ]; then
   alpha="$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["alpha"])' "$base/gate.json")"
   min_effect="$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["min_effect"])' "$base/gate.json")"
-  echo "ci_compare: $out against $base (timing gate: alpha $alpha, minimum effect $min_effect)"
-  ./build/release/omnishadow compare "$base" "$out" --alpha "$alpha" --min-effect "$min_effect" --out "$out/compare"
+  metric="$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1])).get("metric", "wall"))' "$base/gate.json")"
+  echo "ci_compare: $out against $base (timing gate: $metric time, alpha $alpha, minimum effect $min_effect)"
+  ./build/release/omnishadow compare "$base" "$out" --metric "$metric" --alpha "$alpha" --min-effect "$min_effect" \
+    --out "$out/compare"
 else
   echo "ci_compare: $out against $base (no proven timing gate: timing reported only)"
   ./build/release/omnishadow compare "$base" "$out" --timing-report-only --out "$out/compare"

@@ -12,7 +12,11 @@ With --alternate R each arm's sample is pooled from R separate runs of 9/R repet
 base's runs (base, arm, base, arm, ...), so that machine-wide slow spells hit both sides alike: the design to
 use when comparing two builds on a shared machine.
 
-Usage: scripts/sensitivity.py [--trials 20] [--alternate R] [--repetitions N] [--out DIR] [--write-gate]
+With --metric cpu the test runs on the process's CPU time per frame (all threads; on llvmpipe the rendering work
+itself) instead of frame wall time.
+
+Usage: scripts/sensitivity.py [--trials 20] [--alternate R] [--repetitions N] [--metric wall|cpu] [--out DIR]
+                              [--write-gate]
 --write-gate stores the recommended gate in results/baselines/<device key>/gate.json for scripts/ci_compare.sh.
 """
 import argparse
@@ -38,9 +42,13 @@ def run_matrix(out, injected, repetitions=9):
         sys.exit(f"sensitivity: {' '.join(cmd)} failed:\n{done.stderr[-2000:]}")
 
 
+METRIC = "wall"
+SAMPLE_KEY = {"wall": "real_time", "cpu": "frame_cpu_ms"}
+
+
 def compare(base, new, out):
     # alpha 0.5, effect 0: the raw material (adjusted p, change) for re-deciding under every gate below.
-    cmd = [BINARY, "compare", base, new, "--alpha", "0.5", "--min-effect", "0", "--out", out]
+    cmd = [BINARY, "compare", base, new, "--alpha", "0.5", "--min-effect", "0", "--metric", METRIC, "--out", out]
     done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if done.returncode not in (0, 1):
         sys.exit(f"sensitivity: compare failed: {done.stderr}")
@@ -67,7 +75,7 @@ def median_times(run):
     samples = {}
     for b in doc["benchmarks"]:
         if b.get("run_type") == "iteration" and "omnishadow_case" in b:
-            samples.setdefault(b["omnishadow_case"], []).append(b["real_time"])
+            samples.setdefault(b["omnishadow_case"], []).append(b[SAMPLE_KEY[METRIC]])
     return {k: statistics.median(v) for k, v in samples.items()}
 
 
@@ -99,7 +107,10 @@ def main():
     parser.add_argument("--write-gate", action="store_true")
     parser.add_argument("--alternate", type=int, default=1, help="runs per arm, alternated with the base's")
     parser.add_argument("--repetitions", type=int, default=9, help="repetitions per side (split over the runs)")
+    parser.add_argument("--metric", choices=["wall", "cpu"], default="wall", help="time the U-test runs on")
     args = parser.parse_args()
+    global METRIC
+    METRIC = args.metric
     if not os.path.exists(BINARY):
         sys.exit(f"sensitivity: {BINARY} missing; run scripts/build.sh first")
     os.makedirs(args.out, exist_ok=True)
@@ -148,7 +159,7 @@ def main():
     realized = {arm: statistics.median(c["change"] for trial in outcomes[arm] for c in trial) for arm in arms}
     ok = [r for r in grid if r["same"]["case_rate"] <= 0.01]
     gate = min(ok, key=lambda r: (r["min_effect"], -r["alpha"])) if ok else None
-    result = {"trials": args.trials, "alternate": args.alternate, "repetitions": args.repetitions, "cases_per_run": len(outcomes["same"][0]), "injected_iterations": arms,
+    result = {"metric": METRIC, "trials": args.trials, "alternate": args.alternate, "repetitions": args.repetitions, "cases_per_run": len(outcomes["same"][0]), "injected_iterations": arms,
               "per_iteration_fraction": per_iteration, "realized_median_change": realized, "grid": grid,
               "recommended_gate": gate, "seconds": time.time() - started}
     with open(os.path.join(args.out, "sensitivity.json"), "w") as f:
@@ -158,7 +169,8 @@ def main():
               f"{args.alternate} alternating runs of {max(1, args.repetitions // args.alternate)} repetitions per "
               "side, pooled")
     md = [f"# Regression-detection sensitivity\n\n{args.trials} trials x {result['cases_per_run']} cases (CI matrix, "
-          f"{design}); every run a separate process. Realized median change: "
+          f"{design}; metric: {'process CPU time' if METRIC == 'cpu' else 'wall time'} per frame); every run a "
+          "separate process. Realized median change: "
           + ", ".join(f"{a} {100 * v:+.1f}%" for a, v in realized.items()) + ".\n",
           "| alpha | min effect | false alarms (cases) | false alarms (runs) | detect 5% (cases) | detect 10% (cases) "
           "| detect 10% (runs) |", "|---|---|---|---|---|---|---|"]
@@ -178,7 +190,7 @@ def main():
         path = os.path.join(ROOT, "results", "baselines", key, "gate.json")
         os.makedirs(os.path.dirname(path), exist_ok=True)
         with open(path, "w") as f:
-            json.dump({"alpha": gate["alpha"], "min_effect": gate["min_effect"],
+            json.dump({"metric": METRIC, "alpha": gate["alpha"], "min_effect": gate["min_effect"],
                        "false_alarm_case_rate": gate["same"]["case_rate"],
                        "detect_5_case_rate": gate["slow5"]["case_rate"],
                        "detect_10_case_rate": gate["slow10"]["case_rate"], "trials": args.trials}, f, indent=2)
