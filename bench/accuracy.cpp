@@ -1,5 +1,7 @@
 #include "bench/accuracy.h"
 
+#include "backends/common/map_lights.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -65,7 +67,24 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   if (options.light_radius > 0) t.sphere_shadow.assign(n, 0.0f);
   t.direct.assign(n, glm::vec3(0.0f));
   t.has_direct.assign(n, 0);
-  const glm::vec3 light = scene.light.path.at(frame);
+  // The light whose shadow the images report (lighting.frag): the point light, else the first spot/directional
+  // light. A directional light is a point far along its reverse direction; a spot light reaches only its map.
+  const scene::MapLight* map = scene.has_point_light || scene.map_lights.empty() ? nullptr : &scene.map_lights[0];
+  const bool directional = map && map->type == scene::MapLightType::directional;
+  const glm::vec3 light_color = map ? map->color : scene.light.color;
+  float scene_size = 1.0f;
+  for (const scene::Object& o : scene.objects) scene_size = std::max(scene_size, glm::length(o.bounds_max - o.bounds_min));
+  const glm::mat4 spot_view_proj = map && !directional
+                                       ? gpu::map_view_projection(scene, *map, frame, cube::DepthRange::minus_one_to_one)
+                                       : glm::mat4(1.0f);
+  const glm::vec3 fixed_light = map ? (directional ? glm::vec3(0.0f) : map->path.at(frame)) : scene.light.path.at(frame);
+  auto light_for = [&](const glm::vec3& p) {
+    return directional ? p - map->direction * (4.0f * scene_size) : fixed_light;
+  };
+  auto spot_reaches = [&](const glm::vec3& p) {
+    glm::vec4 c = spot_view_proj * glm::vec4(p, 1.0f);
+    return c.w > 0.0f && std::fabs(c.x) <= c.w && std::fabs(c.y) <= c.w && c.z <= c.w;
+  };
   const glm::vec3 camera = scene.camera.position;
   const int k = std::max(1, options.samples_per_axis);
 
@@ -75,11 +94,15 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       if (img.world_position[4 * i + 3] != 1.0f) continue;
       t.covered[i] = 1;
       const glm::vec3 p(img.world_position[4 * i], img.world_position[4 * i + 1], img.world_position[4 * i + 2]);
+      const glm::vec3 light = light_for(p);
+      const bool reached = !map || directional || spot_reaches(p);
       // End tolerance: relative to the distance, so that a point does not hide behind its own surface.
       const float eps = 1e-4f * (1.0f + glm::length(p - light));
-      t.point_shadow[i] = caster.blocked(light, p, eps) ? 1.0f : 0.0f;
+      t.point_shadow[i] = reached && caster.blocked(light, p, eps) ? 1.0f : 0.0f;
 
-      if (options.light_radius > 0) {
+      if (options.light_radius > 0 && (map != nullptr)) {
+        t.sphere_shadow[i] = t.point_shadow[i];  // the soft reference models the point light only
+      } else if (options.light_radius > 0) {
         // The sphere seen from p is a disk facing p; sample it stratified.
         glm::vec3 w = glm::normalize(light - p);
         glm::vec3 helper = std::fabs(w.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
@@ -102,10 +125,10 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       reference::Hit hit = caster.closest(camera, to_p / distance, distance * 1.001 + 1e-3);
       if (hit.hit && std::fabs(hit.distance - distance) < 1e-3 * (1.0 + distance)) {
         glm::vec3 n = caster.normal_at(hit), albedo = caster.color_at(hit);
-        glm::vec3 l = glm::normalize(light - p), view = glm::normalize(camera - p);
+        glm::vec3 l = directional ? -map->direction : glm::normalize(light - p), view = glm::normalize(camera - p);
         float diff = std::max(glm::dot(l, n), 0.0f);
         float spec = std::pow(std::max(glm::dot(n, glm::normalize(l + view)), 0.0f), 64.0f);
-        t.direct[i] = (diff + spec) * scene.light.color * albedo;
+        t.direct[i] = reached ? (diff + spec) * light_color * albedo : glm::vec3(0.0f);
         t.has_direct[i] = 1;
       }
     }

@@ -160,6 +160,9 @@ void Harness::prepare(CaseResult& r) {
   try {
     Backend& b = backend(r.config.backend);
     Support s = b.supports(r.config);
+    if (s.ok && r.config.technique != Technique::six_pass && !scene(r.config.scene).has_point_light)
+      s = {false, "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
+                  "(measured by six_pass); the single-pass techniques apply to cube maps"};
     if (!s.ok) {
       r.status = Status::unsupported;
       r.reason = s.reason;

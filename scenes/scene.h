@@ -52,6 +52,20 @@ struct PointLight {
   glm::vec3 color{0.3f};     // seed 001/002 lighting: lightColor 0.3, ambient 0.3 * albedo
 };
 
+// Lights that need no cube: each gets one 2D map (scene::Scene::map_lights), rendered in one plain pass.
+enum class MapLightType { spot, directional };
+struct MapLight {
+  MapLightType type = MapLightType::spot;
+  LightPath path;                          // spot: its position over time; unused for directional
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // unit; the way the light travels (spot: where it points)
+  float cone_degrees = 60.0f;              // spot: full cone angle = the map's field of view (square map)
+  float near_plane = 0.1f;                 // spot only; a directional map's range is fitted to the scene
+  float far_plane = 25.0f;
+  glm::vec3 color{0.3f};
+  bool cull_front_faces = false;  // seed 003's peter-panning fix: closed objects render their back faces only
+};
+inline constexpr int kMaxMapLights = 4;
+
 struct Camera {
   glm::vec3 position{0.0f, 0.0f, 3.0f};
   glm::vec3 target{0.0f, 0.0f, 0.0f};
@@ -68,7 +82,10 @@ struct Scene {
   std::string source;  // file the scene came from, for error messages
   std::vector<Vertex> vertices;  // non-indexed triangle list, all objects back to back
   std::vector<Object> objects;
+  // The point light (a cube map); a scene may have none when it only holds spot/directional lights.
   PointLight light;
+  bool has_point_light = true;
+  std::vector<MapLight> map_lights;  // in file order, at most kMaxMapLights
   Camera camera;
   uint64_t triangle_count() const { return vertices.size() / 3; }
 };

@@ -132,19 +132,52 @@ Camera parse_camera(const Node& n) {
   return c;
 }
 
-PointLight parse_light(const Node& n) {
-  n.expect_object({"type", "position", "path", "near", "far", "color"});
-  PointLight l;
-  if (n.has("type") && n.at("type").string() != "point") n.at("type").fail("only \"point\" lights are supported");
-  if (n.has("position")) l.path.base = n.at("position").vec3();
+LightPath parse_path(const Node& n) {
+  LightPath path;
+  if (n.has("position")) path.base = n.at("position").vec3();
   if (n.has("path")) {
     Node p = n.at("path");
     p.expect_object({"amplitude", "frequency", "seconds_per_frame"});
-    if (p.has("amplitude")) l.path.amplitude = p.at("amplitude").vec3();
-    if (p.has("frequency")) l.path.frequency = static_cast<float>(p.at("frequency").number());
+    if (p.has("amplitude")) path.amplitude = p.at("amplitude").vec3();
+    if (p.has("frequency")) path.frequency = static_cast<float>(p.at("frequency").number());
     if (p.has("seconds_per_frame"))
-      l.path.seconds_per_frame = static_cast<float>(p.at("seconds_per_frame").number_in(0, 3600));
+      path.seconds_per_frame = static_cast<float>(p.at("seconds_per_frame").number_in(0, 3600));
   }
+  return path;
+}
+
+glm::vec3 unit_direction(const Node& n) {
+  glm::vec3 d = n.vec3();
+  if (!(glm::length(d) > 0.0f)) n.fail("direction must not be zero");
+  return glm::normalize(d);
+}
+
+MapLight parse_map_light(const Node& n, const std::string& type) {
+  MapLight l;
+  l.type = type == "spot" ? MapLightType::spot : MapLightType::directional;
+  if (l.type == MapLightType::spot) {
+    n.expect_object({"type", "position", "path", "direction", "cone_degrees", "near", "far", "color",
+                     "cull_front_faces"});
+    l.path = parse_path(n);
+    if (n.has("cone_degrees")) l.cone_degrees = static_cast<float>(n.at("cone_degrees").number_in(1, 170));
+    if (n.has("near")) l.near_plane = static_cast<float>(n.at("near").number_in(1e-9, 1e30));
+    if (n.has("far")) l.far_plane = static_cast<float>(n.at("far").number_in(1e-9, 1e30));
+    if (l.far_plane <= l.near_plane) n.at("far").fail("far must be greater than near");
+  } else {
+    n.expect_object({"type", "direction", "color", "cull_front_faces"});
+  }
+  l.direction = unit_direction(n.at("direction"));
+  if (n.has("color")) l.color = n.at("color").vec3();
+  if (n.has("cull_front_faces")) l.cull_front_faces = n.at("cull_front_faces").boolean();
+  return l;
+}
+
+PointLight parse_light(const Node& n) {
+  n.expect_object({"type", "position", "path", "near", "far", "color"});
+  PointLight l;
+  if (n.has("type") && n.at("type").string() != "point")
+    n.at("type").fail("\"light\" is the point light; spot and directional lights go in \"lights\"");
+  l.path = parse_path(n);
   if (n.has("near")) l.near_plane = static_cast<float>(n.at("near").number_in(1e-9, 1e30));
   if (n.has("far")) l.far_plane = static_cast<float>(n.at("far").number_in(1e-9, 1e30));
   if (l.far_plane <= l.near_plane) n.at("far").fail("far must be greater than near");
@@ -269,7 +302,7 @@ Scene load_scene_text(const std::string& text, const std::string& source) {
     throw SceneError(source + ": malformed JSON: " + std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
   }
   Node root(doc, "", source);
-  root.expect_object({"format", "description", "camera", "light", "objects"});
+  root.expect_object({"format", "description", "camera", "light", "lights", "objects"});
   if (root.has("format") && root.at("format").string() != "omnishadow-scene/1")
     root.at("format").fail("unsupported format (expected \"omnishadow-scene/1\")");
 
@@ -277,7 +310,33 @@ Scene load_scene_text(const std::string& text, const std::string& source) {
   scene.source = source;
   scene.name = std::filesystem::path(source).stem().string();
   if (root.has("camera")) scene.camera = parse_camera(root.at("camera"));
-  scene.light = parse_light(root.at("light"));
+  // "light": the one point light (seeds 000-004). "lights": any mix of one point light and up to four spot or
+  // directional lights, each rendered with what it needs (a cube, or one 2D map).
+  if (root.has("light") && root.has("lights")) root.at("lights").fail("give \"light\" or \"lights\", not both");
+  if (!root.has("lights")) {
+    scene.light = parse_light(root.at("light"));
+  } else {
+    Node lights = root.at("lights");
+    if (!lights.value().is_array() || lights.value().empty()) lights.fail("expected a non-empty array of lights");
+    bool point_seen = false;
+    for (size_t i = 0; i < lights.value().size(); ++i) {
+      Node l = lights.at(i);
+      if (!l.value().is_object()) l.fail("expected an object");
+      std::string type = l.has("type") ? l.at("type").string() : "point";
+      if (type == "point") {
+        if (point_seen) l.fail("at most one point light per scene (one cube map per case)");
+        scene.light = parse_light(l);
+        point_seen = true;
+      } else if (type == "spot" || type == "directional") {
+        if (scene.map_lights.size() == kMaxMapLights)
+          l.fail("at most " + std::to_string(kMaxMapLights) + " spot/directional lights per scene");
+        scene.map_lights.push_back(parse_map_light(l, type));
+      } else {
+        l.at("type").fail("unknown light type '" + type + "' (valid: point, spot, directional)");
+      }
+    }
+    scene.has_point_light = point_seen;
+  }
 
   Node objects = root.at("objects");
   if (!objects.value().is_array()) objects.fail("expected an array of objects");

@@ -11,24 +11,46 @@ layout(location = 0) out vec4 out_color;
 layout(location = 1) out float out_shadow_factor;  // 1 = fully shadowed (the seed's `shadow`)
 layout(location = 2) out vec4 out_position;        // world position, w = 1 marks covered pixels
 
+// Blinn-Phong diffuse + specular of one light (seed 001/002: shininess 64).
+vec3 direct_light(vec3 normal, vec3 light_dir, vec3 view_dir, vec3 light_color) {
+  float diff = max(dot(light_dir, normal), 0.0);
+  vec3 halfway = normalize(light_dir + view_dir);
+  return diff * light_color + pow(max(dot(normal, halfway), 0.0), 64.0) * light_color;
+}
+
 void main() {
   vec3 normal = normalize(world_normal);
   vec3 light_color = frame.light_color.rgb;
   vec3 ambient = 0.3 * albedo;
-  vec3 light_dir = normalize(frame.light_position.xyz - world_position);
-  float diff = max(dot(light_dir, normal), 0.0);
-  vec3 diffuse = diff * light_color;
   vec3 view_dir = normalize(frame.camera_position.xyz - world_position);
-  vec3 halfway = normalize(light_dir + view_dir);
-  vec3 specular = pow(max(dot(normal, halfway), 0.0), 64.0) * light_color;
-
-  float shadow = shadow_factor(world_position);
+  vec3 diffuse = vec3(0.0), specular = vec3(0.0);
+  float shadow = 0.0;
+  if (frame.lights_info.y > 0.5) {  // the point light and its cube
+    vec3 light_dir = normalize(frame.light_position.xyz - world_position);
+    float diff = max(dot(light_dir, normal), 0.0);
+    diffuse = diff * light_color;
+    vec3 halfway = normalize(light_dir + view_dir);
+    specular = pow(max(dot(normal, halfway), 0.0), 64.0) * light_color;
+    shadow = shadow_factor(world_position);
+  }
+  // Spot and directional lights, each with its 2D map. The reported shadow factor is the first light's.
+  vec3 mapped = vec3(0.0);
+  for (int i = 0; i < int(frame.lights_info.x); ++i) {
+    bool spot = frame.map_light[i].w < 1.5;
+    vec3 light_dir = spot ? normalize(frame.map_light[i].xyz - world_position) : frame.map_light[i].xyz;
+    bool inside;
+    float s = map_shadow_factor(i, world_position, normal, light_dir, inside);
+    if (i == 0 && frame.lights_info.y < 0.5) shadow = s;
+    if (inside) mapped += (1.0 - s) * direct_light(normal, light_dir, view_dir, frame.map_color[i].rgb);
+  }
   // Injected work, off by default (--inject-fragment-work N): N dependent multiply-adds per fragment, real work
   // of a known size for proving that the regression statistics see a slowdown. It cannot change the image:
   // 1e-9 * acc is below half an ulp of 1.0.
   float acc = 0.0;
   for (int i = 0; i < int(frame.knobs.x); ++i) acc = fract(acc * 1.61803 + 0.31831);
-  out_color = vec4((ambient + (1.0 - shadow) * (diffuse + specular)) * albedo, 1.0 - 1e-9 * acc);
+  // With no map lights `mapped` is 0 and adding it changes no bit: point-light scenes render as before.
+  vec3 point_term = frame.lights_info.y > 0.5 ? (1.0 - shadow) * (diffuse + specular) : vec3(0.0);
+  out_color = vec4((ambient + point_term + mapped) * albedo, 1.0 - 1e-9 * acc);
   out_shadow_factor = shadow;
   out_position = vec4(world_position, 1.0);
 }

@@ -60,3 +60,59 @@ float shadow_factor(vec3 world_pos) {
 #error "no FILTER_* defined"
 #endif
 }
+
+// Spot and directional lights: one layer of a 2D depth-map array each, written with plain projective depth.
+// Seed 003's fixes: coordinates outside the map are unshadowed (clamp to border), beyond the far plane
+// unshadowed, slope-scaled bias max(0.05 (1 - n.l), 0.005), and a 3x3 PCF for every filter but `hard`. A spot
+// light compares linear distances along its axis (its perspective depth is not linear), in world units with the
+// same bias formula; a directional map's depth is already linear and is compared in map units as in the seed.
+layout(binding = 3) uniform sampler2DArray map_shadows;
+
+// Window depth in [0, 1] from NDC z: Vulkan's clip range is already [0, 1], GL's is [-1, 1].
+float window_depth(float ndc_z) {
+#ifdef VULKAN
+  return ndc_z;
+#else
+  return ndc_z * 0.5 + 0.5;
+#endif
+}
+
+// The spot map's window depth back to the distance along the light's axis (perspective projection).
+float spot_linear(int i, float depth) {
+  float n = frame.map_color[i].w, f = frame.map_range[i].x;
+#ifdef VULKAN
+  return n * f / (f - depth * (f - n));
+#else
+  float z = depth * 2.0 - 1.0;
+  return 2.0 * n * f / (f + n - z * (f - n));
+#endif
+}
+
+float map_occluded(int i, vec2 uv, float current, float bias, bool spot) {
+  float stored = texture(map_shadows, vec3(uv, float(i))).r;
+  if (spot) return spot_linear(i, current) - bias > spot_linear(i, stored) ? 1.0 : 0.0;
+  return current - bias > stored ? 1.0 : 0.0;
+}
+
+// Returns the shadow (1 = shadowed) of map light i at world_pos; `inside` is false where a spot light's cone
+// does not reach (the caller leaves such fragments unlit by it).
+float map_shadow_factor(int i, vec3 world_pos, vec3 normal, vec3 light_dir, out bool inside) {
+  bool spot = frame.map_light[i].w < 1.5;
+  vec4 clip = frame.map_view_proj[i] * vec4(world_pos, 1.0);
+  vec3 ndc = clip.xyz / clip.w;
+  vec2 uv = ndc.xy * 0.5 + 0.5;
+  float current = window_depth(ndc.z);
+  bool on_map = clip.w > 0.0 && all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
+  inside = !spot || on_map;
+  if (!on_map || current > 1.0) return 0.0;  // clamp to border / beyond far: unshadowed (seed 003)
+  float bias = max(0.05 * (1.0 - dot(normal, light_dir)), 0.005);
+#if defined(FILTER_HARD)
+  return map_occluded(i, uv, current, bias, spot);
+#else
+  vec2 texel = 1.0 / vec2(textureSize(map_shadows, 0).xy);
+  float shadow = 0.0;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y) shadow += map_occluded(i, uv + vec2(x, y) * texel, current, bias, spot);
+  return shadow / 9.0;
+#endif
+}

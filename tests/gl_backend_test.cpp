@@ -70,6 +70,11 @@ TEST_F(GlBackendTest, StaticCacheReusesTheCubeWhileTheLightStandsStill) {
   backend_->load(*room_);
 }
 
+TEST_F(GlBackendTest, SpotAndDirectionalLightsCastShadowsFromTheir2DMaps) {
+  testing::check_map_lights(*backend_, "gl", kScenes);
+  backend_->load(*room_);
+}
+
 TEST_F(GlBackendTest, FittedFarIsTighterAndConsistent) { testing::check_fit_range(*backend_, "gl", *room_); }
 
 TEST_F(GlBackendTest, DeviceIsDescribed) {

@@ -124,8 +124,38 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"{" LIGHT R"(, "camera": {"position": [0, 5, 0], "target": [0, 0, 0], "up": [0, 1, 0]},
                  "objects": [{"type": "box"}]})", "/camera/up: up must not be zero or parallel"},
         BadScene{"{" LIGHT R"(, "objects": [{"type": "obj", "file": "/proc"}]})", "/objects/0/file: cannot open OBJ file"},
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [4096, 4096]}]})", "/objects/0/segments/0"}),
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [4096, 4096]}]})", "/objects/0/segments/0"},
+        // Several lights: each checked where it stands.
+        BadScene{R"({"lights": [{"type": "point"}, {"type": "point"}], "objects": [{"type": "box"}]})",
+                 "/lights/1: at most one point light"},
+        BadScene{R"({"lights": [{"type": "area"}], "objects": [{"type": "box"}]})", "/lights/0/type: unknown light type"},
+        BadScene{R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}], "objects": [{"type": "box"}]})",
+                 "/lights/0/direction: direction must not be zero"},
+        BadScene{R"({"lights": [{"type": "spot", "direction": [0, -1, 0], "cone_degrees": 180}],
+                 "objects": [{"type": "box"}]})", "/lights/0/cone_degrees"},
+        BadScene{R"({"lights": [{"type": "directional", "direction": [0, -1, 0], "near": 1}], "objects": [{"type": "box"}]})",
+                 "/lights/0/near: unknown field"},
+        BadScene{R"({"light": {}, "lights": [{"type": "point"}], "objects": [{"type": "box"}]})",
+                 "/lights: give \"light\" or \"lights\", not both"},
+        BadScene{R"({"lights": [], "objects": [{"type": "box"}]})", "/lights: expected a non-empty array"},
+        BadScene{R"({"lights": [{"type": "spot", "direction": [0, -1, 0]}, {"type": "spot", "direction": [0, -1, 0]},
+                 {"type": "spot", "direction": [0, -1, 0]}, {"type": "spot", "direction": [0, -1, 0]},
+                 {"type": "directional", "direction": [0, -1, 0]}], "objects": [{"type": "box"}]})",
+                 "/lights/4: at most 4 spot/directional lights"}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return "case" + std::to_string(info.index); });
+
+TEST(SceneLoader, LightsEachGetWhatTheyNeed) {
+  Scene s = load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/mixed.json");
+  EXPECT_TRUE(s.has_point_light);
+  ASSERT_EQ(s.map_lights.size(), 2u);
+  EXPECT_EQ(s.map_lights[0].type, MapLightType::spot);
+  EXPECT_EQ(s.map_lights[1].type, MapLightType::directional);
+  EXPECT_NEAR(glm::length(s.map_lights[1].direction), 1.0f, 1e-6f);
+  Scene d = load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/seed003.json");
+  EXPECT_FALSE(d.has_point_light);
+  ASSERT_EQ(d.map_lights.size(), 1u);
+  EXPECT_TRUE(d.map_lights[0].cull_front_faces);
+}
 
 TEST(SceneLoader, MissingFileIsAnError) {
   EXPECT_THROW(load_scene_file("/nonexistent/scene.json"), SceneError);

@@ -78,6 +78,11 @@ TEST_F(VkBackendTest, StaticCacheReusesTheCubeWhileTheLightStandsStill) {
   backend_->load(*room_);
 }
 
+TEST_F(VkBackendTest, SpotAndDirectionalLightsCastShadowsFromTheir2DMaps) {
+  testing::check_map_lights(*backend_, "vulkan", kScenes);
+  backend_->load(*room_);
+}
+
 TEST_F(VkBackendTest, FittedFarIsTighterAndConsistent) { testing::check_fit_range(*backend_, "vulkan", *room_); }
 
 TEST_F(VkBackendTest, DeviceIsDescribed) {

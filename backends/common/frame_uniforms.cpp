@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "backends/common/map_lights.h"
 #include "backends/common/shadow_plan.h"
 
 namespace omnishadow::gpu {
@@ -31,6 +32,16 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
   u.light_position = glm::vec4(light_position, far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);
   u.knobs = glm::vec4(static_cast<float>(injected_work), 0.0f, 0.0f, 0.0f);
+  for (size_t i = 0; i < scene.map_lights.size() && i < u.map_view_proj.size(); ++i) {
+    const scene::MapLight& m = scene.map_lights[i];
+    const bool spot = m.type == scene::MapLightType::spot;
+    u.map_view_proj[i] = map_view_projection(scene, m, frame, range);
+    u.map_light[i] = glm::vec4(spot ? m.path.at(frame) : -m.direction, spot ? 1.0f : 2.0f);
+    u.map_color[i] = glm::vec4(m.color, m.near_plane);
+    u.map_range[i] = glm::vec4(m.far_plane, 0.0f, 0.0f, 0.0f);
+  }
+  u.lights_info = glm::vec4(static_cast<float>(scene.map_lights.size()), scene.has_point_light ? 1.0f : 0.0f,
+                            0.0f, 0.0f);
   return u;
 }
 

@@ -18,8 +18,15 @@ struct FrameUniforms {
   glm::vec4 light_position;  // w = light far plane
   glm::vec4 light_color;     // w = light near plane
   glm::vec4 knobs{0.0f};     // x = injected fragment work (iterations)
+  // Spot and directional lights, one 2D map layer each (backends/common/map_lights.h).
+  std::array<glm::mat4, 4> map_view_proj{};
+  std::array<glm::vec4, 4> map_light{};  // xyz: spot position / directional: unit vector towards the light;
+                                         // w: 1 spot, 2 directional
+  std::array<glm::vec4, 4> map_color{};  // rgb; w: spot near plane
+  std::array<glm::vec4, 4> map_range{};  // x: spot far plane
+  glm::vec4 lights_info{0.0f};           // x: number of map lights, y: 1 when the scene has a point light
 };
-static_assert(sizeof(FrameUniforms) == 7 * 64 + 4 * 16, "std140 layout of FrameUniforms");
+static_assert(sizeof(FrameUniforms) == 11 * 64 + 17 * 16, "std140 layout of FrameUniforms");
 
 struct PassUniforms {
   int face;
@@ -32,6 +39,7 @@ inline constexpr int kPassUniformEntries = 64;  // GL: entry k = {face k, mask k
 inline constexpr int kFrameUniformsBinding = 0;
 inline constexpr int kPassUniformsBinding = 1;
 inline constexpr int kShadowMapBinding = 2;
+inline constexpr int kMapShadowsBinding = 3;  // sampler2DArray: one layer per spot/directional light
 
 // Vertex attributes: location 0 position, 1 normal, 2 colour; interleaved scene::Vertex.
 inline constexpr size_t kVertexStride = sizeof(scene::Vertex);

@@ -177,6 +177,7 @@ void GlBackend::release_case() {
   queries_.reset();
   if (shadow_.depth) destroy(shadow_);
   if (lighting_.fbo) destroy(lighting_);
+  if (maps_.depth) destroy(maps_);
   config_.reset();
 }
 
@@ -200,7 +201,10 @@ void GlBackend::configure(const CaseConfig& c) {
   lighting_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "lighting.frag"}},
                               {gpu::storage_define(c.storage), gpu::filter_define(c.filter)});
 
+  map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, {});
   shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format);
+  // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
+  maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
   lighting_ = create_lighting_targets(c.width, c.height);
   queries_ = std::make_unique<FrameQueries>(has_pipeline_statistics_);
   GLenum error = glGetError();
@@ -255,8 +259,41 @@ void GlBackend::draw_masked_instances(const gpu::ShadowFrame& f, DrawStats& stat
   }
 }
 
+void GlBackend::map_pass(DrawStats& stats) {
+  if (scene_->map_lights.empty()) return;
+  glViewport(0, 0, maps_.size, maps_.size);
+  glUseProgram(map_program_);
+  const GLfloat depth_one = 1.0f;
+  for (size_t i = 0; i < scene_->map_lights.size(); ++i) {
+    glBindFramebuffer(GL_FRAMEBUFFER, maps_.fbos[i]);
+    glClearNamedFramebufferfv(maps_.fbos[i], GL_DEPTH, 0, &depth_one);
+    glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_,
+                      static_cast<GLintptr>(i) * uniform_alignment_, sizeof(gpu::PassUniforms));
+    const bool front = scene_->map_lights[i].cull_front_faces;
+    for (const scene::Object& obj : scene_->objects) {
+      // Closed objects: back faces culled as in the cube pass, or front faces (seed 003's peter-panning fix).
+      if (obj.cull_back_faces) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(front ? GL_FRONT : GL_BACK);
+      } else {
+        glDisable(GL_CULL_FACE);
+      }
+      glDrawArrays(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex), static_cast<GLsizei>(obj.vertex_count));
+      ++stats.draw_calls;
+    }
+  }
+  glCullFace(GL_BACK);
+  glDisable(GL_CULL_FACE);
+}
+
 GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   DrawStats stats;
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glBindVertexArray(shadow_vao_);
+  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
+  map_pass(stats);
   if (frame.reuse_cube) return stats;  // static caching: the cube already holds this light
   glViewport(0, 0, shadow_.size, shadow_.size);
   glEnable(GL_DEPTH_TEST);
@@ -316,6 +353,8 @@ GlBackend::DrawStats GlBackend::lighting_pass() {
   glBindTextureUnit(gpu::kShadowMapBinding, shadow_.stored);
   glBindSampler(gpu::kShadowMapBinding,
                 config_->filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_);
+  glBindTextureUnit(gpu::kMapShadowsBinding, maps_.depth);
+  glBindSampler(gpu::kMapShadowsBinding, nearest_sampler_);
   draw_objects(1, stats);
   return stats;
 }

@@ -41,6 +41,7 @@ class GlBackend final : public Backend {
   gpu::ShadowFrame update_frame_uniforms(int frame);
   DrawStats shadow_pass(const gpu::ShadowFrame& f);
   DrawStats lighting_pass();
+  void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   // All objects, or only `subset` (indices into scene_->objects); instances per object from `instances`.
   void draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset = nullptr);
   void draw_masked_instances(const gpu::ShadowFrame& f, DrawStats& stats);
@@ -65,6 +66,8 @@ class GlBackend final : public Backend {
   std::optional<CaseConfig> config_;
   ShadowTargets shadow_{};
   LightingTargets lighting_{};
+  MapTargets maps_{};
+  GLuint map_program_ = 0;
   GLuint shadow_program_ = 0;
   GLuint lighting_program_ = 0;
   std::unique_ptr<FrameQueries> queries_;

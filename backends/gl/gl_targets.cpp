@@ -1,5 +1,6 @@
 #include "backends/gl/gl_targets.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -97,6 +98,33 @@ void destroy(ShadowTargets& t) {
   if (t.stored != t.depth) glDeleteTextures(1, &t.stored);
   glDeleteTextures(1, &t.depth);
   t = ShadowTargets{};
+}
+
+MapTargets create_map_targets(int size, int layers, DepthFormat depth_format) {
+  MapTargets t;
+  t.size = size;
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t.depth);
+  glTextureStorage3D(t.depth, 1, depth_internal_format(depth_format), size, size, std::max(layers, 1));
+  glTextureParameteri(t.depth, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.depth, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(t.depth, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);  // outside the map: the shader says unshadowed
+  glTextureParameteri(t.depth, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  check_allocation("the 2D shadow maps");
+  t.fbos.resize(static_cast<size_t>(layers));
+  if (layers > 0) glCreateFramebuffers(layers, t.fbos.data());
+  for (int l = 0; l < layers; ++l) {
+    glNamedFramebufferTextureLayer(t.fbos[l], GL_DEPTH_ATTACHMENT, t.depth, 0, l);
+    glNamedFramebufferDrawBuffer(t.fbos[l], GL_NONE);
+    glNamedFramebufferReadBuffer(t.fbos[l], GL_NONE);
+    check_complete(t.fbos[l], "2D shadow map");
+  }
+  return t;
+}
+
+void destroy(MapTargets& t) {
+  if (!t.fbos.empty()) glDeleteFramebuffers(static_cast<GLsizei>(t.fbos.size()), t.fbos.data());
+  glDeleteTextures(1, &t.depth);
+  t = MapTargets{};
 }
 
 LightingTargets create_lighting_targets(int width, int height) {

@@ -5,6 +5,7 @@
 #include <epoxy/gl.h>
 
 #include <array>
+#include <vector>
 
 #include "backends/common/case_config.h"
 
@@ -18,6 +19,16 @@ struct ShadowTargets {
   Storage storage = Storage::linear_depth;
   int size = 0;
 };
+
+// Spot/directional lights: a 2D depth-array texture, one layer and one framebuffer per light. At least one
+// layer always exists so the lighting program's sampler has a texture even when the scene has no such light.
+struct MapTargets {
+  GLuint depth = 0;
+  std::vector<GLuint> fbos;
+  int size = 0;
+};
+MapTargets create_map_targets(int size, int layers, DepthFormat depth_format);
+void destroy(MapTargets& t);
 
 struct LightingTargets {
   GLuint fbo = 0;

@@ -73,14 +73,15 @@ VkBackend::VkBackend(const std::string& device_selector, bool validation)
   const VkShaderStageFlags geometry_stages =
       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
       (ctx_->has_geometry_shader() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
-  VkDescriptorSetLayoutBinding bindings[2] = {
+  VkDescriptorSetLayoutBinding bindings[3] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, geometry_stages, nullptr},
-      {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+      {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {gpu::kMapShadowsBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
   VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   set_info.bindingCount = 1;
   set_info.pBindings = bindings;
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &shadow_set_layout_));
-  set_info.bindingCount = 2;
+  set_info.bindingCount = 3;
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &lighting_set_layout_));
   // Six 4x4 matrices do not fit the 128 bytes of push constants lavapipe guarantees: they live in the uniform
   // buffer, and only the face index and face mask (gpu::PassUniforms' first 8 bytes) are pushed.
@@ -96,7 +97,7 @@ VkBackend::VkBackend(const std::string& device_selector, bool validation)
   OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &lighting_layout_));
 
   VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
-                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool_info.maxSets = 2;
   pool_info.poolSizeCount = 2;
@@ -222,8 +223,12 @@ void VkBackend::release_case() {
     if (p) vkDestroyPipeline(d, p, nullptr);
   for (VkPipeline p : lighting_pipelines_)
     if (p) vkDestroyPipeline(d, p, nullptr);
+  for (VkPipeline p : map_pipelines_)
+    if (p) vkDestroyPipeline(d, p, nullptr);
   shadow_pipelines_ = {};
   lighting_pipelines_ = {};
+  map_pipelines_ = {};
+  destroy(*ctx_, maps_);
   destroy(*ctx_, shadow_);
   destroy(*ctx_, lighting_);
   config_.reset();
@@ -239,6 +244,20 @@ void VkBackend::configure(const CaseConfig& c) {
   try {
     shadow_ = create_shadow_targets(*ctx_, c);
     lighting_ = create_lighting_targets(*ctx_, static_cast<uint32_t>(c.width), static_cast<uint32_t>(c.height));
+    // 2D maps share the cube's face size and depth format (one --cube / --depth-format axis sizes both).
+    const uint32_t map_layers = static_cast<uint32_t>(scene_->map_lights.size());
+    maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u, std::max(map_layers, 1u),
+                               c.depth_format);
+    PipelineDesc map;
+    map.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "map_depth.vert:NONE"}, {VK_SHADER_STAGE_FRAGMENT_BIT, "map_depth.frag:NONE"}};
+    map.layout = shadow_layout_;
+    map.render_pass = maps_.render_pass;
+    map.position_only = true;
+    const VkCullModeFlags map_culls[3] = {VK_CULL_MODE_NONE, VK_CULL_MODE_BACK_BIT, VK_CULL_MODE_FRONT_BIT};
+    for (size_t k = 0; k < 3; ++k) {
+      map.cull = map_culls[k];
+      map_pipelines_[k] = create_pipeline(*ctx_, *modules_, map);
+    }
 
     PipelineDesc shadow;
     // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
@@ -267,13 +286,16 @@ void VkBackend::configure(const CaseConfig& c) {
     // Written before any command buffer binds the set: lavapipe crashes on a bound, never-written sampler.
     VkDescriptorImageInfo image{c.filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_,
                                 shadow_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    write.dstSet = lighting_set_;
-    write.dstBinding = gpu::kShadowMapBinding;
-    write.descriptorCount = 1;
-    write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    write.pImageInfo = &image;
-    vkUpdateDescriptorSets(ctx_->device(), 1, &write, 0, nullptr);
+    VkDescriptorImageInfo map_image{nearest_sampler_, maps_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+    writes[0].dstSet = writes[1].dstSet = lighting_set_;
+    writes[0].dstBinding = gpu::kShadowMapBinding;
+    writes[1].dstBinding = gpu::kMapShadowsBinding;
+    writes[0].descriptorCount = writes[1].descriptorCount = 1;
+    writes[0].descriptorType = writes[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    writes[0].pImageInfo = &image;
+    writes[1].pImageInfo = &map_image;
+    vkUpdateDescriptorSets(ctx_->device(), 2, writes, 0, nullptr);
   } catch (...) {
     release_case();
     throw;
@@ -329,8 +351,38 @@ void VkBackend::draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>
   }
 }
 
+void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
+  VkClearValue clear;
+  clear.depthStencil = {1.0f, 0};
+  VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  rp.renderPass = maps_.render_pass;
+  rp.renderArea = {{0, 0}, {maps_.size, maps_.size}};
+  rp.clearValueCount = 1;
+  rp.pClearValues = &clear;
+  VkViewport viewport{0, 0, float(maps_.size), float(maps_.size), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {maps_.size, maps_.size}};
+  VkDeviceSize offset = 0;
+  for (uint32_t i = 0; i < maps_.layers; ++i) {
+    rp.framebuffer = maps_.framebuffers[i];
+    vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
+    if (i < scene_->map_lights.size()) {  // else the placeholder layer: cleared only
+      vkCmdSetViewport(cb, 0, 1, &viewport);
+      vkCmdSetScissor(cb, 0, 1, &scissor);
+      vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
+      const gpu::PassUniforms pass{static_cast<int32_t>(i), 0, {0, 0}};
+      vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
+      // Closed objects: back faces culled as in the cube pass, or front faces (seed 003's peter-panning fix).
+      const size_t closed = scene_->map_lights[i].cull_front_faces ? 2 : 1;
+      std::array<VkPipeline, 2> pipelines = {map_pipelines_[0], map_pipelines_[closed]};
+      draw_objects(cb, pipelines, shadow_layout_, shadow_set_, 1, draws);
+    }
+    vkCmdEndRenderPass(cb);
+  }
+}
+
 void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws) {
   begin_pass(cb, 0, statistics);
+  record_maps(cb, draws);
   if (frame.reuse_cube) {  // static caching: the cube already holds this light; timestamps and queries still close
     end_pass(cb, 0, statistics);
     return;

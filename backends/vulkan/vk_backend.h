@@ -35,6 +35,7 @@ class VkBackend final : public Backend {
  private:
   void record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws);
   void record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& draws);
+  void record_maps(VkCommandBuffer cb, uint64_t& draws);  // one 2D map per spot/directional light
   // All objects, or `subset` (indices into the scene's objects). With `face_masks` (vs_layer + face culling), each
   // object is drawn with one instance per set bit of its mask, the mask pushed for the vertex shader.
   void draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
@@ -50,7 +51,7 @@ class VkBackend final : public Backend {
   DeviceInfo info_;
 
   VkDescriptorSetLayout shadow_set_layout_ = VK_NULL_HANDLE;    // binding 0: frame uniforms
-  VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;  // + binding 2: the shadow cube
+  VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;  // + binding 2: the shadow cube, 3: 2D maps
   VkPipelineLayout shadow_layout_ = VK_NULL_HANDLE;             // + push constant: face (six_pass)
   VkPipelineLayout lighting_layout_ = VK_NULL_HANDLE;
   VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
@@ -70,6 +71,8 @@ class VkBackend final : public Backend {
   ShadowTargets shadow_;
   gpu::ShadowFramePlanner planner_;
   LightingTargets lighting_;
+  MapTargets maps_;
+  std::array<VkPipeline, 3> map_pipelines_{};       // [0] no culling, [1] back faces, [2] front faces (seed 003)
   std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
   std::array<VkPipeline, 2> lighting_pipelines_{};
 };

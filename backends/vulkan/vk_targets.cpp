@@ -151,6 +151,40 @@ void destroy(VkContext& ctx, ShadowTargets& t) {
   t = ShadowTargets{};
 }
 
+MapTargets create_map_targets(VkContext& ctx, uint32_t size, uint32_t layers, DepthFormat format) {
+  MapTargets t;
+  t.size = size;
+  t.layers = layers;
+  const VkFormat depth_format = depth_format_of(format);
+  try {
+    t.depth = create_image(ctx, depth_format, size, size, layers, false,
+                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                               VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+    t.sampled_view = create_view(ctx, t.depth, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, layers);
+    t.render_pass = create_render_pass(
+        ctx, {attachment(depth_format, VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)}, 0,
+        VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT, 0);
+    for (uint32_t l = 0; l < layers; ++l) {
+      t.layer_views.push_back(create_view(ctx, t.depth, VK_IMAGE_VIEW_TYPE_2D, l, 1));
+      t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, {t.layer_views.back()}, size, size, 1));
+    }
+  } catch (...) {
+    destroy(ctx, t);
+    throw;
+  }
+  return t;
+}
+
+void destroy(VkContext& ctx, MapTargets& t) {
+  for (VkFramebuffer fb : t.framebuffers) vkDestroyFramebuffer(ctx.device(), fb, nullptr);
+  for (VkImageView v : t.layer_views) vkDestroyImageView(ctx.device(), v, nullptr);
+  if (t.sampled_view) vkDestroyImageView(ctx.device(), t.sampled_view, nullptr);
+  if (t.render_pass) vkDestroyRenderPass(ctx.device(), t.render_pass, nullptr);
+  destroy(ctx, t.depth);
+  t = MapTargets{};
+}
+
 LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t height) {
   LightingTargets t;
   t.width = width;

@@ -5,6 +5,7 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <vector>
 
 #include "backends/common/case_config.h"
 #include "backends/vulkan/vk_resources.h"
@@ -33,6 +34,20 @@ struct LightingTargets {
   VkRenderPass render_pass = VK_NULL_HANDLE;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
 };
+
+// Spot/directional lights: a 2D depth array, one layer and framebuffer per light, sampled as one 2D_ARRAY view.
+// `layers` >= 1: a scene without such lights still gets one (1x1) layer, cleared each frame, so the lighting
+// pass's sampler always has an image in SHADER_READ_ONLY_OPTIMAL.
+struct MapTargets {
+  uint32_t size = 0, layers = 0;
+  Image depth;
+  VkImageView sampled_view = VK_NULL_HANDLE;
+  std::vector<VkImageView> layer_views;
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  std::vector<VkFramebuffer> framebuffers;
+};
+MapTargets create_map_targets(VkContext& ctx, uint32_t size, uint32_t layers, DepthFormat format);
+void destroy(VkContext& ctx, MapTargets& t);
 
 VkFormat depth_format_of(DepthFormat format);
 // After the shadow pass the stored cube is in SHADER_READ_ONLY_OPTIMAL; the lighting targets end in

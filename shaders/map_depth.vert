@@ -1,0 +1,8 @@
+#version 450
+// 2D shadow map pass for a spot or directional light (seed 003): plain projective depth, no colour output.
+// pass.face selects the light (its layer of the 2D map array and its view-projection).
+#include "common.glsl"
+
+layout(location = 0) in vec3 in_position;
+
+void main() { gl_Position = frame.map_view_proj[pass.face] * vec4(in_position, 1.0); }
