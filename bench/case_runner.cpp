@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -137,20 +138,24 @@ std::string Harness::scene_path(const std::string& name) const {
   return (fs::path(options_.scenes_dir) / (name + ".json")).string();
 }
 
-const scene::Scene& Harness::scene(const std::string& name) {
-  auto it = scenes_.find(name);
+const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin) {
+  const std::string key = name + (rebase_origin ? "#rebase" : "");
+  auto it = scenes_.find(key);
   if (it != scenes_.end()) return it->second;
-  scene::Scene s = scene::load_scene_file(scene_path(name));
+  scene::LoadOptions load;
+  load.rebase_origin = rebase_origin;
+  scene::Scene s = scene::load_scene_file(scene_path(name), load);
   s.name = name;
-  return scenes_.emplace(name, std::move(s)).first->second;
+  return scenes_.emplace(key, std::move(s)).first->second;
 }
 
 Backend& Harness::activate(const CaseConfig& config) {
   Backend& b = backend(config.backend);
-  if (loaded_scene_[config.backend] != config.scene) {
+  const std::string key = config.scene + (config.remedies.rebase_origin ? "#rebase" : "");
+  if (loaded_scene_[config.backend] != key) {
     loaded_scene_[config.backend].clear();
-    b.load(scene(config.scene));
-    loaded_scene_[config.backend] = config.scene;
+    b.load(scene_of(config));
+    loaded_scene_[config.backend] = key;
   }
   b.configure(config);
   return b;
@@ -160,7 +165,7 @@ void Harness::prepare(CaseResult& r) {
   try {
     Backend& b = backend(r.config.backend);
     Support s = b.supports(r.config);
-    if (s.ok && r.config.technique != Technique::six_pass && !scene(r.config.scene).has_point_light)
+    if (s.ok && r.config.technique != Technique::six_pass && !scene_of(r.config).has_point_light)
       s = {false, "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
                   "(measured by six_pass); the single-pass techniques apply to cube maps"};
     if (!s.ok) {
@@ -183,8 +188,10 @@ void Harness::prepare(CaseResult& r) {
     if (r.config.optimizations.static_cache) b.render(options_.check_frame);
     Images images = b.read_back();
     r.light_far = images.light_far;
+    count_non_finite(r, images);
+    if (options_.stability) measure_flicker(r, b, images);
     {
-      const scene::Scene& sc = scene(r.config.scene);
+      const scene::Scene& sc = scene_of(r.config);
       cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, sc.light.path.at(options_.check_frame),
                                                           sc.light.near_plane, images.light_far,
                                                           r.config.optimizations.face_culling);
@@ -228,6 +235,39 @@ void Harness::prepare(CaseResult& r) {
     r.status = Status::failed;
     r.reason = e.what();
   }
+}
+
+void Harness::count_non_finite(CaseResult& r, const Images& images) {
+  auto count = [](const std::vector<float>& v) {
+    return static_cast<uint64_t>(std::count_if(v.begin(), v.end(), [](float x) { return !std::isfinite(x); }));
+  };
+  for (const auto& face : images.cube_distance) r.non_finite_cube += count(face);
+  r.non_finite_shadow = count(images.shadow_factor);
+  r.non_finite_position = count(images.world_position);
+  if (r.non_finite_cube + r.non_finite_shadow + r.non_finite_position > 0) {
+    r.status = Status::failed_check;
+    r.reason = "non-finite values read back: " + std::to_string(r.non_finite_cube) + " in the cube, " +
+               std::to_string(r.non_finite_shadow) + " in the shadow factor, " +
+               std::to_string(r.non_finite_position) + " in world positions";
+  }
+}
+
+// The next frame, compared with this one: on a light that moves by tiny steps, the shadow should barely move.
+// Leaves the backend on the case (the next read_back is check_frame + 1's; the caller holds its images).
+void Harness::measure_flicker(CaseResult& r, Backend& b, const Images& images) {
+  b.render(options_.check_frame + 1);
+  Images next = b.read_back();
+  uint64_t flipped = 0, covered = 0;
+  double sum = 0.0;
+  for (size_t i = 0; i < images.shadow_factor.size() && i < next.shadow_factor.size(); ++i) {
+    if (images.world_position[4 * i + 3] != 1.0f) continue;
+    ++covered;
+    double d = std::fabs(double(next.shadow_factor[i]) - double(images.shadow_factor[i]));
+    sum += d;
+    flipped += d > 0.5;
+  }
+  r.flicker_percent = covered ? 100.0 * double(flipped) / double(covered) : 0.0;
+  r.flicker_mean_abs = covered ? sum / double(covered) : 0.0;
 }
 
 void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
@@ -278,12 +318,13 @@ void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
 }
 
 const Truth& Harness::truth_for(const CaseConfig& c, const Images& images) {
-  std::string key = c.scene + "/" + std::to_string(options_.check_frame) + "/" +
+  const std::string scene_key = c.scene + (c.remedies.rebase_origin ? "#rebase" : "");
+  std::string key = scene_key + "/" + std::to_string(options_.check_frame) + "/" +
                     std::to_string(positions_fingerprint(images));
   auto it = truths_.find(key);
   if (it != truths_.end()) return it->second;
-  const scene::Scene& s = scene(c.scene);
-  auto& caster = casters_[c.scene];
+  const scene::Scene& s = scene_of(c);
+  auto& caster = casters_[scene_key];
   if (!caster) caster = std::make_unique<reference::RayCaster>(s);
   return truths_.emplace(key, compute_truth(*caster, s, options_.check_frame, images, options_.truth)).first->second;
 }

@@ -33,6 +33,9 @@ struct RunOptions {
   bool write_images = true;
   bool accuracy = true;     // shadow error against exact visibility (ray-cast reference)
   bool memory_precheck = true;  // fail a case that cannot fit before it allocates (bench/memory_budget.h)
+  // Also render check_frame + 1 and report how much of the shadow factor changed (flicker): with a light that
+  // moves by tiny steps (scenes/extremes/stability_*), any change beyond the motion itself is instability.
+  bool stability = false;
   TruthOptions truth;       // the spherical light of the soft reference
   std::map<std::string, std::string> backend_options;  // egl_platform, gl_device, vk_device, api_checks
 };
@@ -65,6 +68,10 @@ struct CaseResult {
   std::optional<FrameTiming> first_frame;  // the check frame rendered cold, right after configure
   float light_far = 0.0f;                  // far plane of the check frame's cube (fitted with fit_range)
   int empty_faces = 0;                     // faces with no caster at the check frame (with face culling: cleared only)
+  // NaN or Inf anywhere in the read-back buffers (cube, shadow factor, world position): any is a failed check.
+  uint64_t non_finite_cube = 0, non_finite_shadow = 0, non_finite_position = 0;
+  std::optional<double> flicker_percent;   // --stability: pixels whose shadow factor changed by > 0.5 next frame
+  std::optional<double> flicker_mean_abs;  // --stability: mean |change| of the shadow factor over covered pixels
   int object_face_pairs = 0;               // object x face draws the plan asks for (six_pass draws per frame)
 };
 
@@ -79,7 +86,9 @@ class Harness {
   // Uses `backend` for `name` instead of the registry's (tests substitute scripted backends).
   void add_backend(const std::string& name, std::unique_ptr<Backend> backend);
   // Loads (and caches) a scene by name or path; throws scene::SceneError.
-  const scene::Scene& scene(const std::string& name_or_path);
+  const scene::Scene& scene(const std::string& name_or_path, bool rebase_origin = false);
+  // The scene a case renders (its remedies decide how it is loaded).
+  const scene::Scene& scene_of(const CaseConfig& c) { return scene(c.scene, c.remedies.rebase_origin); }
   // Makes `config` the backend's current case (loading its scene first if needed).
   Backend& activate(const CaseConfig& config);
   // The untimed part of a case. Never throws: failures become the result's status and reason.
@@ -87,6 +96,8 @@ class Harness {
 
  private:
   void check_against_six_pass(CaseResult& result, const Images& images);
+  void count_non_finite(CaseResult& result, const Images& images);
+  void measure_flicker(CaseResult& result, Backend& b, const Images& images);
   void check_against_other_backend(CaseResult& result, const Images& images);
   void record_check(CaseResult& result, CheckResult check, const std::vector<float>& a, const std::vector<float>& b,
                     const std::vector<float>& grey, int width, int height, double scale, bool flip);

@@ -100,6 +100,7 @@ int run_command(const RunCommand& cmd) {
   options.write_images = cmd.write_images;
   options.accuracy = cmd.accuracy;
   options.memory_precheck = cmd.memory_precheck;
+  options.stability = cmd.stability;
   options.truth.light_radius = cmd.light_radius;
   options.truth.samples_per_axis = cmd.light_samples_per_axis;
   options.backend_options = cmd.backend_options;

@@ -25,6 +25,7 @@ struct RunCommand {
   bool write_images = true;
   bool accuracy = true;
   bool memory_precheck = true;
+  bool stability = false;
   float light_radius = 0.1f;
   int light_samples_per_axis = 8;
   bool check = false;          // exit 1 if any case failed or failed its checks

@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
 
   RunCommand run;
   std::string backends = "gl", scenes = "room,heavy", cubes = "512,1024", frames_sizes, techniques, filters,
-              storages = "linear_depth", depth_formats = "d32f", optimize = "none", shard_text;
+              storages = "linear_depth", depth_formats = "d32f", optimize = "none", remedy = "none", shard_text;
   techniques = "six_pass,geometry_shader,geometry_shader_instanced,vs_layer,multiview";
   filters = "hard,pcf_grid64,pcf_disk20";
   CLI::App* r = app.add_subcommand("run", "run a benchmark matrix (Google Benchmark --benchmark_* flags apply)");
@@ -66,6 +66,10 @@ int main(int argc, char** argv) {
                 "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "
                 "cleared only), fit (far plane fitted to the scene), cache (static cube not re-rendered): "
                 "--optimize none,cull measures culling on and off")
+      ->capture_default_str();
+  r->add_option("--remedy", remedy,
+                "comma list of numerical remedies: none, rebase (scene loaded relative to its light in double "
+                "precision, against far-from-origin cancellation)")
       ->capture_default_str();
   r->add_option("--out", run.out_dir, "output folder (must not hold a run already); default results/run-<time>");
   r->add_option("--frames", run.frames, "timed frames per repetition")->capture_default_str()->check(
@@ -98,6 +102,8 @@ int main(int argc, char** argv) {
   r->add_option("--light-samples", run.light_samples_per_axis,
                 "stratified samples per axis on that light (8 = 64 rays per pixel)")
       ->capture_default_str()->check(CLI::Range(1, 64));
+  r->add_flag("--stability", run.stability,
+              "also render the check frame + 1 and report how much of the shadow factor changed (flicker)");
   bool no_memory_precheck = false;
   r->add_flag("--no-memory-precheck", no_memory_precheck,
               "allocate even when a case is predicted not to fit (tests the driver's own out-of-memory path)");
@@ -198,15 +204,9 @@ int main(int argc, char** argv) {
     run.matrix.filters = parse_enum_list<Filter>(filters, "--filter");
     run.matrix.storages = parse_enum_list<Storage>(storages, "--storage");
     run.matrix.depth_formats = parse_enum_list<DepthFormat>(depth_formats, "--depth-format");
-    run.matrix.optimizations.clear();
-    for (const std::string& item : split_list(optimize)) {
-      try {
-        run.matrix.optimizations.push_back(parse_optimizations(item));
-      } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(std::string("--optimize: ") + e.what());
-      }
-    }
-    if (run.matrix.optimizations.empty()) throw std::invalid_argument("--optimize: empty list");
+    run.matrix.optimizations =
+        parse_list_with(optimize, "--optimize", [](const std::string& t) { return parse_optimizations(t); });
+    run.matrix.remedies = parse_list_with(remedy, "--remedy", [](const std::string& t) { return parse_remedies(t); });
     if (!shard_text.empty()) {
       int consumed = 0;
       if (std::sscanf(shard_text.c_str(), "%d/%d%n", &run.shard_index, &run.shard_count, &consumed) != 2 ||

@@ -70,6 +70,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
           for (Storage storage : spec.storages)
             for (DepthFormat depth : spec.depth_formats)
               for (Filter filter : spec.filters)
+                for (const Remedies& remedies : spec.remedies)
                 for (const Optimizations& optimizations : spec.optimizations)
                 for (Technique technique : spec.techniques) {
                   CaseConfig c;
@@ -83,6 +84,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.filter = filter;
                   c.technique = technique;
                   c.optimizations = optimizations;
+                  c.remedies = remedies;
                   cases.push_back(c);
                 }
     }

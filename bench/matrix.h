@@ -25,6 +25,7 @@ struct MatrixSpec {
   std::vector<Storage> storages{Storage::linear_depth};
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
   std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
+  std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
 };
 
 // scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.
@@ -38,6 +39,21 @@ std::vector<int> parse_int_list(const std::string& text, const std::string& opti
 // "800x600,1920x1080"
 std::vector<std::pair<int, int>> parse_size_list(const std::string& text, const std::string& option);
 std::vector<std::string> split_list(const std::string& text);
+
+// "a,b+c" with `parse` applied to each item; errors are prefixed with the option's name.
+template <typename Parse>
+auto parse_list_with(const std::string& text, const std::string& option, Parse parse) {
+  std::vector<decltype(parse(std::string()))> out;
+  for (const std::string& item : split_list(text)) {
+    try {
+      out.push_back(parse(item));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(option + ": " + e.what());
+    }
+  }
+  if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  return out;
+}
 
 template <typename E>
 std::vector<E> parse_enum_list(const std::string& text, const std::string& option) {

@@ -65,7 +65,8 @@ json case_to_json(const CaseResult& r) {
            {"filter", to_string(c.filter)},
            {"storage", to_string(c.storage)},
            {"depth_format", to_string(c.depth_format)},
-           {"optimizations", to_string(c.optimizations)}}},
+           {"optimizations", to_string(c.optimizations)},
+           {"remedies", to_string(c.remedies)}}},
          {"status", to_string(r.status)},
          {"reason", r.reason}};
   if (r.status == Status::unsupported) return j;
@@ -93,6 +94,12 @@ json case_to_json(const CaseResult& r) {
     const int bits = c.depth_format == DepthFormat::d16 ? 16 : 24;
     j["shadow_plan"]["depth_step_world"] = r.light_far / double(1u << bits);
   }
+  j["non_finite"] = {{"cube", r.non_finite_cube}, {"shadow_factor", r.non_finite_shadow},
+                     {"world_position", r.non_finite_position}};
+  if (r.flicker_percent)
+    j["stability"] = {{"next_frame", "check_frame + 1"},
+                      {"flicker_percent", *r.flicker_percent},
+                      {"mean_abs_change", *r.flicker_mean_abs}};
   if (r.first_frame) {
     j["first_frame"] = {{"shadow_wall_ms", r.first_frame->shadow.cpu_wall_ms},
                         {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},

@@ -78,6 +78,9 @@ struct Camera {
 };
 
 struct Scene {
+  // World = stored + origin. Zero unless loaded with rebase_origin: positions are then stored relative to the
+  // light, computed in double before the conversion to float, so a scene far from the origin keeps its precision.
+  glm::dvec3 origin{0.0};
   std::string name;    // file stem: "room"
   std::string source;  // file the scene came from, for error messages
   std::vector<Vertex> vertices;  // non-indexed triangle list, all objects back to back
@@ -90,9 +93,15 @@ struct Scene {
   uint64_t triangle_count() const { return vertices.size() / 3; }
 };
 
+struct LoadOptions {
+  // The far-from-origin remedy: subtract the light's position (the point light's, else the first spot light's)
+  // from every position in double precision before baking to float.
+  bool rebase_origin = false;
+};
+
 // Loads and validates a scene file. Throws SceneError("file: /objects/3/scale: must be > 0") on any defect.
-Scene load_scene_file(const std::string& path);
+Scene load_scene_file(const std::string& path, const LoadOptions& options = {});
 // Same from text already in memory; `source` is only used to name errors.
-Scene load_scene_text(const std::string& text, const std::string& source);
+Scene load_scene_text(const std::string& text, const std::string& source, const LoadOptions& options = {});
 
 }  // namespace omnishadow::scene

@@ -96,6 +96,12 @@ class Node {
     if (!value_.is_array() || value_.size() != 3) fail("expected an array of 3 numbers");
     return {at(size_t{0}).number(), at(size_t{1}).number(), at(size_t{2}).number()};
   }
+  // A position, shifted by the scene's origin in double before it becomes float (LoadOptions::rebase_origin).
+  glm::vec3 position(const glm::dvec3& origin) const {
+    if (!value_.is_array() || value_.size() != 3) fail("expected an array of 3 numbers");
+    glm::dvec3 p(at(size_t{0}).number(), at(size_t{1}).number(), at(size_t{2}).number());
+    return glm::vec3(p - origin);
+  }
   // A scale: one positive number (uniform) or three.
   glm::vec3 scale() const {
     glm::vec3 s = value_.is_number() ? glm::vec3(static_cast<float>(number())) : vec3();
@@ -109,11 +115,13 @@ class Node {
   const std::string& source_;
 };
 
-Camera parse_camera(const Node& n) {
+Camera parse_camera(const Node& n, const glm::dvec3& origin) {
   n.expect_object({"position", "target", "up", "fov_y_degrees", "near", "far", "size"});
   Camera c;
-  if (n.has("position")) c.position = n.at("position").vec3();
-  if (n.has("target")) c.target = n.at("target").vec3();
+  c.position = glm::vec3(glm::dvec3(c.position) - origin);
+  c.target = glm::vec3(glm::dvec3(c.target) - origin);
+  if (n.has("position")) c.position = n.at("position").position(origin);
+  if (n.has("target")) c.target = n.at("target").position(origin);
   if (n.has("up")) c.up = n.at("up").vec3();
   if (glm::length(c.target - c.position) == 0.0f) n.at("target").fail("target must differ from position");
   // lookAt builds its basis from cross(view, up): a zero or parallel up gives NaN in every matrix downstream.
@@ -132,9 +140,10 @@ Camera parse_camera(const Node& n) {
   return c;
 }
 
-LightPath parse_path(const Node& n) {
+LightPath parse_path(const Node& n, const glm::dvec3& origin) {
   LightPath path;
-  if (n.has("position")) path.base = n.at("position").vec3();
+  path.base = glm::vec3(-origin);
+  if (n.has("position")) path.base = n.at("position").position(origin);
   if (n.has("path")) {
     Node p = n.at("path");
     p.expect_object({"amplitude", "frequency", "seconds_per_frame"});
@@ -152,13 +161,13 @@ glm::vec3 unit_direction(const Node& n) {
   return glm::normalize(d);
 }
 
-MapLight parse_map_light(const Node& n, const std::string& type) {
+MapLight parse_map_light(const Node& n, const std::string& type, const glm::dvec3& origin) {
   MapLight l;
   l.type = type == "spot" ? MapLightType::spot : MapLightType::directional;
   if (l.type == MapLightType::spot) {
     n.expect_object({"type", "position", "path", "direction", "cone_degrees", "near", "far", "color",
                      "cull_front_faces"});
-    l.path = parse_path(n);
+    l.path = parse_path(n, origin);
     if (n.has("cone_degrees")) l.cone_degrees = static_cast<float>(n.at("cone_degrees").number_in(1, 170));
     if (n.has("near")) l.near_plane = static_cast<float>(n.at("near").number_in(1e-9, 1e30));
     if (n.has("far")) l.far_plane = static_cast<float>(n.at("far").number_in(1e-9, 1e30));
@@ -172,12 +181,12 @@ MapLight parse_map_light(const Node& n, const std::string& type) {
   return l;
 }
 
-PointLight parse_light(const Node& n) {
+PointLight parse_light(const Node& n, const glm::dvec3& origin) {
   n.expect_object({"type", "position", "path", "near", "far", "color"});
   PointLight l;
   if (n.has("type") && n.at("type").string() != "point")
     n.at("type").fail("\"light\" is the point light; spot and directional lights go in \"lights\"");
-  l.path = parse_path(n);
+  l.path = parse_path(n, origin);
   if (n.has("near")) l.near_plane = static_cast<float>(n.at("near").number_in(1e-9, 1e30));
   if (n.has("far")) l.far_plane = static_cast<float>(n.at("far").number_in(1e-9, 1e30));
   if (l.far_plane <= l.near_plane) n.at("far").fail("far must be greater than near");
@@ -214,13 +223,15 @@ std::vector<MeshVertex> build_shape(const Node& n, const std::string& type, cons
 }
 
 void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_t index) {
+  const glm::dvec3& origin = scene.origin;
   n.expect_object({"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file", "array"});
   std::string type = n.at("type").string();
   std::vector<MeshVertex> mesh = build_shape(n, type, scene_dir);
 
   glm::vec3 translate(0.0f), scale(1.0f), color(0.8f);
   glm::mat4 rotation(1.0f);
-  if (n.has("translate")) translate = n.at("translate").vec3();
+  translate = glm::vec3(-origin);
+  if (n.has("translate")) translate = n.at("translate").position(origin);
   if (n.has("scale")) scale = n.at("scale").scale();
   if (n.has("color")) {
     color = n.at("color").vec3();
@@ -291,7 +302,28 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
 
 }  // namespace
 
-Scene load_scene_text(const std::string& text, const std::string& source) {
+// The position the rebase remedy subtracts: the point light's, else the first spot light's, else 0. Read from
+// the raw JSON (in double) before anything is parsed; malformed values are reported by the normal parse.
+glm::dvec3 rebase_origin_of(const json& doc) {
+  auto position_of = [](const json& light) -> glm::dvec3 {
+    if (!light.is_object() || !light.contains("position")) return glm::dvec3(0.0);
+    const json& p = light["position"];
+    if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number())
+      return glm::dvec3(0.0);
+    glm::dvec3 v(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : glm::dvec3(0.0);
+  };
+  if (doc.contains("light")) return position_of(doc["light"]);
+  if (doc.contains("lights") && doc["lights"].is_array()) {
+    for (const json& l : doc["lights"])
+      if (l.is_object() && l.value("type", "point") == "point") return position_of(l);
+    for (const json& l : doc["lights"])
+      if (l.is_object() && l.contains("type") && l["type"] == "spot") return position_of(l);
+  }
+  return glm::dvec3(0.0);
+}
+
+Scene load_scene_text(const std::string& text, const std::string& source, const LoadOptions& options) {
   json doc;
   try {
     doc = json::parse(text);
@@ -307,14 +339,16 @@ Scene load_scene_text(const std::string& text, const std::string& source) {
     root.at("format").fail("unsupported format (expected \"omnishadow-scene/1\")");
 
   Scene scene;
+  if (options.rebase_origin && doc.is_object()) scene.origin = rebase_origin_of(doc);
   scene.source = source;
   scene.name = std::filesystem::path(source).stem().string();
-  if (root.has("camera")) scene.camera = parse_camera(root.at("camera"));
+  scene.camera = parse_camera(root.has("camera") ? root.at("camera") : Node(json::object(), "/camera", source),
+                              scene.origin);
   // "light": the one point light (seeds 000-004). "lights": any mix of one point light and up to four spot or
   // directional lights, each rendered with what it needs (a cube, or one 2D map).
   if (root.has("light") && root.has("lights")) root.at("lights").fail("give \"light\" or \"lights\", not both");
   if (!root.has("lights")) {
-    scene.light = parse_light(root.at("light"));
+    scene.light = parse_light(root.at("light"), scene.origin);
   } else {
     Node lights = root.at("lights");
     if (!lights.value().is_array() || lights.value().empty()) lights.fail("expected a non-empty array of lights");
@@ -325,12 +359,12 @@ Scene load_scene_text(const std::string& text, const std::string& source) {
       std::string type = l.has("type") ? l.at("type").string() : "point";
       if (type == "point") {
         if (point_seen) l.fail("at most one point light per scene (one cube map per case)");
-        scene.light = parse_light(l);
+        scene.light = parse_light(l, scene.origin);
         point_seen = true;
       } else if (type == "spot" || type == "directional") {
         if (scene.map_lights.size() == kMaxMapLights)
           l.fail("at most " + std::to_string(kMaxMapLights) + " spot/directional lights per scene");
-        scene.map_lights.push_back(parse_map_light(l, type));
+        scene.map_lights.push_back(parse_map_light(l, type, scene.origin));
       } else {
         l.at("type").fail("unknown light type '" + type + "' (valid: point, spot, directional)");
       }
@@ -346,12 +380,12 @@ Scene load_scene_text(const std::string& text, const std::string& source) {
   return scene;
 }
 
-Scene load_scene_file(const std::string& path) {
+Scene load_scene_file(const std::string& path, const LoadOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open scene file");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  return load_scene_text(buffer.str(), path);
+  return load_scene_text(buffer.str(), path, options);
 }
 
 }  // namespace omnishadow::scene

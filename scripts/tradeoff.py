@@ -16,16 +16,11 @@ import os
 import statistics
 import sys
 
+from results_io import load_results
+
 
 def load_cases(run_dir):
-    path = os.path.join(run_dir, "results.json")
-    try:
-        with open(path) as f:
-            doc = json.load(f)
-    except (OSError, ValueError) as e:
-        sys.exit(f"tradeoff: cannot read {path}: {e}")
-    if "omnishadow" not in doc:
-        sys.exit(f"tradeoff: {path} is not an omnishadow results file (no 'omnishadow' section)")
+    doc = load_results(run_dir, "tradeoff")
     for case in doc["omnishadow"]["cases"]:
         case["_run"] = run_dir
         yield case

@@ -96,8 +96,21 @@ std::string CaseConfig::id() const {
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";
+  if (remedies.rebase_origin) id += "/rebase";
   return id;
 }
+
+Remedies parse_remedies(std::string_view text) {
+  Remedies r;
+  if (text == "none") return r;
+  if (text == "rebase") {
+    r.rebase_origin = true;
+    return r;
+  }
+  throw std::invalid_argument("unknown remedy '" + std::string(text) + "' (valid: none, rebase)");
+}
+
+std::string to_string(const Remedies& r) { return r.rebase_origin ? "rebase" : "none"; }
 
 Optimizations parse_optimizations(std::string_view text) {
   Optimizations o;

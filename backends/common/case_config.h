@@ -58,6 +58,17 @@ struct Optimizations {
   bool any() const { return face_culling || fit_range || static_cache; }
   bool operator==(const Optimizations&) const = default;
 };
+// Remedies for numerical extremes (the stability suite, scripts/run_extremes.sh), measured on and off like the
+// optimisations. rebase_origin: the scene is loaded relative to its light in double precision (scene::LoadOptions),
+// the remedy for far-from-origin cancellation.
+struct Remedies {
+  bool rebase_origin = false;
+  bool operator==(const Remedies&) const = default;
+};
+// "none" or "rebase"; throws std::invalid_argument naming the word.
+Remedies parse_remedies(std::string_view text);
+std::string to_string(const Remedies& r);
+
 // "none", "cull", "fit", "cache" or a '+' join such as "cull+fit"; throws std::invalid_argument naming the word.
 Optimizations parse_optimizations(std::string_view text);
 std::string to_string(const Optimizations& o);  // the same spellings; "none" when all are off
@@ -77,13 +88,14 @@ struct CaseConfig {
   Storage storage = Storage::linear_depth;
   DepthFormat depth_format = DepthFormat::d32f;
   Optimizations optimizations;
+  Remedies remedies;
   // Not an axis and not in the id: extra fragment work for sensitivity experiments (--inject-fragment-work),
   // so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
   // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are on
-  // append a segment each (/cull, /fit, /cache), so ids without them are unchanged.
+  // append a segment each (/cull, /fit, /cache), as do remedies (/rebase), so ids without them are unchanged.
   std::string id() const;
   bool operator==(const CaseConfig&) const = default;
 };

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The numerical-stability suite: every scene of scenes/extremes/ (each names its purpose) across storages, depth
+# formats and both filter kinds, with the error against the ray-cast reference, NaN/Inf counts and flicker
+# (--stability: the next frame compared), then cube sizes 1, 2, 16 and beyond what memory allows on one scene.
+# Writes OUT/matrix and OUT/cube_sizes (run folders) and OUT/extremes.md (scripts/extremes_table.py).
+# Usage: scripts/run_extremes.sh OUT [extra omnishadow run arguments, e.g. --backend gl,vulkan]
+set -euo pipefail
+out="${1:?usage: scripts/run_extremes.sh OUT [run arguments]}"; shift
+here="$(cd "$(dirname "$0")/.." && pwd)"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+bin="$here/build/release/omnishadow"
+scenes=$(cd "$here/scenes/extremes" && ls *.json | sed 's/\.json$//' | paste -sd, -)
+mkdir -p "$out"
+"$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \
+  --filter hard,pcf_disk20 --storage linear_depth,r32f_distance --depth-format d16,d24,d32f \
+  --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --stability --out "$out/matrix" "$@"
+"$bin" run --scenes-dir "$here/scenes/extremes" --scene nf_25 --cube 1,2,16,4096,16384 \
+  --technique six_pass,geometry_shader --filter hard --frames 1 --warmup 0 --benchmark_repetitions=1 \
+  --light-radius 0 --no-images --out "$out/cube_sizes" "$@"
+/usr/bin/python3 "$here/scripts/extremes_table.py" "$out/matrix" "$out/cube_sizes" --out "$out/extremes.md"
