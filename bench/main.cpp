@@ -68,8 +68,9 @@ int main(int argc, char** argv) {
                 "--optimize none,cull measures culling on and off")
       ->capture_default_str();
   r->add_option("--remedy", remedy,
-                "comma list of numerical remedies: none, rebase (scene loaded relative to its light in double "
-                "precision, against far-from-origin cancellation)")
+                "comma list of numerical remedies, each none or a '+' join of rebase (scene loaded relative to its "
+                "light in double precision), bias0, slope_bias (seed 003's max(0.05 (1 - n.l), 0.005)), "
+                "normal_offset (lookup 1.5 texels along the normal), two_sided (casters without back-face culling)")
       ->capture_default_str();
   r->add_option("--out", run.out_dir, "output folder (must not hold a run already); default results/run-<time>");
   r->add_option("--frames", run.frames, "timed frames per repetition")->capture_default_str()->check(

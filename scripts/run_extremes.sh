@@ -2,7 +2,8 @@
 # The numerical-stability suite: every scene of scenes/extremes/ (each names its purpose) across storages, depth
 # formats and both filter kinds, with the error against the ray-cast reference, NaN/Inf counts and flicker
 # (--stability: the next frame compared), then cube sizes 1, 2, 16 and beyond what memory allows on one scene.
-# Writes OUT/matrix and OUT/cube_sizes (run folders) and OUT/extremes.md (scripts/extremes_table.py).
+# Then every remedy on and off (--remedy). Writes OUT/matrix, OUT/remedies and OUT/cube_sizes (run folders) and
+# OUT/extremes.md (scripts/extremes_table.py).
 # Usage: scripts/run_extremes.sh OUT [extra omnishadow run arguments, e.g. --backend gl,vulkan]
 set -euo pipefail
 out="${1:?usage: scripts/run_extremes.sh OUT [run arguments]}"; shift
@@ -14,7 +15,12 @@ mkdir -p "$out"
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \
   --filter hard,pcf_disk20 --storage linear_depth,r32f_distance --depth-format d16,d24,d32f \
   --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --stability --out "$out/matrix" "$@"
+# Remedies on and off: linear depth in D32F, both filter kinds.
+"$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \
+  --filter hard,pcf_disk20 --remedy none,rebase,bias0,slope_bias,normal_offset,two_sided \
+  --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --no-images --out "$out/remedies" "$@"
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene nf_25 --cube 1,2,16,4096,16384 \
   --technique six_pass,geometry_shader --filter hard --frames 1 --warmup 0 --benchmark_repetitions=1 \
   --light-radius 0 --no-images --out "$out/cube_sizes" "$@"
-/usr/bin/python3 "$here/scripts/extremes_table.py" "$out/matrix" "$out/cube_sizes" --out "$out/extremes.md"
+/usr/bin/python3 "$here/scripts/extremes_table.py" "$out/matrix" "$out/cube_sizes" --remedies "$out/remedies" \
+  --out "$out/extremes.md"

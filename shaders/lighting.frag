@@ -31,7 +31,7 @@ void main() {
     diffuse = diff * light_color;
     vec3 halfway = normalize(light_dir + view_dir);
     specular = pow(max(dot(normal, halfway), 0.0), 64.0) * light_color;
-    shadow = shadow_factor(world_position);
+    shadow = shadow_factor(world_position, normal);
   }
   // Spot and directional lights, each with its 2D map. The reported shadow factor is the first light's.
   vec3 mapped = vec3(0.0);

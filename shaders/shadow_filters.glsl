@@ -31,31 +31,51 @@ const vec3 kDiskDirections[20] = vec3[](
     vec3(1, 0, 1), vec3(-1, 0, 1), vec3(1, 0, -1), vec3(-1, 0, -1),
     vec3(0, 1, 1), vec3(0, -1, 1), vec3(0, -1, -1), vec3(0, 1, -1));
 
-float shadow_factor(vec3 world_pos) {
+// The bias of a lookup: the seeds' constant for the filter, or (remedies, CaseConfig::remedies) zero or seed
+// 003's slope-scaled max(0.05 (1 - n.l), 0.005), in world units.
+float lookup_bias(float seed_bias, vec3 normal, vec3 frag_to_light) {
+#if defined(BIAS_ZERO)
+  return 0.0;
+#elif defined(BIAS_SLOPE)
+  return max(0.05 * (1.0 - dot(normal, normalize(-frag_to_light))), 0.005);
+#else
+  return seed_bias;
+#endif
+}
+
+float shadow_factor(vec3 world_pos, vec3 normal) {
+#if defined(NORMAL_OFFSET)
+  // Normal-offset remedy: look up from a point 1.5 texels (a 90-degree face's texel at this distance) along the
+  // normal, so a surface does not test against its own quantised depth.
+  float texel_world = 2.0 * length(world_pos - frame.light_position.xyz) / float(textureSize(shadow_map, 0).x);
+  world_pos += normal * (1.5 * texel_world);
+#endif
   vec3 frag_to_light = world_pos - frame.light_position.xyz;  // the seed's name: it points away from the light
   float current = length(frag_to_light);
 #if defined(FILTER_HARD)
-  return occluded(frag_to_light, current, 0.05);
+  return occluded(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
 #elif defined(FILTER_PCF_GRID64)
   // The seed steps a float from -offset by offset/2 while < offset; accumulated rounding can add a fifth step
   // (125 samples divided by 64). Integer steps give exactly the intended 4 offsets: -0.1, -0.05, 0, 0.05.
   const float offset = 0.1;
   const float step_size = offset / 2.0;
+  float bias = lookup_bias(0.05, normal, frag_to_light);
   float shadow = 0.0;
   for (int x = 0; x < 4; ++x)
     for (int y = 0; y < 4; ++y)
       for (int z = 0; z < 4; ++z)
-        shadow += occluded(frag_to_light + vec3(-offset) + step_size * vec3(x, y, z), current, 0.05);
+        shadow += occluded(frag_to_light + vec3(-offset) + step_size * vec3(x, y, z), current, bias);
   return shadow / 64.0;
 #elif defined(FILTER_PCF_DISK20)
   float view_distance = length(frame.camera_position.xyz - world_pos);
   float disk_radius = (1.0 + view_distance / light_far()) / 25.0;  // sharper near the viewer (seed 001)
   float shadow = 0.0;
-  for (int i = 0; i < 20; ++i) shadow += occluded(frag_to_light + kDiskDirections[i] * disk_radius, current, 0.15);
+  float bias = lookup_bias(0.15, normal, frag_to_light);
+  for (int i = 0; i < 20; ++i) shadow += occluded(frag_to_light + kDiskDirections[i] * disk_radius, current, bias);
   return shadow / 20.0;
 #elif defined(FILTER_HW_COMPARE2X2)
   // Reference value in the stored units (distance / far); the sampler returns the lit fraction.
-  return 1.0 - texture(shadow_map, vec4(frag_to_light, (current - 0.05) / light_far()));
+  return 1.0 - texture(shadow_map, vec4(frag_to_light, (current - lookup_bias(0.05, normal, frag_to_light)) / light_far()));
 #else
 #error "no FILTER_* defined"
 #endif

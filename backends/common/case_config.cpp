@@ -1,5 +1,6 @@
 #include "backends/common/case_config.h"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <utility>
@@ -96,21 +97,59 @@ std::string CaseConfig::id() const {
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";
-  if (remedies.rebase_origin) id += "/rebase";
+  if (remedies.any()) {  // one segment per remedy, as for optimisations: /rebase/bias0
+    std::string words = to_string(remedies);
+    std::replace(words.begin(), words.end(), '+', '/');
+    id += "/" + words;
+  }
   return id;
 }
+
+namespace {
+// Every remedy word and how it reads or sets a Remedies, in id order.
+struct RemedyWord {
+  std::string_view word;
+  bool (*is_set)(const Remedies&);
+  void (*set)(Remedies&);
+};
+constexpr RemedyWord kRemedyWords[] = {
+    {"rebase", [](const Remedies& r) { return r.rebase_origin; }, [](Remedies& r) { r.rebase_origin = true; }},
+    {"bias0", [](const Remedies& r) { return r.bias == BiasMode::zero; }, [](Remedies& r) { r.bias = BiasMode::zero; }},
+    {"slope_bias", [](const Remedies& r) { return r.bias == BiasMode::slope; },
+     [](Remedies& r) { r.bias = BiasMode::slope; }},
+    {"normal_offset", [](const Remedies& r) { return r.normal_offset; }, [](Remedies& r) { r.normal_offset = true; }},
+    {"two_sided", [](const Remedies& r) { return r.two_sided; }, [](Remedies& r) { r.two_sided = true; }},
+};
+}  // namespace
 
 Remedies parse_remedies(std::string_view text) {
   Remedies r;
   if (text == "none") return r;
-  if (text == "rebase") {
-    r.rebase_origin = true;
-    return r;
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t end = text.find('+', start);
+    std::string_view word = text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start);
+    const RemedyWord* found = nullptr;
+    for (const RemedyWord& w : kRemedyWords)
+      if (w.word == word) found = &w;
+    if (!found)
+      throw std::invalid_argument("unknown remedy '" + std::string(word) +
+                                  "' (valid: none, rebase, bias0, slope_bias, normal_offset, two_sided, or a '+' join)");
+    if (r.bias != BiasMode::seed && (word == "bias0" || word == "slope_bias"))
+      throw std::invalid_argument("bias0 and slope_bias exclude each other");
+    found->set(r);
+    if (end == std::string_view::npos) break;
+    start = end + 1;
   }
-  throw std::invalid_argument("unknown remedy '" + std::string(text) + "' (valid: none, rebase)");
+  return r;
 }
 
-std::string to_string(const Remedies& r) { return r.rebase_origin ? "rebase" : "none"; }
+std::string to_string(const Remedies& r) {
+  std::string out;
+  for (const RemedyWord& w : kRemedyWords)
+    if (w.is_set(r)) out += (out.empty() ? "" : "+") + std::string(w.word);
+  return out.empty() ? "none" : out;
+}
 
 Optimizations parse_optimizations(std::string_view text) {
   Optimizations o;

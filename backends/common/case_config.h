@@ -59,15 +59,26 @@ struct Optimizations {
   bool operator==(const Optimizations&) const = default;
 };
 // Remedies for numerical extremes (the stability suite, scripts/run_extremes.sh), measured on and off like the
-// optimisations. rebase_origin: the scene is loaded relative to its light in double precision (scene::LoadOptions),
-// the remedy for far-from-origin cancellation.
+// optimisations; each appends its word to the case id.
+//   rebase_origin: the scene is loaded relative to its light in double precision (scene::LoadOptions): the
+//                  remedy for far-from-origin cancellation.
+//   bias:          the cube lookups' bias: the seeds' constants (0.05; 0.15 for the disk), zero, or seed 003's
+//                  slope-scaled max(0.05 (1 - n.l), 0.005) (world units here).
+//   normal_offset: the lookup point moves 1.5 cube texels (at its distance) along the surface normal.
+//   two_sided:     casters are drawn two-sided in the shadow pass (no back-face culling), so a light inside a
+//                  closed caster is blocked by it.
+enum class BiasMode { seed, zero, slope };
 struct Remedies {
   bool rebase_origin = false;
+  BiasMode bias = BiasMode::seed;
+  bool normal_offset = false;
+  bool two_sided = false;
+  bool any() const { return rebase_origin || bias != BiasMode::seed || normal_offset || two_sided; }
   bool operator==(const Remedies&) const = default;
 };
-// "none" or "rebase"; throws std::invalid_argument naming the word.
+// "none" or a '+' join of rebase, bias0, slope_bias, normal_offset, two_sided; throws std::invalid_argument.
 Remedies parse_remedies(std::string_view text);
-std::string to_string(const Remedies& r);
+std::string to_string(const Remedies& r);  // the same spellings; "none" when all are off
 
 // "none", "cull", "fit", "cache" or a '+' join such as "cull+fit"; throws std::invalid_argument naming the word.
 Optimizations parse_optimizations(std::string_view text);
@@ -95,7 +106,7 @@ struct CaseConfig {
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
   // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are on
-  // append a segment each (/cull, /fit, /cache), as do remedies (/rebase), so ids without them are unchanged.
+  // append a segment each (/cull, /fit, /cache), as do remedies (/rebase, /bias0, ...), so ids without them are unchanged.
   std::string id() const;
   bool operator==(const CaseConfig&) const = default;
 };

@@ -44,4 +44,12 @@ std::string filter_define(Filter f) {
   return "FILTER_HARD";
 }
 
+std::vector<std::string> lighting_defines(const CaseConfig& c) {
+  std::vector<std::string> d{storage_define(c.storage), filter_define(c.filter)};
+  if (c.remedies.bias == BiasMode::zero) d.push_back("BIAS_ZERO");
+  if (c.remedies.bias == BiasMode::slope) d.push_back("BIAS_SLOPE");
+  if (c.remedies.normal_offset) d.push_back("NORMAL_OFFSET");
+  return d;
+}
+
 }  // namespace omnishadow::gpu

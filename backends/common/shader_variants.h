@@ -18,5 +18,8 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c);
 std::string variant_key(const std::string& file, const std::vector<std::string>& defines);
 std::string storage_define(Storage s);
 std::string filter_define(Filter f);
+// The lighting fragment stage: storage, filter and, for the bias remedies, BIAS_ZERO / BIAS_SLOPE / NORMAL_OFFSET
+// (CMakeLists.txt compiles one SPIR-V per combination).
+std::vector<std::string> lighting_defines(const CaseConfig& c);
 
 }  // namespace omnishadow::gpu

@@ -199,7 +199,7 @@ void GlBackend::configure(const CaseConfig& c) {
     shadow_stages.insert(shadow_stages.begin() + 1, {GL_GEOMETRY_SHADER, "shadow_depth.geom"});
   shadow_program_ = program(shadow_stages, shadow_defines);
   lighting_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "lighting.frag"}},
-                              {gpu::storage_define(c.storage), gpu::filter_define(c.filter)});
+                              gpu::lighting_defines(c));
 
   map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, {});
   shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format);
@@ -222,14 +222,16 @@ gpu::ShadowFrame GlBackend::update_frame_uniforms(int frame) {
   return f;
 }
 
-void GlBackend::draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset) {
+void GlBackend::draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset,
+                             bool two_sided) {
   bool culling = false;
   glDisable(GL_CULL_FACE);
   const size_t count = subset ? subset->size() : scene_->objects.size();
   for (size_t i = 0; i < count; ++i) {
     const scene::Object& obj = scene_->objects[subset ? (*subset)[i] : i];
-    if (obj.cull_back_faces != culling) {
-      culling = obj.cull_back_faces;
+    const bool cull = obj.cull_back_faces && !two_sided;
+    if (cull != culling) {
+      culling = cull;
       culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
     }
     glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex),
@@ -247,8 +249,9 @@ void GlBackend::draw_masked_instances(const gpu::ShadowFrame& f, DrawStats& stat
     const scene::Object& obj = scene_->objects[i];
     const uint8_t mask = f.plan.object_faces[i];
     if (mask == 0) continue;
-    if (obj.cull_back_faces != culling) {
-      culling = obj.cull_back_faces;
+    const bool cull = obj.cull_back_faces && !config_->remedies.two_sided;
+    if (cull != culling) {
+      culling = cull;
       culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
     }
     glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_, mask * uniform_alignment_,
@@ -314,7 +317,8 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
       clear(shadow_.face_fbos[f]);
       glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_, f * uniform_alignment_,
                         sizeof(gpu::PassUniforms));
-      draw_objects(1, stats, &frame.plan.face_objects[f]);  // every object unless face culling; none: cleared only
+      // every object unless face culling; none: cleared only
+      draw_objects(1, stats, &frame.plan.face_objects[f], config_->remedies.two_sided);
     }
   } else {
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_.layered_fbo);
@@ -326,9 +330,9 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
       std::vector<uint32_t> reaching;
       for (uint32_t i = 0; i < frame.plan.object_faces.size(); ++i)
         if (frame.plan.object_faces[i]) reaching.push_back(i);
-      draw_objects(1, stats, &reaching);
+      draw_objects(1, stats, &reaching, config_->remedies.two_sided);
     } else {
-      draw_objects(config_->technique == Technique::vs_layer ? 6 : 1, stats);
+      draw_objects(config_->technique == Technique::vs_layer ? 6 : 1, stats, nullptr, config_->remedies.two_sided);
     }
   }
   return stats;

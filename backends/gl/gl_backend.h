@@ -43,7 +43,9 @@ class GlBackend final : public Backend {
   DrawStats lighting_pass();
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   // All objects, or only `subset` (indices into scene_->objects); instances per object from `instances`.
-  void draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset = nullptr);
+  // two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only).
+  void draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset = nullptr,
+                    bool two_sided = false);
   void draw_masked_instances(const gpu::ShadowFrame& f, DrawStats& stats);
   void release_case();
 

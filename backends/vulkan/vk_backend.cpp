@@ -272,13 +272,14 @@ void VkBackend::configure(const CaseConfig& c) {
     shadow.position_only = true;
     PipelineDesc lighting;
     lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "lighting.vert:NONE"},
-                       {VK_SHADER_STAGE_FRAGMENT_BIT,
-                        "lighting.frag:" + gpu::storage_define(c.storage) + "," + gpu::filter_define(c.filter)}};
+                       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("lighting.frag", gpu::lighting_defines(c))}};
     lighting.layout = lighting_layout_;
     lighting.render_pass = lighting_.render_pass;
     lighting.color_attachments = 3;
     for (int cull = 0; cull < 2; ++cull) {
-      shadow.cull = lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
+      lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
+      // two_sided remedy: closed casters keep their back faces in the shadow pass (a light inside one is blocked).
+      shadow.cull = cull && !c.remedies.two_sided ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
       shadow_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, shadow);
       lighting_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);
     }
