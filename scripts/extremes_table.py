@@ -85,9 +85,11 @@ def main():
              "pixels whose shadow disagrees with exact visibility (ray-cast reference, hard threshold 0.5); "
              "`~x` = x% of pixels changed their shadow on the next frame (flicker, shown above 0.5%); **NaN/Inf** = "
              "non-finite values read back. lin = linear distance / far in a depth cube; r32f = distance in an R32F "
-             "cube (+ depth buffer of the given format).", "",
+             "cube (+ depth buffer of the given format); hw = the rasteriser's projective depth, converted back "
+             "in the lookup.", "",
              f"Run: `{command(doc)}`", ""]
-    lines += table(doc, lambda a: f"{'lin' if a['storage'] == 'linear_depth' else 'r32f'} {a['depth_format']} "
+    short = {"linear_depth": "lin", "r32f_distance": "r32f", "hardware_depth": "hw"}
+    lines += table(doc, lambda a: f"{short.get(a['storage'], a['storage'])} {a['depth_format']} "
                                   f"{a['filter'].replace('pcf_', '')}", True)
     if args.remedies:
         rem = load(args.remedies)

@@ -13,7 +13,7 @@ bin="$here/build/release/omnishadow"
 scenes=$(cd "$here/scenes/extremes" && ls *.json | sed 's/\.json$//' | paste -sd, -)
 mkdir -p "$out"
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \
-  --filter hard,pcf_disk20 --storage linear_depth,r32f_distance --depth-format d16,d24,d32f \
+  --filter hard,pcf_disk20 --storage linear_depth,r32f_distance,hardware_depth --depth-format d16,d24,d32f \
   --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --stability --out "$out/matrix" "$@"
 # Remedies on and off: linear depth in D32F, both filter kinds.
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \

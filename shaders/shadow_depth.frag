@@ -2,17 +2,19 @@
 // Shadow pass fragment stage: what is stored is a distance from the light, never projective depth.
 #include "common.glsl"
 
+#if !defined(STORAGE_HARDWARE_DEPTH)
 layout(location = 0) in vec3 world_position;
+#endif
 
 #if defined(STORAGE_R32F_DISTANCE)
 layout(location = 0) out float out_distance;  // seed 004: world units in an R32F cube cleared to FLT_MAX
 #endif
 
 void main() {
-  float light_distance = length(world_position - frame.light_position.xyz);
 #if defined(STORAGE_R32F_DISTANCE)
-  out_distance = light_distance;
-#else
-  gl_FragDepth = light_distance / light_far();  // seed 000: linear distance / far in [0, 1]
+  out_distance = length(world_position - frame.light_position.xyz);
+#elif defined(STORAGE_LINEAR_DEPTH)
+  gl_FragDepth = length(world_position - frame.light_position.xyz) / light_far();  // seed 000: distance / far
 #endif
+  // STORAGE_HARDWARE_DEPTH: nothing written; the rasteriser's projective depth is what is stored.
 }

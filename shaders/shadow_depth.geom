@@ -10,7 +10,9 @@ layout(triangles) in;                        // seed 000: one invocation loops o
 layout(triangle_strip, max_vertices = 18) out;
 #endif
 
+#if !defined(DEPTH_ONLY)  // storage hardware_depth: the fragment stage reads nothing
 layout(location = 0) out vec3 world_position;
+#endif
 
 #if defined(FACE_CULLING)
 // All three vertices beyond one clip plane: the clipper would discard the triangle in this face, so it is not
@@ -36,7 +38,9 @@ void emit_face(int face) {
 #endif
   for (int i = 0; i < 3; ++i) {
     gl_Layer = face;  // per vertex: outputs are undefined after EmitVertex
+#if !defined(DEPTH_ONLY)
     world_position = gl_in[i].gl_Position.xyz;
+#endif
     gl_Position = clip[i];
     EmitVertex();
   }

@@ -9,13 +9,17 @@
 
 layout(location = 0) in vec3 in_position;
 
-#if defined(TECHNIQUE_SIX_PASS) || defined(TECHNIQUE_VS_LAYER) || defined(TECHNIQUE_MULTIVIEW)
+// DEPTH_ONLY (storage hardware_depth): the fragment stage reads nothing, so nothing is passed to it.
+#if (defined(TECHNIQUE_SIX_PASS) || defined(TECHNIQUE_VS_LAYER) || defined(TECHNIQUE_MULTIVIEW)) && !defined(DEPTH_ONLY)
+#define WRITE_WORLD_POSITION
 layout(location = 0) out vec3 world_position;
 #endif
 
 void main() {
 #if defined(TECHNIQUE_SIX_PASS)
+#ifdef WRITE_WORLD_POSITION
   world_position = in_position;
+#endif
   gl_Position = frame.face_view_proj[pass.face] * vec4(in_position, 1.0);
 #elif defined(TECHNIQUE_VS_LAYER)
 #ifdef VULKAN
@@ -32,12 +36,16 @@ void main() {
   int face = instance;  // six instances, one per face, in face order
 #endif
   gl_Layer = face;
+#ifdef WRITE_WORLD_POSITION
   world_position = in_position;
+#endif
   gl_Position = frame.face_view_proj[face] * vec4(in_position, 1.0);
 #elif defined(TECHNIQUE_MULTIVIEW)
   // One draw, six views (view mask 0b111111): the view index picks the face.
   int face = int(gl_ViewIndex);
+#ifdef WRITE_WORLD_POSITION
   world_position = in_position;
+#endif
   gl_Position = frame.face_view_proj[face] * vec4(in_position, 1.0);
 #else
   // Geometry-shader techniques transform per face in the GS.

@@ -8,10 +8,26 @@ layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 
 layout(binding = 2) uniform samplerCube shadow_map;        // NEAREST, no compare
 #endif
 
-// What the shadow pass stored, as a distance from the light in world units.
-float stored_to_distance(float stored) {
+// A perspective projection's window depth back to the distance along its axis (near n, far f): the inverse of
+// the depth mapping of each API's clip range.
+float perspective_linear(float depth, float n, float f) {
+#ifdef VULKAN
+  return n * f / (f - depth * (f - n));
+#else
+  float z = depth * 2.0 - 1.0;
+  return 2.0 * n * f / (f + n - z * (f - n));
+#endif
+}
+
+// What the shadow pass stored in direction `dir`, as a distance from the light in world units.
+float stored_to_distance(float stored, vec3 dir) {
 #if defined(STORAGE_R32F_DISTANCE)
   return stored;
+#elif defined(STORAGE_HARDWARE_DEPTH)
+  // Projective depth is the distance along the face's axis: back to a distance along `dir`.
+  vec3 a = abs(dir);
+  float axis = max(a.x, max(a.y, a.z));
+  return perspective_linear(stored, frame.light_color.w, light_far()) * length(dir) / axis;
 #else
   return stored * light_far();
 #endif
@@ -20,7 +36,7 @@ float stored_to_distance(float stored) {
 #if !defined(FILTER_HW_COMPARE2X2)
 // 1 when `current` lies behind what the light saw in direction `dir` (shadowed), else 0.
 float occluded(vec3 dir, float current, float bias) {
-  return current - bias > stored_to_distance(texture(shadow_map, dir).r) ? 1.0 : 0.0;
+  return current - bias > stored_to_distance(texture(shadow_map, dir).r, dir) ? 1.0 : 0.0;
 }
 #endif
 
@@ -98,15 +114,7 @@ float window_depth(float ndc_z) {
 }
 
 // The spot map's window depth back to the distance along the light's axis (perspective projection).
-float spot_linear(int i, float depth) {
-  float n = frame.map_color[i].w, f = frame.map_range[i].x;
-#ifdef VULKAN
-  return n * f / (f - depth * (f - n));
-#else
-  float z = depth * 2.0 - 1.0;
-  return 2.0 * n * f / (f + n - z * (f - n));
-#endif
-}
+float spot_linear(int i, float depth) { return perspective_linear(depth, frame.map_color[i].w, frame.map_range[i].x); }
 
 float map_occluded(int i, vec2 uv, float current, float bias, bool spot) {
   float stored = texture(map_shadows, vec3(uv, float(i))).r;

@@ -20,8 +20,9 @@ constexpr Names<Filter, 4> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::pcf_grid64, "pcf_grid64"},
                                         {Filter::pcf_disk20, "pcf_disk20"},
                                         {Filter::hw_compare2x2, "hw_compare2x2"}}};
-constexpr Names<Storage, 2> kStorages = {{{Storage::linear_depth, "linear_depth"},
-                                          {Storage::r32f_distance, "r32f_distance"}}};
+constexpr Names<Storage, 3> kStorages = {{{Storage::linear_depth, "linear_depth"},
+                                          {Storage::r32f_distance, "r32f_distance"},
+                                          {Storage::hardware_depth, "hardware_depth"}}};
 constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
 
@@ -80,8 +81,10 @@ OMNISHADOW_INSTANTIATE(DepthFormat)
 
 Support common_support(const CaseConfig& c) {
   if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
-    return {false, "hw_compare2x2 needs a depth texture to compare against (storage linear_depth); " +
-                       std::string(to_string(c.storage)) + " stores distance in a colour texture"};
+    return {false, "hw_compare2x2 compares against linear distance / far (storage linear_depth); " +
+                       std::string(to_string(c.storage)) +
+                       (c.storage == Storage::r32f_distance ? " stores distance in a colour texture"
+                                                            : " stores projective depth")};
   if (c.cube_size < 1 || c.width < 1 || c.height < 1) return {false, "cube and frame sizes must be at least 1"};
   if (c.optimizations.face_culling && c.technique == Technique::multiview)
     return {false, "face culling: a multiview pass renders every view of each draw (the view mask is per render "

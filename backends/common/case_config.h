@@ -24,6 +24,8 @@ enum class Filter {
 enum class Storage {
   linear_depth,   // seed 000: gl_FragDepth = distance / far in a depth cube map
   r32f_distance,  // seed 004: distance in an R32F colour cube (cleared to FLT_MAX) + a separate depth cube
+  hardware_depth, // the rasteriser's own (non-linear, projective) depth, no fragment write; the lookup converts it
+                  // back to a distance along the sampled direction
 };
 enum class DepthFormat { d16, d24, d32f };
 

@@ -6,6 +6,16 @@
 
 namespace omnishadow::cube {
 
+float projective_depth_to_distance(float window_depth, int s, int t, int size, float near_plane, float far_plane,
+                                   DepthRange range) {
+  if (window_depth >= 1.0f) return far_plane;
+  const double n = near_plane, f = far_plane, d = window_depth;
+  const double axis = range == DepthRange::zero_to_one ? n * f / (f - d * (f - n))
+                                                       : 2.0 * n * f / (f + n - (2.0 * d - 1.0) * (f - n));
+  const double u = 2.0 * (s + 0.5) / size - 1.0, v = 2.0 * (t + 0.5) / size - 1.0;
+  return static_cast<float>(axis * std::sqrt(1.0 + u * u + v * v));
+}
+
 glm::mat4 face_projection(float near_plane, float far_plane, DepthRange range) {
   glm::mat4 p = glm::perspectiveRH_NO(glm::radians(90.0f), 1.0f, near_plane, far_plane);
   if (range == DepthRange::zero_to_one) p = glm::perspectiveRH_ZO(glm::radians(90.0f), 1.0f, near_plane, far_plane);

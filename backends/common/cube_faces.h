@@ -33,6 +33,12 @@ glm::mat4 face_view(int face, const glm::vec3& light_position);
 std::array<glm::mat4, kFaceCount> face_view_projections(const glm::vec3& light_position, float near_plane,
                                                          float far_plane, DepthRange range);
 
+// Storage hardware_depth: texel (s, t) of a face holds the rasteriser's window depth; back to the distance from
+// the light along that texel's direction (the axis distance times the texel direction's length). Cleared texels
+// (depth 1) read as far, like the other storages.
+float projective_depth_to_distance(float window_depth, int s, int t, int size, float near_plane, float far_plane,
+                                   DepthRange range);
+
 // Cube-map addressing as the samplers do it (spec table 8.19): which face a direction selects and the
 // face coordinates (s, t) in [0, 1]. Ties between equal major axes go to x, then y, as in Mesa.
 struct FaceCoord {

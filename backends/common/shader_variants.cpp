@@ -3,17 +3,19 @@
 namespace omnishadow::gpu {
 
 std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
-  const bool cull = c.optimizations.face_culling;
+  std::vector<std::string> d;
   switch (c.technique) {
-    case Technique::six_pass: return {"TECHNIQUE_SIX_PASS"};
+    case Technique::six_pass: d = {"TECHNIQUE_SIX_PASS"}; break;
     case Technique::geometry_shader:
-    case Technique::geometry_shader_instanced: return {"TECHNIQUE_GEOMETRY_SHADER"};
+    case Technique::geometry_shader_instanced: d = {"TECHNIQUE_GEOMETRY_SHADER"}; break;
     case Technique::vs_layer:
-      return cull ? std::vector<std::string>{"TECHNIQUE_VS_LAYER", "FACE_CULLING"}
-                  : std::vector<std::string>{"TECHNIQUE_VS_LAYER"};
-    case Technique::multiview: return {"TECHNIQUE_MULTIVIEW"};
+      d = {"TECHNIQUE_VS_LAYER"};
+      if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
+      break;
+    case Technique::multiview: d = {"TECHNIQUE_MULTIVIEW"}; break;
   }
-  return {"TECHNIQUE_SIX_PASS"};
+  if (c.storage == Storage::hardware_depth) d.push_back("DEPTH_ONLY");
+  return d;
 }
 
 std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
@@ -21,6 +23,7 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   std::vector<std::string> d{"TECHNIQUE_GEOMETRY_SHADER"};
   if (c.technique == Technique::geometry_shader_instanced) d.push_back("GS_INSTANCED");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
+  if (c.storage == Storage::hardware_depth) d.push_back("DEPTH_ONLY");
   return d;
 }
 
@@ -31,7 +34,12 @@ std::string variant_key(const std::string& file, const std::vector<std::string>&
 }
 
 std::string storage_define(Storage s) {
-  return s == Storage::r32f_distance ? "STORAGE_R32F_DISTANCE" : "STORAGE_LINEAR_DEPTH";
+  switch (s) {
+    case Storage::linear_depth: return "STORAGE_LINEAR_DEPTH";
+    case Storage::r32f_distance: return "STORAGE_R32F_DISTANCE";
+    case Storage::hardware_depth: return "STORAGE_HARDWARE_DEPTH";
+  }
+  return "STORAGE_LINEAR_DEPTH";
 }
 
 std::string filter_define(Filter f) {

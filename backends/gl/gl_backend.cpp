@@ -433,17 +433,22 @@ Images GlBackend::read_back() {
 
   img.cube_size = shadow_.size;
   size_t texels = static_cast<size_t>(shadow_.size) * static_cast<size_t>(shadow_.size);
-  bool linear = shadow_.storage == Storage::linear_depth;
+  const bool depth_stored = shadow_.storage != Storage::r32f_distance;
   const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
   img.light_far = far_plane;
   for (int f = 0; f < 6; ++f) {
     auto& face = img.cube_distance[static_cast<size_t>(f)];
     face.resize(texels);
     glGetTextureSubImage(shadow_.stored, 0, 0, 0, f, shadow_.size, shadow_.size, 1,
-                         linear ? GL_DEPTH_COMPONENT : GL_RED, GL_FLOAT,
+                         depth_stored ? GL_DEPTH_COMPONENT : GL_RED, GL_FLOAT,
                          static_cast<GLsizei>(texels * sizeof(float)), face.data());
-    if (linear)
+    if (shadow_.storage == Storage::linear_depth)
       for (float& v : face) v *= far_plane;
+    if (shadow_.storage == Storage::hardware_depth)
+      for (size_t i = 0; i < texels; ++i)
+        face[i] = cube::projective_depth_to_distance(face[i], int(i % size_t(shadow_.size)), int(i / size_t(shadow_.size)),
+                                                     shadow_.size, scene_->light.near_plane, far_plane,
+                                                     cube::DepthRange::minus_one_to_one);
   }
   GLenum error = glGetError();
   if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "backends/common/cube_faces.h"
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
 #include "backends/common/shader_variants.h"
@@ -198,8 +199,9 @@ Support VkBackend::supports(const CaseConfig& c) const {
   VkFormatFeatureFlags features = ctx_->format_properties(format).optimalTilingFeatures;
   if (!(features & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
     return {false, std::string(format_name(format)) + " cannot be a depth attachment on " + device};
-  if (c.storage == Storage::linear_depth && !(features & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
-    return {false, std::string(format_name(format)) + " cannot be sampled on " + device + " (linear_depth samples it)"};
+  if (c.storage != Storage::r32f_distance && !(features & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
+    return {false, std::string(format_name(format)) + " cannot be sampled on " + device + " (" +
+                       std::string(to_string(c.storage)) + " samples it)"};
   if (c.filter == Filter::hw_compare2x2 && !(features & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT))
     return {false, std::string(format_name(format)) + " has no linear filtering on " + device +
                        " (hw_compare2x2 needs it)"};
@@ -564,7 +566,12 @@ Images VkBackend::read_back() {
       } else {
         std::memcpy(&v, src + 4 * i, 4);
       }
-      face[i] = r32f ? v : v * far_plane;  // linear_depth stores distance / far
+      if (shadow_.storage == Storage::hardware_depth)
+        face[i] = cube::projective_depth_to_distance(v, int(i % shadow_.size), int(i / shadow_.size),
+                                                     int(shadow_.size), scene_->light.near_plane, far_plane,
+                                                     cube::DepthRange::zero_to_one);
+      else
+        face[i] = r32f ? v : v * far_plane;  // linear_depth stores distance / far
     }
   }
   return img;
