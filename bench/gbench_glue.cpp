@@ -1,6 +1,7 @@
 #include "bench/gbench_glue.h"
 
 #include <benchmark/benchmark.h>
+#include <valgrind/callgrind.h>
 
 #include <chrono>
 #include <ctime>
@@ -87,6 +88,10 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
     for (int i = 0; i < o.warmup_frames; ++i) r.warmup.push_back(render_measured(b, i));
     int frame = o.warmup_frames;
     double sums[7] = {0, 0, 0, 0, 0, 0, 0};
+    // Under `valgrind --tool=callgrind --collect-atstart=no` (scripts/instruction_counts.sh) exactly the timed
+    // frames are counted, and each case's count is dumped under its id: instructions are a deterministic measure
+    // of work on CPU drivers. Outside valgrind these requests are a few no-op instructions.
+    CALLGRIND_TOGGLE_COLLECT;
     for (auto _ : state) {
       FrameTiming t = render_measured(b, frame++);
       state.SetIterationTime(t.frame_wall_ms * 1e-3);
@@ -99,6 +104,10 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
       sums[4] += t.shadow.gpu_ms;
       sums[5] += t.lighting.gpu_ms;
     }
+    CALLGRIND_TOGGLE_COLLECT;
+    // Named: the macro stores the pointer in one statement and issues the request in the next.
+    const std::string dump_label = r.config.id() + " frames=" + std::to_string(frame - o.warmup_frames);
+    CALLGRIND_DUMP_STATS_AT(dump_label.c_str());
     std::vector<std::string> api_errors = b.drain_api_errors();  // outside the timed loop
     if (!api_errors.empty()) throw std::runtime_error("API error (checking mode): " + api_errors.front());
     state.counters["shadow_wall_ms"] = Counter(sums[0], Counter::kAvgIterations);

@@ -9,6 +9,7 @@ out="${1:-$(mktemp -d)/ci-run}"
 bash scripts/ci_matrix.sh "$out" >/dev/null 2>"$out.log" || { cat "$out.log"; exit 2; }
 key="$(./build/release/omnishadow device-key "$out" | head -n 1)"
 base="results/baselines/$key"
+status=0
 if [ ! -f "$base/results.json" ]; then
   echo "ci_compare: no baseline for device key '$key' (results/baselines/); scripts/refresh_baselines.sh makes one"
   exit 0
@@ -21,8 +22,24 @@ if [ -f "$base/gate.json" ]; then
   metric="$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1])).get("metric", "wall"))' "$base/gate.json")"
   echo "ci_compare: $out against $base (timing gate: $metric time, alpha $alpha, minimum effect $min_effect)"
   ./build/release/omnishadow compare "$base" "$out" --metric "$metric" --alpha "$alpha" --min-effect "$min_effect" \
-    --out "$out/compare"
+    --out "$out/compare" || status=$?
 else
   echo "ci_compare: $out against $base (no proven timing gate: timing reported only)"
-  ./build/release/omnishadow compare "$base" "$out" --timing-report-only --out "$out/compare"
+  ./build/release/omnishadow compare "$base" "$out" --timing-report-only --out "$out/compare" || status=$?
 fi
+
+# Deterministic work: instructions per timed frame under callgrind (scripts/instruction_counts.sh), compared with
+# the baseline for this device key *and* this CPU and valgrind (JIT code depends on both), when one exists. Same
+# build, same machine: counts agree within 0.05% run to run, so a change above 0.5% is a change of work.
+cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | tr -cs 'A-Za-z0-9.' '-' | sed 's/^-//; s/-$//')"
+vg="$(valgrind --version 2>/dev/null || echo none)"
+counts="$base/instructions-$cpu-$vg.json"
+if [ -f "$counts" ]; then
+  echo "ci_compare: instructions per frame against $counts"
+  bash scripts/instruction_counts.sh "$out-instructions" >/dev/null
+  /usr/bin/python3 scripts/instruction_counts.py --compare "$counts" "$out-instructions/instructions.json" \
+    --threshold 0.005 || status=$?
+else
+  echo "ci_compare: no instruction-count baseline for CPU '$cpu' and $vg ($counts); scripts/refresh_baselines.sh makes one"
+fi
+exit $status

@@ -15,3 +15,11 @@ cp "$tmp/run/results.json" "$tmp/run/summary.md" "$dest/"
 (cd "$tmp/run" && find images \( -name lit.png -o -name shadow_factor.pfm -o -name cube_faces.png \) -print0 |
   xargs -0 -I{} cp --parents {} "$OLDPWD/$dest/")
 echo "baseline for device key $key: $dest ($(du -sh "$dest" | cut -f1))"
+# Instruction counts for this CPU and valgrind (scripts/ci_compare.sh compares them when they exist).
+cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | tr -cs 'A-Za-z0-9.' '-' | sed 's/^-//; s/-$//')"
+vg="$(valgrind --version 2>/dev/null || echo none)"
+if [ "$vg" != none ]; then
+  bash scripts/instruction_counts.sh "$tmp/instructions" >/dev/null
+  cp "$tmp/instructions/instructions.json" "$dest/instructions-$cpu-$vg.json"
+  echo "instruction counts: $dest/instructions-$cpu-$vg.json"
+fi
