@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
 
   RunCommand run;
   std::string backends = "gl", scenes = "room,heavy", cubes = "512,1024", frames_sizes, techniques, filters,
-              storages = "linear_depth", depth_formats = "d32f", optimize = "none", remedy = "none", shard_text;
+              storages = "linear_depth", depth_formats = "d32f", optimize = "none", remedy = "none", pcf_scales = "1", shard_text;
   techniques = "six_pass,geometry_shader,geometry_shader_instanced,vs_layer,multiview";
   filters = "hard,pcf_grid64,pcf_disk20";
   CLI::App* r = app.add_subcommand("run", "run a benchmark matrix (Google Benchmark --benchmark_* flags apply)");
@@ -71,6 +71,9 @@ int main(int argc, char** argv) {
                 "comma list of numerical remedies, each none or a '+' join of rebase (scene loaded relative to its "
                 "light in double precision), bias0, slope_bias (seed 003's max(0.05 (1 - n.l), 0.005)), "
                 "normal_offset (lookup 1.5 texels along the normal), two_sided (casters without back-face culling)")
+      ->capture_default_str();
+  r->add_option("--pcf-scale", pcf_scales,
+                "comma list of PCF radius scales (0 to 100; 1 = the seeds' kernels, 0 = one direction)")
       ->capture_default_str();
   r->add_option("--out", run.out_dir, "output folder (must not hold a run already); default results/run-<time>");
   r->add_option("--frames", run.frames, "timed frames per repetition")->capture_default_str()->check(
@@ -208,6 +211,17 @@ int main(int argc, char** argv) {
     run.matrix.optimizations =
         parse_list_with(optimize, "--optimize", [](const std::string& t) { return parse_optimizations(t); });
     run.matrix.remedies = parse_list_with(remedy, "--remedy", [](const std::string& t) { return parse_remedies(t); });
+    run.matrix.pcf_scales = parse_list_with(pcf_scales, "--pcf-scale", [](const std::string& t) {
+      size_t used = 0;
+      float v = -1.0f;
+      try {
+        v = std::stof(t, &used);
+      } catch (const std::exception&) {
+      }
+      if (used != t.size() || !(v >= 0.0f && v <= 100.0f))
+        throw std::invalid_argument("'" + t + "' is not a scale in [0, 100]");
+      return v;
+    });
     if (!shard_text.empty()) {
       int consumed = 0;
       if (std::sscanf(shard_text.c_str(), "%d/%d%n", &run.shard_index, &run.shard_count, &consumed) != 2 ||

@@ -70,6 +70,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
           for (Storage storage : spec.storages)
             for (DepthFormat depth : spec.depth_formats)
               for (Filter filter : spec.filters)
+                for (float pcf_scale : spec.pcf_scales)
                 for (const Remedies& remedies : spec.remedies)
                 for (const Optimizations& optimizations : spec.optimizations)
                 for (Technique technique : spec.techniques) {
@@ -85,6 +86,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.technique = technique;
                   c.optimizations = optimizations;
                   c.remedies = remedies;
+                  c.pcf_scale = pcf_scale;
                   cases.push_back(c);
                 }
     }

@@ -26,6 +26,7 @@ struct MatrixSpec {
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
   std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
+  std::vector<float> pcf_scales{1.0f};                        // --pcf-scale 0,1,20
 };
 
 // scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.

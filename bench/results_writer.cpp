@@ -66,7 +66,8 @@ json case_to_json(const CaseResult& r) {
            {"storage", to_string(c.storage)},
            {"depth_format", to_string(c.depth_format)},
            {"optimizations", to_string(c.optimizations)},
-           {"remedies", to_string(c.remedies)}}},
+           {"remedies", to_string(c.remedies)},
+           {"pcf_scale", c.pcf_scale}}},
          {"status", to_string(r.status)},
          {"reason", r.reason}};
   if (r.status == Status::unsupported) return j;

@@ -77,6 +77,7 @@ def main():
     parser.add_argument("matrix")
     parser.add_argument("cube_sizes", nargs="?")
     parser.add_argument("--remedies", help="a run with --remedy variants (scripts/run_extremes.sh makes one)")
+    parser.add_argument("--pcf", help="a run with --pcf-scale variants")
     parser.add_argument("--out")
     args = parser.parse_args()
     doc = load(args.matrix)
@@ -100,6 +101,12 @@ def main():
                   f"Run: `{command(rem)}`", ""]
         lines += table(rem, lambda a: f"{a.get('remedies', 'none')} {a['filter'].replace('pcf_', '')}", False,
                        remedy_in_row=False)
+    if args.pcf:
+        pcf = load(args.pcf)
+        lines += ["", "## PCF radius (linear depth, D32F)", "",
+                  "Columns: filter and --pcf-scale (0 = every sample in one direction, 1 = the seeds' kernels).", "",
+                  f"Run: `{command(pcf)}`", ""]
+        lines += table(pcf, lambda a: f"{a['filter'].replace('pcf_', '')} x{a.get('pcf_scale', 1):g}", False)
     if args.cube_sizes:
         sizes = load(args.cube_sizes)
         lines += ["", "## Cube sizes (nf_25)", "", "| case | status | misclassified % | reason / limit |",

@@ -19,8 +19,12 @@ mkdir -p "$out"
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \
   --filter hard,pcf_disk20 --remedy none,rebase,bias0,slope_bias,normal_offset,two_sided \
   --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --no-images --out "$out/remedies" "$@"
+# PCF radius from 0 (one direction) to 20x the seeds' kernels.
+"$bin" run --scenes-dir "$here/scenes/extremes" --scene nf_25,grazing,seams --cube 512 --technique six_pass \
+  --filter pcf_grid64,pcf_disk20 --pcf-scale 0,1,5,20 --frames 1 --warmup 0 --benchmark_repetitions=1 \
+  --light-radius 0 --no-images --out "$out/pcf" "$@"
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene nf_25 --cube 1,2,16,4096,16384 \
   --technique six_pass,geometry_shader --filter hard --frames 1 --warmup 0 --benchmark_repetitions=1 \
   --light-radius 0 --no-images --out "$out/cube_sizes" "$@"
 /usr/bin/python3 "$here/scripts/extremes_table.py" "$out/matrix" "$out/cube_sizes" --remedies "$out/remedies" \
-  --out "$out/extremes.md"
+  --pcf "$out/pcf" --out "$out/extremes.md"

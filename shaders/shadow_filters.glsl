@@ -73,8 +73,8 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
 #elif defined(FILTER_PCF_GRID64)
   // The seed steps a float from -offset by offset/2 while < offset; accumulated rounding can add a fifth step
   // (125 samples divided by 64). Integer steps give exactly the intended 4 offsets: -0.1, -0.05, 0, 0.05.
-  const float offset = 0.1;
-  const float step_size = offset / 2.0;
+  float offset = 0.1 * frame.knobs.y;  // the seed's 0.1, times --pcf-scale
+  float step_size = offset / 2.0;
   float bias = lookup_bias(0.05, normal, frag_to_light);
   float shadow = 0.0;
   for (int x = 0; x < 4; ++x)
@@ -84,7 +84,8 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
   return shadow / 64.0;
 #elif defined(FILTER_PCF_DISK20)
   float view_distance = length(frame.camera_position.xyz - world_pos);
-  float disk_radius = (1.0 + view_distance / light_far()) / 25.0;  // sharper near the viewer (seed 001)
+  // Sharper near the viewer (seed 001), times --pcf-scale.
+  float disk_radius = (1.0 + view_distance / light_far()) / 25.0 * frame.knobs.y;
   float shadow = 0.0;
   float bias = lookup_bias(0.15, normal, frag_to_light);
   for (int i = 0; i < 20; ++i) shadow += occluded(frag_to_light + kDiskDirections[i] * disk_radius, current, bias);
@@ -137,7 +138,7 @@ float map_shadow_factor(int i, vec3 world_pos, vec3 normal, vec3 light_dir, out 
 #if defined(FILTER_HARD)
   return map_occluded(i, uv, current, bias, spot);
 #else
-  vec2 texel = 1.0 / vec2(textureSize(map_shadows, 0).xy);
+  vec2 texel = frame.knobs.y / vec2(textureSize(map_shadows, 0).xy);  // one texel, times --pcf-scale
   float shadow = 0.0;
   for (int x = -1; x <= 1; ++x)
     for (int y = -1; y <= 1; ++y) shadow += map_occluded(i, uv + vec2(x, y) * texel, current, bias, spot);

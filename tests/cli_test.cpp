@@ -142,7 +142,10 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"compare @MISTYPED_RESULTS@ @MISTYPED_RESULTS@",
                                "MISTYPED_RESULTS.json: /omnishadow/cases/0/images: expected an object"},
                       BadInput{"merge @OUT@ @FOREIGN_RESULTS@", "not an omnishadow results file"},
-                      BadInput{"compare --alpha 2 @FOREIGN_RESULTS@ @FOREIGN_RESULTS@", "--alpha"}),
+                      BadInput{"compare --alpha 2 @FOREIGN_RESULTS@ @FOREIGN_RESULTS@", "--alpha"},
+                      BadInput{"run --pcf-scale -1 --out @OUT@", "--pcf-scale: '-1' is not a scale"},
+                      BadInput{"run --remedy bias0+slope_bias --out @OUT@", "--remedy: bias0 and slope_bias exclude"},
+                      BadInput{"run --optimize cull+warp --out @OUT@", "--optimize: unknown optimisation 'warp'"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
 
 class CliRun : public ::testing::Test {

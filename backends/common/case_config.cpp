@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <stdexcept>
 #include <utility>
 
@@ -100,6 +101,11 @@ std::string CaseConfig::id() const {
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";
+  if (pcf_scale != 1.0f) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "/pcf%g", static_cast<double>(pcf_scale));
+    id += buf;
+  }
   if (remedies.any()) {  // one segment per remedy, as for optimisations: /rebase/bias0
     std::string words = to_string(remedies);
     std::replace(words.begin(), words.end(), '+', '/');

@@ -105,6 +105,9 @@ struct CaseConfig {
   // Not an axis and not in the id: extra fragment work for sensitivity experiments (--inject-fragment-work),
   // so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;
+  // The PCF kernels' radius as a multiple of the seeds' (grid offset 0.1, disk radius, 2D maps' one texel); an
+  // axis of the stability suite (0 collapses every kernel to one direction). In the id as /pcf<scale> unless 1.
+  float pcf_scale = 1.0f;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
   // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are on
