@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
@@ -209,6 +210,13 @@ void Harness::prepare(CaseResult& r) {
     if (options_.accuracy) {
       const Truth& truth = truth_for(r.config, images);
       r.accuracy = measure_accuracy(truth, images);
+      if (options_.max_error_percent >= 0 && r.accuracy->misclassified_percent > options_.max_error_percent) {
+        r.status = Status::failed_check;
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "shadow disagrees with exact visibility on %.3f%% of pixels (--max-error %g%%)",
+                      r.accuracy->misclassified_percent, options_.max_error_percent);
+        r.reason += (r.reason.empty() ? "" : "; ") + std::string(buf);
+      }
       if (options_.write_images) {
         fs::path rel = fs::path("images") / r.config.id() / "error_heatmap.png";
         write_png_rgb_top_down((fs::path(options_.out_dir) / rel).string(), images.width, images.height,

@@ -36,6 +36,9 @@ struct RunOptions {
   // Also render check_frame + 1 and report how much of the shadow factor changed (flicker): with a light that
   // moves by tiny steps (scenes/extremes/stability_*), any change beyond the motion itself is instability.
   bool stability = false;
+  // A case whose shadow disagrees with exact visibility on more than this % of pixels is failed_check, with the
+  // measured error in its reason (the stability suite's "where a variant breaks"); negative: no limit.
+  double max_error_percent = -1.0;
   TruthOptions truth;       // the spherical light of the soft reference
   std::map<std::string, std::string> backend_options;  // egl_platform, gl_device, vk_device, api_checks
 };

@@ -101,6 +101,7 @@ int run_command(const RunCommand& cmd) {
   options.accuracy = cmd.accuracy;
   options.memory_precheck = cmd.memory_precheck;
   options.stability = cmd.stability;
+  options.max_error_percent = cmd.max_error_percent;
   options.truth.light_radius = cmd.light_radius;
   options.truth.samples_per_axis = cmd.light_samples_per_axis;
   options.backend_options = cmd.backend_options;

@@ -26,6 +26,7 @@ struct RunCommand {
   bool accuracy = true;
   bool memory_precheck = true;
   bool stability = false;
+  double max_error_percent = -1.0;
   float light_radius = 0.1f;
   int light_samples_per_axis = 8;
   bool check = false;          // exit 1 if any case failed or failed its checks

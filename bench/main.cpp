@@ -106,6 +106,10 @@ int main(int argc, char** argv) {
   r->add_option("--light-samples", run.light_samples_per_axis,
                 "stratified samples per axis on that light (8 = 64 rays per pixel)")
       ->capture_default_str()->check(CLI::Range(1, 64));
+  r->add_option("--max-error", run.max_error_percent,
+                "fail a case (failed_check, error in the reason) whose shadow disagrees with exact visibility on "
+                "more than this % of pixels")
+      ->check(CLI::Range(0.0, 100.0));
   r->add_flag("--stability", run.stability,
               "also render the check frame + 1 and report how much of the shadow factor changed (flicker)");
   bool no_memory_precheck = false;

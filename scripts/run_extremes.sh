@@ -14,11 +14,11 @@ scenes=$(cd "$here/scenes/extremes" && ls *.json | sed 's/\.json$//' | paste -sd
 mkdir -p "$out"
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \
   --filter hard,pcf_disk20 --storage linear_depth,r32f_distance,hardware_depth --depth-format d16,d24,d32f \
-  --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --stability --out "$out/matrix" "$@"
+  --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --stability --max-error 1 --out "$out/matrix" "$@"
 # Remedies on and off: linear depth in D32F, both filter kinds.
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \
   --filter hard,pcf_disk20 --remedy none,rebase,bias0,slope_bias,normal_offset,two_sided \
-  --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --no-images --out "$out/remedies" "$@"
+  --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --no-images --max-error 1 --out "$out/remedies" "$@"
 # PCF radius from 0 (one direction) to 20x the seeds' kernels.
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene nf_25,grazing,seams --cube 512 --technique six_pass \
   --filter pcf_grid64,pcf_disk20 --pcf-scale 0,1,5,20 --frames 1 --warmup 0 --benchmark_repetitions=1 \
