@@ -139,8 +139,11 @@ std::string Harness::scene_path(const std::string& name) const {
   return (fs::path(options_.scenes_dir) / (name + ".json")).string();
 }
 
+// Scenes are cached per name and load option: the rebased room is another scene.
+static std::string scene_key(const std::string& name, bool rebase_origin) { return name + (rebase_origin ? "#rebase" : ""); }
+
 const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin) {
-  const std::string key = name + (rebase_origin ? "#rebase" : "");
+  const std::string key = scene_key(name, rebase_origin);
   auto it = scenes_.find(key);
   if (it != scenes_.end()) return it->second;
   scene::LoadOptions load;
@@ -152,7 +155,7 @@ const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin) 
 
 Backend& Harness::activate(const CaseConfig& config) {
   Backend& b = backend(config.backend);
-  const std::string key = config.scene + (config.remedies.rebase_origin ? "#rebase" : "");
+  const std::string key = scene_key(config.scene, config.remedies.rebase_origin);
   if (loaded_scene_[config.backend] != key) {
     loaded_scene_[config.backend].clear();
     b.load(scene_of(config));
@@ -326,13 +329,13 @@ void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
 }
 
 const Truth& Harness::truth_for(const CaseConfig& c, const Images& images) {
-  const std::string scene_key = c.scene + (c.remedies.rebase_origin ? "#rebase" : "");
-  std::string key = scene_key + "/" + std::to_string(options_.check_frame) + "/" +
+  const std::string loaded = scene_key(c.scene, c.remedies.rebase_origin);
+  std::string key = loaded + "/" + std::to_string(options_.check_frame) + "/" +
                     std::to_string(positions_fingerprint(images));
   auto it = truths_.find(key);
   if (it != truths_.end()) return it->second;
   const scene::Scene& s = scene_of(c);
-  auto& caster = casters_[scene_key];
+  auto& caster = casters_[loaded];
   if (!caster) caster = std::make_unique<reference::RayCaster>(s);
   return truths_.emplace(key, compute_truth(*caster, s, options_.check_frame, images, options_.truth)).first->second;
 }

@@ -115,6 +115,18 @@ std::string CaseConfig::id() const {
 }
 
 namespace {
+// "a+b+c" -> calls on_word("a"), on_word("b"), on_word("c"): the spelling of optimisation and remedy sets.
+template <typename OnWord>
+void for_each_plus_word(std::string_view text, OnWord on_word) {
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t end = text.find('+', start);
+    on_word(text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start));
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+}
+
 // Every remedy word and how it reads or sets a Remedies, in id order.
 struct RemedyWord {
   std::string_view word;
@@ -134,10 +146,7 @@ constexpr RemedyWord kRemedyWords[] = {
 Remedies parse_remedies(std::string_view text) {
   Remedies r;
   if (text == "none") return r;
-  size_t start = 0;
-  while (start <= text.size()) {
-    size_t end = text.find('+', start);
-    std::string_view word = text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start);
+  for_each_plus_word(text, [&](std::string_view word) {
     const RemedyWord* found = nullptr;
     for (const RemedyWord& w : kRemedyWords)
       if (w.word == word) found = &w;
@@ -147,9 +156,7 @@ Remedies parse_remedies(std::string_view text) {
     if (r.bias != BiasMode::seed && (word == "bias0" || word == "slope_bias"))
       throw std::invalid_argument("bias0 and slope_bias exclude each other");
     found->set(r);
-    if (end == std::string_view::npos) break;
-    start = end + 1;
-  }
+  });
   return r;
 }
 
@@ -163,19 +170,14 @@ std::string to_string(const Remedies& r) {
 Optimizations parse_optimizations(std::string_view text) {
   Optimizations o;
   if (text == "none") return o;
-  size_t start = 0;
-  while (start <= text.size()) {
-    size_t end = text.find('+', start);
-    std::string_view word = text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start);
+  for_each_plus_word(text, [&](std::string_view word) {
     if (word == "cull") o.face_culling = true;
     else if (word == "fit") o.fit_range = true;
     else if (word == "cache") o.static_cache = true;
     else
       throw std::invalid_argument("unknown optimisation '" + std::string(word) +
                                   "' (valid: none, cull, fit, cache, or a '+' join such as cull+fit)");
-    if (end == std::string_view::npos) break;
-    start = end + 1;
-  }
+  });
   return o;
 }
 

@@ -18,6 +18,7 @@ ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, co
                                      f.uniforms.light_position.w, config.optimizations.face_culling);
     if (!scene.has_point_light) {  // no point light: the cube is only cleared (the harness runs six_pass only)
       for (auto& list : f.plan.face_objects) list.clear();
+      f.plan.reaching.clear();
       std::fill(f.plan.object_faces.begin(), f.plan.object_faces.end(), uint8_t{0});
       f.plan.empty_faces = 6;
     }

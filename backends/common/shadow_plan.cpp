@@ -40,6 +40,7 @@ ShadowDrawPlan plan_shadow_draws(const scene::Scene& scene, const glm::vec3& lig
     if (cull) plan.object_faces[i] = box_face_mask(o.bounds_min, o.bounds_max, light, near_plane, far_plane);
     for (int face = 0; face < 6; ++face)
       if (plan.object_faces[i] & (1u << face)) plan.face_objects[face].push_back(i);
+    if (plan.object_faces[i]) plan.reaching.push_back(i);
   }
   for (const auto& list : plan.face_objects) plan.empty_faces += list.empty();
   return plan;

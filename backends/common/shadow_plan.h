@@ -27,6 +27,7 @@ uint8_t box_face_mask(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3&
 struct ShadowDrawPlan {
   std::array<std::vector<uint32_t>, 6> face_objects;  // indices into Scene::objects, per face
   std::vector<uint8_t> object_faces;                  // per object, bit f = face f
+  std::vector<uint32_t> reaching;                     // objects whose mask is not empty (single-pass draws)
   int empty_faces = 0;                                // faces with nothing to draw
 };
 // cull = false: every object in every face (the unoptimised plan).

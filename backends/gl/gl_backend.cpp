@@ -327,10 +327,7 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
       draw_masked_instances(frame, stats);
     } else if (config_->optimizations.face_culling) {
       // Geometry shader forms cull per triangle and face on the GPU; objects that reach no face are not drawn.
-      std::vector<uint32_t> reaching;
-      for (uint32_t i = 0; i < frame.plan.object_faces.size(); ++i)
-        if (frame.plan.object_faces[i]) reaching.push_back(i);
-      draw_objects(1, stats, &reaching, config_->remedies.two_sided);
+      draw_objects(1, stats, &frame.plan.reaching, config_->remedies.two_sided);
     } else {
       draw_objects(config_->technique == Technique::vs_layer ? 6 : 1, stats, nullptr, config_->remedies.two_sided);
     }

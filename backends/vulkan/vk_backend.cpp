@@ -405,11 +405,6 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   const bool cull = config_->optimizations.face_culling;
   const bool six_pass = config_->technique == Technique::six_pass;
   const uint32_t instances = config_->technique == Technique::vs_layer ? 6 : 1;
-  // Single pass with face culling: objects that reach no face are not drawn (the GS culls per triangle too).
-  std::vector<uint32_t> reaching;
-  if (cull && !six_pass)
-    for (uint32_t i = 0; i < frame.plan.object_faces.size(); ++i)
-      if (frame.plan.object_faces[i]) reaching.push_back(i);
   for (size_t f = 0; f < shadow_.framebuffers.size(); ++f) {
     rp.framebuffer = shadow_.framebuffers[f];
     vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
@@ -421,7 +416,8 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
     if (six_pass)  // every object unless face culling; a face with none is cleared only
       draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, 1, draws, &frame.plan.face_objects[f]);
     else if (cull)
-      draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws, &reaching,
+      // Objects that reach no face are not drawn (the GS culls per triangle too).
+      draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws, &frame.plan.reaching,
                    config_->technique == Technique::vs_layer ? &frame.plan.object_faces : nullptr);
     else
       draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws);
