@@ -65,12 +65,19 @@ struct FrameTiming {
   double process_cpu_ms = -1.0;
 };
 
-// Everything read back after a frame. Images are stored as the API holds them: row 0 is the bottom row of the
+// A timed frame renders what a renderer would for the case: the shadow pass, then the lighting pass in its timed
+// variant (one colour target, a shader specialised for the case: gpu::LightingVariant). A check frame renders the
+// same shadow pass, then the lighting pass in the check variant (lit colour, shadow factor, world position) and,
+// untimed after it, in the timed variant, so that read_back() holds both lit images of one frame.
+enum class FrameKind { timed, check };
+
+// Everything read back after a check frame. Images are stored as the API holds them: row 0 is the bottom row of the
 // lit frame (GL window convention) and, for cube faces, row 0 is t = 0 of the face (cube-map addressing).
 struct Images {
   int width = 0;
   int height = 0;
-  std::vector<uint8_t> lit_rgba8;       // the lit frame
+  std::vector<uint8_t> lit_rgba8;       // the lit frame (check variant)
+  std::vector<uint8_t> timed_lit_rgba8; // the same frame lit by the timed variant: must equal lit_rgba8 bit for bit
   std::vector<float> shadow_factor;     // per pixel: 1 = fully shadowed, 0 = fully lit (seed's `shadow`)
   std::vector<float> world_position;    // RGBA32F: xyz world position, w = 1 where geometry was drawn
   int cube_size = 0;
@@ -87,9 +94,9 @@ class Backend {
   virtual Support supports(const CaseConfig& config) const = 0;  // unsupported is a result, not an error
   virtual void load(const scene::Scene& scene) = 0;              // upload geometry once per scene
   virtual void configure(const CaseConfig& config) = 0;         // targets, programs, queries
-  virtual FrameTiming render(int frame) = 0;                    // blocks until the frame has completed
-  virtual FrameCounters count_work(int frame) = 0;              // renders `frame` once with statistics queries
-  virtual Images read_back() = 0;                               // results of the last rendered frame
+  virtual FrameTiming render(int frame, FrameKind kind) = 0;     // blocks until the frame has completed
+  virtual FrameCounters count_work(int frame) = 0;              // renders `frame` once, timed kind, with statistics
+  virtual Images read_back() = 0;                               // results of the last check frame
   // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
   // when the checking mode is off. Drained outside timed loops.
   virtual std::vector<std::string> drain_api_errors() = 0;

@@ -44,7 +44,7 @@ struct RunOptions {
 };
 
 struct CheckResult {
-  std::string name;     // cube_faces, shadow_factor, lit; cross_backend_lit, cross_backend_shadow_factor
+  std::string name;     // timed_lit; cube_faces, shadow_factor, lit; cross_backend_lit, cross_backend_shadow_factor
   std::string against;  // id of the case compared with
   Difference difference;
   double tolerance = 0.0;    // per value
@@ -98,6 +98,7 @@ class Harness {
   void prepare(CaseResult& result);
 
  private:
+  void check_timed_variant(CaseResult& result, const Images& images);
   void check_against_six_pass(CaseResult& result, const Images& images);
   void count_non_finite(CaseResult& result, const Images& images);
   void measure_flicker(CaseResult& result, Backend& b, const Images& images);
@@ -110,6 +111,7 @@ class Harness {
 
   RunOptions options_;
   std::map<std::string, std::unique_ptr<Backend>> backends_;
+  std::vector<std::string> creation_order_;  // of backends_: destroyed in reverse
   std::map<std::string, std::string> loaded_scene_;  // backend -> scene name it holds
   std::map<std::string, scene::Scene> scenes_;
   // The six_pass images of the latest case group (same case but technique), kept for the checks.

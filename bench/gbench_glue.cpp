@@ -21,7 +21,7 @@ double process_cpu_ms() {
 // One frame with the process's CPU time around it (every thread: the driver's workers included).
 FrameTiming render_measured(Backend& b, int frame) {
   double before = process_cpu_ms();
-  FrameTiming t = b.render(frame);
+  FrameTiming t = b.render(frame, FrameKind::timed);
   t.process_cpu_ms = process_cpu_ms() - before;
   return t;
 }

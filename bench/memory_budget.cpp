@@ -53,10 +53,11 @@ MemoryNeed estimate_case_memory(const CaseConfig& c) {
   const uint64_t pixels = uint64_t(c.width) * uint64_t(c.height);
   MemoryNeed need;
   need.device_bytes = texels * depth_bytes(c.depth_format) + (c.storage == Storage::r32f_distance ? texels * 4 : 0);
-  need.device_bytes += pixels * (4 + 4 + 16 + 4);  // RGBA8 lit, R32F shadow factor, RGBA32F position, D32F depth
+  // Check variant: RGBA8 lit, R32F shadow factor, RGBA32F position, D32F depth; timed variant: RGBA8 + D32F.
+  need.device_bytes += pixels * (4 + 4 + 16 + 4) + pixels * (4 + 4);
   // Host: the read-back cube as floats, held twice (this case and the six_pass reference kept for checks), plus
   // the face strip written as an image (one more float copy and bytes), and the per-pixel buffers four times over.
-  need.host_bytes = texels * 4 * 3 + texels + pixels * (4 + 4 + 16) * 4;
+  need.host_bytes = texels * 4 * 3 + texels + pixels * (4 + 4 + 4 + 16) * 4;
   return need;
 }
 

@@ -1,17 +1,37 @@
 #version 450
-// Lighting pass: Blinn-Phong as in seed 001/002, with the shadow term from the selected filter.
+// Lighting pass: Blinn-Phong as in the point-shadow tutorial (docs/glossary.md), with the shadow term from the
+// selected filter.
+//
+// Two variants of one source (backends/common/shader_variants.h): the timed variant is what a renderer ships for
+// the case, one colour output and only the lights the scene has; CHECK_OUTPUTS adds the shadow factor and world
+// position the checks read, rendered in the untimed check frame. Every line that computes the colour is shared,
+// so the two lit images agree bit for bit (the harness checks it per case: check "timed_lit").
 #include "common.glsl"
 #include "shadow_filters.glsl"
+
+// What the case has, fixed when the pipeline is built so that nothing the case lacks is in the shader: GL gets
+// them as defines, Vulkan as specialisation constants (ids 0-2, gpu::LightingConstants).
+#ifdef VULKAN
+layout(constant_id = 0) const int kMapLights = 0;     // spot and directional lights, 0-4, one 2D map each
+layout(constant_id = 1) const bool kPointLight = true; // the scene has a point light and so a cube
+layout(constant_id = 2) const int kInjectedWork = 0;  // --inject-fragment-work (0 = none)
+#else
+const int kMapLights = MAP_LIGHTS;
+const bool kPointLight = POINT_LIGHT != 0;
+const int kInjectedWork = INJECTED_WORK;
+#endif
 
 layout(location = 0) in vec3 world_position;
 layout(location = 1) in vec3 world_normal;
 layout(location = 2) in vec3 albedo;
 
 layout(location = 0) out vec4 out_color;
-layout(location = 1) out float out_shadow_factor;  // 1 = fully shadowed (the seed's `shadow`)
+#ifdef CHECK_OUTPUTS
+layout(location = 1) out float out_shadow_factor;  // 1 = fully shadowed (the tutorial's `shadow`)
 layout(location = 2) out vec4 out_position;        // world position, w = 1 marks covered pixels
+#endif
 
-// Blinn-Phong diffuse + specular of one light (seed 001/002: shininess 64).
+// Blinn-Phong diffuse + specular of one light (the tutorial's shininess 64).
 vec3 direct_light(vec3 normal, vec3 light_dir, vec3 view_dir, vec3 light_color) {
   float diff = max(dot(light_dir, normal), 0.0);
   vec3 halfway = normalize(light_dir + view_dir);
@@ -25,7 +45,7 @@ void main() {
   vec3 view_dir = normalize(frame.camera_position.xyz - world_position);
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
   float shadow = 0.0;
-  if (frame.lights_info.y > 0.5) {  // the point light and its cube
+  if (kPointLight) {  // the point light and its cube
     vec3 light_dir = normalize(frame.light_position.xyz - world_position);
     float diff = max(dot(light_dir, normal), 0.0);
     diffuse = diff * light_color;
@@ -35,22 +55,24 @@ void main() {
   }
   // Spot and directional lights, each with its 2D map. The reported shadow factor is the first light's.
   vec3 mapped = vec3(0.0);
-  for (int i = 0; i < int(frame.lights_info.x); ++i) {
+  for (int i = 0; i < kMapLights; ++i) {
     bool spot = frame.map_light[i].w < 1.5;
     vec3 light_dir = spot ? normalize(frame.map_light[i].xyz - world_position) : frame.map_light[i].xyz;
     bool inside;
     float s = map_shadow_factor(i, world_position, normal, light_dir, inside);
-    if (i == 0 && frame.lights_info.y < 0.5) shadow = s;
+    if (i == 0 && !kPointLight) shadow = s;
     if (inside) mapped += (1.0 - s) * direct_light(normal, light_dir, view_dir, frame.map_color[i].rgb);
   }
-  // Injected work, off by default (--inject-fragment-work N): N dependent multiply-adds per fragment, real work
-  // of a known size for proving that the regression statistics see a slowdown. It cannot change the image:
-  // 1e-9 * acc is below half an ulp of 1.0.
+  // Injected work (--inject-fragment-work N): N dependent multiply-adds per fragment, real work of a known size
+  // for proving that the regression statistics see a slowdown. It cannot change the image: 1e-9 * acc is below
+  // half an ulp of 1.0.
   float acc = 0.0;
-  for (int i = 0; i < int(frame.knobs.x); ++i) acc = fract(acc * 1.61803 + 0.31831);
+  for (int i = 0; i < kInjectedWork; ++i) acc = fract(acc * 1.61803 + 0.31831);
   // With no map lights `mapped` is 0 and adding it changes no bit: point-light scenes render as before.
-  vec3 point_term = frame.lights_info.y > 0.5 ? (1.0 - shadow) * (diffuse + specular) : vec3(0.0);
+  vec3 point_term = kPointLight ? (1.0 - shadow) * (diffuse + specular) : vec3(0.0);
   out_color = vec4((ambient + point_term + mapped) * albedo, 1.0 - 1e-9 * acc);
+#ifdef CHECK_OUTPUTS
   out_shadow_factor = shadow;
   out_position = vec4(world_position, 1.0);
+#endif
 }

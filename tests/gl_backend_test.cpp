@@ -47,7 +47,7 @@ class GlBackendTest : public ::testing::Test {
   }
   static Images render(const CaseConfig& c, int frame = 0) {
     backend_->configure(c);
-    backend_->render(frame);
+    backend_->render(frame, FrameKind::check);
     return backend_->read_back();
   }
 
@@ -178,7 +178,7 @@ TEST_F(GlBackendTest, SoftFiltersGiveFractionsBetweenZeroAndOne) {
 TEST_F(GlBackendTest, TimingRecordHasEveryField) {
   backend_->configure(room_case(Technique::geometry_shader));
   for (int frame = 0; frame < 3; ++frame) {
-    FrameTiming t = backend_->render(frame);
+    FrameTiming t = backend_->render(frame, FrameKind::timed);
     for (const PassTiming* p : {&t.shadow, &t.lighting}) {
       EXPECT_GT(p->cpu_wall_ms, 0.0);
       EXPECT_GE(p->cpu_submit_ms, 0.0);
@@ -253,7 +253,7 @@ TEST(GlApiChecks, EveryTechniqueRunsCleanAndErrorsAreCaptured) {
       c.filter = s == Storage::linear_depth ? Filter::hw_compare2x2 : Filter::pcf_disk20;
       if (!backend->supports(c).ok) continue;
       backend->configure(c);
-      backend->render(3);
+      backend->render(3, FrameKind::check);
       backend->count_work(3);
       backend->read_back();
       std::vector<std::string> errors = backend->drain_api_errors();

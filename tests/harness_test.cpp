@@ -36,7 +36,7 @@ class ScriptedBackend : public Backend {
       throw std::runtime_error("scripted failure while configuring");
     config_ = c;
   }
-  FrameTiming render(int) override {
+  FrameTiming render(int, FrameKind) override {
     FrameTiming t;
     t.shadow = {0.5, 2.0, 1.5};
     t.lighting = {0.5, 3.0, 2.5};
@@ -65,6 +65,9 @@ class ScriptedBackend : public Backend {
     }
     if (config_.technique == Technique::geometry_shader_instanced)
       for (size_t f = 1; f < 6; ++f) img.cube_distance[f] = img.cube_distance[0];  // every view in one face
+    img.timed_lit_rgba8 = img.lit_rgba8;
+    if (config_.technique == Technique::six_pass && config_.filter == Filter::pcf_grid64)
+      img.timed_lit_rgba8[5] = 1;  // the timed variant lit one channel differently
     return img;
   }
   std::vector<std::string> drain_api_errors() override { return {}; }
@@ -115,8 +118,10 @@ TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   // hard: six_pass ok, geometry_shader ok, instanced failed_check (one face everywhere), vs_layer unsupported.
   EXPECT_EQ(r[0].status, Status::ok);
   EXPECT_EQ(r[1].status, Status::ok) << r[1].reason;
-  ASSERT_EQ(r[1].checks.size(), 3u);
+  ASSERT_EQ(r[1].checks.size(), 4u);  // timed_lit, cube_faces, shadow_factor, lit
   for (const CheckResult& c : r[1].checks) EXPECT_TRUE(c.passed);
+  EXPECT_EQ(r[0].checks.size(), 1u);  // six_pass itself: timed_lit only
+  EXPECT_EQ(r[0].checks[0].name, "timed_lit");
   EXPECT_EQ(r[2].status, Status::failed_check);
   EXPECT_NE(r[2].reason.find("all six faces hold the same image"), std::string::npos) << r[2].reason;
   EXPECT_EQ(r[3].status, Status::unsupported);
@@ -124,13 +129,18 @@ TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   // pcf_grid64: geometry_shader fails to configure; the cases after it still run.
   EXPECT_EQ(r[5].status, Status::failed);
   EXPECT_NE(r[5].reason.find("scripted failure"), std::string::npos);
-  EXPECT_EQ(r[4].status, Status::ok);
+  // six_pass pcf_grid64: the timed variant lit one channel differently from the check variant.
+  EXPECT_EQ(r[4].status, Status::failed_check);
+  EXPECT_NE(r[4].reason.find("timed_lit"), std::string::npos) << r[4].reason;
+  EXPECT_FALSE(r[4].checks[0].passed);
+  EXPECT_EQ(r[4].checks[0].difference.differing, 1u);
   EXPECT_EQ(r[6].status, Status::failed_check);
   // pcf_disk20: geometry_shader differs in one cube texel and one lit channel.
   const CaseResult& d = r[9];
   ASSERT_EQ(d.status, Status::failed_check);
   EXPECT_EQ(d.reason.find("all six faces"), std::string::npos) << "faces differ from each other: no driver hint";
-  const CheckResult& faces = d.checks[0];
+  EXPECT_TRUE(d.checks[0].passed);  // timed_lit
+  const CheckResult& faces = d.checks[1];
   EXPECT_EQ(faces.name, "cube_faces");
   EXPECT_FALSE(faces.passed);
   EXPECT_EQ(faces.difference.differing, 1u);
@@ -139,10 +149,10 @@ TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   EXPECT_EQ(faces.against, "gl/room/c4/f800x600/six_pass/pcf_disk20/linear_depth/d32f");
   ASSERT_FALSE(faces.diff_image.empty());
   EXPECT_TRUE(fs::exists(out_ / faces.diff_image));
-  EXPECT_TRUE(d.checks[1].passed);  // shadow factor identical
-  EXPECT_FALSE(d.checks[2].passed);
-  EXPECT_DOUBLE_EQ(d.checks[2].difference.max_abs, 10.0);
-  EXPECT_TRUE(fs::exists(out_ / d.checks[2].diff_image));
+  EXPECT_TRUE(d.checks[2].passed);  // shadow factor identical
+  EXPECT_FALSE(d.checks[3].passed);
+  EXPECT_DOUBLE_EQ(d.checks[3].difference.max_abs, 10.0);
+  EXPECT_TRUE(fs::exists(out_ / d.checks[3].diff_image));
   EXPECT_TRUE(fs::exists(out_ / d.images.at("lit")));
 }
 

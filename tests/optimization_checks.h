@@ -27,7 +27,7 @@ inline CaseConfig optimization_case(const std::string& backend, const std::strin
 
 inline Images render_frame(Backend& b, const CaseConfig& c, int frame, FrameCounters* work = nullptr) {
   b.configure(c);
-  b.render(frame);
+  b.render(frame, FrameKind::check);
   Images img = b.read_back();
   if (work) *work = b.count_work(frame);
   return img;
@@ -80,8 +80,8 @@ inline void check_static_cache(Backend& b, const std::string& backend, const std
   cached.optimizations.static_cache = true;
   Images reference = render_frame(b, fresh, 5);
   b.configure(cached);
-  b.render(4);
-  b.render(5);  // served from the cube rendered for frame 4
+  b.render(4, FrameKind::check);
+  b.render(5, FrameKind::check);  // served from the cube rendered for frame 4
   expect_same_images(b.read_back(), reference, "cached cube");
   FrameCounters steady = b.count_work(6);
   EXPECT_EQ(steady.shadow.draw_calls, 0u);

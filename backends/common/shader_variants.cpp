@@ -52,12 +52,22 @@ std::string filter_define(Filter f) {
   return "FILTER_HARD";
 }
 
-std::vector<std::string> lighting_defines(const CaseConfig& c) {
+std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant variant) {
   std::vector<std::string> d{storage_define(c.storage), filter_define(c.filter)};
   if (c.remedies.bias == BiasMode::zero) d.push_back("BIAS_ZERO");
   if (c.remedies.bias == BiasMode::slope) d.push_back("BIAS_SLOPE");
   if (c.remedies.normal_offset) d.push_back("NORMAL_OFFSET");
+  if (variant == LightingVariant::check) d.push_back("CHECK_OUTPUTS");
   return d;
+}
+
+LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s) {
+  return {static_cast<int32_t>(s.map_lights.size()), s.has_point_light ? 1 : 0, c.injected_work};
+}
+
+std::vector<std::string> lighting_constant_defines(const LightingConstants& k) {
+  return {"MAP_LIGHTS=" + std::to_string(k.map_lights), "POINT_LIGHT=" + std::to_string(k.point_light),
+          "INJECTED_WORK=" + std::to_string(k.injected_work)};
 }
 
 }  // namespace omnishadow::gpu

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "backends/common/case_config.h"
+#include "scenes/scene.h"
 
 namespace omnishadow::gpu {
 
@@ -18,8 +19,27 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c);
 std::string variant_key(const std::string& file, const std::vector<std::string>& defines);
 std::string storage_define(Storage s);
 std::string filter_define(Filter f);
-// The lighting fragment stage: storage, filter and, for the bias remedies, BIAS_ZERO / BIAS_SLOPE / NORMAL_OFFSET
-// (CMakeLists.txt compiles one SPIR-V per combination).
-std::vector<std::string> lighting_defines(const CaseConfig& c);
+
+// The lighting pass in two variants of one shader (shaders/lighting.frag). `timed` is what a renderer ships for
+// the case and the only one the timed frames render: one RGBA8 colour output (+ depth). `check` adds the shadow
+// factor (R32F) and world position (RGBA32F) outputs the checks read, and is rendered in the untimed check frame
+// only. The colour is computed by the same lines in both, so their lit images must agree bit for bit.
+enum class LightingVariant { timed, check };
+inline constexpr int kLightingColorOutputs[2] = {1, 3};  // by LightingVariant
+
+// The lighting fragment stage: storage, filter, for the bias remedies BIAS_ZERO / BIAS_SLOPE / NORMAL_OFFSET, and
+// CHECK_OUTPUTS for the check variant (CMakeLists.txt compiles one SPIR-V per combination).
+std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant variant);
+
+// What the case's scene has, fixed when the lighting pipeline is built, so the shader holds no loop or branch for
+// lights the scene lacks: GL compiles them in as defines, Vulkan passes them as specialisation constants with
+// ids 0, 1, 2 (the order of the fields).
+struct LightingConstants {
+  int32_t map_lights = 0;     // spot and directional lights (0-4), one 2D map each
+  int32_t point_light = 1;    // 1: the scene has a point light and so a cube (a VkBool32 for Vulkan)
+  int32_t injected_work = 0;  // --inject-fragment-work iterations
+};
+LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s);
+std::vector<std::string> lighting_constant_defines(const LightingConstants& k);  // "MAP_LIGHTS=2", ...
 
 }  // namespace omnishadow::gpu

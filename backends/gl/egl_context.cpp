@@ -75,6 +75,12 @@ EglContext::~EglContext() {
   }
 }
 
+bool EglContext::make_current() const {
+  if (display_ == EGL_NO_DISPLAY || context_ == EGL_NO_CONTEXT) return false;
+  if (eglGetCurrentContext() == context_) return true;
+  return eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) == EGL_TRUE;
+}
+
 std::string EglContext::egl_version() const {
   const char* v = eglQueryString(display_, EGL_VERSION);
   return v ? v : "?";

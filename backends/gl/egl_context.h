@@ -20,6 +20,11 @@ class EglContext {
 
   const std::string& platform() const { return platform_; }
   std::string egl_version() const;
+  // Makes this context current on the calling thread again; false when EGL refuses. Needed before any GL call
+  // that may follow another API's teardown: on NVIDIA the Vulkan ICD (libGLX_nvidia) shares driver state with
+  // EGL, and after vkDestroyInstance libepoxy found no current context for the GL backend's destructor and
+  // aborted the process (issue 13).
+  bool make_current() const;
 
  private:
   std::string platform_;

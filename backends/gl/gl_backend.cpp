@@ -108,6 +108,12 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
 }
 
 GlBackend::~GlBackend() {
+  // Without a current context every GL call below would go to libepoxy's resolver, which aborts the process;
+  // destroying the EGL context (EglContext's destructor) frees these objects anyway.
+  if (!context_.make_current()) {
+    (void)queries_.release();  // its destructor deletes GL queries: left to the context's destruction
+    return;
+  }
   release_case();
   for (auto& [key, prog] : programs_) glDeleteProgram(prog);
   const GLuint buffers[] = {vertex_buffer_, frame_ubo_, pass_ubo_};
@@ -176,7 +182,9 @@ GLuint GlBackend::program(const std::vector<ShaderStage>& stages, const std::vec
 void GlBackend::release_case() {
   queries_.reset();
   if (shadow_.depth) destroy(shadow_);
-  if (lighting_.fbo) destroy(lighting_);
+  for (LightingTargets& t : lighting_)
+    if (t.fbo) destroy(t);
+  checked_ = false;
   if (maps_.depth) destroy(maps_);
   config_.reset();
 }
@@ -198,14 +206,19 @@ void GlBackend::configure(const CaseConfig& c) {
   if (c.technique == Technique::geometry_shader || c.technique == Technique::geometry_shader_instanced)
     shadow_stages.insert(shadow_stages.begin() + 1, {GL_GEOMETRY_SHADER, "shadow_depth.geom"});
   shadow_program_ = program(shadow_stages, shadow_defines);
-  lighting_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "lighting.frag"}},
-                              gpu::lighting_defines(c));
+  for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
+    std::vector<std::string> defines = gpu::lighting_defines(c, v);
+    for (std::string& d : gpu::lighting_constant_defines(gpu::lighting_constants(c, *scene_))) defines.push_back(d);
+    lighting_programs_[size_t(v)] =
+        program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "lighting.frag"}}, defines);
+  }
 
   map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, {});
   shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format);
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
-  lighting_ = create_lighting_targets(c.width, c.height);
+  lighting_[size_t(gpu::LightingVariant::timed)] = create_lighting_targets(c.width, c.height, false);
+  lighting_[size_t(gpu::LightingVariant::check)] = create_lighting_targets(c.width, c.height, true);
   queries_ = std::make_unique<FrameQueries>(has_pipeline_statistics_);
   GLenum error = glGetError();
   if (error != GL_NO_ERROR) {
@@ -335,20 +348,23 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   return stats;
 }
 
-GlBackend::DrawStats GlBackend::lighting_pass() {
+GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant) {
   DrawStats stats;
-  glBindFramebuffer(GL_FRAMEBUFFER, lighting_.fbo);
-  glViewport(0, 0, lighting_.width, lighting_.height);
+  const LightingTargets& target = lighting_[size_t(variant)];
+  glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+  glViewport(0, 0, target.width, target.height);
   const GLfloat background[4] = {0.1f, 0.1f, 0.1f, 1.0f};
   const GLfloat zero[4] = {0, 0, 0, 0};
   const GLfloat depth_one = 1.0f;
-  glClearNamedFramebufferfv(lighting_.fbo, GL_COLOR, 0, background);
-  glClearNamedFramebufferfv(lighting_.fbo, GL_COLOR, 1, zero);
-  glClearNamedFramebufferfv(lighting_.fbo, GL_COLOR, 2, zero);
-  glClearNamedFramebufferfv(lighting_.fbo, GL_DEPTH, 0, &depth_one);
+  glClearNamedFramebufferfv(target.fbo, GL_COLOR, 0, background);
+  if (variant == gpu::LightingVariant::check) {
+    glClearNamedFramebufferfv(target.fbo, GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(target.fbo, GL_COLOR, 2, zero);
+  }
+  glClearNamedFramebufferfv(target.fbo, GL_DEPTH, 0, &depth_one);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glUseProgram(lighting_program_);
+  glUseProgram(lighting_programs_[size_t(variant)]);
   glBindVertexArray(lighting_vao_);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
   glBindTextureUnit(gpu::kShadowMapBinding, shadow_.stored);
@@ -360,8 +376,9 @@ GlBackend::DrawStats GlBackend::lighting_pass() {
   return stats;
 }
 
-FrameTiming GlBackend::render(int frame) {
+FrameTiming GlBackend::render(int frame, FrameKind kind) {
   if (!config_) throw std::logic_error("render() before configure()");
+  const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
   // Each pass is bracketed by glFinish so that its wall time is its own. On llvmpipe the vertex and geometry
   // stages run on this thread inside glDraw*, so cpu_submit includes them; rasterisation runs on the
   // LP_NUM_THREADS worker threads and completes inside glFinish.
@@ -376,11 +393,16 @@ FrameTiming GlBackend::render(int frame) {
   glFinish();
   auto t2 = Clock::now();
   queries_->begin_timer(kLightingPass);
-  lighting_pass();
+  lighting_pass(variant);
   queries_->end_timer();
   auto t3 = Clock::now();
   glFinish();
   auto t4 = Clock::now();
+  if (kind == FrameKind::check) {  // the timed variant's colour of the same frame, for the timed_lit check
+    lighting_pass(gpu::LightingVariant::timed);
+    glFinish();
+    checked_ = true;
+  }
   t.shadow = {ms_between(t0, t1), ms_between(t0, t2), queries_->timer_ms(kShadowPass)};
   t.lighting = {ms_between(t2, t3), ms_between(t2, t4), queries_->timer_ms(kLightingPass)};
   t.frame_wall_ms = ms_between(t0, t4);
@@ -396,7 +418,7 @@ FrameCounters GlBackend::count_work(int frame) {
   planner_.rendered(plan, *config_);
   if (queries_->has_statistics()) queries_->end_statistics();
   if (queries_->has_statistics()) queries_->begin_statistics(kLightingPass);
-  DrawStats lighting = lighting_pass();
+  DrawStats lighting = lighting_pass(gpu::LightingVariant::timed);
   if (queries_->has_statistics()) queries_->end_statistics();
   glFinish();
   c.shadow = queries_->statistics(kShadowPass);
@@ -414,18 +436,24 @@ std::vector<std::string> GlBackend::drain_api_errors() {
 
 Images GlBackend::read_back() {
   if (!config_) throw std::logic_error("read_back() before configure()");
+  if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
+  const LightingTargets& timed = lighting_[size_t(gpu::LightingVariant::timed)];
+  const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
-  img.width = lighting_.width;
-  img.height = lighting_.height;
+  img.width = check.width;
+  img.height = check.height;
   size_t pixels = static_cast<size_t>(img.width) * static_cast<size_t>(img.height);
   img.lit_rgba8.resize(pixels * 4);
+  img.timed_lit_rgba8.resize(pixels * 4);
   img.shadow_factor.resize(pixels);
   img.world_position.resize(pixels * 4);
-  glGetTextureImage(lighting_.color, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.lit_rgba8.size()),
+  glGetTextureImage(check.color, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.lit_rgba8.size()),
                     img.lit_rgba8.data());
-  glGetTextureImage(lighting_.shadow_factor, 0, GL_RED, GL_FLOAT,
+  glGetTextureImage(timed.color, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.timed_lit_rgba8.size()),
+                    img.timed_lit_rgba8.data());
+  glGetTextureImage(check.shadow_factor, 0, GL_RED, GL_FLOAT,
                     static_cast<GLsizei>(img.shadow_factor.size() * sizeof(float)), img.shadow_factor.data());
-  glGetTextureImage(lighting_.position, 0, GL_RGBA, GL_FLOAT,
+  glGetTextureImage(check.position, 0, GL_RGBA, GL_FLOAT,
                     static_cast<GLsizei>(img.world_position.size() * sizeof(float)), img.world_position.data());
 
   img.cube_size = shadow_.size;

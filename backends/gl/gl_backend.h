@@ -4,6 +4,7 @@
 
 #include <epoxy/gl.h>
 
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "backends/backend.h"
+#include "backends/common/shader_variants.h"
 #include "backends/common/shadow_frame.h"
 #include "backends/gl/egl_context.h"
 #include "backends/gl/gl_program.h"
@@ -28,7 +30,7 @@ class GlBackend final : public Backend {
   Support supports(const CaseConfig& config) const override;
   void load(const scene::Scene& scene) override;
   void configure(const CaseConfig& config) override;
-  FrameTiming render(int frame) override;
+  FrameTiming render(int frame, FrameKind kind) override;
   FrameCounters count_work(int frame) override;
   Images read_back() override;
   std::vector<std::string> drain_api_errors() override;
@@ -40,7 +42,8 @@ class GlBackend final : public Backend {
   GLuint program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
   gpu::ShadowFrame update_frame_uniforms(int frame);
   DrawStats shadow_pass(const gpu::ShadowFrame& f);
-  DrawStats lighting_pass();
+  // The lighting pass in one variant: its targets and program (lighting_[v], lighting_programs_[v]).
+  DrawStats lighting_pass(gpu::LightingVariant variant);
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   // All objects, or only `subset` (indices into scene_->objects); instances per object from `instances`.
   // two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only).
@@ -67,11 +70,12 @@ class GlBackend final : public Backend {
 
   std::optional<CaseConfig> config_;
   ShadowTargets shadow_{};
-  LightingTargets lighting_{};
+  std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
+  bool checked_ = false;                       // a check frame was rendered since configure (read_back needs one)
   MapTargets maps_{};
   GLuint map_program_ = 0;
   GLuint shadow_program_ = 0;
-  GLuint lighting_program_ = 0;
+  std::array<GLuint, 2> lighting_programs_{};  // by gpu::LightingVariant
   std::unique_ptr<FrameQueries> queries_;
   gpu::ShadowFramePlanner planner_;
   std::vector<std::string> api_errors_;  // filled by the KHR_debug callback in the checking mode

@@ -127,31 +127,37 @@ void destroy(MapTargets& t) {
   t = MapTargets{};
 }
 
-LightingTargets create_lighting_targets(int width, int height) {
+LightingTargets create_lighting_targets(int width, int height, bool check_outputs) {
   LightingTargets t;
   t.width = width;
   t.height = height;
   t.color = create_2d(GL_RGBA8, width, height);
-  t.shadow_factor = create_2d(GL_R32F, width, height);
-  t.position = create_2d(GL_RGBA32F, width, height);
+  if (check_outputs) {
+    t.shadow_factor = create_2d(GL_R32F, width, height);
+    t.position = create_2d(GL_RGBA32F, width, height);
+  }
   glCreateRenderbuffers(1, &t.depth);
   glNamedRenderbufferStorage(t.depth, GL_DEPTH_COMPONENT32F, width, height);
   check_allocation("the lighting targets");
   glCreateFramebuffers(1, &t.fbo);
   glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT0, t.color, 0);
-  glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT1, t.shadow_factor, 0);
-  glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT2, t.position, 0);
+  if (check_outputs) {
+    glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT1, t.shadow_factor, 0);
+    glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT2, t.position, 0);
+  }
   glNamedFramebufferRenderbuffer(t.fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.depth);
+  // The timed framebuffer has one draw buffer: a renderer's. (With three bound, NVIDIA's GL paid for all three
+  // even when the shader wrote one: issue 14.)
   const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-  glNamedFramebufferDrawBuffers(t.fbo, 3, buffers);
-  check_complete(t.fbo, "lighting");
+  glNamedFramebufferDrawBuffers(t.fbo, check_outputs ? 3 : 1, buffers);
+  check_complete(t.fbo, check_outputs ? "lighting (check)" : "lighting");
   return t;
 }
 
 void destroy(LightingTargets& t) {
   glDeleteFramebuffers(1, &t.fbo);
   const GLuint textures[] = {t.color, t.shadow_factor, t.position};
-  glDeleteTextures(3, textures);
+  glDeleteTextures(3, textures);  // zero names are ignored
   glDeleteRenderbuffers(1, &t.depth);
   t = LightingTargets{};
 }

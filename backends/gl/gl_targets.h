@@ -30,11 +30,12 @@ struct MapTargets {
 MapTargets create_map_targets(int size, int layers, DepthFormat depth_format);
 void destroy(MapTargets& t);
 
+// The timed variant has the colour and depth only; the check variant adds the shadow factor and world position.
 struct LightingTargets {
   GLuint fbo = 0;
   GLuint color = 0;          // RGBA8 lit frame
-  GLuint shadow_factor = 0;  // R32F
-  GLuint position = 0;       // RGBA32F world position, w = 1 where covered
+  GLuint shadow_factor = 0;  // R32F (check variant)
+  GLuint position = 0;       // RGBA32F world position, w = 1 where covered (check variant)
   GLuint depth = 0;          // D32F renderbuffer
   int width = 0;
   int height = 0;
@@ -44,7 +45,7 @@ GLenum depth_internal_format(DepthFormat format);
 // Throw std::runtime_error naming the incomplete framebuffer, or GL_OUT_OF_MEMORY for allocations that failed.
 ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format);
 void destroy(ShadowTargets& t);
-LightingTargets create_lighting_targets(int width, int height);
+LightingTargets create_lighting_targets(int width, int height, bool check_outputs);
 void destroy(LightingTargets& t);
 
 }  // namespace omnishadow::gl

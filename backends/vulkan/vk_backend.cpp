@@ -223,8 +223,9 @@ void VkBackend::release_case() {
   VkDevice d = ctx_->device();
   for (VkPipeline p : shadow_pipelines_)
     if (p) vkDestroyPipeline(d, p, nullptr);
-  for (VkPipeline p : lighting_pipelines_)
-    if (p) vkDestroyPipeline(d, p, nullptr);
+  for (auto& variant : lighting_pipelines_)
+    for (VkPipeline p : variant)
+      if (p) vkDestroyPipeline(d, p, nullptr);
   for (VkPipeline p : map_pipelines_)
     if (p) vkDestroyPipeline(d, p, nullptr);
   shadow_pipelines_ = {};
@@ -232,7 +233,8 @@ void VkBackend::release_case() {
   map_pipelines_ = {};
   destroy(*ctx_, maps_);
   destroy(*ctx_, shadow_);
-  destroy(*ctx_, lighting_);
+  for (LightingTargets& t : lighting_) destroy(*ctx_, t);
+  checked_ = false;
   config_.reset();
 }
 
@@ -245,7 +247,9 @@ void VkBackend::configure(const CaseConfig& c) {
   release_case();
   try {
     shadow_ = create_shadow_targets(*ctx_, c);
-    lighting_ = create_lighting_targets(*ctx_, static_cast<uint32_t>(c.width), static_cast<uint32_t>(c.height));
+    for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check})
+      lighting_[size_t(v)] = create_lighting_targets(*ctx_, static_cast<uint32_t>(c.width),
+                                                     static_cast<uint32_t>(c.height), v == gpu::LightingVariant::check);
     // 2D maps share the cube's face size and depth format (one --cube / --depth-format axis sizes both).
     const uint32_t map_layers = static_cast<uint32_t>(scene_->map_lights.size());
     maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u, std::max(map_layers, 1u),
@@ -272,18 +276,24 @@ void VkBackend::configure(const CaseConfig& c) {
     shadow.render_pass = shadow_.render_pass;
     shadow.color_attachments = c.storage == Storage::r32f_distance ? 1 : 0;
     shadow.position_only = true;
-    PipelineDesc lighting;
-    lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "lighting.vert:NONE"},
-                       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("lighting.frag", gpu::lighting_defines(c))}};
-    lighting.layout = lighting_layout_;
-    lighting.render_pass = lighting_.render_pass;
-    lighting.color_attachments = 3;
+    const gpu::LightingConstants constants = gpu::lighting_constants(c, *scene_);
     for (int cull = 0; cull < 2; ++cull) {
-      lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
       // two_sided remedy: closed casters keep their back faces in the shadow pass (a light inside one is blocked).
       shadow.cull = cull && !c.remedies.two_sided ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
       shadow_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, shadow);
-      lighting_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);
+    }
+    for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
+      PipelineDesc lighting;
+      lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "lighting.vert:NONE"},
+                         {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("lighting.frag", gpu::lighting_defines(c, v))}};
+      lighting.layout = lighting_layout_;
+      lighting.render_pass = lighting_[size_t(v)].render_pass;
+      lighting.color_attachments = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(v)]);
+      lighting.fragment_constants = {constants.map_lights, constants.point_light, constants.injected_work};
+      for (int cull = 0; cull < 2; ++cull) {
+        lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
+        lighting_pipelines_[size_t(v)][static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);
+      }
     }
 
     // Written before any command buffer binds the set: lavapipe crashes on a bound, never-written sampler.
@@ -426,27 +436,29 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   end_pass(cb, 0, statistics);
 }
 
-void VkBackend::record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& draws) {
+void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws) {
+  const LightingTargets& target = lighting_[size_t(variant)];
+  const uint32_t colors = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(variant)]);
   begin_pass(cb, 1, statistics);
   VkClearValue clears[4];
   clears[0].color = {{0.1f, 0.1f, 0.1f, 1.0f}};  // same background as GL
   clears[1].color = {{0, 0, 0, 0}};
   clears[2].color = {{0, 0, 0, 0}};
-  clears[3].depthStencil = {1.0f, 0};
+  clears[colors].depthStencil = {1.0f, 0};  // the depth attachment follows the colour attachments
   VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  rp.renderPass = lighting_.render_pass;
-  rp.framebuffer = lighting_.framebuffer;
-  rp.renderArea = {{0, 0}, {lighting_.width, lighting_.height}};
-  rp.clearValueCount = 4;
+  rp.renderPass = target.render_pass;
+  rp.framebuffer = target.framebuffer;
+  rp.renderArea = {{0, 0}, {target.width, target.height}};
+  rp.clearValueCount = colors + 1;
   rp.pClearValues = clears;
   vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
-  VkViewport viewport{0, 0, float(lighting_.width), float(lighting_.height), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {lighting_.width, lighting_.height}};
+  VkViewport viewport{0, 0, float(target.width), float(target.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {target.width, target.height}};
   vkCmdSetViewport(cb, 0, 1, &viewport);
   vkCmdSetScissor(cb, 0, 1, &scissor);
   VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-  draw_objects(cb, lighting_pipelines_, lighting_layout_, lighting_set_, 1, draws);
+  draw_objects(cb, lighting_pipelines_[size_t(variant)], lighting_layout_, lighting_set_, 1, draws);
   vkCmdEndRenderPass(cb);
   end_pass(cb, 1, statistics);
 }
@@ -462,8 +474,9 @@ double VkBackend::timestamp_ms(uint32_t first) const {
   return static_cast<double>(delta) * ctx_->properties().limits.timestampPeriod * 1e-6;
 }
 
-FrameTiming VkBackend::render(int frame) {
+FrameTiming VkBackend::render(int frame, FrameKind kind) {
   if (!config_) throw std::logic_error("render() before configure()");
+  const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
   // Each pass is its own submission, waited on before the next, so its wall time is its own (as GL's glFinish).
   // cpu_submit covers uniform update, command recording and vkQueueSubmit.
   FrameTiming t;
@@ -477,7 +490,7 @@ FrameTiming VkBackend::render(int frame) {
   auto t1 = Clock::now();
   ctx_->wait();
   auto t2 = Clock::now();
-  record_lighting(command_buffers_[1], false, draws);
+  record_lighting(command_buffers_[1], variant, false, draws);
   ctx_->submit(command_buffers_[1]);
   auto t3 = Clock::now();
   ctx_->wait();
@@ -485,6 +498,12 @@ FrameTiming VkBackend::render(int frame) {
   t.shadow = {ms_between(t0, t1), ms_between(t0, t2), timestamp_ms(0)};
   t.lighting = {ms_between(t2, t3), ms_between(t2, t4), timestamp_ms(2)};
   t.frame_wall_ms = ms_between(t0, t4);
+  if (kind == FrameKind::check) {  // the timed variant's colour of the same frame, for the timed_lit check
+    record_lighting(command_buffers_[1], gpu::LightingVariant::timed, false, draws);
+    ctx_->submit(command_buffers_[1]);
+    ctx_->wait();
+    checked_ = true;
+  }
   return t;
 }
 
@@ -498,7 +517,7 @@ FrameCounters VkBackend::count_work(int frame) {
   ctx_->submit(command_buffers_[0]);
   planner_.rendered(plan, *config_);
   ctx_->wait();
-  record_lighting(command_buffers_[1], stats, c.lighting.draw_calls);
+  record_lighting(command_buffers_[1], gpu::LightingVariant::timed, stats, c.lighting.draw_calls);
   ctx_->submit(command_buffers_[1]);
   ctx_->wait();
   if (stats) {
@@ -524,18 +543,21 @@ FrameCounters VkBackend::count_work(int frame) {
 
 Images VkBackend::read_back() {
   if (!config_) throw std::logic_error("read_back() before configure()");
+  if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
+  const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
-  img.width = static_cast<int>(lighting_.width);
-  img.height = static_cast<int>(lighting_.height);
+  img.width = static_cast<int>(check.width);
+  img.height = static_cast<int>(check.height);
   const VkImageLayout ready = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  img.lit_rgba8 = read_image(*ctx_, lighting_.color, ready, 4);
+  img.lit_rgba8 = read_image(*ctx_, check.color, ready, 4);
+  img.timed_lit_rgba8 = read_image(*ctx_, lighting_[size_t(gpu::LightingVariant::timed)].color, ready, 4);
   auto floats = [](const std::vector<uint8_t>& bytes) {
     std::vector<float> out(bytes.size() / sizeof(float));
     std::memcpy(out.data(), bytes.data(), out.size() * sizeof(float));
     return out;
   };
-  img.shadow_factor = floats(read_image(*ctx_, lighting_.shadow_factor, ready, 4));
-  img.world_position = floats(read_image(*ctx_, lighting_.position, ready, 16));
+  img.shadow_factor = floats(read_image(*ctx_, check.shadow_factor, ready, 4));
+  img.world_position = floats(read_image(*ctx_, check.position, ready, 16));
 
   img.cube_size = static_cast<int>(shadow_.size);
   const Image& stored = shadow_.stored();

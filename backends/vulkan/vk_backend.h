@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "backends/backend.h"
+#include "backends/common/shader_variants.h"
 #include "backends/common/shadow_frame.h"
 #include "backends/vulkan/vk_context.h"
 #include "backends/vulkan/vk_pipelines.h"
@@ -27,14 +28,14 @@ class VkBackend final : public Backend {
   Support supports(const CaseConfig& config) const override;
   void load(const scene::Scene& scene) override;
   void configure(const CaseConfig& config) override;
-  FrameTiming render(int frame) override;
+  FrameTiming render(int frame, FrameKind kind) override;
   FrameCounters count_work(int frame) override;
   Images read_back() override;
   std::vector<std::string> drain_api_errors() override { return ctx_->drain_messages(); }
 
  private:
   void record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws);
-  void record_lighting(VkCommandBuffer cb, bool statistics, uint64_t& draws);
+  void record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws);
   void record_maps(VkCommandBuffer cb, uint64_t& draws);  // one 2D map per spot/directional light
   // All objects, or `subset` (indices into the scene's objects). With `face_masks` (vs_layer + face culling), each
   // object is drawn with one instance per set bit of its mask, the mask pushed for the vertex shader.
@@ -70,11 +71,12 @@ class VkBackend final : public Backend {
   std::optional<CaseConfig> config_;
   ShadowTargets shadow_;
   gpu::ShadowFramePlanner planner_;
-  LightingTargets lighting_;
+  std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
+  bool checked_ = false;                       // a check frame was rendered since configure (read_back needs one)
   MapTargets maps_;
   std::array<VkPipeline, 3> map_pipelines_{};       // [0] no culling, [1] back faces, [2] front faces (seed 003)
   std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
-  std::array<VkPipeline, 2> lighting_pipelines_{};
+  std::array<std::array<VkPipeline, 2>, 2> lighting_pipelines_{};  // [variant][back-face culling]
 };
 
 }  // namespace omnishadow::vk

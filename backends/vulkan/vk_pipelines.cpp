@@ -24,12 +24,19 @@ VkShaderModule ShaderModules::get(const std::string& key) {
 }
 
 VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc) {
+  std::vector<VkSpecializationMapEntry> entries;
+  for (uint32_t k = 0; k < desc.fragment_constants.size(); ++k)
+    entries.push_back({k, static_cast<uint32_t>(k * sizeof(int32_t)), sizeof(int32_t)});
+  VkSpecializationInfo specialisation{static_cast<uint32_t>(entries.size()), entries.data(),
+                                      desc.fragment_constants.size() * sizeof(int32_t),
+                                      desc.fragment_constants.data()};
   std::vector<VkPipelineShaderStageCreateInfo> stages;
   for (const auto& [stage, key] : desc.stages) {
     VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     s.stage = stage;
     s.module = modules.get(key);
     s.pName = "main";
+    if (stage == VK_SHADER_STAGE_FRAGMENT_BIT && !entries.empty()) s.pSpecializationInfo = &specialisation;
     stages.push_back(s);
   }
   VkVertexInputBindingDescription binding{0, static_cast<uint32_t>(gpu::kVertexStride), VK_VERTEX_INPUT_RATE_VERTEX};

@@ -30,6 +30,8 @@ struct PipelineDesc {
   uint32_t color_attachments = 0;
   bool position_only = false;  // the shadow pass reads location 0 only
   VkCullModeFlags cull = VK_CULL_MODE_NONE;
+  // The fragment stage's specialisation constants: value k for constant_id k (4 bytes each; a bool is a VkBool32).
+  std::vector<int32_t> fragment_constants;
 };
 
 VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc);

@@ -185,27 +185,32 @@ void destroy(VkContext& ctx, MapTargets& t) {
   t = MapTargets{};
 }
 
-LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t height) {
+LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t height, bool check_outputs) {
   LightingTargets t;
   t.width = width;
   t.height = height;
   try {
     const VkImageUsageFlags color_usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     t.color = create_image(ctx, VK_FORMAT_R8G8B8A8_UNORM, width, height, 1, false, color_usage);
-    t.shadow_factor = create_image(ctx, VK_FORMAT_R32_SFLOAT, width, height, 1, false, color_usage);
-    t.position = create_image(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, width, height, 1, false, color_usage);
+    std::vector<const Image*> colors = {&t.color};
+    if (check_outputs) {
+      t.shadow_factor = create_image(ctx, VK_FORMAT_R32_SFLOAT, width, height, 1, false, color_usage);
+      t.position = create_image(ctx, VK_FORMAT_R32G32B32A32_SFLOAT, width, height, 1, false, color_usage);
+      colors.push_back(&t.shadow_factor);
+      colors.push_back(&t.position);
+    }
     t.depth = create_image(ctx, VK_FORMAT_D32_SFLOAT, width, height, 1, false,
                            VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
     std::vector<VkAttachmentDescription> attachments;
-    for (const Image* i : {&t.color, &t.shadow_factor, &t.position})
+    for (const Image* i : colors)
       attachments.push_back(
           attachment(i->format, VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL));
     attachments.push_back(attachment(VK_FORMAT_D32_SFLOAT, VK_ATTACHMENT_STORE_OP_DONT_CARE,
                                      VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL));
-    t.render_pass = create_render_pass(ctx, attachments, 3, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                       VK_ACCESS_TRANSFER_READ_BIT, 0);
-    for (const Image* i : {&t.color, &t.shadow_factor, &t.position, &t.depth})
-      t.views.push_back(create_view(ctx, *i, VK_IMAGE_VIEW_TYPE_2D, 0, 1));
+    t.render_pass = create_render_pass(ctx, attachments, static_cast<uint32_t>(colors.size()),
+                                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, 0);
+    for (const Image* i : colors) t.views.push_back(create_view(ctx, *i, VK_IMAGE_VIEW_TYPE_2D, 0, 1));
+    t.views.push_back(create_view(ctx, t.depth, VK_IMAGE_VIEW_TYPE_2D, 0, 1));
     t.framebuffer = create_framebuffer(ctx, t.render_pass, t.views, width, height, 1);
   } catch (...) {
     destroy(ctx, t);

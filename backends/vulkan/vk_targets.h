@@ -24,11 +24,12 @@ struct ShadowTargets {
   const Image& stored() const { return storage == Storage::r32f_distance ? color : depth; }
 };
 
+// The timed variant has the colour and depth only; the check variant adds the shadow factor and world position.
 struct LightingTargets {
   uint32_t width = 0, height = 0;
   Image color;          // RGBA8
-  Image shadow_factor;  // R32F
-  Image position;       // RGBA32F
+  Image shadow_factor;  // R32F (check variant)
+  Image position;       // RGBA32F (check variant)
   Image depth;          // D32F
   std::vector<VkImageView> views;
   VkRenderPass render_pass = VK_NULL_HANDLE;
@@ -54,7 +55,7 @@ VkFormat depth_format_of(DepthFormat format);
 // TRANSFER_SRC_OPTIMAL, ready for read-back.
 ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& config);
 void destroy(VkContext& ctx, ShadowTargets& t);
-LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t height);
+LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t height, bool check_outputs);
 void destroy(VkContext& ctx, LightingTargets& t);
 
 }  // namespace omnishadow::vk
