@@ -219,7 +219,6 @@ void Harness::prepare(CaseResult& r) {
     if (!api_errors.empty())
       throw std::runtime_error("API error (checking mode): " + api_errors.front() +
                                (api_errors.size() > 1 ? " (+" + std::to_string(api_errors.size() - 1) + " more)" : ""));
-    if (options_.write_images) write_images(r, images);
     if (options_.accuracy) {
       const Truth& truth = truth_for(r.config, images);
       r.accuracy = measure_accuracy(truth, images);
@@ -230,8 +229,9 @@ void Harness::prepare(CaseResult& r) {
                       r.accuracy->misclassified_percent, options_.max_error_percent);
         r.reason += (r.reason.empty() ? "" : "; ") + std::string(buf);
       }
-      if (options_.write_images) {
+      if (options_.write_images()) {
         fs::path rel = fs::path("images") / r.config.id() / "error_heatmap.png";
+        fs::create_directories((fs::path(options_.out_dir) / rel).parent_path());
         write_png_rgb_top_down((fs::path(options_.out_dir) / rel).string(), images.width, images.height,
                                error_heatmap(truth, images));
         r.images["error_heatmap"] = rel.string();
@@ -240,6 +240,8 @@ void Harness::prepare(CaseResult& r) {
     const bool is_reference = r.config == reference_config(r.config);
     if (!is_reference) check_against_six_pass(r, images);
     check_against_other_backend(r, images);
+    // Last, when the case's status is known: a failed check also keeps every float buffer.
+    if (options_.write_images()) write_images(r, images);
     if (is_reference) {
       reference_key_ = group_key(r.config);
       reference_ = std::move(images);
@@ -369,7 +371,7 @@ const Truth& Harness::truth_for(const CaseConfig& c, const Images& images) {
 void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float>& a, const std::vector<float>& b,
                            const std::vector<float>& grey, int width, int height, double scale, bool flip) {
   c.passed = c.max_percent > 0 ? c.difference.percent_differing() <= c.max_percent : c.difference.differing == 0;
-  if (!c.passed && options_.write_images) {
+  if (!c.passed && options_.write_images()) {
     fs::path dir = fs::path("images") / r.config.id();
     c.diff_image = (dir / ("diff_" + c.name + ".png")).string();
     fs::create_directories(fs::path(options_.out_dir) / dir);
@@ -422,6 +424,12 @@ void Harness::write_images(CaseResult& r, const Images& img) {
   write_png_rgba_bottom_up(out("lit", "lit.png"), img.width, img.height, img.lit_rgba8);
   write_png_gray(out("shadow_factor_png", "shadow_factor.png"), img.width, img.height, img.shadow_factor, 0.0f, 1.0f,
                  true);
+  const float far_plane = img.light_far;
+  write_png_gray(out("cube_faces", "cube_faces.png"), img.cube_size * 6, img.cube_size, concat_faces(img), 0.0f,
+                 far_plane, false);
+  const bool failed = r.status == Status::failed_check;
+  if (options_.images != RunOptions::ImagePolicy::all && !failed) return;
+  // The float buffers: 24 bytes a pixel (1.9 MB per 800x600 buffer), what a failed check needs to be examined.
   write_pfm(out("shadow_factor", "shadow_factor.pfm"), img.width, img.height, 1, img.shadow_factor);
   std::vector<float> xyz, coverage;
   xyz.reserve(img.world_position.size() / 4 * 3);
@@ -433,9 +441,6 @@ void Harness::write_images(CaseResult& r, const Images& img) {
   }
   write_pfm(out("world_position", "world_position.pfm"), img.width, img.height, 3, xyz);
   write_pfm(out("coverage", "coverage.pfm"), img.width, img.height, 1, coverage);
-  const float far_plane = img.light_far;
-  write_png_gray(out("cube_faces", "cube_faces.png"), img.cube_size * 6, img.cube_size, concat_faces(img), 0.0f,
-                 far_plane, false);
 }
 
 }  // namespace omnishadow::bench

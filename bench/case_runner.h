@@ -30,7 +30,13 @@ struct RunOptions {
   double cross_lit_tolerance = 2.0;
   double cross_shadow_tolerance = 0.1;
   double cross_max_percent = 0.1;
-  bool write_images = true;
+  // Which image files a case writes (--images). failed (the default): the PNGs a person looks at, for every case
+  // (lit, cube faces, shadow factor, error heatmap), and for a case that failed a check also every float buffer
+  // (shadow factor, world position, coverage as PFM) beside its diff images; all: every file for every case;
+  // none: no file (the checks still run).
+  enum class ImagePolicy { none, failed, all };
+  ImagePolicy images = ImagePolicy::failed;
+  bool write_images() const { return images != ImagePolicy::none; }
   bool accuracy = true;     // shadow error against exact visibility (ray-cast reference)
   bool memory_precheck = true;  // fail a case that cannot fit before it allocates (bench/memory_budget.h)
   // Also render check_frame + 1 and report how much of the shadow factor changed (flicker): with a light that

@@ -85,118 +85,98 @@ void print_error(const std::string& message) {
   std::fprintf(stderr, "omnishadow: error: %s\n", line.c_str());
 }
 
-int run_command(const RunCommand& cmd) {
-  RunOptions options;
-  options.out_dir = cmd.out_dir.empty() ? default_out_dir() : cmd.out_dir;
-  options.scenes_dir = cmd.scenes_dir;
-  options.warmup_frames = cmd.warmup_frames;
-  options.frames = cmd.frames;
-  options.check_frame = cmd.check_frame;
-  options.face_tolerance = cmd.face_tolerance;
-  options.lit_tolerance = cmd.lit_tolerance;
-  options.cross_lit_tolerance = cmd.cross_lit_tolerance;
-  options.cross_shadow_tolerance = cmd.cross_shadow_tolerance;
-  options.cross_max_percent = cmd.cross_max_percent;
-  options.write_images = cmd.write_images;
-  options.accuracy = cmd.accuracy;
-  options.memory_precheck = cmd.memory_precheck;
-  options.stability = cmd.stability;
-  options.max_error_percent = cmd.max_error_percent;
-  options.truth.light_radius = cmd.light_radius;
-  options.truth.samples_per_axis = cmd.light_samples_per_axis;
-  options.backend_options = cmd.backend_options;
-  Harness harness(options);
-  RunInfo info;
-  info.command_line = cmd.command_line;
-  info.options = options;
+namespace {
 
-  // Everything that can be wrong with the request is found before anything runs.
-  std::vector<CaseConfig> cases;
-  try {
-    std::map<std::string, std::pair<int, int>> scene_sizes;
-    for (const std::string& name : cmd.matrix.scenes) {
-      const scene::Scene& s = harness.scene(name);
-      scene_sizes[name] = {s.camera.width, s.camera.height};
-    }
-    for (const std::string& name : cmd.matrix.backends) {
-      Backend& b = harness.backend(name);
-      info.devices[name] = b.device();
-      for (int size : cmd.matrix.cube_sizes)
-        if (size > b.device().max_cube_size)
-          throw std::invalid_argument("--cube " + std::to_string(size) + " is above the largest cube map " +
-                                      b.device().renderer + " supports (" +
-                                      std::to_string(b.device().max_cube_size) + ")");
-      int max_2d = std::stoi(b.device().extra.count("max_2d_size") ? b.device().extra.at("max_2d_size") : "16384");
-      for (const auto& [w, h] : cmd.matrix.frame_sizes)
-        if (w > max_2d || h > max_2d)
-          throw std::invalid_argument("--frame " + std::to_string(w) + "x" + std::to_string(h) +
-                                      " is above the largest render target " + b.device().renderer + " supports (" +
-                                      std::to_string(max_2d) + ")");
-    }
-    cases = expand(cmd.matrix, scene_sizes);
-    cases = shard(cases, cmd.shard_index, cmd.shard_count);
-    cases = apply_benchmark_filter(cases, cmd.benchmark_args);
-    for (CaseConfig& c : cases) c.injected_work = cmd.injected_work;
-    if (cases.empty()) throw std::invalid_argument("the matrix (after --shard and --benchmark_filter) is empty");
-    prepare_out_dir(options.out_dir);
-  } catch (const std::exception& e) {
-    print_error(e.what());
-    return 2;
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Everything that can be wrong with the request, found before anything runs: scenes load, backends come up,
+// sizes fit the devices, the matrix is not empty. Throws std::invalid_argument (or the loaders' errors).
+std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness, RunInfo& info) {
+  std::map<std::string, std::pair<int, int>> scene_sizes;
+  for (const std::string& name : cmd.matrix.scenes) {
+    const scene::Scene& s = harness.scene(name);
+    scene_sizes[name] = {s.camera.width, s.camera.height};
   }
+  for (const std::string& name : cmd.matrix.backends) {
+    Backend& b = harness.backend(name);
+    info.devices[name] = b.device();
+    for (int size : cmd.matrix.cube_sizes)
+      if (size > b.device().max_cube_size)
+        throw std::invalid_argument("--cube " + std::to_string(size) + " is above the largest cube map " +
+                                    b.device().renderer + " supports (" + std::to_string(b.device().max_cube_size) +
+                                    ")");
+    int max_2d = std::stoi(b.device().extra.count("max_2d_size") ? b.device().extra.at("max_2d_size") : "16384");
+    for (const auto& [w, h] : cmd.matrix.frame_sizes)
+      if (w > max_2d || h > max_2d)
+        throw std::invalid_argument("--frame " + std::to_string(w) + "x" + std::to_string(h) +
+                                    " is above the largest render target " + b.device().renderer + " supports (" +
+                                    std::to_string(max_2d) + ")");
+  }
+  std::vector<CaseConfig> cases = expand(cmd.matrix, scene_sizes);
+  cases = shard(cases, cmd.shard_index, cmd.shard_count);
+  cases = apply_benchmark_filter(cases, cmd.benchmark_args);
+  for (CaseConfig& c : cases) c.injected_work = cmd.injected_work;
+  if (cases.empty()) throw std::invalid_argument("the matrix (after --shard and --benchmark_filter) is empty");
+  prepare_out_dir(harness.options().out_dir);
+  return cases;
+}
 
-  std::vector<CaseResult> results(cases.size());
+// One run in progress: its results so far, saved atomically after every step so that nothing measured is lost.
+struct RunState {
+  RunInfo info;
+  std::vector<CaseResult> results;
   size_t prepared = 0;  // results[0, prepared) hold finished cases; the rest are not written
-  const std::string results_path = (fs::path(options.out_dir) / "results.json").string();
-  auto save = [&](const nlohmann::json& gbench, bool complete) {
+  std::string results_path;
+  std::vector<std::string> benchmark_argv;  // Google Benchmark's argv: it keeps pointers into it
+
+  void save(const nlohmann::json& gbench, bool complete) {
     try {
       std::vector<CaseResult> finished(results.begin(), results.begin() + static_cast<ptrdiff_t>(prepared));
       write_results(results_path, info, finished, gbench, complete);
     } catch (const std::exception& e) {
       print_error(std::string("saving results: ") + e.what());
     }
-  };
-
-  g_stop_signal = 0;
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
-  auto stopped = [&] {
+  }
+  bool stopped() {
     if (!g_stop_signal) return false;
     info.stopped_by = g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM";
     return true;
-  };
+  }
+};
 
-  // Untimed part: images, checks and work counters, in matrix order.
+// The untimed part: check frames, read-backs, checks, work counters and images, in matrix order.
+void run_untimed(Harness& harness, const std::vector<CaseConfig>& cases, RunState& run) {
   auto start = std::chrono::steady_clock::now();
-  for (size_t i = 0; i < cases.size() && !stopped(); ++i) {
-    results[i].config = cases[i];
-    harness.prepare(results[i]);
-    prepared = i + 1;
-    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (size_t i = 0; i < cases.size() && !run.stopped(); ++i) {
+    CaseResult& r = run.results[i];
+    r.config = cases[i];
+    harness.prepare(r);
+    run.prepared = i + 1;
+    double elapsed = seconds_since(start);
     std::string error;
-    if (results[i].accuracy) {
+    if (r.accuracy) {
       char buf[96];
-      std::snprintf(buf, sizeof buf, " [misclassified %.3f%%, mae %.4f]", results[i].accuracy->misclassified_percent,
-                    results[i].accuracy->mae_point);
+      std::snprintf(buf, sizeof buf, " [misclassified %.3f%%, mae %.4f]", r.accuracy->misclassified_percent,
+                    r.accuracy->mae_point);
       error = buf;
     }
     std::fprintf(stderr, "[check %zu/%zu] %s: %s%s%s%s  (elapsed %.0fs, eta %.0fs)\n", i + 1, cases.size(),
-                 cases[i].id().c_str(), std::string(to_string(results[i].status)).c_str(), error.c_str(),
-                 results[i].reason.empty() ? "" : " - ", results[i].reason.c_str(), elapsed,
+                 cases[i].id().c_str(), std::string(to_string(r.status)).c_str(), error.c_str(),
+                 r.reason.empty() ? "" : " - ", r.reason.c_str(), elapsed,
                  elapsed / static_cast<double>(i + 1) * static_cast<double>(cases.size() - i - 1));
-    save(nullptr, false);
+    run.save(nullptr, false);
   }
+  run.info.phases.untimed_seconds = seconds_since(start);
+}
 
-  if (stopped()) {
-    results.resize(prepared);
-    save(nullptr, false);
-    std::fprintf(stderr, "omnishadow: stopped by %s after %zu of %zu cases; %s holds them\n",
-                 info.stopped_by.c_str(), prepared, cases.size(), results_path.c_str());
-    return 128 + static_cast<int>(g_stop_signal);
-  }
-
-  // Timed part, through Google Benchmark.
-  const std::string raw_path = (fs::path(options.out_dir) / ".gbench_raw.json").string();
-  std::vector<std::string> gb_args = {"omnishadow"};
+// Google Benchmark takes its own flags; ours are gone by now. Returns false (after the error line) on a flag it
+// does not know. It keeps pointers into its argv (the executable's name in the JSON context): `gb_args` must
+// outlive the run.
+bool init_benchmark(const RunCommand& cmd, const std::string& raw_path, const RunInfo& info,
+                    std::vector<std::string>& gb_args) {
+  gb_args = {"omnishadow"};
   gb_args.insert(gb_args.end(), cmd.benchmark_args.begin(), cmd.benchmark_args.end());
   gb_args.push_back("--benchmark_out=" + raw_path);
   gb_args.push_back("--benchmark_out_format=json");
@@ -206,22 +186,21 @@ int run_command(const RunCommand& cmd) {
   benchmark::Initialize(&gb_argc, gb_argv.data());
   if (gb_argc > 1) {
     print_error(std::string("unknown Google Benchmark flag ") + gb_argv[1]);
-    return 2;
+    return false;
   }
-  auto device_context = [&](const std::string& key, const std::string& value) {
-    benchmark::AddCustomContext(key, value);
-  };
   for (const auto& [name, d] : info.devices) {
-    device_context(name + "_renderer", d.renderer);
-    device_context(name + "_version", d.version);
-    device_context(name + "_platform", d.platform);
+    benchmark::AddCustomContext(name + "_renderer", d.renderer);
+    benchmark::AddCustomContext(name + "_version", d.version);
+    benchmark::AddCustomContext(name + "_platform", d.platform);
   }
-  device_context("omnishadow_commit", OMNISHADOW_COMMIT);
+  benchmark::AddCustomContext("omnishadow_commit", OMNISHADOW_COMMIT);
   const char* threads = std::getenv("LP_NUM_THREADS");
-  device_context("LP_NUM_THREADS", threads ? threads : "unset");
+  benchmark::AddCustomContext("LP_NUM_THREADS", threads ? threads : "unset");
+  return true;
+}
 
-  run_timed(harness, results, repetitions_of(cmd.benchmark_args), [&] { save(nullptr, false); }, stopped);
-
+// results.json with Google Benchmark's figures, summary.md, and the summary on stdout.
+void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
   nlohmann::json gbench;
   try {
     gbench = parse_gbench_json(read_file(raw_path));
@@ -229,23 +208,63 @@ int run_command(const RunCommand& cmd) {
   } catch (const std::exception& e) {
     print_error(std::string("reading Google Benchmark's output: ") + e.what());
   }
-  const bool interrupted = stopped();
-  save(gbench, !interrupted);
-  std::string summary = summary_markdown(results);
+  run.save(gbench, complete);
+  std::string summary = summary_markdown(run.results, run.info.phases);
   try {
-    write_file_atomic((fs::path(options.out_dir) / "summary.md").string(), summary);
+    write_file_atomic((fs::path(run.info.options.out_dir) / "summary.md").string(), summary);
   } catch (const std::exception& e) {
     print_error(e.what());
   }
-  std::cout << "\n" << summary << "\nresults: " << results_path << "\n";
-  if (interrupted) {
-    std::fprintf(stderr, "omnishadow: stopped by %s; cases not timed are marked interrupted in %s\n",
-                 info.stopped_by.c_str(), results_path.c_str());
+  std::cout << "\n" << summary << "\nresults: " << run.results_path << "\n";
+}
+
+}  // namespace
+
+int run_command(const RunCommand& cmd) {
+  RunOptions options = cmd.harness;
+  if (options.out_dir.empty()) options.out_dir = default_out_dir();
+  Harness harness(options);
+  RunState run;
+  run.info.command_line = cmd.command_line;
+  run.info.options = options;
+  run.results_path = (fs::path(options.out_dir) / "results.json").string();
+  std::vector<CaseConfig> cases;
+  try {
+    cases = validate_request(cmd, harness, run.info);
+  } catch (const std::exception& e) {
+    print_error(e.what());
+    return 2;
+  }
+  run.results.resize(cases.size());
+  g_stop_signal = 0;
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+
+  run_untimed(harness, cases, run);
+  if (run.stopped()) {
+    run.results.resize(run.prepared);
+    run.save(nullptr, false);
+    std::fprintf(stderr, "omnishadow: stopped by %s after %zu of %zu cases; %s holds them\n",
+                 run.info.stopped_by.c_str(), run.prepared, cases.size(), run.results_path.c_str());
     return 128 + static_cast<int>(g_stop_signal);
   }
 
+  const std::string raw_path = (fs::path(options.out_dir) / ".gbench_raw.json").string();
+  if (!init_benchmark(cmd, raw_path, run.info, run.benchmark_argv)) return 2;
+  auto timed_start = std::chrono::steady_clock::now();
+  run_timed(harness, run.results, repetitions_of(cmd.benchmark_args), [&] { run.save(nullptr, false); },
+            [&] { return run.stopped(); });
+  run.info.phases.timed_seconds = seconds_since(timed_start);
+
+  const bool interrupted = run.stopped();
+  write_outputs(run, raw_path, !interrupted);
+  if (interrupted) {
+    std::fprintf(stderr, "omnishadow: stopped by %s; cases not timed are marked interrupted in %s\n",
+                 run.info.stopped_by.c_str(), run.results_path.c_str());
+    return 128 + static_cast<int>(g_stop_signal);
+  }
   if (cmd.check)
-    for (const CaseResult& r : results)
+    for (const CaseResult& r : run.results)
       if (r.status == Status::failed || r.status == Status::failed_check) return 1;
   return 0;
 }

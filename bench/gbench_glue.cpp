@@ -143,7 +143,12 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
 void run_timed(Harness& harness, std::vector<CaseResult>& results, int repetitions,
                const std::function<void()>& after_case, const std::function<bool()>& stop_requested) {
   Progress progress;
+  int timed = 0;
   for (CaseResult& r : results) {
+    // Cases that are unsupported or failed before timing are not handed to Google Benchmark: it would print an
+    // ERROR OCCURRED line per repetition for each; the summary lists them once per reason instead.
+    if (r.status == Status::unsupported || r.status == Status::failed) continue;
+    ++timed;
     benchmark::RegisterBenchmark(r.config.id().c_str(),
                                  [&harness, &r, &progress, &after_case, &stop_requested](benchmark::State& state) {
                                    time_case(harness, r, state, progress, stop_requested());
@@ -153,7 +158,7 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, int repetitio
         ->Iterations(harness.options().frames)
         ->Unit(benchmark::kMillisecond);
   }
-  progress.total = static_cast<int>(results.size()) * repetitions;
+  progress.total = timed * repetitions;
 
   CompactConsoleReporter console;
   benchmark::JSONReporter json;  // writes to --benchmark_out, which main() always sets

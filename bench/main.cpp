@@ -75,24 +75,24 @@ int main(int argc, char** argv) {
   r->add_option("--pcf-scale", pcf_scales,
                 "comma list of PCF radius scales (0 to 100; 1 = the seeds' kernels, 0 = one direction)")
       ->capture_default_str();
-  r->add_option("--out", run.out_dir, "output folder (must not hold a run already); default results/run-<time>");
-  r->add_option("--frames", run.frames, "timed frames per repetition")->capture_default_str()->check(
+  r->add_option("--out", run.harness.out_dir, "output folder (must not hold a run already); default results/run-<time>");
+  r->add_option("--frames", run.harness.frames, "timed frames per repetition")->capture_default_str()->check(
       CLI::Range(1, 1000000));
-  r->add_option("--warmup", run.warmup_frames, "untimed warm-up frames per repetition")->capture_default_str()->check(
+  r->add_option("--warmup", run.harness.warmup_frames, "untimed warm-up frames per repetition")->capture_default_str()->check(
       CLI::Range(0, 1000000));
-  r->add_option("--check-frame", run.check_frame, "frame index whose images are written and compared")
+  r->add_option("--check-frame", run.harness.check_frame, "frame index whose images are written and compared")
       ->capture_default_str()->check(CLI::Range(0, 100000000));
-  r->add_option("--face-tolerance", run.face_tolerance, "allowed |difference| of cube texels, world units")
+  r->add_option("--face-tolerance", run.harness.face_tolerance, "allowed |difference| of cube texels, world units")
       ->capture_default_str()->check(CLI::Range(0.0, 1e30));
-  r->add_option("--lit-tolerance", run.lit_tolerance, "allowed |difference| of lit pixels, 8-bit levels")
+  r->add_option("--lit-tolerance", run.harness.lit_tolerance, "allowed |difference| of lit pixels, 8-bit levels")
       ->capture_default_str()->check(CLI::Range(0.0, 255.0));
-  r->add_option("--cross-lit-tolerance", run.cross_lit_tolerance,
+  r->add_option("--cross-lit-tolerance", run.harness.cross_lit_tolerance,
                 "across backends: allowed |difference| of lit pixels, 8-bit levels")
       ->capture_default_str()->check(CLI::Range(0.0, 255.0));
-  r->add_option("--cross-shadow-tolerance", run.cross_shadow_tolerance,
+  r->add_option("--cross-shadow-tolerance", run.harness.cross_shadow_tolerance,
                 "across backends: allowed |difference| of shadow factors")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  r->add_option("--cross-max-percent", run.cross_max_percent,
+  r->add_option("--cross-max-percent", run.harness.cross_max_percent,
                 "across backends: % of values allowed beyond those tolerances")
       ->capture_default_str()->check(CLI::Range(0.0, 100.0));
   r->add_option("--inject-fragment-work", run.injected_work,
@@ -100,23 +100,28 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0, 1000000));
   bool no_accuracy = false;
   r->add_flag("--no-accuracy", no_accuracy, "skip the shadow error against the ray-cast reference");
-  r->add_option("--light-radius", run.light_radius,
+  r->add_option("--light-radius", run.harness.truth.light_radius,
                 "radius of the spherical light of the soft reference, world units (0: point light only)")
       ->capture_default_str()->check(CLI::Range(0.0f, 1e6f));
-  r->add_option("--light-samples", run.light_samples_per_axis,
+  r->add_option("--light-samples", run.harness.truth.samples_per_axis,
                 "stratified samples per axis on that light (8 = 64 rays per pixel)")
       ->capture_default_str()->check(CLI::Range(1, 64));
-  r->add_option("--max-error", run.max_error_percent,
+  r->add_option("--max-error", run.harness.max_error_percent,
                 "fail a case (failed_check, error in the reason) whose shadow disagrees with exact visibility on "
                 "more than this % of pixels")
       ->check(CLI::Range(0.0, 100.0));
-  r->add_flag("--stability", run.stability,
+  r->add_flag("--stability", run.harness.stability,
               "also render the check frame + 1 and report how much of the shadow factor changed (flicker)");
   bool no_memory_precheck = false;
   r->add_flag("--no-memory-precheck", no_memory_precheck,
               "allocate even when a case is predicted not to fit (tests the driver's own out-of-memory path)");
   bool no_images = false;
-  r->add_flag("--no-images", no_images, "do not write images (checks still run)");
+  std::string images = "failed";
+  r->add_option("--images", images,
+                "image files: failed (every case's PNGs; float buffers and diffs of cases that failed a check), "
+                "all (every file for every case), none")
+      ->capture_default_str()->check(CLI::IsMember({"failed", "all", "none"}));
+  r->add_flag("--no-images", no_images, "the same as --images none");
   r->add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
   r->add_option("--shard", shard_text, "i/N: run the i-th of N deterministic slices of the matrix");
 
@@ -242,11 +247,13 @@ int main(int argc, char** argv) {
       print_error(a + ": omnishadow writes results.json itself; choose the folder with --out");
       return 2;
     }
-  run.write_images = !no_images;
-  run.accuracy = !no_accuracy;
-  run.memory_precheck = !no_memory_precheck;
-  run.scenes_dir = scenes_dir;
-  run.backend_options = backend_options;
+  run.harness.images = no_images || images == "none" ? RunOptions::ImagePolicy::none
+                       : images == "all"               ? RunOptions::ImagePolicy::all
+                                                       : RunOptions::ImagePolicy::failed;
+  run.harness.accuracy = !no_accuracy;
+  run.harness.memory_precheck = !no_memory_precheck;
+  run.harness.scenes_dir = scenes_dir;
+  run.harness.backend_options = backend_options;
   run.benchmark_args = benchmark_args;
   run.command_line = command_line;
   return run_command(run);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bench/case_runner.h"
+#include "bench/summary_table.h"
 
 namespace omnishadow::bench {
 
@@ -18,6 +19,7 @@ struct RunInfo {
   std::map<std::string, DeviceInfo> devices;  // by backend name
   RunOptions options;
   std::string stopped_by;  // "SIGINT" / "SIGTERM" when the run was interrupted
+  RunPhases phases;
 };
 
 nlohmann::json case_to_json(const CaseResult& r);

@@ -64,14 +64,29 @@ void ratio_table(std::ostringstream& md, const std::vector<CaseResult>& results,
 
 }  // namespace
 
-std::string summary_markdown(const std::vector<CaseResult>& results) {
+std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases) {
   std::ostringstream md;
   std::map<std::string, int> status_counts;
   for (const CaseResult& r : results) ++status_counts[std::string(to_string(r.status))];
   md << "## Cases\n\n";
+  if (phases.untimed_seconds >= 0 && phases.timed_seconds >= 0) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "Run: %.1f s untimed (checks, read-backs, reference, images) + %.1f s timed "
+                  "(%.2fx the timed part)\n\n", phases.untimed_seconds, phases.timed_seconds,
+                  phases.timed_seconds > 0 ? phases.untimed_seconds / phases.timed_seconds : 0.0);
+    md << buf;
+  }
   for (const auto& [status, count] : status_counts) md << "- " << status << ": " << count << "\n";
+  // Unsupported cases once per reason (a GL run asking for multiview gave one line per case before).
+  std::map<std::string, std::vector<std::string>> unsupported;
   for (const CaseResult& r : results)
-    if (r.status != Status::ok) md << "  - `" << r.config.id() << "` " << to_string(r.status) << ": " << r.reason << "\n";
+    if (r.status == Status::unsupported) unsupported[r.reason].push_back(r.config.id());
+  for (const auto& [reason, ids] : unsupported)
+    md << "  - unsupported, " << ids.size() << (ids.size() == 1 ? " case" : " cases") << " (e.g. `" << ids.front()
+       << "`): " << reason << "\n";
+  for (const CaseResult& r : results)
+    if (r.status != Status::ok && r.status != Status::unsupported)
+      md << "  - `" << r.config.id() << "` " << to_string(r.status) << ": " << r.reason << "\n";
 
   ratio_table<Technique>(md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
                          &CaseConfig::technique, Technique::six_pass, shadow_wall);

@@ -10,6 +10,13 @@
 
 namespace omnishadow::bench {
 
-std::string summary_markdown(const std::vector<CaseResult>& results);
+// Wall seconds of a run's two parts: the untimed part (check frames, read-backs, checks, the reference, image
+// files) and the timed part (warm-up and timed frames of every repetition). Negative: not reached.
+struct RunPhases {
+  double untimed_seconds = -1.0;
+  double timed_seconds = -1.0;
+};
+
+std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases = {});
 
 }  // namespace omnishadow::bench

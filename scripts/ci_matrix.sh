@@ -10,5 +10,5 @@ here="$(cd "$(dirname "$0")/.." && pwd)"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 ${OMNISHADOW_WRAPPER:-} "$here/build/release/omnishadow" run --backend gl --scene room,ogldev --cube 128 \
   --technique six_pass,geometry_shader,vs_layer --filter hard,pcf_disk20 --optimize none,cull --frame 160x120 \
-  --frames 3 --warmup 1 --light-radius 0 --out "$out" \
+  --frames 3 --warmup 1 --light-radius 0 --images all --out "$out" \
   --benchmark_repetitions=9 --benchmark_enable_random_interleaving=true "$@"

@@ -79,11 +79,13 @@ class ScriptedBackend : public Backend {
 
 class HarnessTest : public ::testing::Test {
  protected:
-  void SetUp() override {
+  void SetUp() override { start(RunOptions::ImagePolicy::failed); }
+  void start(RunOptions::ImagePolicy images) {
     out_ = fs::temp_directory_path() / ("omnishadow_harness_" + std::to_string(::getpid()));
     fs::remove_all(out_);
     fs::create_directories(out_);
     RunOptions o;
+    o.images = images;
     o.out_dir = out_.string();
     o.scenes_dir = OMNISHADOW_TEST_SCENES_DIR;
     o.frames = 3;
@@ -154,6 +156,30 @@ TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   EXPECT_DOUBLE_EQ(d.checks[3].difference.max_abs, 10.0);
   EXPECT_TRUE(fs::exists(out_ / d.checks[3].diff_image));
   EXPECT_TRUE(fs::exists(out_ / d.images.at("lit")));
+  // Default image policy: a failed check keeps the float buffers for examination; a passing case has PNGs only.
+  ASSERT_TRUE(d.images.count("world_position"));
+  EXPECT_TRUE(fs::exists(out_ / d.images.at("world_position")));
+  EXPECT_TRUE(fs::exists(out_ / d.images.at("shadow_factor")));
+  EXPECT_TRUE(r[1].images.count("lit"));
+  EXPECT_FALSE(r[1].images.count("world_position"));
+}
+
+TEST_F(HarnessTest, ImagePolicyDecidesWhichFilesAreWritten) {
+  start(RunOptions::ImagePolicy::all);
+  std::vector<CaseResult> all = prepare_all({Filter::hard});
+  ASSERT_EQ(all[1].status, Status::ok);
+  for (const char* role : {"lit", "cube_faces", "shadow_factor", "world_position", "coverage"}) {
+    ASSERT_TRUE(all[1].images.count(role)) << role;
+    EXPECT_TRUE(fs::exists(out_ / all[1].images.at(role))) << role;
+  }
+  start(RunOptions::ImagePolicy::none);
+  std::vector<CaseResult> none = prepare_all({Filter::hard, Filter::pcf_disk20});
+  EXPECT_EQ(none[5].status, Status::failed_check);  // geometry_shader pcf_disk20: a cube texel differs
+  for (const CaseResult& r : none) {
+    EXPECT_TRUE(r.images.empty()) << r.config.id();
+    for (const CheckResult& c : r.checks) EXPECT_TRUE(c.diff_image.empty());
+  }
+  EXPECT_FALSE(fs::exists(out_ / "images"));
 }
 
 TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {
@@ -166,7 +192,7 @@ TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {
   benchmark::Initialize(&argc, argv.data());
   int saves = 0;
   run_timed(*harness_, results, 2, [&] { ++saves; }, [] { return false; });
-  EXPECT_EQ(saves, 16);  // 8 cases x 2 repetitions
+  EXPECT_EQ(saves, 10);  // 5 timed cases x 2 repetitions (vs_layer unsupported twice, gs pcf_grid64 failed)
   for (const CaseResult& r : results) {
     if (r.status == Status::unsupported || r.status == Status::failed) {
       EXPECT_TRUE(r.frames.empty());
@@ -185,7 +211,8 @@ TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {
   EXPECT_EQ(j["omnishadow"]["cases"][0]["timing"]["shadow"]["gpu_ms"]["median"], 1.5);
   int errors = 0;
   for (const auto& b : j["benchmarks"]) errors += b.value("error_occurred", false);
-  EXPECT_EQ(errors, 3 * 2);  // per repetition: vs_layer unsupported under both filters, one failed case
+  EXPECT_EQ(errors, 0);  // unsupported and failed cases are not handed to Google Benchmark (no ERROR lines)
+  EXPECT_EQ(j["benchmarks"].size(), 5u * 2u + 5u * 4u);  // per repetition, and mean/median/stddev/cv
 }
 
 }  // namespace
