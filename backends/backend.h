@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "backends/common/case_config.h"
+#include "backends/common/work_counters.h"
 #include "scenes/scene.h"
 
 namespace omnishadow {
@@ -24,21 +25,6 @@ struct DeviceInfo {
   uint64_t device_memory_bytes = 0;  // largest device-local heap / GL_NVX_gpu_memory_info; 0 = unknown
   bool shares_host_memory = false;   // CPU drivers (llvmpipe, lavapipe): targets live in host memory
   std::map<std::string, std::string> extra;  // anything else worth recording (extensions that matter, ...)
-};
-
-// Per-pass work counters from pipeline-statistics queries: deterministic for a given case and frame, so any
-// change is a change of work, not noise. `valid` is false where the API or driver cannot count.
-struct PassCounters {
-  bool valid = false;
-  uint64_t vertices_submitted = 0;
-  uint64_t primitives_submitted = 0;
-  uint64_t vs_invocations = 0;
-  uint64_t gs_invocations = 0;
-  uint64_t gs_primitives = 0;
-  uint64_t clipping_input = 0;
-  uint64_t clipping_output = 0;
-  uint64_t fs_invocations = 0;  // llvmpipe counts in 4x4 blocks, not per fragment
-  uint64_t draw_calls = 0;      // counted by the backend itself
 };
 
 struct FrameCounters {

@@ -9,17 +9,10 @@ namespace {
 using nlohmann::json;
 
 json counters_to_json(const PassCounters& c) {
-  if (!c.valid) return json{{"valid", false}, {"draw_calls", c.draw_calls}};
-  return json{{"valid", true},
-              {"draw_calls", c.draw_calls},
-              {"vertices_submitted", c.vertices_submitted},
-              {"primitives_submitted", c.primitives_submitted},
-              {"vs_invocations", c.vs_invocations},
-              {"gs_invocations", c.gs_invocations},
-              {"gs_primitives", c.gs_primitives},
-              {"clipping_input", c.clipping_input},
-              {"clipping_output", c.clipping_output},
-              {"fs_invocations", c.fs_invocations}};
+  json j{{"valid", c.valid}, {"draw_calls", c.draw_calls}};
+  if (c.valid)
+    for (const PipelineStatistic& s : kPipelineStatistics) j[s.name] = c.*s.member;
+  return j;
 }
 
 json summary_to_json(const std::vector<double>& values) {

@@ -3,12 +3,17 @@
 namespace omnishadow::gl {
 namespace {
 
-// GL_ARB_pipeline_statistics_query targets, in the order PassCounters lists them.
-constexpr std::array<GLenum, 8> kStatisticTargets = {
-    GL_VERTICES_SUBMITTED_ARB,         GL_PRIMITIVES_SUBMITTED_ARB,
-    GL_VERTEX_SHADER_INVOCATIONS_ARB,  GL_GEOMETRY_SHADER_INVOCATIONS,
-    GL_GEOMETRY_SHADER_PRIMITIVES_EMITTED_ARB, GL_CLIPPING_INPUT_PRIMITIVES_ARB,
-    GL_CLIPPING_OUTPUT_PRIMITIVES_ARB, GL_FRAGMENT_SHADER_INVOCATIONS_ARB};
+// The shared table's GL targets, checked against GL's own names (in the table's order).
+constexpr GLenum kTargets[] = {GL_VERTICES_SUBMITTED_ARB, GL_PRIMITIVES_SUBMITTED_ARB, GL_VERTEX_SHADER_INVOCATIONS_ARB,
+                               GL_GEOMETRY_SHADER_INVOCATIONS, GL_GEOMETRY_SHADER_PRIMITIVES_EMITTED_ARB,
+                               GL_CLIPPING_INPUT_PRIMITIVES_ARB, GL_CLIPPING_OUTPUT_PRIMITIVES_ARB,
+                               GL_FRAGMENT_SHADER_INVOCATIONS_ARB};
+constexpr bool table_matches_gl() {
+  for (size_t k = 0; k < kPipelineStatistics.size(); ++k)
+    if (kPipelineStatistics[k].gl_target != kTargets[k]) return false;
+  return std::size(kTargets) == kPipelineStatistics.size();
+}
+static_assert(table_matches_gl());
 
 uint64_t result_of(GLuint query) {
   GLuint64 value = 0;
@@ -35,11 +40,11 @@ FrameQueries::~FrameQueries() {
 double FrameQueries::timer_ms(Pass pass) const { return static_cast<double>(result_of(timers_[pass])) * 1e-6; }
 
 void FrameQueries::begin_statistics(Pass pass) {
-  for (int k = 0; k < kStatisticCount; ++k) glBeginQuery(kStatisticTargets[k], statistics_[pass][k]);
+  for (int k = 0; k < kStatisticCount; ++k) glBeginQuery(kPipelineStatistics[k].gl_target, statistics_[pass][k]);
 }
 
 void FrameQueries::end_statistics() {
-  for (GLenum target : kStatisticTargets) glEndQuery(target);
+  for (const PipelineStatistic& s : kPipelineStatistics) glEndQuery(s.gl_target);
 }
 
 PassCounters FrameQueries::statistics(Pass pass) const {
@@ -47,14 +52,7 @@ PassCounters FrameQueries::statistics(Pass pass) const {
   if (!has_statistics_) return c;
   const auto& q = statistics_[pass];
   c.valid = true;
-  c.vertices_submitted = result_of(q[0]);
-  c.primitives_submitted = result_of(q[1]);
-  c.vs_invocations = result_of(q[2]);
-  c.gs_invocations = result_of(q[3]);
-  c.gs_primitives = result_of(q[4]);
-  c.clipping_input = result_of(q[5]);
-  c.clipping_output = result_of(q[6]);
-  c.fs_invocations = result_of(q[7]);
+  for (size_t k = 0; k < kPipelineStatistics.size(); ++k) c.*kPipelineStatistics[k].member = result_of(q[k]);
   return c;
 }
 

@@ -28,7 +28,7 @@ class FrameQueries {
   PassCounters statistics(Pass pass) const;  // waits for the results
 
  private:
-  static constexpr int kStatisticCount = 8;
+  static constexpr int kStatisticCount = static_cast<int>(kPipelineStatistics.size());
   bool has_statistics_;
   std::array<GLuint, kPassCount> timers_{};
   std::array<std::array<GLuint, kStatisticCount>, kPassCount> statistics_{};

@@ -29,13 +29,24 @@ const char* format_name(VkFormat f) {
   }
 }
 
-// Pipeline-statistics flags in the order vkGetQueryPoolResults returns them (bit order), matching PassCounters.
-constexpr VkQueryPipelineStatisticFlags kStatistics =
-    VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_VERTICES_BIT | VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_PRIMITIVES_BIT |
-    VK_QUERY_PIPELINE_STATISTIC_VERTEX_SHADER_INVOCATIONS_BIT |
-    VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_INVOCATIONS_BIT |
-    VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_PRIMITIVES_BIT | VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT |
-    VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT | VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT;
+// The shared table's Vulkan bits, checked against Vulkan's own names; the pool counts exactly those.
+constexpr VkQueryPipelineStatisticFlagBits kBits[] = {
+    VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_VERTICES_BIT, VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_PRIMITIVES_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_VERTEX_SHADER_INVOCATIONS_BIT, VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_INVOCATIONS_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_PRIMITIVES_BIT, VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT, VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT};
+constexpr bool table_matches_vulkan() {
+  for (size_t k = 0; k < kPipelineStatistics.size(); ++k)
+    if (kPipelineStatistics[k].vk_bit != static_cast<uint32_t>(kBits[k])) return false;
+  return std::size(kBits) == kPipelineStatistics.size();
+}
+static_assert(table_matches_vulkan());
+constexpr VkQueryPipelineStatisticFlags statistic_flags() {
+  VkQueryPipelineStatisticFlags flags = 0;
+  for (const PipelineStatistic& s : kPipelineStatistics) flags |= s.vk_bit;
+  return flags;
+}
+constexpr VkQueryPipelineStatisticFlags kStatistics = statistic_flags();
 
 }  // namespace
 
@@ -521,21 +532,14 @@ FrameCounters VkBackend::count_work(int frame) {
   ctx_->submit(command_buffers_[1]);
   ctx_->wait();
   if (stats) {
-    uint64_t values[2][8] = {};
+    uint64_t values[2][kPipelineStatistics.size()] = {};
     OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), statistics_, 0, 2, sizeof values, values, sizeof values[0],
                                         VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     PassCounters* passes[2] = {&c.shadow, &c.lighting};
     for (int p = 0; p < 2; ++p) {
       PassCounters& k = *passes[p];
       k.valid = true;
-      k.vertices_submitted = values[p][0];
-      k.primitives_submitted = values[p][1];
-      k.vs_invocations = values[p][2];
-      k.gs_invocations = values[p][3];
-      k.gs_primitives = values[p][4];
-      k.clipping_input = values[p][5];
-      k.clipping_output = values[p][6];
-      k.fs_invocations = values[p][7];
+      for (size_t s = 0; s < kPipelineStatistics.size(); ++s) k.*kPipelineStatistics[s].member = values[p][s];
     }
   }
   return c;
