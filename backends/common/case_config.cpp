@@ -1,5 +1,7 @@
 #include "backends/common/case_config.h"
 
+#include "backends/common/techniques.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -12,11 +14,13 @@ namespace {
 template <typename E, size_t N>
 using Names = std::array<std::pair<E, std::string_view>, N>;
 
-constexpr Names<Technique, 5> kTechniques = {{{Technique::six_pass, "six_pass"},
-                                              {Technique::geometry_shader, "geometry_shader"},
-                                              {Technique::geometry_shader_instanced, "geometry_shader_instanced"},
-                                              {Technique::vs_layer, "vs_layer"},
-                                              {Technique::multiview, "multiview"}}};
+// Technique spellings come from the technique table (backends/common/techniques.h).
+constexpr Names<Technique, kTechniques.size()> technique_names() {
+  Names<Technique, kTechniques.size()> names{};
+  for (size_t i = 0; i < kTechniques.size(); ++i) names[i] = {kTechniques[i].technique, kTechniques[i].name};
+  return names;
+}
+constexpr auto kTechniqueNames = technique_names();
 constexpr Names<Filter, 4> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::pcf_grid64, "pcf_grid64"},
                                         {Filter::pcf_disk20, "pcf_disk20"},
@@ -29,7 +33,7 @@ constexpr Names<DepthFormat, 3> kDepthFormats = {
 
 template <typename E>
 struct Table;
-template <> struct Table<Technique> { static constexpr auto& names = kTechniques; static constexpr const char* what = "technique"; };
+template <> struct Table<Technique> { static constexpr auto& names = kTechniqueNames; static constexpr const char* what = "technique"; };
 template <> struct Table<Filter> { static constexpr auto& names = kFilters; static constexpr const char* what = "filter"; };
 template <> struct Table<Storage> { static constexpr auto& names = kStorages; static constexpr const char* what = "storage"; };
 template <> struct Table<DepthFormat> { static constexpr auto& names = kDepthFormats; static constexpr const char* what = "depth format"; };
@@ -87,7 +91,7 @@ Support common_support(const CaseConfig& c) {
                        (c.storage == Storage::r32f_distance ? " stores distance in a colour texture"
                                                             : " stores projective depth")};
   if (c.cube_size < 1 || c.width < 1 || c.height < 1) return {false, "cube and frame sizes must be at least 1"};
-  if (c.optimizations.face_culling && c.technique == Technique::multiview)
+  if (c.optimizations.face_culling && traits(c.technique).culling == CullingForm::unsupported)
     return {false, "face culling: a multiview pass renders every view of each draw (the view mask is per render "
                    "pass), so there is nothing to cull per face"};
   return {};

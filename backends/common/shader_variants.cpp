@@ -1,27 +1,22 @@
 #include "backends/common/shader_variants.h"
 
+#include "backends/common/techniques.h"
+
 namespace omnishadow::gpu {
 
 std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
-  std::vector<std::string> d;
-  switch (c.technique) {
-    case Technique::six_pass: d = {"TECHNIQUE_SIX_PASS"}; break;
-    case Technique::geometry_shader:
-    case Technique::geometry_shader_instanced: d = {"TECHNIQUE_GEOMETRY_SHADER"}; break;
-    case Technique::vs_layer:
-      d = {"TECHNIQUE_VS_LAYER"};
-      if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
-      break;
-    case Technique::multiview: d = {"TECHNIQUE_MULTIVIEW"}; break;
-  }
+  const TechniqueTraits& t = traits(c.technique);
+  std::vector<std::string> d{std::string(t.vertex_define)};
+  if (t.culling == CullingForm::per_object_masks && c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (c.storage == Storage::hardware_depth) d.push_back("DEPTH_ONLY");
   return d;
 }
 
 std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
-  if (c.technique != Technique::geometry_shader && c.technique != Technique::geometry_shader_instanced) return {};
+  const TechniqueTraits& t = traits(c.technique);
+  if (!t.geometry_stage) return {};
   std::vector<std::string> d{"TECHNIQUE_GEOMETRY_SHADER"};
-  if (c.technique == Technique::geometry_shader_instanced) d.push_back("GS_INSTANCED");
+  if (t.gs_instanced) d.push_back("GS_INSTANCED");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (c.storage == Storage::hardware_depth) d.push_back("DEPTH_ONLY");
   return d;

@@ -12,6 +12,7 @@
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
 #include "backends/common/shader_variants.h"
+#include "backends/common/techniques.h"
 
 namespace omnishadow::gl {
 namespace {
@@ -125,10 +126,11 @@ GlBackend::~GlBackend() {
 }
 
 Support GlBackend::supports(const CaseConfig& c) const {
-  if (c.technique == Technique::vs_layer && !has_layer_array_)
+  const TechniqueFeature feature = traits(c.technique).feature;
+  if (feature == TechniqueFeature::layer_from_vertex && !has_layer_array_)
     return {false, "GL_ARB_shader_viewport_layer_array is not exposed by " + info_.renderer};
   if (Support s = common_support(c); !s.ok) return s;
-  if (c.technique == Technique::multiview)
+  if (feature == TechniqueFeature::multiview)
     return {false, "multiview is implemented with VK_KHR_multiview (backend vulkan); GL_OVR_multiview2 is not"};
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
@@ -143,6 +145,8 @@ void GlBackend::load(const scene::Scene& scene) {
   glDeleteVertexArrays(2, vaos);
   scene_ = scene;
   scene_->vertices.clear();  // only the GPU copy is needed after upload
+  all_objects_.clear();
+  for (uint32_t i = 0; i < scene.objects.size(); ++i) all_objects_.push_back({i, 1, 0});
   scene_->vertices.shrink_to_fit();
 
   glCreateBuffers(1, &vertex_buffer_);
@@ -203,7 +207,7 @@ void GlBackend::configure(const CaseConfig& c) {
   shadow_defines.push_back(gpu::storage_define(c.storage));
   std::vector<ShaderStage> shadow_stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"},
                                             {GL_FRAGMENT_SHADER, "shadow_depth.frag"}};
-  if (c.technique == Technique::geometry_shader || c.technique == Technique::geometry_shader_instanced)
+  if (traits(c.technique).geometry_stage)
     shadow_stages.insert(shadow_stages.begin() + 1, {GL_GEOMETRY_SHADER, "shadow_depth.geom"});
   shadow_program_ = program(shadow_stages, shadow_defines);
   for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
@@ -235,42 +239,25 @@ gpu::ShadowFrame GlBackend::update_frame_uniforms(int frame) {
   return f;
 }
 
-void GlBackend::draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset,
-                             bool two_sided) {
+// GL has no push constants: the pass block comes from one of 64 prebuilt ranges, entry k = {face k, mask k}.
+void GlBackend::bind_pass_uniforms(int entry) {
+  glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_, entry * uniform_alignment_,
+                    sizeof(gpu::PassUniforms));
+}
+
+void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided) {
   bool culling = false;
   glDisable(GL_CULL_FACE);
-  const size_t count = subset ? subset->size() : scene_->objects.size();
-  for (size_t i = 0; i < count; ++i) {
-    const scene::Object& obj = scene_->objects[subset ? (*subset)[i] : i];
+  for (const ObjectDraw& d : draws) {
+    const scene::Object& obj = scene_->objects[d.object];
     const bool cull = obj.cull_back_faces && !two_sided;
     if (cull != culling) {
       culling = cull;
       culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
     }
-    glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex),
-                          static_cast<GLsizei>(obj.vertex_count), instances);
-    ++stats.draw_calls;
-  }
-}
-
-// vs_layer with face culling: per object, one instance per face its bounds touch; the pass range holding the
-// object's mask tells the vertex shader which faces those are.
-void GlBackend::draw_masked_instances(const gpu::ShadowFrame& f, DrawStats& stats) {
-  bool culling = false;
-  glDisable(GL_CULL_FACE);
-  for (size_t i = 0; i < scene_->objects.size(); ++i) {
-    const scene::Object& obj = scene_->objects[i];
-    const uint8_t mask = f.plan.object_faces[i];
-    if (mask == 0) continue;
-    const bool cull = obj.cull_back_faces && !config_->remedies.two_sided;
-    if (cull != culling) {
-      culling = cull;
-      culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
-    }
-    glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_, mask * uniform_alignment_,
-                      sizeof(gpu::PassUniforms));
+    if (d.face_mask) bind_pass_uniforms(d.face_mask);
     glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex), static_cast<GLsizei>(obj.vertex_count),
-                          std::popcount(mask));
+                          static_cast<GLsizei>(d.instances));
     ++stats.draw_calls;
   }
 }
@@ -283,8 +270,7 @@ void GlBackend::map_pass(DrawStats& stats) {
   for (size_t i = 0; i < scene_->map_lights.size(); ++i) {
     glBindFramebuffer(GL_FRAMEBUFFER, maps_.fbos[i]);
     glClearNamedFramebufferfv(maps_.fbos[i], GL_DEPTH, 0, &depth_one);
-    glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_,
-                      static_cast<GLintptr>(i) * uniform_alignment_, sizeof(gpu::PassUniforms));
+    bind_pass_uniforms(static_cast<int>(i));
     const bool front = scene_->map_lights[i].cull_front_faces;
     for (const scene::Object& obj : scene_->objects) {
       // Closed objects: back faces culled as in the cube pass, or front faces (seed 003's peter-panning fix).
@@ -312,38 +298,18 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   map_pass(stats);
   if (frame.reuse_cube) return stats;  // static caching: the cube already holds this light
   glViewport(0, 0, shadow_.size, shadow_.size);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
   glUseProgram(shadow_program_);
-  glBindVertexArray(shadow_vao_);
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
-  const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};  // seed 004: "nothing here"
+  const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};  // r32f: "nothing here" (docs/glossary.md)
   const GLfloat depth_one = 1.0f;
-  auto clear = [&](GLuint fbo) {
+  const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
+  for (int p = 0; p < passes.count; ++p) {
+    // Six passes: face p's framebuffer; one pass: the layered framebuffer (its clear clears all six layers).
+    const GLuint fbo = passes.count == 6 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
     if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
-  };
-  if (config_->technique == Technique::six_pass) {
-    for (int f = 0; f < 6; ++f) {
-      glBindFramebuffer(GL_FRAMEBUFFER, shadow_.face_fbos[f]);
-      clear(shadow_.face_fbos[f]);
-      glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kPassUniformsBinding, pass_ubo_, f * uniform_alignment_,
-                        sizeof(gpu::PassUniforms));
-      // every object unless face culling; none: cleared only
-      draw_objects(1, stats, &frame.plan.face_objects[f], config_->remedies.two_sided);
-    }
-  } else {
-    glBindFramebuffer(GL_FRAMEBUFFER, shadow_.layered_fbo);
-    clear(shadow_.layered_fbo);  // clears all six layers
-    if (config_->technique == Technique::vs_layer && config_->optimizations.face_culling) {
-      draw_masked_instances(frame, stats);
-    } else if (config_->optimizations.face_culling) {
-      // Geometry shader forms cull per triangle and face on the GPU; objects that reach no face are not drawn.
-      draw_objects(1, stats, &frame.plan.reaching, config_->remedies.two_sided);
-    } else {
-      draw_objects(config_->technique == Technique::vs_layer ? 6 : 1, stats, nullptr, config_->remedies.two_sided);
-    }
+    bind_pass_uniforms(p);
+    draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided);
   }
   return stats;
 }
@@ -372,7 +338,7 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant) {
                 config_->filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_);
   glBindTextureUnit(gpu::kMapShadowsBinding, maps_.depth);
   glBindSampler(gpu::kMapShadowsBinding, nearest_sampler_);
-  draw_objects(1, stats);
+  draw_list(all_objects_, stats, false);
   return stats;
 }
 

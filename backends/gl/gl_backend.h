@@ -14,6 +14,7 @@
 #include "backends/backend.h"
 #include "backends/common/shader_variants.h"
 #include "backends/common/shadow_frame.h"
+#include "backends/common/techniques.h"
 #include "backends/gl/egl_context.h"
 #include "backends/gl/gl_program.h"
 #include "backends/gl/gl_queries.h"
@@ -45,11 +46,9 @@ class GlBackend final : public Backend {
   // The lighting pass in one variant: its targets and program (lighting_[v], lighting_programs_[v]).
   DrawStats lighting_pass(gpu::LightingVariant variant);
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
-  // All objects, or only `subset` (indices into scene_->objects); instances per object from `instances`.
-  // two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only).
-  void draw_objects(GLsizei instances, DrawStats& stats, const std::vector<uint32_t>* subset = nullptr,
-                    bool two_sided = false);
-  void draw_masked_instances(const gpu::ShadowFrame& f, DrawStats& stats);
+  void bind_pass_uniforms(int entry);
+  // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only).
+  void draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided);
   void release_case();
 
   EglContext context_;
@@ -59,6 +58,7 @@ class GlBackend final : public Backend {
   GLint uniform_alignment_ = 256;
 
   std::optional<scene::Scene> scene_;  // geometry lives on the GPU; this keeps objects, light path, camera
+  std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's draws
   GLuint vertex_buffer_ = 0;
   GLuint shadow_vao_ = 0;    // position only
   GLuint lighting_vao_ = 0;  // position, normal, colour

@@ -10,6 +10,7 @@
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
 #include "backends/common/shader_variants.h"
+#include "backends/common/techniques.h"
 
 namespace omnishadow::vk {
 namespace {
@@ -190,18 +191,17 @@ VkBackend::~VkBackend() {
 Support VkBackend::supports(const CaseConfig& c) const {
   if (Support s = common_support(c); !s.ok) return s;
   const std::string device = info_.renderer;
-  switch (c.technique) {
-    case Technique::geometry_shader:
-    case Technique::geometry_shader_instanced:
+  switch (traits(c.technique).feature) {
+    case TechniqueFeature::geometry_shader:
       if (!ctx_->has_geometry_shader()) return {false, "geometryShader feature not supported by " + device};
       break;
-    case Technique::vs_layer:
+    case TechniqueFeature::layer_from_vertex:
       if (!ctx_->has_layer_output()) return {false, "shaderOutputLayer (Vulkan 1.2) not supported by " + device};
       break;
-    case Technique::multiview:
+    case TechniqueFeature::multiview:
       if (!ctx_->has_multiview()) return {false, "multiview feature not supported by " + device};
       break;
-    case Technique::six_pass: break;
+    case TechniqueFeature::none: break;
   }
   if (c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " above maxImageDimensionCube " +
@@ -228,6 +228,8 @@ void VkBackend::load(const scene::Scene& scene) {
   scene_ = scene;
   scene_->vertices.clear();
   scene_->vertices.shrink_to_fit();
+  all_objects_.clear();
+  for (uint32_t i = 0; i < scene.objects.size(); ++i) all_objects_.push_back({i, 1, 0});
 }
 
 void VkBackend::release_case() {
@@ -349,19 +351,14 @@ void VkBackend::end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics) {
   OMNISHADOW_VK(vkEndCommandBuffer(cb));
 }
 
-void VkBackend::draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
-                             VkDescriptorSet set, uint32_t instances, uint64_t& draws,
-                             const std::vector<uint32_t>* subset, const std::vector<uint8_t>* face_masks) {
+// Pipelines [0] for objects drawn two-sided, [1] for closed objects (back faces culled).
+void VkBackend::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
+                          VkDescriptorSet set, const std::vector<ObjectDraw>& list, uint64_t& draws) {
   int bound = -1;
-  const size_t count = subset ? subset->size() : scene_->objects.size();
-  for (size_t i = 0; i < count; ++i) {
-    const size_t index = subset ? (*subset)[i] : i;
-    const scene::Object& obj = scene_->objects[index];
-    if (face_masks) {
-      const uint8_t mask = (*face_masks)[index];
-      if (mask == 0) continue;
-      instances = static_cast<uint32_t>(std::popcount(mask));
-      const gpu::PassUniforms pass{0, mask, {0, 0}};
+  for (const ObjectDraw& d : list) {
+    const scene::Object& obj = scene_->objects[d.object];
+    if (d.face_mask) {
+      const gpu::PassUniforms pass{0, d.face_mask, {0, 0}};
       vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
     }
     int want = obj.cull_back_faces ? 1 : 0;
@@ -370,7 +367,7 @@ void VkBackend::draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>
       if (bound < 0) vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
       bound = want;
     }
-    vkCmdDraw(cb, obj.vertex_count, instances, obj.first_vertex, 0);
+    vkCmdDraw(cb, obj.vertex_count, d.instances, obj.first_vertex, 0);
     ++draws;
   }
 }
@@ -398,7 +395,7 @@ void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
       // Closed objects: back faces culled as in the cube pass, or front faces (seed 003's peter-panning fix).
       const size_t closed = scene_->map_lights[i].cull_front_faces ? 2 : 1;
       std::array<VkPipeline, 2> pipelines = {map_pipelines_[0], map_pipelines_[closed]};
-      draw_objects(cb, pipelines, shadow_layout_, shadow_set_, 1, draws);
+      draw_list(cb, pipelines, shadow_layout_, shadow_set_, all_objects_, draws);
     }
     vkCmdEndRenderPass(cb);
   }
@@ -423,25 +420,16 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   VkViewport viewport{0, 0, float(shadow_.size), float(shadow_.size), 0.0f, 1.0f};
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
   VkDeviceSize offset = 0;
-  const bool cull = config_->optimizations.face_culling;
-  const bool six_pass = config_->technique == Technique::six_pass;
-  const uint32_t instances = config_->technique == Technique::vs_layer ? 6 : 1;
-  for (size_t f = 0; f < shadow_.framebuffers.size(); ++f) {
-    rp.framebuffer = shadow_.framebuffers[f];
+  const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
+  for (size_t p = 0; p < static_cast<size_t>(passes.count); ++p) {  // six_pass: face p; else the whole cube
+    rp.framebuffer = shadow_.framebuffers[p];
     vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
     vkCmdSetViewport(cb, 0, 1, &viewport);
     vkCmdSetScissor(cb, 0, 1, &scissor);
     vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-    const gpu::PassUniforms pass{static_cast<int32_t>(f), 0, {0, 0}};
+    const gpu::PassUniforms pass{static_cast<int32_t>(p), 0, {0, 0}};
     vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
-    if (six_pass)  // every object unless face culling; a face with none is cleared only
-      draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, 1, draws, &frame.plan.face_objects[f]);
-    else if (cull)
-      // Objects that reach no face are not drawn (the GS culls per triangle too).
-      draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws, &frame.plan.reaching,
-                   config_->technique == Technique::vs_layer ? &frame.plan.object_faces : nullptr);
-    else
-      draw_objects(cb, shadow_pipelines_, shadow_layout_, shadow_set_, instances, draws);
+    draw_list(cb, shadow_pipelines_, shadow_layout_, shadow_set_, passes.draws[p], draws);
     vkCmdEndRenderPass(cb);
   }
   end_pass(cb, 0, statistics);
@@ -469,7 +457,7 @@ void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant
   vkCmdSetScissor(cb, 0, 1, &scissor);
   VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-  draw_objects(cb, lighting_pipelines_[size_t(variant)], lighting_layout_, lighting_set_, 1, draws);
+  draw_list(cb, lighting_pipelines_[size_t(variant)], lighting_layout_, lighting_set_, all_objects_, draws);
   vkCmdEndRenderPass(cb);
   end_pass(cb, 1, statistics);
 }

@@ -11,6 +11,7 @@
 
 #include "backends/backend.h"
 #include "backends/common/shader_variants.h"
+#include "backends/common/techniques.h"
 #include "backends/common/shadow_frame.h"
 #include "backends/vulkan/vk_context.h"
 #include "backends/vulkan/vk_pipelines.h"
@@ -37,11 +38,9 @@ class VkBackend final : public Backend {
   void record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws);
   void record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws);
   void record_maps(VkCommandBuffer cb, uint64_t& draws);  // one 2D map per spot/directional light
-  // All objects, or `subset` (indices into the scene's objects). With `face_masks` (vs_layer + face culling), each
-  // object is drawn with one instance per set bit of its mask, the mask pushed for the vertex shader.
-  void draw_objects(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
-                    VkDescriptorSet set, uint32_t instances, uint64_t& draws,
-                    const std::vector<uint32_t>* subset = nullptr, const std::vector<uint8_t>* face_masks = nullptr);
+  // The draws in order; a draw with a face mask (vs_layer + face culling) pushes it for the vertex shader.
+  void draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
+                 VkDescriptorSet set, const std::vector<ObjectDraw>& list, uint64_t& draws);
   void begin_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);  // pass 0 shadow, 1 lighting
   void end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);
   void release_case();
@@ -66,6 +65,7 @@ class VkBackend final : public Backend {
   std::array<VkCommandBuffer, 2> command_buffers_{};
 
   std::optional<scene::Scene> scene_;  // objects, light path and camera; vertices live in vertex_buffer_
+  std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's and the 2D maps' draws
   Buffer vertex_buffer_;
 
   std::optional<CaseConfig> config_;

@@ -1,5 +1,7 @@
 #include "backends/vulkan/vk_targets.h"
 
+#include "backends/common/techniques.h"
+
 namespace omnishadow::vk {
 namespace {
 
@@ -112,7 +114,8 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
                                      r32f ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
                                      r32f ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
                                           : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
-    const uint32_t view_mask = c.technique == Technique::multiview ? 0b111111u : 0u;
+    const TechniqueTraits& technique = traits(c.technique);
+    const uint32_t view_mask = technique.multiview ? 0b111111u : 0u;
     t.render_pass = create_render_pass(ctx, attachments, r32f ? 1 : 0,
                                        VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT, view_mask);
@@ -127,11 +130,11 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
       t.attachment_views.insert(t.attachment_views.end(), views.begin(), views.end());
       return views;
     };
-    if (c.technique == Technique::six_pass) {
+    if (technique.passes == 6) {
       for (uint32_t f = 0; f < 6; ++f)
         t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(f, 1), t.size, t.size, 1));
     } else {
-      uint32_t layers = c.technique == Technique::multiview ? 1 : 6;
+      uint32_t layers = technique.multiview ? 1 : 6;
       t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(0, 6), t.size, t.size, layers));
     }
   } catch (...) {

@@ -1,0 +1,33 @@
+#include "backends/common/techniques.h"
+
+#include <bit>
+
+namespace omnishadow {
+
+ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDrawPlan& plan, size_t object_count) {
+  const TechniqueTraits& t = traits(config.technique);
+  const bool cull = config.optimizations.face_culling;
+  ShadowPassDraws out;
+  out.count = t.passes;
+  if (t.passes == 6) {  // the plan's per-face lists hold every object when culling is off
+    for (size_t f = 0; f < 6; ++f)
+      for (uint32_t object : plan.face_objects[f]) out.draws[f].push_back({object, t.instances, 0});
+    return out;
+  }
+  std::vector<ObjectDraw>& draws = out.draws[0];
+  if (!cull) {
+    for (uint32_t i = 0; i < object_count; ++i) draws.push_back({i, t.instances, 0});
+    return out;
+  }
+  for (uint32_t object : plan.reaching) {
+    if (t.culling != CullingForm::per_object_masks) {
+      draws.push_back({object, t.instances, 0});
+      continue;
+    }
+    const uint8_t mask = plan.object_faces[object];
+    draws.push_back({object, static_cast<uint32_t>(std::popcount(mask)), mask});
+  }
+  return out;
+}
+
+}  // namespace omnishadow
