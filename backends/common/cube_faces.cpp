@@ -34,6 +34,17 @@ std::array<glm::mat4, kFaceCount> face_view_projections(const glm::vec3& light_p
   return out;
 }
 
+float stored_to_distance(Storage storage, float stored, int s, int t, int size, float near_plane, float far_plane,
+                         DepthRange range) {
+  switch (storage) {
+    case Storage::linear_depth: return stored * far_plane;
+    case Storage::r32f_distance: return stored;
+    case Storage::hardware_depth:
+      return projective_depth_to_distance(stored, s, t, size, near_plane, far_plane, range);
+  }
+  return stored;
+}
+
 FaceCoord direction_to_face(const glm::vec3& d) {
   glm::vec3 a = glm::abs(d);
   int face;

@@ -11,6 +11,8 @@
 
 #include <glm/glm.hpp>
 
+#include "backends/common/case_config.h"
+
 #include <array>
 
 namespace omnishadow::cube {
@@ -38,6 +40,13 @@ std::array<glm::mat4, kFaceCount> face_view_projections(const glm::vec3& light_p
 // (depth 1) read as far, like the other storages.
 float projective_depth_to_distance(float window_depth, int s, int t, int size, float near_plane, float far_plane,
                                    DepthRange range);
+
+// What the shadow pass stored at texel (s, t) of a face, as a distance from the light in world units: the one
+// conversion for every storage, used by both backends' read-back; shaders/shadow_filters.glsl's
+// stored_to_distance() mirrors it per lookup. linear_depth stores distance / far; r32f_distance the distance
+// itself (FLT_MAX where nothing was drawn); hardware_depth the projective depth (projective_depth_to_distance).
+float stored_to_distance(Storage storage, float stored, int s, int t, int size, float near_plane, float far_plane,
+                         DepthRange range);
 
 // Cube-map addressing as the samplers do it (spec table 8.19): which face a direction selects and the
 // face coordinates (s, t) in [0, 1]. Ties between equal major axes go to x, then y, as in Mesa.

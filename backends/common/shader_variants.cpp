@@ -2,6 +2,8 @@
 
 #include "backends/common/techniques.h"
 
+#include <set>
+
 namespace omnishadow::gpu {
 
 std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
@@ -21,6 +23,8 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   if (c.storage == Storage::hardware_depth) d.push_back("DEPTH_ONLY");
   return d;
 }
+
+std::vector<std::string> shadow_fragment_defines(const CaseConfig& c) { return {storage_define(c.storage)}; }
 
 std::string variant_key(const std::string& file, const std::vector<std::string>& defines) {
   std::string key = file + ":";
@@ -54,6 +58,34 @@ std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant v
   if (c.remedies.normal_offset) d.push_back("NORMAL_OFFSET");
   if (variant == LightingVariant::check) d.push_back("CHECK_OUTPUTS");
   return d;
+}
+
+std::vector<std::string> spirv_variant_keys() {
+  std::set<std::string> keys = {variant_key("lighting.vert", kNoVariant), variant_key("map_depth.vert", kNoVariant),
+                                variant_key("map_depth.frag", kNoVariant)};
+  CaseConfig c;
+  for (const TechniqueTraits& t : kTechniques)
+    for (Storage storage : all_values<Storage>())
+      for (bool cull : {false, true}) {
+        c.technique = t.technique;
+        c.storage = storage;
+        c.optimizations.face_culling = cull;
+        keys.insert(variant_key("shadow_depth.vert", shadow_vertex_defines(c)));
+        if (t.geometry_stage) keys.insert(variant_key("shadow_depth.geom", shadow_geometry_defines(c)));
+        keys.insert(variant_key("shadow_depth.frag", shadow_fragment_defines(c)));
+      }
+  for (Storage storage : all_values<Storage>())
+    for (Filter filter : all_values<Filter>())
+      for (BiasMode bias : {BiasMode::seed, BiasMode::zero, BiasMode::slope})
+        for (bool normal_offset : {false, true})
+          for (LightingVariant v : {LightingVariant::timed, LightingVariant::check}) {
+            c.storage = storage;
+            c.filter = filter;
+            c.remedies.bias = bias;
+            c.remedies.normal_offset = normal_offset;
+            keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
+          }
+  return {keys.begin(), keys.end()};
 }
 
 LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s) {

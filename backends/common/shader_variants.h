@@ -18,6 +18,10 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c);
 // "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER,FACE_CULLING": the key a variant is embedded under.
 std::string variant_key(const std::string& file, const std::vector<std::string>& defines);
 std::string storage_define(Storage s);
+// The shadow pass's fragment stage: the storage's define.
+std::vector<std::string> shadow_fragment_defines(const CaseConfig& c);
+// Stages whose source has no variants are keyed with this one define ("lighting.vert:NONE").
+inline const std::vector<std::string> kNoVariant = {"NONE"};
 std::string filter_define(Filter f);
 
 // The lighting pass in two variants of one shader (shaders/lighting.frag). `timed` is what a renderer ships for
@@ -39,6 +43,11 @@ struct LightingConstants {
   int32_t point_light = 1;    // 1: the scene has a point light and so a cube (a VkBool32 for Vulkan)
   int32_t injected_work = 0;  // --inject-fragment-work iterations
 };
+// Every SPIR-V variant the Vulkan backend can ask for ("lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD", ...),
+// enumerated over the tables' axes with the functions above, so the build compiles exactly what the backend
+// uses (list_spirv_variants prints it for CMakeLists.txt).
+std::vector<std::string> spirv_variant_keys();
+
 LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s);
 std::vector<std::string> lighting_constant_defines(const LightingConstants& k);  // "MAP_LIGHTS=2", ...
 

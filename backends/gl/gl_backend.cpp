@@ -433,13 +433,10 @@ Images GlBackend::read_back() {
     glGetTextureSubImage(shadow_.stored, 0, 0, 0, f, shadow_.size, shadow_.size, 1,
                          depth_stored ? GL_DEPTH_COMPONENT : GL_RED, GL_FLOAT,
                          static_cast<GLsizei>(texels * sizeof(float)), face.data());
-    if (shadow_.storage == Storage::linear_depth)
-      for (float& v : face) v *= far_plane;
-    if (shadow_.storage == Storage::hardware_depth)
-      for (size_t i = 0; i < texels; ++i)
-        face[i] = cube::projective_depth_to_distance(face[i], int(i % size_t(shadow_.size)), int(i / size_t(shadow_.size)),
-                                                     shadow_.size, scene_->light.near_plane, far_plane,
-                                                     cube::DepthRange::minus_one_to_one);
+    const size_t n = static_cast<size_t>(shadow_.size);
+    for (size_t i = 0; i < texels; ++i)
+      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
+                                         scene_->light.near_plane, far_plane, cube::DepthRange::minus_one_to_one);
   }
   GLenum error = glGetError();
   if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");

@@ -268,7 +268,8 @@ void VkBackend::configure(const CaseConfig& c) {
     maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u, std::max(map_layers, 1u),
                                c.depth_format);
     PipelineDesc map;
-    map.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "map_depth.vert:NONE"}, {VK_SHADER_STAGE_FRAGMENT_BIT, "map_depth.frag:NONE"}};
+    map.stages = {{VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("map_depth.vert", gpu::kNoVariant)},
+                  {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("map_depth.frag", gpu::kNoVariant)}};
     map.layout = shadow_layout_;
     map.render_pass = maps_.render_pass;
     map.position_only = true;
@@ -284,7 +285,8 @@ void VkBackend::configure(const CaseConfig& c) {
         {VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("shadow_depth.vert", gpu::shadow_vertex_defines(c))});
     if (std::vector<std::string> gs = gpu::shadow_geometry_defines(c); !gs.empty())
       shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key("shadow_depth.geom", gs)});
-    shadow.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, "shadow_depth.frag:" + gpu::storage_define(c.storage)});
+    shadow.stages.push_back(
+        {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("shadow_depth.frag", gpu::shadow_fragment_defines(c))});
     shadow.layout = shadow_layout_;
     shadow.render_pass = shadow_.render_pass;
     shadow.color_attachments = c.storage == Storage::r32f_distance ? 1 : 0;
@@ -297,7 +299,7 @@ void VkBackend::configure(const CaseConfig& c) {
     }
     for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
       PipelineDesc lighting;
-      lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, "lighting.vert:NONE"},
+      lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("lighting.vert", gpu::kNoVariant)},
                          {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("lighting.frag", gpu::lighting_defines(c, v))}};
       lighting.layout = lighting_layout_;
       lighting.render_pass = lighting_[size_t(v)].render_pass;
@@ -553,7 +555,6 @@ Images VkBackend::read_back() {
 
   img.cube_size = static_cast<int>(shadow_.size);
   const Image& stored = shadow_.stored();
-  const bool r32f = shadow_.storage == Storage::r32f_distance;
   const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
   std::vector<uint8_t> bytes = read_image(*ctx_, stored, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, texel_bytes);
   const size_t texels = size_t(shadow_.size) * shadow_.size;
@@ -576,12 +577,9 @@ Images VkBackend::read_back() {
       } else {
         std::memcpy(&v, src + 4 * i, 4);
       }
-      if (shadow_.storage == Storage::hardware_depth)
-        face[i] = cube::projective_depth_to_distance(v, int(i % shadow_.size), int(i / shadow_.size),
-                                                     int(shadow_.size), scene_->light.near_plane, far_plane,
-                                                     cube::DepthRange::zero_to_one);
-      else
-        face[i] = r32f ? v : v * far_plane;  // linear_depth stores distance / far
+      face[i] = cube::stored_to_distance(shadow_.storage, v, int(i % shadow_.size), int(i / shadow_.size),
+                                         int(shadow_.size), scene_->light.near_plane, far_plane,
+                                         cube::DepthRange::zero_to_one);
     }
   }
   return img;

@@ -1,0 +1,16 @@
+// Build-time helper: writes every SPIR-V variant key the Vulkan backend can ask for (gpu::spirv_variant_keys),
+// one per line, to the file named by argv[1]. cmake/embed_spirv.cmake compiles and embeds exactly these.
+#include <fstream>
+#include <iostream>
+
+#include "backends/common/shader_variants.h"
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::cerr << "usage: list_spirv_variants OUTPUT\n";
+    return 2;
+  }
+  std::ofstream out(argv[1]);
+  for (const std::string& key : omnishadow::gpu::spirv_variant_keys()) out << key << "\n";
+  return out ? 0 : 1;
+}
