@@ -99,6 +99,12 @@ std::string driver_evidence(const Images& img, const Images& ref, float far_plan
          ") were never written while six_pass wrote them: the driver did not route every layer/view to its face";
 }
 
+std::map<std::string, double> check_figures(const CheckResult& c) {
+  return {{"percent_differing", c.difference.percent_differing()},
+          {"max_abs", c.difference.max_abs},
+          {"differing", double(c.difference.differing)}};
+}
+
 std::string fmt(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -110,11 +116,25 @@ std::string fmt(double v) {
 std::string_view to_string(Status s) {
   switch (s) {
     case Status::ok: return "ok";
-    case Status::unsupported: return "unsupported";
-    case Status::failed: return "failed";
+    case Status::failed_quality: return "failed_quality";
     case Status::failed_check: return "failed_check";
+    case Status::interrupted: return "interrupted";
+    case Status::resource_error: return "resource_error";
+    case Status::failed: return "failed";
+    case Status::unsupported: return "unsupported";
   }
   return "?";
+}
+
+bool fails_run(Status s) {
+  return s == Status::failed_quality || s == Status::failed_check || s == Status::resource_error ||
+         s == Status::failed;
+}
+
+void CaseResult::add(Finding finding) {
+  if (static_cast<int>(finding.status) > static_cast<int>(status)) status = finding.status;
+  reason += (reason.empty() ? "" : "; ") + finding.message;
+  findings.push_back(std::move(finding));
 }
 
 Harness::Harness(RunOptions options) : options_(std::move(options)) {}
@@ -180,16 +200,16 @@ void Harness::prepare(CaseResult& r) {
       s = {false, "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
                   "(measured by six_pass); the single-pass techniques apply to cube maps"};
     if (!s.ok) {
-      r.status = Status::unsupported;
-      r.reason = s.reason;
+      r.add({Status::unsupported, "support", s.reason, {}});
       return;
     }
     if (options_.memory_precheck) {
       std::string shortfall =
           memory_shortfall(estimate_case_memory(r.config), host_memory_available(), b.device());
       if (!shortfall.empty()) {
-        r.status = Status::failed;
-        r.reason = shortfall;
+        const MemoryNeed need = estimate_case_memory(r.config);
+        r.add({Status::resource_error, "memory", shortfall,
+               {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});
         return;
       }
     }
@@ -216,18 +236,23 @@ void Harness::prepare(CaseResult& r) {
     // rendered right after it (the steady state: zero shadow work while the light stands still).
     r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
     std::vector<std::string> api_errors = b.drain_api_errors();
-    if (!api_errors.empty())
-      throw std::runtime_error("API error (checking mode): " + api_errors.front() +
-                               (api_errors.size() > 1 ? " (+" + std::to_string(api_errors.size() - 1) + " more)" : ""));
+    if (!api_errors.empty()) {
+      r.add({Status::failed, "api",
+             "API error (checking mode): " + api_errors.front() +
+                 (api_errors.size() > 1 ? " (+" + std::to_string(api_errors.size() - 1) + " more)" : ""),
+             {{"api_errors", double(api_errors.size())}}});
+      return;
+    }
     if (options_.accuracy) {
       const Truth& truth = truth_for(r.config, images);
       r.accuracy = measure_accuracy(truth, images);
       if (options_.max_error_percent >= 0 && r.accuracy->misclassified_percent > options_.max_error_percent) {
-        r.status = Status::failed_check;
         char buf[160];
         std::snprintf(buf, sizeof buf, "shadow disagrees with exact visibility on %.3f%% of pixels (--max-error %g%%)",
                       r.accuracy->misclassified_percent, options_.max_error_percent);
-        r.reason += (r.reason.empty() ? "" : "; ") + std::string(buf);
+        r.add({Status::failed_quality, "max_error", buf,
+               {{"misclassified_percent", r.accuracy->misclassified_percent},
+                {"max_error_percent", options_.max_error_percent}}});
       }
       if (options_.write_images()) {
         fs::path rel = fs::path("images") / r.config.id() / "error_heatmap.png";
@@ -250,13 +275,19 @@ void Harness::prepare(CaseResult& r) {
     // Host allocation failed (a read-back copy, or a CPU driver's texture): the case fails, the run goes on.
     reference_key_.clear();
     reference_ = Images{};
-    r.status = Status::failed;
     MemoryNeed need = estimate_case_memory(r.config);
-    r.reason = "out of host memory (std::bad_alloc): the case needs about " + format_bytes(need.device_bytes) +
-               " of targets and " + format_bytes(need.host_bytes) + " of read-back copies";
+    r.add({Status::resource_error, "memory",
+           "out of host memory (std::bad_alloc): the case needs about " + format_bytes(need.device_bytes) +
+               " of targets and " + format_bytes(need.host_bytes) + " of read-back copies",
+           {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});
   } catch (const std::exception& e) {
-    r.status = Status::failed;
-    r.reason = e.what();
+    // Out of device memory is reported by the backends as an error naming it (GL_OUT_OF_MEMORY,
+    // VK_ERROR_OUT_OF_DEVICE_MEMORY): a resource error, not a failure of the technique.
+    const std::string what = e.what();
+    const bool memory = what.find("OUT_OF_MEMORY") != std::string::npos ||
+                        what.find("OUT_OF_DEVICE_MEMORY") != std::string::npos ||
+                        what.find("OUT_OF_HOST_MEMORY") != std::string::npos;
+    r.add({memory ? Status::resource_error : Status::failed, memory ? "memory" : "error", what, {}});
   }
 }
 
@@ -268,10 +299,13 @@ void Harness::count_non_finite(CaseResult& r, const Images& images) {
   r.non_finite_shadow = count(images.shadow_factor);
   r.non_finite_position = count(images.world_position);
   if (r.non_finite_cube + r.non_finite_shadow + r.non_finite_position > 0) {
-    r.status = Status::failed_check;
-    r.reason = "non-finite values read back: " + std::to_string(r.non_finite_cube) + " in the cube, " +
+    r.add({Status::failed_check, "non_finite",
+           "non-finite values read back: " + std::to_string(r.non_finite_cube) + " in the cube, " +
                std::to_string(r.non_finite_shadow) + " in the shadow factor, " +
-               std::to_string(r.non_finite_position) + " in world positions";
+               std::to_string(r.non_finite_position) + " in world positions",
+           {{"cube", double(r.non_finite_cube)},
+            {"shadow_factor", double(r.non_finite_shadow)},
+            {"world_position", double(r.non_finite_position)}}});
   }
 }
 
@@ -301,12 +335,12 @@ void Harness::check_timed_variant(CaseResult& r, const Images& images) {
   std::vector<float> diff = max_channel_difference(images.timed_lit_rgba8, images.lit_rgba8);
   record_check(r, check, diff, std::vector<float>(diff.size(), 0.0f), luminance(images.lit_rgba8), images.width,
                images.height, 64.0, true);
-  if (!r.checks.back().passed) {
-    r.status = Status::failed_check;
-    r.reason += (r.reason.empty() ? "" : "; ") + std::string("timed_lit: the timed lighting variant's colour differs ") +
-                "from the check variant's in " + fmt(check.difference.percent_differing()) + "% of values (max abs " +
-                fmt(check.difference.max_abs) + "): the timed frame does not render what was checked";
-  }
+  if (!r.checks.back().passed)
+    r.add({Status::failed_check, "timed_lit",
+           "timed_lit: the timed lighting variant's colour differs from the check variant's in " +
+               fmt(check.difference.percent_differing()) + "% of values (max abs " + fmt(check.difference.max_abs) +
+               "): the timed frame does not render what was checked",
+           check_figures(check)});
 }
 
 void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
@@ -343,17 +377,18 @@ void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
   record_check(r, lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8), images.width,
          images.height, 64.0, true);
 
-  std::string failures;
+  bool failed = false;
   for (const CheckResult& c : r.checks)
-    if (!c.passed && c.name != "timed_lit")
-      failures += (failures.empty() ? "" : "; ") + c.name + " differ from " + c.against + " in " +
-                  fmt(c.difference.percent_differing()) + "% of values (max abs " + fmt(c.difference.max_abs) + ")";
-  if (!failures.empty()) {
-    r.status = Status::failed_check;
-    r.reason += (r.reason.empty() ? "" : "; ") + failures;
-    std::string evidence = driver_evidence(images, ref, far_plane);
-    if (!evidence.empty()) r.reason += "; " + evidence;
-  }
+    if (!c.passed && (c.name == "cube_faces" || c.name == "shadow_factor" || c.name == "lit")) {
+      failed = true;
+      r.add({Status::failed_check, c.name,
+             c.name + " differ from " + c.against + " in " + fmt(c.difference.percent_differing()) +
+                 "% of values (max abs " + fmt(c.difference.max_abs) + ")",
+             check_figures(c)});
+    }
+  if (failed)
+    if (std::string evidence = driver_evidence(images, ref, far_plane); !evidence.empty())
+      r.add({Status::failed_check, "driver_evidence", evidence, {}});
 }
 
 const Truth& Harness::truth_for(const CaseConfig& c, const Images& images) {
@@ -406,11 +441,11 @@ void Harness::check_against_other_backend(CaseResult& r, const Images& images) {
   record_check(r, lit, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit), images.width,
                images.height, 64.0, true);
   for (const CheckResult* c : {&r.checks[r.checks.size() - 2], &r.checks.back()})
-    if (!c->passed) {
-      r.status = Status::failed_check;
-      r.reason += (r.reason.empty() ? "" : "; ") + c->name + ": " + fmt(c->difference.percent_differing()) +
-                  "% of values differ from " + c->against + " (allowed " + fmt(c->max_percent) + "%)";
-    }
+    if (!c->passed)
+      r.add({Status::failed_check, c->name,
+             c->name + ": " + fmt(c->difference.percent_differing()) + "% of values differ from " + c->against +
+                 " (allowed " + fmt(c->max_percent) + "%)",
+             check_figures(*c)});
 }
 
 void Harness::write_images(CaseResult& r, const Images& img) {
@@ -427,7 +462,7 @@ void Harness::write_images(CaseResult& r, const Images& img) {
   const float far_plane = img.light_far;
   write_png_gray(out("cube_faces", "cube_faces.png"), img.cube_size * 6, img.cube_size, concat_faces(img), 0.0f,
                  far_plane, false);
-  const bool failed = r.status == Status::failed_check;
+  const bool failed = r.status == Status::failed_check || r.status == Status::failed_quality;
   if (options_.images != RunOptions::ImagePolicy::all && !failed) return;
   // The float buffers: 24 bytes a pixel (1.9 MB per 800x600 buffer), what a failed check needs to be examined.
   write_pfm(out("shadow_factor", "shadow_factor.pfm"), img.width, img.height, 1, img.shadow_factor);

@@ -59,13 +59,35 @@ struct CheckResult {
   std::string diff_image;  // relative to out_dir, written on failure only
 };
 
-enum class Status { ok, unsupported, failed, failed_check };
+// A case's result code, the worst of its findings (dEQP's result codes are the model): users filter on these.
+//   ok              every check passed
+//   failed_quality  the shadow disagrees with exact visibility beyond --max-error (the measured error is a figure)
+//   failed_check    a check failed: technique vs six_pass, timed vs check variant, across APIs, non-finite values
+//   interrupted     the run was stopped (SIGINT/SIGTERM) before the case was timed
+//   resource_error  the case does not fit in memory (predicted, or the allocation failed)
+//   failed          an error: the API failed, the checking mode reported an API error, an exception
+//   unsupported     the device or the technique cannot do the case; the matrix goes on
+// Worse is later in that list.
+enum class Status { ok, failed_quality, failed_check, interrupted, resource_error, failed, unsupported };
 std::string_view to_string(Status s);
+// A case with this status makes `run --check` exit 1.
+bool fails_run(Status s);
+
+// One thing a check or a step found: what it does to the case, which check, a one-line message, and figures.
+struct Finding {
+  Status status = Status::failed;
+  std::string check;  // timed_lit, cube_faces, cross_backend_lit, max_error, non_finite, memory, api, timing, ...
+  std::string message;
+  std::map<std::string, double> figures;
+};
 
 struct CaseResult {
   CaseConfig config;
-  Status status = Status::ok;
-  std::string reason;  // one line; empty when ok
+  Status status = Status::ok;  // the worst finding's (ok without any)
+  std::string reason;          // the findings' messages joined by "; " (one line); empty when ok
+  std::vector<Finding> findings;
+  // Adds a finding: the status becomes the worse of the two, the message joins the reason.
+  void add(Finding finding);
   FrameCounters counters;
   std::vector<CheckResult> checks;
   std::map<std::string, std::string> images;  // role -> path relative to out_dir

@@ -265,7 +265,7 @@ int run_command(const RunCommand& cmd) {
   }
   if (cmd.check)
     for (const CaseResult& r : run.results)
-      if (r.status == Status::failed || r.status == Status::failed_check) return 1;
+      if (fails_run(r.status)) return 1;
   return 0;
 }
 

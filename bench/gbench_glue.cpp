@@ -61,17 +61,17 @@ struct Progress {
   }
 };
 
+// Cases whose checks ran (passed or not) are timed; cases that could not be prepared are not.
+bool is_timed(Status s) { return s == Status::ok || s == Status::failed_check || s == Status::failed_quality; }
+
 void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progress& progress, bool stop) {
   progress.step(r.config.id());
   if (stop) {
-    if (r.status == Status::ok || r.status == Status::failed_check) {
-      r.status = Status::failed;
-      r.reason = "interrupted: the run was stopped before this case was timed";
-    }
+    r.add({Status::interrupted, "timing", "interrupted: the run was stopped before this case was timed", {}});
     state.SkipWithError(r.reason.c_str());
     return;
   }
-  if (r.status == Status::unsupported || r.status == Status::failed) {
+  if (!is_timed(r.status)) {
     state.SkipWithError((std::string(to_string(r.status)) + ": " + r.reason).c_str());
     return;
   }
@@ -122,8 +122,7 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
     set_pass_counters(state, "lighting", r.counters.lighting);
     state.SetLabel(std::string(to_string(r.status)));
   } catch (const std::exception& e) {
-    r.status = Status::failed;
-    r.reason = std::string("while timing: ") + e.what();
+    r.add({Status::failed, "timing", std::string("while timing: ") + e.what(), {}});
     state.SkipWithError(("failed: " + r.reason).c_str());
   }
   r.frames.insert(r.frames.end(), frames.begin(), frames.end());
@@ -142,7 +141,7 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, int repetitio
   for (CaseResult& r : results) {
     // Cases that are unsupported or failed before timing are not handed to Google Benchmark: it would print an
     // ERROR OCCURRED line per repetition for each; the summary lists them once per reason instead.
-    if (r.status == Status::unsupported || r.status == Status::failed) continue;
+    if (!is_timed(r.status)) continue;
     ++timed;
     benchmark::RegisterBenchmark(r.config.id().c_str(),
                                  [&harness, &r, &progress, &after_case, &stop_requested](benchmark::State& state) {

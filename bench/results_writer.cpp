@@ -63,6 +63,11 @@ json case_to_json(const CaseResult& r) {
            {"pcf_scale", c.pcf_scale}}},
          {"status", to_string(r.status)},
          {"reason", r.reason}};
+  json findings = json::array();
+  for (const Finding& f : r.findings)
+    findings.push_back({{"status", to_string(f.status)}, {"check", f.check}, {"message", f.message},
+                        {"figures", f.figures}});
+  j["findings"] = findings;
   if (r.status == Status::unsupported) return j;
   j["counters"] = {{"shadow", counters_to_json(r.counters.shadow)},
                    {"lighting", counters_to_json(r.counters.lighting)}};

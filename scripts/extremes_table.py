@@ -21,13 +21,13 @@ def load(run):
 def cell(c):
     if c["status"] == "unsupported":
         return "n/a"
-    if c["status"] == "failed":
-        return "failed"
+    if c["status"] in ("failed", "resource_error"):
+        return c["status"].replace("_", " ")
     nf = c.get("non_finite", {})
     bad = sum(nf.values()) if nf else 0
     acc = c.get("accuracy", {})
     text = f"{acc['misclassified_percent']:.2f}" if "misclassified_percent" in acc else "-"
-    if c["status"] == "failed_check":
+    if c["status"] in ("failed_check", "failed_quality"):
         text = f"**{text}**"  # beyond --max-error (or another check failed): the variant breaks here
     flick = c.get("stability", {}).get("flicker_percent")
     if flick is not None and flick > 0.5:

@@ -25,7 +25,7 @@ def main():
 
     groups = {}
     for c in doc["omnishadow"]["cases"]:
-        if c.get("status") not in ("ok", "failed_check"):
+        if c.get("status") not in ("ok", "failed_check", "failed_quality"):
             continue
         a = c["axes"]
         key = (a["backend"], a["scene"], a["cube_size"], a["technique"], a["filter"], a["storage"], a["depth_format"])

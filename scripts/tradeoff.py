@@ -75,7 +75,7 @@ def main():
     for run in args.runs:
         for case in load_cases(run):
             acc, ms = case.get("accuracy"), frame_ms(case)
-            if case["status"] not in ("ok", "failed_check") or not acc or ms is None:
+            if case["status"] not in ("ok", "failed_check", "failed_quality") or not acc or ms is None:
                 continue
             error = acc.get(args.metric, acc.get("mae_point"))
             key = (case["axes"]["backend"], case["axes"]["scene"])

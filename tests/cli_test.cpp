@@ -364,7 +364,8 @@ TEST_F(CliRun, OutOfMemoryFailsTheCaseAndTheMatrixGoesOn) {
       auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
       const auto& cases = j["omnishadow"]["cases"];
       ASSERT_EQ(cases.size(), 2u);
-      EXPECT_EQ(cases[0]["status"], "failed");
+      EXPECT_EQ(cases[0]["status"], "resource_error");
+      EXPECT_EQ(cases[0]["findings"][0]["check"], "memory");
       std::string reason = cases[0]["reason"];
       EXPECT_TRUE(reason.find("out of") != std::string::npos || reason.find("OUT_OF") != std::string::npos) << reason;
       if (precheck.empty()) {
@@ -427,9 +428,13 @@ TEST_F(CliRun, RemediesAreMeasuredOnAndOff) {
                                     "--max-error 5");
   ASSERT_FALSE(j.is_null());
   for (const auto& c : j["omnishadow"]["cases"]) {
-    // Beyond --max-error 5: failed_check with the measured error in the reason; within it: ok.
+    // Beyond --max-error 5: failed_quality with the measured error in the reason and as a figure; within it: ok.
     double e = c["accuracy"]["misclassified_percent"];
-    EXPECT_EQ(c["status"], e > 5.0 ? "failed_check" : "ok") << c["id"];
+    EXPECT_EQ(c["status"], e > 5.0 ? "failed_quality" : "ok") << c["id"];
+    if (e > 5.0) {
+      EXPECT_EQ(c["findings"][0]["check"], "max_error");
+      EXPECT_DOUBLE_EQ(c["findings"][0]["figures"]["misclassified_percent"].get<double>(), e);
+    }
     if (e > 5.0) {
       EXPECT_NE(c["reason"].get<std::string>().find("exact visibility"), std::string::npos) << c["reason"];
     }

@@ -164,6 +164,24 @@ TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   EXPECT_FALSE(r[1].images.count("world_position"));
 }
 
+// Findings accumulate: a quality finding is not overwritten by a later check failure, and the status is the worst.
+TEST(CaseFindings, StatusIsTheWorstAndNoReasonIsLost) {
+  CaseResult r;
+  EXPECT_EQ(r.status, Status::ok);
+  r.add({Status::failed_quality, "max_error", "shadow disagrees on 7% of pixels", {{"misclassified_percent", 7.0}}});
+  EXPECT_EQ(r.status, Status::failed_quality);
+  r.add({Status::failed_check, "cube_faces", "cube_faces differ", {}});
+  EXPECT_EQ(r.status, Status::failed_check);
+  r.add({Status::failed_quality, "max_error", "again", {}});
+  EXPECT_EQ(r.status, Status::failed_check) << "a milder finding never lowers the status";
+  ASSERT_EQ(r.findings.size(), 3u);
+  EXPECT_EQ(r.reason, "shadow disagrees on 7% of pixels; cube_faces differ; again");
+  EXPECT_TRUE(fails_run(Status::failed_quality));
+  EXPECT_TRUE(fails_run(Status::resource_error));
+  EXPECT_FALSE(fails_run(Status::unsupported));
+  EXPECT_FALSE(fails_run(Status::interrupted));  // the run itself exits 130/143
+}
+
 TEST_F(HarnessTest, ImagePolicyDecidesWhichFilesAreWritten) {
   start(RunOptions::ImagePolicy::all);
   std::vector<CaseResult> all = prepare_all({Filter::hard});
