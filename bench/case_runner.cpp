@@ -192,27 +192,62 @@ Backend& Harness::activate(const CaseConfig& config) {
   return b;
 }
 
+// Whether the case can run here at all: supported by the backend and the scene, and (unless told not to check)
+// fitting in memory. Adds the finding that says why not.
+bool Harness::admit(CaseResult& r, Backend& b) {
+  Support s = b.supports(r.config);
+  if (s.ok && r.config.technique != Technique::six_pass && !scene_of(r.config).has_point_light)
+    s = {false, "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
+                "(measured by six_pass); the single-pass techniques apply to cube maps"};
+  if (!s.ok) {
+    r.add({Status::unsupported, "support", s.reason, {}});
+    return false;
+  }
+  if (!options_.memory_precheck) return true;
+  const MemoryNeed need = estimate_case_memory(r.config);
+  std::string shortfall = memory_shortfall(need, host_memory_available(), b.device());
+  if (shortfall.empty()) return true;
+  r.add({Status::resource_error, "memory", shortfall,
+         {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});
+  return false;
+}
+
+// The shadow plan's figures at the check frame (faces with no caster, object x face draws) and the work counters.
+void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
+  const scene::Scene& sc = scene_of(r.config);
+  cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, sc.light.path.at(options_.check_frame), sc.light.near_plane,
+                                                      light_far, r.config.optimizations.face_culling);
+  r.empty_faces = plan.empty_faces;
+  for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
+  // With static caching the work of a frame depends on the one before: count the frame after the check frame,
+  // rendered right after it (the steady state: zero shadow work while the light stands still).
+  r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
+}
+
+// The error against exact visibility, the --max-error limit, and the error heatmap.
+void Harness::check_accuracy(CaseResult& r, const Images& images) {
+  const Truth& truth = truth_for(r.config, images);
+  r.accuracy = measure_accuracy(truth, images);
+  if (options_.max_error_percent >= 0 && r.accuracy->misclassified_percent > options_.max_error_percent) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "shadow disagrees with exact visibility on %.3f%% of pixels (--max-error %g%%)",
+                  r.accuracy->misclassified_percent, options_.max_error_percent);
+    r.add({Status::failed_quality, "max_error", buf,
+           {{"misclassified_percent", r.accuracy->misclassified_percent},
+            {"max_error_percent", options_.max_error_percent}}});
+  }
+  if (!options_.write_images()) return;
+  fs::path rel = fs::path("images") / r.config.id() / "error_heatmap.png";
+  fs::create_directories((fs::path(options_.out_dir) / rel).parent_path());
+  write_png_rgb_top_down((fs::path(options_.out_dir) / rel).string(), images.width, images.height,
+                         error_heatmap(truth, images));
+  r.images["error_heatmap"] = rel.string();
+}
+
 void Harness::prepare(CaseResult& r) {
   try {
     Backend& b = backend(r.config.backend);
-    Support s = b.supports(r.config);
-    if (s.ok && r.config.technique != Technique::six_pass && !scene_of(r.config).has_point_light)
-      s = {false, "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
-                  "(measured by six_pass); the single-pass techniques apply to cube maps"};
-    if (!s.ok) {
-      r.add({Status::unsupported, "support", s.reason, {}});
-      return;
-    }
-    if (options_.memory_precheck) {
-      std::string shortfall =
-          memory_shortfall(estimate_case_memory(r.config), host_memory_available(), b.device());
-      if (!shortfall.empty()) {
-        const MemoryNeed need = estimate_case_memory(r.config);
-        r.add({Status::resource_error, "memory", shortfall,
-               {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});
-        return;
-      }
-    }
+    if (!admit(r, b)) return;
     activate(r.config);
     // Cold: right after configure, nothing cached; the timed kind, what the timed frames render.
     r.first_frame = b.render(options_.check_frame, FrameKind::timed);
@@ -224,44 +259,15 @@ void Harness::prepare(CaseResult& r) {
     count_non_finite(r, images);
     check_timed_variant(r, images);
     if (options_.stability) measure_flicker(r, b, images);
-    {
-      const scene::Scene& sc = scene_of(r.config);
-      cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, sc.light.path.at(options_.check_frame),
-                                                          sc.light.near_plane, images.light_far,
-                                                          r.config.optimizations.face_culling);
-      r.empty_faces = plan.empty_faces;
-      for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
-    }
-    // With static caching the work of a frame depends on the one before: count the frame after the check frame,
-    // rendered right after it (the steady state: zero shadow work while the light stands still).
-    r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
-    std::vector<std::string> api_errors = b.drain_api_errors();
-    if (!api_errors.empty()) {
+    count_work(r, b, images.light_far);
+    if (std::vector<std::string> errors = b.drain_api_errors(); !errors.empty()) {
       r.add({Status::failed, "api",
-             "API error (checking mode): " + api_errors.front() +
-                 (api_errors.size() > 1 ? " (+" + std::to_string(api_errors.size() - 1) + " more)" : ""),
-             {{"api_errors", double(api_errors.size())}}});
+             "API error (checking mode): " + errors.front() +
+                 (errors.size() > 1 ? " (+" + std::to_string(errors.size() - 1) + " more)" : ""),
+             {{"api_errors", double(errors.size())}}});
       return;
     }
-    if (options_.accuracy) {
-      const Truth& truth = truth_for(r.config, images);
-      r.accuracy = measure_accuracy(truth, images);
-      if (options_.max_error_percent >= 0 && r.accuracy->misclassified_percent > options_.max_error_percent) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "shadow disagrees with exact visibility on %.3f%% of pixels (--max-error %g%%)",
-                      r.accuracy->misclassified_percent, options_.max_error_percent);
-        r.add({Status::failed_quality, "max_error", buf,
-               {{"misclassified_percent", r.accuracy->misclassified_percent},
-                {"max_error_percent", options_.max_error_percent}}});
-      }
-      if (options_.write_images()) {
-        fs::path rel = fs::path("images") / r.config.id() / "error_heatmap.png";
-        fs::create_directories((fs::path(options_.out_dir) / rel).parent_path());
-        write_png_rgb_top_down((fs::path(options_.out_dir) / rel).string(), images.width, images.height,
-                               error_heatmap(truth, images));
-        r.images["error_heatmap"] = rel.string();
-      }
-    }
+    if (options_.accuracy) check_accuracy(r, images);
     const bool is_reference = r.config == reference_config(r.config);
     if (!is_reference) check_against_six_pass(r, images);
     check_against_other_backend(r, images);

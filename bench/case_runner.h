@@ -126,6 +126,9 @@ class Harness {
   void prepare(CaseResult& result);
 
  private:
+  bool admit(CaseResult& result, Backend& b);
+  void count_work(CaseResult& result, Backend& b, float light_far);
+  void check_accuracy(CaseResult& result, const Images& images);
   void check_timed_variant(CaseResult& result, const Images& images);
   void check_against_six_pass(CaseResult& result, const Images& images);
   void count_non_finite(CaseResult& result, const Images& images);

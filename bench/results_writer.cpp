@@ -18,8 +18,8 @@ json counters_to_json(const PassCounters& c) {
 json summary_to_json(const std::vector<double>& values) {
   Summary s = summarize(values);
   if (s.count == 0) return nullptr;
-  return json{{"median", s.median}, {"mean", s.mean}, {"min", s.min},
-              {"max", s.max},       {"stddev", s.stddev}, {"count", s.count}};
+  return json{{"median", s.median}, {"mean", s.mean}, {"min", s.min},  {"max", s.max},
+              {"p90", s.p90},       {"p99", s.p99},   {"stddev", s.stddev}, {"count", s.count}};
 }
 
 json pass_timing_to_json(const std::vector<FrameTiming>& frames, PassTiming FrameTiming::*pass, bool gpu_reliable) {
@@ -45,90 +45,107 @@ json device_to_json(const DeviceInfo& d) {
   return j;
 }
 
+namespace {
+
+json axes_to_json(const CaseConfig& c) {
+  return {{"backend", c.backend},
+          {"scene", c.scene},
+          {"cube_size", c.cube_size},
+          {"width", c.width},
+          {"height", c.height},
+          {"technique", to_string(c.technique)},
+          {"filter", to_string(c.filter)},
+          {"storage", to_string(c.storage)},
+          {"depth_format", to_string(c.depth_format)},
+          {"optimizations", to_string(c.optimizations)},
+          {"remedies", to_string(c.remedies)},
+          {"pcf_scale", c.pcf_scale}};
+}
+
+json checks_to_json(const std::vector<CheckResult>& checks) {
+  json out = json::array();
+  for (const CheckResult& k : checks)
+    out.push_back({{"name", k.name},
+                   {"against", k.against},
+                   {"passed", k.passed},
+                   {"tolerance", k.tolerance},
+                   {"max_percent_differing", k.max_percent},
+                   {"max_abs_difference", k.difference.max_abs},
+                   {"values_differing", k.difference.differing},
+                   {"values_compared", k.difference.total},
+                   {"percent_differing", k.difference.percent_differing()},
+                   {"diff_image", k.diff_image.empty() ? json(nullptr) : json(k.diff_image)}});
+  return out;
+}
+
+// What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
+json plan_to_json(const CaseResult& r) {
+  json j = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces}, {"light_far", r.light_far}};
+  if (r.config.storage == Storage::linear_depth) {
+    // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
+    const int bits = r.config.depth_format == DepthFormat::d16 ? 16 : 24;
+    j["depth_step_world"] = r.light_far / double(1u << bits);
+  }
+  return j;
+}
+
+json accuracy_to_json(const Accuracy& a) {
+  auto db = [](double v) { return v < 0 ? json(nullptr) : json(v); };  // null: identical to the reference
+  json j = {{"reference", "exact visibility by ray casting the scene's triangles (BVH) from the GPU's world positions"},
+            {"pixels", a.pixels},
+            {"misclassified_percent", a.misclassified_percent},
+            {"false_shadow_percent", a.false_shadow_percent},
+            {"missed_shadow_percent", a.missed_shadow_percent},
+            {"mae_point", a.mae_point},
+            {"psnr_point_db", db(a.psnr_point_db)}};
+  if (a.mae_sphere >= 0) {
+    j["mae_sphere"] = a.mae_sphere;
+    j["psnr_sphere_db"] = db(a.psnr_sphere_db);
+  }
+  return j;
+}
+
+json timing_to_json(const CaseResult& r) {
+  std::vector<double> frame_wall;
+  for (const FrameTiming& f : r.frames) frame_wall.push_back(f.frame_wall_ms);
+  return {{"repetitions", r.repetitions},
+          {"timed_frames", r.frames.size()},
+          {"warmup_frames", r.warmup.size()},
+          {"frame_wall_ms", summary_to_json(frame_wall)},
+          {"shadow", pass_timing_to_json(r.frames, &FrameTiming::shadow, r.gpu_timer.reliable)},
+          {"lighting", pass_timing_to_json(r.frames, &FrameTiming::lighting, r.gpu_timer.reliable)}};
+}
+
+}  // namespace
+
 json case_to_json(const CaseResult& r) {
-  const CaseConfig& c = r.config;
-  json j{{"id", c.id()},
-         {"axes",
-          {{"backend", c.backend},
-           {"scene", c.scene},
-           {"cube_size", c.cube_size},
-           {"width", c.width},
-           {"height", c.height},
-           {"technique", to_string(c.technique)},
-           {"filter", to_string(c.filter)},
-           {"storage", to_string(c.storage)},
-           {"depth_format", to_string(c.depth_format)},
-           {"optimizations", to_string(c.optimizations)},
-           {"remedies", to_string(c.remedies)},
-           {"pcf_scale", c.pcf_scale}}},
+  json j{{"id", r.config.id()},
+         {"axes", axes_to_json(r.config)},
          {"status", to_string(r.status)},
-         {"reason", r.reason}};
-  json findings = json::array();
+         {"reason", r.reason},
+         {"findings", json::array()}};
   for (const Finding& f : r.findings)
-    findings.push_back({{"status", to_string(f.status)}, {"check", f.check}, {"message", f.message},
-                        {"figures", f.figures}});
-  j["findings"] = findings;
+    j["findings"].push_back(
+        {{"status", to_string(f.status)}, {"check", f.check}, {"message", f.message}, {"figures", f.figures}});
   if (r.status == Status::unsupported) return j;
   j["counters"] = {{"shadow", counters_to_json(r.counters.shadow)},
                    {"lighting", counters_to_json(r.counters.lighting)}};
-  json checks = json::array();
-  for (const CheckResult& k : r.checks)
-    checks.push_back({{"name", k.name},
-                      {"against", k.against},
-                      {"passed", k.passed},
-                      {"tolerance", k.tolerance},
-                      {"max_percent_differing", k.max_percent},
-                      {"max_abs_difference", k.difference.max_abs},
-                      {"values_differing", k.difference.differing},
-                      {"values_compared", k.difference.total},
-                      {"percent_differing", k.difference.percent_differing()},
-                      {"diff_image", k.diff_image.empty() ? json(nullptr) : json(k.diff_image)}});
-  j["checks"] = checks;
+  j["checks"] = checks_to_json(r.checks);
   j["images"] = r.images;
-  // What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
-  j["shadow_plan"] = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces},
-                      {"light_far", r.light_far}};
-  if (c.storage == Storage::linear_depth) {
-    // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
-    const int bits = c.depth_format == DepthFormat::d16 ? 16 : 24;
-    j["shadow_plan"]["depth_step_world"] = r.light_far / double(1u << bits);
-  }
+  j["shadow_plan"] = plan_to_json(r);
   j["non_finite"] = {{"cube", r.non_finite_cube}, {"shadow_factor", r.non_finite_shadow},
                      {"world_position", r.non_finite_position}};
   if (r.flicker_percent)
     j["stability"] = {{"next_frame", "check_frame + 1"},
                       {"flicker_percent", *r.flicker_percent},
                       {"mean_abs_change", *r.flicker_mean_abs}};
-  if (r.first_frame) {
+  if (r.first_frame)
     j["first_frame"] = {{"shadow_wall_ms", r.first_frame->shadow.cpu_wall_ms},
                         {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
                         {"frame_wall_ms", r.first_frame->frame_wall_ms}};
-  }
-  if (r.accuracy) {
-    const Accuracy& a = *r.accuracy;
-    auto db = [](double v) { return v < 0 ? json(nullptr) : json(v); };  // null: identical to the reference
-    j["accuracy"] = {
-        {"reference", "exact visibility by ray casting the scene's triangles (BVH) from the GPU's world positions"},
-        {"pixels", a.pixels},
-        {"misclassified_percent", a.misclassified_percent},
-        {"false_shadow_percent", a.false_shadow_percent},
-        {"missed_shadow_percent", a.missed_shadow_percent},
-        {"mae_point", a.mae_point},
-        {"psnr_point_db", db(a.psnr_point_db)}};
-    if (a.mae_sphere >= 0) {
-      j["accuracy"]["mae_sphere"] = a.mae_sphere;
-      j["accuracy"]["psnr_sphere_db"] = db(a.psnr_sphere_db);
-    }
-  }
+  if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
   if (r.repetitions > 0) {
-    std::vector<double> frame_wall;
-    for (const FrameTiming& f : r.frames) frame_wall.push_back(f.frame_wall_ms);
-    j["timing"] = {{"repetitions", r.repetitions},
-                   {"timed_frames", r.frames.size()},
-                   {"warmup_frames", r.warmup.size()},
-                   {"frame_wall_ms", summary_to_json(frame_wall)},
-                   {"shadow", pass_timing_to_json(r.frames, &FrameTiming::shadow, r.gpu_timer.reliable)},
-                   {"lighting", pass_timing_to_json(r.frames, &FrameTiming::lighting, r.gpu_timer.reliable)}};
+    j["timing"] = timing_to_json(r);
     j["gpu_timer"] = {{"available", r.gpu_timer.available},
                       {"reliable", r.gpu_timer.reliable},
                       {"frames_checked", r.gpu_timer.frames_checked},

@@ -7,6 +7,14 @@
 
 namespace omnishadow::bench {
 
+double quantile_sorted(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0.0;
+  const double at = q * static_cast<double>(sorted.size() - 1);
+  const size_t lo = static_cast<size_t>(std::floor(at));
+  const size_t hi = std::min(lo + 1, sorted.size() - 1);
+  return sorted[lo] + (at - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
 Summary summarize(std::vector<double> values) {
   Summary s;
   s.count = static_cast<int>(values.size());
@@ -16,6 +24,8 @@ Summary summarize(std::vector<double> values) {
   s.max = values.back();
   size_t n = values.size();
   s.median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+  s.p90 = quantile_sorted(values, 0.90);
+  s.p99 = quantile_sorted(values, 0.99);
   s.mean = std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(n);
   double sq = 0;
   for (double v : values) sq += (v - s.mean) * (v - s.mean);

@@ -50,3 +50,27 @@ TEST(TimingStats, NoGpuFiguresIsNotReliable) {
 
 }  // namespace
 }  // namespace omnishadow::bench
+
+namespace omnishadow::bench {
+namespace {
+
+TEST(Summary, PercentilesOfEveryFrame) {
+  std::vector<double> v;
+  for (int i = 1; i <= 100; ++i) v.push_back(i);  // 1..100
+  Summary s = summarize(v);
+  EXPECT_DOUBLE_EQ(s.median, 50.5);
+  EXPECT_NEAR(s.p90, 90.1, 1e-9);  // numpy.percentile(range(1, 101), 90)
+  EXPECT_NEAR(s.p99, 99.01, 1e-9);
+  EXPECT_DOUBLE_EQ(s.max, 100.0);
+  // One stutter among steady frames: the median does not see it, p99 and max do.
+  std::vector<double> steady(99, 10.0);
+  steady.push_back(50.0);
+  Summary t = summarize(steady);
+  EXPECT_DOUBLE_EQ(t.median, 10.0);
+  EXPECT_GT(t.p99, 10.0);
+  EXPECT_DOUBLE_EQ(t.max, 50.0);
+  EXPECT_DOUBLE_EQ(quantile_sorted({}, 0.5), 0.0);
+}
+
+}  // namespace
+}  // namespace omnishadow::bench
