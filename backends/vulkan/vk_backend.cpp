@@ -54,6 +54,13 @@ constexpr VkQueryPipelineStatisticFlags kStatistics = statistic_flags();
 VkBackend::VkBackend(const std::string& device_selector, bool validation)
     : ctx_(std::make_unique<VkContext>(device_selector, validation)),
       modules_(std::make_unique<ShaderModules>(*ctx_)) {
+  describe_device(validation);
+  create_layouts();
+  create_descriptor_sets();
+  create_samplers_and_queries();
+}
+
+void VkBackend::describe_device(bool validation) {
   const VkPhysicalDeviceProperties& p = ctx_->properties();
   info_.api = "Vulkan " + std::to_string(VK_API_VERSION_MAJOR(p.apiVersion)) + "." +
               std::to_string(VK_API_VERSION_MINOR(p.apiVersion)) + "." +
@@ -81,8 +88,10 @@ VkBackend::VkBackend(const std::string& device_selector, bool validation)
   info_.extra["shaderOutputLayer"] = ctx_->has_layer_output() ? "yes" : "no";
   info_.extra["pipelineStatisticsQuery"] = ctx_->has_pipeline_statistics() ? "yes" : "no";
   info_.extra["api_checks"] = validation ? "VK_LAYER_KHRONOS_validation" : "off";
-  VkDevice d = ctx_->device();
+}
 
+void VkBackend::create_layouts() {
+  VkDevice d = ctx_->device();
   const VkShaderStageFlags geometry_stages =
       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
       (ctx_->has_geometry_shader() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
@@ -109,6 +118,10 @@ VkBackend::VkBackend(const std::string& device_selector, bool validation)
   layout_info.pushConstantRangeCount = 0;
   OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &lighting_layout_));
 
+}
+
+void VkBackend::create_descriptor_sets() {
+  VkDevice d = ctx_->device();
   VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -139,6 +152,10 @@ VkBackend::VkBackend(const std::string& device_selector, bool validation)
   }
   vkUpdateDescriptorSets(d, 2, writes, 0, nullptr);
 
+}
+
+void VkBackend::create_samplers_and_queries() {
+  VkDevice d = ctx_->device();
   VkSamplerCreateInfo sampler{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
   sampler.magFilter = sampler.minFilter = VK_FILTER_NEAREST;  // seed 000: NEAREST
   sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
@@ -267,69 +284,77 @@ void VkBackend::configure(const CaseConfig& c) {
     const uint32_t map_layers = static_cast<uint32_t>(scene_->map_lights.size());
     maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u, std::max(map_layers, 1u),
                                c.depth_format);
-    PipelineDesc map;
-    map.stages = {{VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("map_depth.vert", gpu::kNoVariant)},
-                  {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("map_depth.frag", gpu::kNoVariant)}};
-    map.layout = shadow_layout_;
-    map.render_pass = maps_.render_pass;
-    map.position_only = true;
-    const VkCullModeFlags map_culls[3] = {VK_CULL_MODE_NONE, VK_CULL_MODE_BACK_BIT, VK_CULL_MODE_FRONT_BIT};
-    for (size_t k = 0; k < 3; ++k) {
-      map.cull = map_culls[k];
-      map_pipelines_[k] = create_pipeline(*ctx_, *modules_, map);
-    }
-
-    PipelineDesc shadow;
-    // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
-    shadow.stages.push_back(
-        {VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("shadow_depth.vert", gpu::shadow_vertex_defines(c))});
-    if (std::vector<std::string> gs = gpu::shadow_geometry_defines(c); !gs.empty())
-      shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key("shadow_depth.geom", gs)});
-    shadow.stages.push_back(
-        {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("shadow_depth.frag", gpu::shadow_fragment_defines(c))});
-    shadow.layout = shadow_layout_;
-    shadow.render_pass = shadow_.render_pass;
-    shadow.color_attachments = c.storage == Storage::r32f_distance ? 1 : 0;
-    shadow.position_only = true;
-    const gpu::LightingConstants constants = gpu::lighting_constants(c, *scene_);
-    for (int cull = 0; cull < 2; ++cull) {
-      // two_sided remedy: closed casters keep their back faces in the shadow pass (a light inside one is blocked).
-      shadow.cull = cull && !c.remedies.two_sided ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
-      shadow_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, shadow);
-    }
-    for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
-      PipelineDesc lighting;
-      lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("lighting.vert", gpu::kNoVariant)},
-                         {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("lighting.frag", gpu::lighting_defines(c, v))}};
-      lighting.layout = lighting_layout_;
-      lighting.render_pass = lighting_[size_t(v)].render_pass;
-      lighting.color_attachments = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(v)]);
-      lighting.fragment_constants = {constants.map_lights, constants.point_light, constants.injected_work};
-      for (int cull = 0; cull < 2; ++cull) {
-        lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
-        lighting_pipelines_[size_t(v)][static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);
-      }
-    }
-
-    // Written before any command buffer binds the set: lavapipe crashes on a bound, never-written sampler.
-    VkDescriptorImageInfo image{c.filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_,
-                                shadow_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkDescriptorImageInfo map_image{nearest_sampler_, maps_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-    writes[0].dstSet = writes[1].dstSet = lighting_set_;
-    writes[0].dstBinding = gpu::kShadowMapBinding;
-    writes[1].dstBinding = gpu::kMapShadowsBinding;
-    writes[0].descriptorCount = writes[1].descriptorCount = 1;
-    writes[0].descriptorType = writes[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    writes[0].pImageInfo = &image;
-    writes[1].pImageInfo = &map_image;
-    vkUpdateDescriptorSets(ctx_->device(), 2, writes, 0, nullptr);
+    create_pipelines(c);
+    write_lighting_descriptors(c);
   } catch (...) {
     release_case();
     throw;
   }
   config_ = c;
   planner_.reset();
+}
+
+void VkBackend::create_pipelines(const CaseConfig& c) {
+  PipelineDesc map;
+  map.stages = {{VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("map_depth.vert", gpu::kNoVariant)},
+                {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("map_depth.frag", gpu::kNoVariant)}};
+  map.layout = shadow_layout_;
+  map.render_pass = maps_.render_pass;
+  map.position_only = true;
+  const VkCullModeFlags map_culls[3] = {VK_CULL_MODE_NONE, VK_CULL_MODE_BACK_BIT, VK_CULL_MODE_FRONT_BIT};
+  for (size_t k = 0; k < 3; ++k) {
+    map.cull = map_culls[k];
+    map_pipelines_[k] = create_pipeline(*ctx_, *modules_, map);
+  }
+
+  PipelineDesc shadow;
+  // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
+  shadow.stages.push_back(
+      {VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("shadow_depth.vert", gpu::shadow_vertex_defines(c))});
+  if (std::vector<std::string> gs = gpu::shadow_geometry_defines(c); !gs.empty())
+    shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key("shadow_depth.geom", gs)});
+  shadow.stages.push_back(
+      {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("shadow_depth.frag", gpu::shadow_fragment_defines(c))});
+  shadow.layout = shadow_layout_;
+  shadow.render_pass = shadow_.render_pass;
+  shadow.color_attachments = c.storage == Storage::r32f_distance ? 1 : 0;
+  shadow.position_only = true;
+  const gpu::LightingConstants constants = gpu::lighting_constants(c, *scene_);
+  for (int cull = 0; cull < 2; ++cull) {
+    // two_sided remedy: closed casters keep their back faces in the shadow pass (a light inside one is blocked).
+    shadow.cull = cull && !c.remedies.two_sided ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
+    shadow_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, shadow);
+  }
+  for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
+    PipelineDesc lighting;
+    lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("lighting.vert", gpu::kNoVariant)},
+                       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("lighting.frag", gpu::lighting_defines(c, v))}};
+    lighting.layout = lighting_layout_;
+    lighting.render_pass = lighting_[size_t(v)].render_pass;
+    lighting.color_attachments = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(v)]);
+    lighting.fragment_constants = {constants.map_lights, constants.point_light, constants.injected_work};
+    for (int cull = 0; cull < 2; ++cull) {
+      lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
+      lighting_pipelines_[size_t(v)][static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);
+    }
+  }
+
+}
+
+void VkBackend::write_lighting_descriptors(const CaseConfig& c) {
+  // Written before any command buffer binds the set: lavapipe crashes on a bound, never-written sampler.
+  VkDescriptorImageInfo image{c.filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_,
+                              shadow_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  VkDescriptorImageInfo map_image{nearest_sampler_, maps_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+  writes[0].dstSet = writes[1].dstSet = lighting_set_;
+  writes[0].dstBinding = gpu::kShadowMapBinding;
+  writes[1].dstBinding = gpu::kMapShadowsBinding;
+  writes[0].descriptorCount = writes[1].descriptorCount = 1;
+  writes[0].descriptorType = writes[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  writes[0].pImageInfo = &image;
+  writes[1].pImageInfo = &map_image;
+  vkUpdateDescriptorSets(ctx_->device(), 2, writes, 0, nullptr);
 }
 
 // A pass's command buffer opens with its queries: timestamps 2 * pass and 2 * pass + 1 bracket it, and in

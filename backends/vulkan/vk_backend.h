@@ -35,6 +35,14 @@ class VkBackend final : public Backend {
   std::vector<std::string> drain_api_errors() override { return ctx_->drain_messages(); }
 
  private:
+  // The constructor's steps.
+  void describe_device(bool validation);
+  void create_layouts();
+  void create_descriptor_sets();
+  void create_samplers_and_queries();
+  // configure()'s steps.
+  void create_pipelines(const CaseConfig& c);
+  void write_lighting_descriptors(const CaseConfig& c);
   void record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws);
   void record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws);
   void record_maps(VkCommandBuffer cb, uint64_t& draws);  // one 2D map per spot/directional light

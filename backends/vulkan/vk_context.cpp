@@ -140,81 +140,9 @@ VkContext::VkContext(const std::string& selector, bool validation) : validation_
       if (!create) throw std::runtime_error("vkCreateDebugUtilsMessengerEXT is not available");
       OMNISHADOW_VK(create(instance_, &messenger_info, nullptr, &messenger_));
     }
-
-    // Choose the device: by index, or by a part of its name. No fallback.
-    auto devices = physical_devices(instance_);
-    std::string available;
-    for (size_t i = 0; i < devices.size(); ++i)
-      available += (i ? ", " : "") + std::to_string(i) + ": " + summarize(devices[i], static_cast<int>(i)).name;
-    if (devices.empty()) throw std::runtime_error("no Vulkan device (Debian: mesa-vulkan-drivers gives lavapipe)");
-    bool numeric = !selector.empty() && std::all_of(selector.begin(), selector.end(), ::isdigit);
-    if (selector.empty()) {
-      physical_ = devices[0];
-    } else if (numeric) {
-      size_t index = std::stoul(selector);
-      if (index >= devices.size())
-        throw std::runtime_error("--vk-device " + selector + " is out of range (devices: " + available + ")");
-      physical_ = devices[index];
-    } else {
-      for (size_t i = 0; i < devices.size() && !physical_; ++i)
-        if (lower(summarize(devices[i], 0).name).find(lower(selector)) != std::string::npos) physical_ = devices[i];
-      if (!physical_)
-        throw std::runtime_error("--vk-device '" + selector + "' matches no Vulkan device (devices: " + available + ")");
-    }
-
-    driver_ = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver_};
-    vkGetPhysicalDeviceProperties2(physical_, &props2);
-    properties_ = props2.properties;
-    if (properties_.apiVersion < VK_API_VERSION_1_2)
-      throw std::runtime_error(std::string(properties_.deviceName) + " supports Vulkan " +
-                               version_string(properties_.apiVersion) + "; omnishadow needs 1.2");
-    vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
-
-    uint32_t family_count = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, nullptr);
-    std::vector<VkQueueFamilyProperties> families(family_count);
-    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, families.data());
-    bool found = false;
-    for (uint32_t i = 0; i < family_count && !found; ++i)
-      if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
-        queue_family_ = i;
-        timestamp_valid_bits_ = families[i].timestampValidBits;
-        found = true;
-      }
-    if (!found) throw std::runtime_error(std::string(properties_.deviceName) + " has no graphics queue");
-
-    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &f12};
-    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f11};
-    vkGetPhysicalDeviceFeatures2(physical_, &features);
-    geometry_shader_ = features.features.geometryShader;
-    pipeline_statistics_ = features.features.pipelineStatisticsQuery;
-    multiview_ = f11.multiview;
-    multiview_geometry_shader_ = f11.multiviewGeometryShader;
-    layer_output_ = f12.shaderOutputLayer;
-
-    // Enable exactly what the techniques use, nothing else.
-    VkPhysicalDeviceVulkan12Features e12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    e12.shaderOutputLayer = f12.shaderOutputLayer;
-    VkPhysicalDeviceVulkan11Features e11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &e12};
-    e11.multiview = f11.multiview;
-    e11.multiviewGeometryShader = f11.multiviewGeometryShader;
-    VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &e11};
-    enable.features.geometryShader = features.features.geometryShader;
-    enable.features.pipelineStatisticsQuery = features.features.pipelineStatisticsQuery;
-
-    float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    queue_info.queueFamilyIndex = queue_family_;
-    queue_info.queueCount = 1;
-    queue_info.pQueuePriorities = &priority;
-    VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &enable};
-    device_info.queueCreateInfoCount = 1;
-    device_info.pQueueCreateInfos = &queue_info;
-    OMNISHADOW_VK(vkCreateDevice(physical_, &device_info, nullptr, &device_));
-    vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
-
+    select_device(selector);
+    read_properties();
+    create_device();
     VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool_info.queueFamilyIndex = queue_family_;
@@ -225,6 +153,87 @@ VkContext::VkContext(const std::string& selector, bool validation) : validation_
     release();
     throw;
   }
+}
+
+// By index, or by a part of its name. No fallback.
+void VkContext::select_device(const std::string& selector) {
+  auto devices = physical_devices(instance_);
+  std::string available;
+  for (size_t i = 0; i < devices.size(); ++i)
+    available += (i ? ", " : "") + std::to_string(i) + ": " + summarize(devices[i], static_cast<int>(i)).name;
+  if (devices.empty()) throw std::runtime_error("no Vulkan device (Debian: mesa-vulkan-drivers gives lavapipe)");
+  bool numeric = !selector.empty() && std::all_of(selector.begin(), selector.end(), ::isdigit);
+  if (selector.empty()) {
+    physical_ = devices[0];
+  } else if (numeric) {
+    size_t index = std::stoul(selector);
+    if (index >= devices.size())
+      throw std::runtime_error("--vk-device " + selector + " is out of range (devices: " + available + ")");
+    physical_ = devices[index];
+  } else {
+    for (size_t i = 0; i < devices.size() && !physical_; ++i)
+      if (lower(summarize(devices[i], 0).name).find(lower(selector)) != std::string::npos) physical_ = devices[i];
+    if (!physical_)
+      throw std::runtime_error("--vk-device '" + selector + "' matches no Vulkan device (devices: " + available + ")");
+  }
+}
+
+// Properties, driver, memory, the graphics queue family and the features the techniques can use.
+void VkContext::read_properties() {
+  driver_ = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver_};
+  vkGetPhysicalDeviceProperties2(physical_, &props2);
+  properties_ = props2.properties;
+  if (properties_.apiVersion < VK_API_VERSION_1_2)
+    throw std::runtime_error(std::string(properties_.deviceName) + " supports Vulkan " +
+                             version_string(properties_.apiVersion) + "; omnishadow needs 1.2");
+  vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+
+  uint32_t family_count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(family_count);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, families.data());
+  bool found = false;
+  for (uint32_t i = 0; i < family_count && !found; ++i)
+    if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
+      queue_family_ = i;
+      timestamp_valid_bits_ = families[i].timestampValidBits;
+      found = true;
+    }
+  if (!found) throw std::runtime_error(std::string(properties_.deviceName) + " has no graphics queue");
+
+  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &f12};
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f11};
+  vkGetPhysicalDeviceFeatures2(physical_, &features);
+  geometry_shader_ = features.features.geometryShader;
+  pipeline_statistics_ = features.features.pipelineStatisticsQuery;
+  multiview_ = f11.multiview;
+  multiview_geometry_shader_ = f11.multiviewGeometryShader;
+  layer_output_ = f12.shaderOutputLayer;
+}
+
+// Enables exactly what the techniques use, nothing else.
+void VkContext::create_device() {
+  VkPhysicalDeviceVulkan12Features e12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  e12.shaderOutputLayer = layer_output_;
+  VkPhysicalDeviceVulkan11Features e11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &e12};
+  e11.multiview = multiview_;
+  e11.multiviewGeometryShader = multiview_geometry_shader_;
+  VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &e11};
+  enable.features.geometryShader = geometry_shader_;
+  enable.features.pipelineStatisticsQuery = pipeline_statistics_;
+
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queue_info.queueFamilyIndex = queue_family_;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+  VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &enable};
+  device_info.queueCreateInfoCount = 1;
+  device_info.pQueueCreateInfos = &queue_info;
+  OMNISHADOW_VK(vkCreateDevice(physical_, &device_info, nullptr, &device_));
+  vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 }
 
 VkContext::~VkContext() { release(); }

@@ -70,6 +70,9 @@ class VkContext {
 
  private:
   void release();  // destroys whatever was created; safe on a half-built context
+  void select_device(const std::string& selector);
+  void read_properties();
+  void create_device();
   VkCommandBuffer begin_one_time();
   void end_one_time_and_wait(VkCommandBuffer cb);
 
