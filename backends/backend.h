@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,13 +80,23 @@ class Backend {
   virtual const DeviceInfo& device() const = 0;
   virtual Support supports(const CaseConfig& config) const = 0;  // unsupported is a result, not an error
   virtual void load(const scene::Scene& scene) = 0;              // upload geometry once per scene
-  virtual void configure(const CaseConfig& config) = 0;         // targets, programs, queries
+  // Makes `config` the current case: targets, programs, queries. Throws std::logic_error before load(), and
+  // std::runtime_error("unsupported: ...") for a case supports() refuses; nothing to do for the current case.
+  void configure(const CaseConfig& config);
   virtual FrameTiming render(int frame, FrameKind kind) = 0;     // blocks until the frame has completed
   virtual FrameCounters count_work(int frame) = 0;              // renders `frame` once, timed kind, with statistics
   virtual Images read_back() = 0;                               // results of the last check frame
   // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
   // when the checking mode is off. Drained outside timed loops.
   virtual std::vector<std::string> drain_api_errors() = 0;
+
+ protected:
+  // configure()'s work once the case is known to be new and supported: release the last case's objects, create
+  // this one's, and set config_ (left empty when it throws).
+  virtual void configure_case(const CaseConfig& config) = 0;
+
+  std::optional<scene::Scene> scene_;  // set by load(): objects, light path, camera (vertices live on the device)
+  std::optional<CaseConfig> config_;   // the current case
 };
 
 // Creates a backend by name ("gl"). Options are backend-specific: "egl_platform" = surfaceless|device,

@@ -19,6 +19,14 @@ std::string option(const std::map<std::string, std::string>& options, const std:
 
 std::vector<std::string> backend_names() { return {"gl", "vulkan"}; }
 
+void Backend::configure(const CaseConfig& c) {
+  if (!scene_) throw std::logic_error("configure() before load()");
+  if (config_ && *config_ == c) return;
+  Support s = supports(c);
+  if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
+  configure_case(c);
+}
+
 std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<std::string, std::string>& options) {
   if (name == "gl") {
     std::string device = option(options, "gl_device", "0");

@@ -30,11 +30,11 @@ class ScriptedBackend : public Backend {
     if (c.technique == Technique::vs_layer) return {false, "scripted: no vs_layer"};
     return {};
   }
-  void load(const scene::Scene&) override {}
-  void configure(const CaseConfig& c) override {
+  void load(const scene::Scene& s) override { scene_ = s; }
+  void configure_case(const CaseConfig& c) override {
     if (c.technique == Technique::geometry_shader && c.filter == Filter::pcf_grid64)
       throw std::runtime_error("scripted failure while configuring");
-    config_ = c;
+    current_ = c;
   }
   FrameTiming render(int, FrameKind) override {
     FrameTiming t;
@@ -46,7 +46,7 @@ class ScriptedBackend : public Backend {
   FrameCounters count_work(int) override {
     FrameCounters c;
     c.shadow.valid = true;
-    c.shadow.primitives_submitted = config_.technique == Technique::six_pass ? 432 : 72;
+    c.shadow.primitives_submitted = current_.technique == Technique::six_pass ? 432 : 72;
     c.shadow.draw_calls = 6;
     return c;
   }
@@ -59,14 +59,14 @@ class ScriptedBackend : public Backend {
     img.world_position.assign(12 * 4, 1.0f);
     img.cube_size = 4;
     for (size_t f = 0; f < 6; ++f) img.cube_distance[f].assign(16, static_cast<float>(f + 1));
-    if (config_.technique == Technique::geometry_shader && config_.filter == Filter::pcf_disk20) {
+    if (current_.technique == Technique::geometry_shader && current_.filter == Filter::pcf_disk20) {
       img.cube_distance[2][5] += 0.25f;  // one texel off
       img.lit_rgba8[0] = 90;
     }
-    if (config_.technique == Technique::geometry_shader_instanced)
+    if (current_.technique == Technique::geometry_shader_instanced)
       for (size_t f = 1; f < 6; ++f) img.cube_distance[f] = img.cube_distance[0];  // every view in one face
     img.timed_lit_rgba8 = img.lit_rgba8;
-    if (config_.technique == Technique::six_pass && config_.filter == Filter::pcf_grid64)
+    if (current_.technique == Technique::six_pass && current_.filter == Filter::pcf_grid64)
       img.timed_lit_rgba8[5] = 1;  // the timed variant lit one channel differently
     return img;
   }
@@ -74,7 +74,7 @@ class ScriptedBackend : public Backend {
 
  private:
   DeviceInfo info_;
-  CaseConfig config_;
+  CaseConfig current_;
 };
 
 class HarnessTest : public ::testing::Test {

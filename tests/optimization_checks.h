@@ -15,6 +15,19 @@
 
 namespace omnishadow::testing {
 
+// The room case most backend tests render: one backend, technique, filter, cube size and storage.
+inline CaseConfig room_case(const std::string& backend, Technique t, Filter f = Filter::hard, int cube = 512,
+                            Storage s = Storage::linear_depth) {
+  CaseConfig c;
+  c.backend = backend;
+  c.scene = "room";
+  c.technique = t;
+  c.filter = f;
+  c.cube_size = cube;
+  c.storage = s;
+  return c;
+}
+
 inline CaseConfig optimization_case(const std::string& backend, const std::string& scene, Technique t) {
   CaseConfig c;
   c.backend = backend;

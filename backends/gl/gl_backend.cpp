@@ -193,11 +193,7 @@ void GlBackend::release_case() {
   config_.reset();
 }
 
-void GlBackend::configure(const CaseConfig& c) {
-  if (!scene_) throw std::logic_error("configure() before load()");
-  if (config_ && *config_ == c) return;
-  Support s = supports(c);
-  if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
+void GlBackend::configure_case(const CaseConfig& c) {
   release_case();
 
   // GL compiles every stage with one list: the union of the vertex and geometry stages' defines.

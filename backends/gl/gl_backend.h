@@ -30,13 +30,13 @@ class GlBackend final : public Backend {
   const DeviceInfo& device() const override { return info_; }
   Support supports(const CaseConfig& config) const override;
   void load(const scene::Scene& scene) override;
-  void configure(const CaseConfig& config) override;
   FrameTiming render(int frame, FrameKind kind) override;
   FrameCounters count_work(int frame) override;
   Images read_back() override;
   std::vector<std::string> drain_api_errors() override;
 
  private:
+  void configure_case(const CaseConfig& config) override;
   struct DrawStats {
     uint64_t draw_calls = 0;
   };
@@ -57,7 +57,6 @@ class GlBackend final : public Backend {
   bool has_pipeline_statistics_ = false;
   GLint uniform_alignment_ = 256;
 
-  std::optional<scene::Scene> scene_;  // geometry lives on the GPU; this keeps objects, light path, camera
   std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's draws
   GLuint vertex_buffer_ = 0;
   GLuint shadow_vao_ = 0;    // position only
@@ -68,7 +67,6 @@ class GlBackend final : public Backend {
   GLuint compare_sampler_ = 0;
   std::map<std::string, GLuint> programs_;  // by stages + defines; programs outlive cases
 
-  std::optional<CaseConfig> config_;
   ShadowTargets shadow_{};
   std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
   bool checked_ = false;                       // a check frame was rendered since configure (read_back needs one)

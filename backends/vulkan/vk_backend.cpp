@@ -268,11 +268,7 @@ void VkBackend::release_case() {
   config_.reset();
 }
 
-void VkBackend::configure(const CaseConfig& c) {
-  if (!scene_) throw std::logic_error("configure() before load()");
-  if (config_ && *config_ == c) return;
-  Support s = supports(c);
-  if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
+void VkBackend::configure_case(const CaseConfig& c) {
   vkDeviceWaitIdle(ctx_->device());
   release_case();
   try {

@@ -28,13 +28,13 @@ class VkBackend final : public Backend {
   const DeviceInfo& device() const override { return info_; }
   Support supports(const CaseConfig& config) const override;
   void load(const scene::Scene& scene) override;
-  void configure(const CaseConfig& config) override;
   FrameTiming render(int frame, FrameKind kind) override;
   FrameCounters count_work(int frame) override;
   Images read_back() override;
   std::vector<std::string> drain_api_errors() override { return ctx_->drain_messages(); }
 
  private:
+  void configure_case(const CaseConfig& config) override;
   // The constructor's steps.
   void describe_device(bool validation);
   void create_layouts();
@@ -72,11 +72,9 @@ class VkBackend final : public Backend {
   VkQueryPool statistics_ = VK_NULL_HANDLE;  // 0: shadow pass, 1: lighting pass
   std::array<VkCommandBuffer, 2> command_buffers_{};
 
-  std::optional<scene::Scene> scene_;  // objects, light path and camera; vertices live in vertex_buffer_
   std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's and the 2D maps' draws
   Buffer vertex_buffer_;
 
-  std::optional<CaseConfig> config_;
   ShadowTargets shadow_;
   gpu::ShadowFramePlanner planner_;
   std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
