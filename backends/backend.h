@@ -65,7 +65,7 @@ struct Images {
   int height = 0;
   std::vector<uint8_t> lit_rgba8;       // the lit frame (check variant)
   std::vector<uint8_t> timed_lit_rgba8; // the same frame lit by the timed variant: must equal lit_rgba8 bit for bit
-  std::vector<float> shadow_factor;     // per pixel: 1 = fully shadowed, 0 = fully lit (seed's `shadow`)
+  std::vector<float> shadow_factor;     // per pixel: 1 = fully shadowed, 0 = fully lit (the tutorial's `shadow`)
   std::vector<float> world_position;    // RGBA32F: xyz world position, w = 1 where geometry was drawn
   int cube_size = 0;
   float light_far = 0.0f;  // the far plane the cube was rendered with (the scene's, or fitted: fit_range)

@@ -1,7 +1,7 @@
 #pragma once
 // Unit primitives in object space, as non-indexed counter-clockwise triangle lists with outward normals.
-// Sizes follow the seeds: the box spans [-1, 1]^3 (LearnOpenGL's renderCube), so "scale 5" gives the
-// 10-unit room of seeds 000/001.
+// Sizes follow the tutorials: the box spans [-1, 1]^3 (LearnOpenGL's renderCube), so "scale 5" gives the
+// 10-unit room of the point-shadow tutorial.
 
 #include <glm/glm.hpp>
 

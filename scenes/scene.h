@@ -49,7 +49,7 @@ struct PointLight {
   LightPath path;
   float near_plane = 1.0f;  // world units; the 90-degree face projections use these
   float far_plane = 25.0f;
-  glm::vec3 color{0.3f};     // seed 001/002 lighting: lightColor 0.3, ambient 0.3 * albedo
+  glm::vec3 color{0.3f};     // the point-shadow tutorial lighting: lightColor 0.3, ambient 0.3 * albedo
 };
 
 // Lights that need no cube: each gets one 2D map (scene::Scene::map_lights), rendered in one plain pass.
@@ -62,7 +62,7 @@ struct MapLight {
   float near_plane = 0.1f;                 // spot only; a directional map's range is fitted to the scene
   float far_plane = 25.0f;
   glm::vec3 color{0.3f};
-  bool cull_front_faces = false;  // seed 003's peter-panning fix: closed objects render their back faces only
+  bool cull_front_faces = false;  // the directional notes' peter-panning fix: closed objects render their back faces only
 };
 inline constexpr int kMaxMapLights = 4;
 

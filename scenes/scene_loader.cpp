@@ -286,7 +286,7 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
           Vertex v;
           v.position = glm::vec3(model * glm::vec4(mv.position, 1.0f));
           v.normal = normalize_wide(normal_rotation * (mv.normal / scale));
-          if (inside) v.normal = -v.normal;  // seen from inside: the seed's reverseNormals
+          if (inside) v.normal = -v.normal;  // seen from inside: the tutorial's reverseNormals
           v.color = color;
           // Defensive: inputs are bounded by 1e30, but a subnormal scale makes normal / scale overflow. Such
           // geometry would put NaN/Inf into every buffer.
@@ -344,7 +344,7 @@ Scene load_scene_text(const std::string& text, const std::string& source, const 
   scene.name = std::filesystem::path(source).stem().string();
   scene.camera = parse_camera(root.has("camera") ? root.at("camera") : Node(json::object(), "/camera", source),
                               scene.origin);
-  // "light": the one point light (seeds 000-004). "lights": any mix of one point light and up to four spot or
+  // "light": the one point light (the tutorials, docs/glossary.md). "lights": any mix of one point light and up to four spot or
   // directional lights, each rendered with what it needs (a cube, or one 2D map).
   if (root.has("light") && root.has("lights")) root.at("lights").fail("give \"light\" or \"lights\", not both");
   if (!root.has("lights")) {

@@ -97,8 +97,8 @@ def main():
     if args.remedies:
         rem = load(args.remedies)
         lines += ["", "## Remedies on and off (linear depth, D32F)", "",
-                  "rebase: scene loaded relative to its light in double precision; bias0: no bias; slope_bias: seed "
-                  "003's max(0.05 (1 - n.l), 0.005); normal_offset: lookup 1.5 texels along the normal; two_sided: "
+                  "rebase: scene loaded relative to its light in double precision; bias0: no bias; slope_bias: the directional "
+                  "notes' max(0.05 (1 - n.l), 0.005); normal_offset: lookup 1.5 texels along the normal; two_sided: "
                   "casters without back-face culling in the shadow pass.", "",
                   f"Run: `{command(rem)}`", ""]
         lines += table(rem, lambda a: f"{a.get('remedies', 'none')} {a['filter'].replace('pcf_', '')}", False,
@@ -106,7 +106,7 @@ def main():
     if args.pcf:
         pcf = load(args.pcf)
         lines += ["", "## PCF radius (linear depth, D32F)", "",
-                  "Columns: filter and --pcf-scale (0 = every sample in one direction, 1 = the seeds' kernels).", "",
+                  "Columns: filter and --pcf-scale (0 = every sample in one direction, 1 = the tutorials' kernels).", "",
                   f"Run: `{command(pcf)}`", ""]
         lines += table(pcf, lambda a: f"{a['filter'].replace('pcf_', '')} x{a.get('pcf_scale', 1):g}", False)
     if args.cube_sizes:

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Writes scenes/extremes/: the scenes of the numerical-stability suite, each with its purpose in `description`.
 
-All are seed 000's room (a 10-unit room, five cubes, a point light) pushed to one extreme at a time, so that an
+All are the point-shadow tutorial's room (a 10-unit room, five cubes, a point light) pushed to one extreme at a time, so that an
 error can be attributed to that extreme: near/far ratios from 1:25 to 1:1e6, the whole scene translated far from
 the origin, the light on a surface and inside a caster, receivers at grazing angles, casters on cube-face seams and
 corners, zero-area triangles, and a light moving by tiny steps (for flicker). Regenerate after changing this

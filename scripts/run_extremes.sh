@@ -19,7 +19,7 @@ mkdir -p "$out"
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene "$scenes" --cube 512 --technique six_pass \
   --filter hard,pcf_disk20 --remedy none,rebase,bias0,slope_bias,normal_offset,two_sided \
   --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --no-images --max-error 1 --out "$out/remedies" "$@"
-# PCF radius from 0 (one direction) to 20x the seeds' kernels.
+# PCF radius from 0 (one direction) to 20x the tutorials' kernels.
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene nf_25,grazing,seams --cube 512 --technique six_pass \
   --filter pcf_grid64,pcf_disk20 --pcf-scale 0,1,5,20 --frames 1 --warmup 0 --benchmark_repetitions=1 \
   --light-radius 0 --no-images --out "$out/pcf" "$@"

@@ -4,7 +4,7 @@
 For every ok case: frame time (median wall of shadow + lighting passes) next to its shadow error against the
 ray-cast reference. Marks, per scene and backend, the Pareto-optimal configurations (no other one is both
 faster and more accurate), writes tradeoff.md and one tradeoff_<backend>_<scene>.png per group, and compares
-the seed's two PCF kernels (pcf_disk20 against pcf_grid64): cost ratio, error ratio and how alike they look.
+the tutorial's two PCF kernels (pcf_disk20 against pcf_grid64): cost ratio, error ratio and how alike they look.
 
 Usage: scripts/tradeoff.py RUN_DIR [RUN_DIR ...] [--metric mae_sphere|mae_point|misclassified_percent]
                            [--out DIR]

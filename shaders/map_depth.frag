@@ -1,3 +1,3 @@
 #version 450
-// Depth only: the rasteriser writes the depth (seed 003's simple_depth.frag is empty too).
+// Depth only: the rasteriser writes the depth (the directional notes' simple_depth.frag is empty too).
 void main() {}

@@ -1,5 +1,5 @@
 #version 450
-// 2D shadow map pass for a spot or directional light (seed 003): plain projective depth, no colour output.
+// 2D shadow map pass for a spot or directional light (the directional notes): plain projective depth, no colour output.
 // pass.face selects the light (its layer of the 2D map array and its view-projection).
 #include "common.glsl"
 

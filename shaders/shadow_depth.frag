@@ -7,14 +7,14 @@ layout(location = 0) in vec3 world_position;
 #endif
 
 #if defined(STORAGE_R32F_DISTANCE)
-layout(location = 0) out float out_distance;  // seed 004: world units in an R32F cube cleared to FLT_MAX
+layout(location = 0) out float out_distance;  // the multipass tutorial: world units in an R32F cube cleared to FLT_MAX
 #endif
 
 void main() {
 #if defined(STORAGE_R32F_DISTANCE)
   out_distance = length(world_position - frame.light_position.xyz);
 #elif defined(STORAGE_LINEAR_DEPTH)
-  gl_FragDepth = length(world_position - frame.light_position.xyz) / light_far();  // seed 000: distance / far
+  gl_FragDepth = length(world_position - frame.light_position.xyz) / light_far();  // the point-shadow tutorial: distance / far
 #endif
   // STORAGE_HARDWARE_DEPTH: nothing written; the rasteriser's projective depth is what is stored.
 }

@@ -6,7 +6,7 @@
 layout(triangles, invocations = 6) in;      // one invocation per face
 layout(triangle_strip, max_vertices = 3) out;
 #else
-layout(triangles) in;                        // seed 000: one invocation loops over the faces
+layout(triangles) in;                        // the point-shadow tutorial: one invocation loops over the faces
 layout(triangle_strip, max_vertices = 18) out;
 #endif
 

@@ -1,5 +1,5 @@
-// The shadow lookups and PCF kernels, one place for both APIs. Biases and kernels are the seeds':
-// hard 0.05 (seed 000), 4x4x4 grid of +-0.1 with bias 0.05 and the 20-direction disk with bias 0.15 (seed 001).
+// The shadow lookups and PCF kernels, one place for both APIs. Biases and kernels are the tutorials' (docs/glossary.md):
+// hard 0.05 (the point-shadow tutorial), 4x4x4 grid of +-0.1 with bias 0.05 and the 20-direction disk with bias 0.15 (the point-shadow tutorial).
 // Requires common.glsl.
 
 #if defined(FILTER_HW_COMPARE2X2)
@@ -47,8 +47,8 @@ const vec3 kDiskDirections[20] = vec3[](
     vec3(1, 0, 1), vec3(-1, 0, 1), vec3(1, 0, -1), vec3(-1, 0, -1),
     vec3(0, 1, 1), vec3(0, -1, 1), vec3(0, -1, -1), vec3(0, 1, -1));
 
-// The bias of a lookup: the seeds' constant for the filter, or (remedies, CaseConfig::remedies) zero or seed
-// 003's slope-scaled max(0.05 (1 - n.l), 0.005), in world units.
+// The bias of a lookup: the tutorials' constant for the filter, or (remedies, CaseConfig::remedies) zero or the
+// directional notes' slope-scaled max(0.05 (1 - n.l), 0.005), in world units (docs/glossary.md).
 float lookup_bias(float seed_bias, vec3 normal, vec3 frag_to_light) {
 #if defined(BIAS_ZERO)
   return 0.0;
@@ -66,14 +66,14 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
   float texel_world = 2.0 * length(world_pos - frame.light_position.xyz) / float(textureSize(shadow_map, 0).x);
   world_pos += normal * (1.5 * texel_world);
 #endif
-  vec3 frag_to_light = world_pos - frame.light_position.xyz;  // the seed's name: it points away from the light
+  vec3 frag_to_light = world_pos - frame.light_position.xyz;  // the tutorial's name: it points away from the light
   float current = length(frag_to_light);
 #if defined(FILTER_HARD)
   return occluded(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
 #elif defined(FILTER_PCF_GRID64)
-  // The seed steps a float from -offset by offset/2 while < offset; accumulated rounding can add a fifth step
+  // The tutorial steps a float from -offset by offset/2 while < offset; accumulated rounding can add a fifth step
   // (125 samples divided by 64). Integer steps give exactly the intended 4 offsets: -0.1, -0.05, 0, 0.05.
-  float offset = 0.1 * frame.knobs.y;  // the seed's 0.1, times --pcf-scale
+  float offset = 0.1 * frame.knobs.y;  // the tutorial's 0.1, times --pcf-scale
   float step_size = offset / 2.0;
   float bias = lookup_bias(0.05, normal, frag_to_light);
   float shadow = 0.0;
@@ -84,7 +84,7 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
   return shadow / 64.0;
 #elif defined(FILTER_PCF_DISK20)
   float view_distance = length(frame.camera_position.xyz - world_pos);
-  // Sharper near the viewer (seed 001), times --pcf-scale.
+  // Sharper near the viewer (the point-shadow tutorial), times --pcf-scale.
   float disk_radius = (1.0 + view_distance / light_far()) / 25.0 * frame.knobs.y;
   float shadow = 0.0;
   float bias = lookup_bias(0.15, normal, frag_to_light);
@@ -102,7 +102,7 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
 // Seed 003's fixes: coordinates outside the map are unshadowed (clamp to border), beyond the far plane
 // unshadowed, slope-scaled bias max(0.05 (1 - n.l), 0.005), and a 3x3 PCF for every filter but `hard`. A spot
 // light compares linear distances along its axis (its perspective depth is not linear), in world units with the
-// same bias formula; a directional map's depth is already linear and is compared in map units as in the seed.
+// same bias formula; a directional map's depth is already linear and is compared in map units as in the notes.
 layout(binding = 3) uniform sampler2DArray map_shadows;
 
 // Window depth in [0, 1] from NDC z: Vulkan's clip range is already [0, 1], GL's is [-1, 1].
@@ -133,7 +133,7 @@ float map_shadow_factor(int i, vec3 world_pos, vec3 normal, vec3 light_dir, out 
   float current = window_depth(ndc.z);
   bool on_map = clip.w > 0.0 && all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
   inside = !spot || on_map;
-  if (!on_map || current > 1.0) return 0.0;  // clamp to border / beyond far: unshadowed (seed 003)
+  if (!on_map || current > 1.0) return 0.0;  // clamp to border / beyond far: unshadowed (the directional notes)
   float bias = max(0.05 * (1.0 - dot(normal, light_dir)), 0.005);
 #if defined(FILTER_HARD)
   return map_occluded(i, uv, current, bias, spot);

@@ -378,7 +378,7 @@ TEST_F(CliRun, OutOfMemoryFailsTheCaseAndTheMatrixGoesOn) {
 }
 
 // The numerical-stability suite's invariants (scenes/extremes/, docs/extremes.md), on GL: no NaN/Inf anywhere in
-// the read-back buffers; bounded error where the seeds' settings hold (the room at 1:1e6 near/far and with
+// the read-back buffers; bounded error where the tutorials' settings hold (the room at 1:1e6 near/far and with
 // zero-area triangles stays within 0.3% of exact visibility, measured 0.09-0.10%); the far-from-origin remedy
 // works (offset 1e6: 3.1% without, 0.09% with /rebase; bound 0.2%); a light moving by ~1e-5 units per frame
 // flips under 0.5% of pixels (measured 0).

@@ -122,8 +122,8 @@ inline void check_fit_range(Backend& b, const std::string& backend, const scene:
 // the point light's shadow is reported, the other lights add their light (the lit frame changes).
 // Stated bounds (hard filter, 512 maps, frame 30): spot 1% of pixels misclassified (measured 0.30%), mixed 3%
 // (1.82%: acne stripes on cube faces at grazing angles to the point light, where one cube texel spans more depth
-// than the seeds' 0.05 bias),
-// seed 003 5% (3.4%: mostly faces turned away from the light, which front-face culling leaves unshadowed in the
+// than the tutorials' 0.05 bias),
+// the directional notes 5% (3.4%: mostly faces turned away from the light, which front-face culling leaves unshadowed in the
 // map while exact visibility shadows them; they are unlit by n.l either way).
 inline void check_map_lights(Backend& b, const std::string& backend, const std::string& scenes_dir) {
   bench::TruthOptions point_only;

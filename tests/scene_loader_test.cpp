@@ -1,4 +1,4 @@
-// Scene files: the seed scenes load as the seeds describe them, and every malformed form is an error that
+// Scene files: the tutorials' scenes load as the tutorials describe them, and every malformed form is an error that
 // names the file and the JSON pointer of the offending field.
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 #pragma once
-// The axes of a benchmark case and their spellings. Names here are the spellings used on the command line,
-// in case ids and in results JSON; parse_* accept exactly these.
+// The axes of a benchmark case and their spellings. Names here are the spellings used on the command line, in case
+// ids and in results JSON; parse_* accept exactly these. The tutorials the comments name are in docs/glossary.md.
 
 #include <string>
 #include <string_view>
@@ -10,20 +10,20 @@ namespace omnishadow {
 
 enum class Technique {
   six_pass,                   // one render pass per face, each into a prebuilt per-face framebuffer
-  geometry_shader,            // one layered pass; the GS loops over 6 faces (seed 000's form, 18 vertices out)
+  geometry_shader,            // one layered pass; the GS loops over 6 faces (the point-shadow tutorial's form, 18 vertices out)
   geometry_shader_instanced,  // one layered pass; GS invocations = 6, one face per invocation
   vs_layer,                   // one layered pass; 6 instances, gl_Layer written by the vertex shader
   multiview,                  // one pass with a 6-view mask; gl_ViewIndex picks the face (Vulkan)
 };
 enum class Filter {
-  hard,           // one lookup, bias 0.05 (seed 000)
-  pcf_grid64,     // 4x4x4 offsets of +-0.1 around the direction, bias 0.05 (seed 001)
-  pcf_disk20,     // 20 directions, radius (1 + viewDistance/far)/25, bias 0.15 (seed 001)
+  hard,           // one lookup, bias 0.05 (the point-shadow tutorial)
+  pcf_grid64,     // 4x4x4 offsets of +-0.1 around the direction, bias 0.05 (the point-shadow tutorial)
+  pcf_disk20,     // 20 directions, radius (1 + viewDistance/far)/25, bias 0.15 (the point-shadow tutorial)
   hw_compare2x2,  // samplerCubeShadow with LINEAR compare: the hardware's 2x2 bilinear PCF; bias 0.05
 };
 enum class Storage {
-  linear_depth,   // seed 000: gl_FragDepth = distance / far in a depth cube map
-  r32f_distance,  // seed 004: distance in an R32F colour cube (cleared to FLT_MAX) + a separate depth cube
+  linear_depth,   // the point-shadow tutorial: gl_FragDepth = distance / far in a depth cube map
+  r32f_distance,  // the multipass tutorial: distance in an R32F colour cube (cleared to FLT_MAX) + a separate depth cube
   hardware_depth, // the rasteriser's own (non-linear, projective) depth, no fragment write; the lookup converts it
                   // back to a distance along the sampled direction
 };
@@ -64,7 +64,7 @@ struct Optimizations {
 // optimisations; each appends its word to the case id.
 //   rebase_origin: the scene is loaded relative to its light in double precision (scene::LoadOptions): the
 //                  remedy for far-from-origin cancellation.
-//   bias:          the cube lookups' bias: the seeds' constants (0.05; 0.15 for the disk), zero, or seed 003's
+//   bias:          the cube lookups' bias: the tutorials' constants (0.05; 0.15 for the disk), zero, or the directional notes'
 //                  slope-scaled max(0.05 (1 - n.l), 0.005) (world units here).
 //   normal_offset: the lookup point moves 1.5 cube texels (at its distance) along the surface normal.
 //   two_sided:     casters are drawn two-sided in the shadow pass (no back-face culling), so a light inside a
@@ -105,7 +105,7 @@ struct CaseConfig {
   // Not an axis and not in the id: extra fragment work for sensitivity experiments (--inject-fragment-work),
   // so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;
-  // The PCF kernels' radius as a multiple of the seeds' (grid offset 0.1, disk radius, 2D maps' one texel); an
+  // The PCF kernels' radius as a multiple of the tutorials' (grid offset 0.1, disk radius, 2D maps' one texel); an
   // axis of the stability suite (0 collapses every kernel to one direction). In the id as /pcf<scale> unless 1.
   float pcf_scale = 1.0f;
 

@@ -1,8 +1,8 @@
 #pragma once
 // The one source of truth for cube-map conventions, used by every backend, the reference and the tests.
 //
-// Face order is the GL/Vulkan layer order +X, -X, +Y, -Y, +Z, -Z (seed 000: "right, left, top, bottom, near,
-// far"), with the seed's up vectors. Those up vectors make a face rendered with lookAt + a 90-degree perspective
+// Face order is the GL/Vulkan layer order +X, -X, +Y, -Y, +Z, -Z (the point-shadow tutorial: "right, left, top, bottom, near,
+// far"), with the tutorial's up vectors. Those up vectors make a face rendered with lookAt + a 90-degree perspective
 // land in memory exactly as cube-map sampling (GL 4.5 spec table 8.19, same table in Vulkan) reads it: texel
 // column s grows with window x, texel row t grows with window y, and row 0 is the first row in memory.
 //

@@ -11,7 +11,7 @@ namespace omnishadow::gpu {
 
 // Spot: perspective over the cone (cone_degrees square), from the light's position at `frame`, near/far as
 // given. Directional: orthographic along the light's direction, fitted to the scene's bounds (every object's box
-// inside the map, depth range included, with a 1% margin), as seed 003 fits its ortho box by hand.
+// inside the map, depth range included, with a 1% margin), as the directional notes fits its ortho box by hand.
 glm::mat4 map_view_projection(const scene::Scene& scene, const scene::MapLight& light, int frame,
                               cube::DepthRange range);
 

@@ -269,7 +269,7 @@ void GlBackend::map_pass(DrawStats& stats) {
     bind_pass_uniforms(static_cast<int>(i));
     const bool front = scene_->map_lights[i].cull_front_faces;
     for (const scene::Object& obj : scene_->objects) {
-      // Closed objects: back faces culled as in the cube pass, or front faces (seed 003's peter-panning fix).
+      // Closed objects: back faces culled as in the cube pass, or front faces (the directional notes' peter-panning fix).
       if (obj.cull_back_faces) {
         glEnable(GL_CULL_FACE);
         glCullFace(front ? GL_FRONT : GL_BACK);

@@ -31,7 +31,7 @@ GLuint create_cube(GLenum internal_format, int size) {
   GLuint tex = 0;
   glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &tex);
   glTextureStorage2D(tex, 1, internal_format, size, size);
-  // NEAREST and clamp as in seed 000; the hw_compare2x2 filter overrides filtering with a sampler object.
+  // NEAREST and clamp as in the point-shadow tutorial; the hw_compare2x2 filter overrides filtering with a sampler object.
   glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

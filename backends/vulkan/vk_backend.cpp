@@ -157,7 +157,7 @@ void VkBackend::create_descriptor_sets() {
 void VkBackend::create_samplers_and_queries() {
   VkDevice d = ctx_->device();
   VkSamplerCreateInfo sampler{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  sampler.magFilter = sampler.minFilter = VK_FILTER_NEAREST;  // seed 000: NEAREST
+  sampler.magFilter = sampler.minFilter = VK_FILTER_NEAREST;  // the point-shadow tutorial: NEAREST
   sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
   sampler.addressModeU = sampler.addressModeV = sampler.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   OMNISHADOW_VK(vkCreateSampler(d, &sampler, nullptr, &nearest_sampler_));
@@ -415,7 +415,7 @@ void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
       vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
       const gpu::PassUniforms pass{static_cast<int32_t>(i), 0, {0, 0}};
       vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
-      // Closed objects: back faces culled as in the cube pass, or front faces (seed 003's peter-panning fix).
+      // Closed objects: back faces culled as in the cube pass, or front faces (the directional notes' peter-panning fix).
       const size_t closed = scene_->map_lights[i].cull_front_faces ? 2 : 1;
       std::array<VkPipeline, 2> pipelines = {map_pipelines_[0], map_pipelines_[closed]};
       draw_list(cb, pipelines, shadow_layout_, shadow_set_, all_objects_, draws);
@@ -432,7 +432,7 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
     return;
   }
   VkClearValue clears[2];
-  clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (seed 004)
+  clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (the multipass tutorial)
   clears[1].depthStencil = {1.0f, 0};
   const bool r32f = shadow_.storage == Storage::r32f_distance;
   VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};

@@ -80,7 +80,7 @@ class VkBackend final : public Backend {
   std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
   bool checked_ = false;                       // a check frame was rendered since configure (read_back needs one)
   MapTargets maps_;
-  std::array<VkPipeline, 3> map_pipelines_{};       // [0] no culling, [1] back faces, [2] front faces (seed 003)
+  std::array<VkPipeline, 3> map_pipelines_{};       // [0] no culling, [1] back faces, [2] front faces (the directional notes)
   std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
   std::array<std::array<VkPipeline, 2>, 2> lighting_pipelines_{};  // [variant][back-face culling]
 };
