@@ -154,7 +154,19 @@ Backend& Harness::backend(const std::string& name) {
   return ref;
 }
 
+DeviceState Harness::sample_device(const std::string& name) {
+  auto it = probes_.find(name);
+  if (it == probes_.end()) it = probes_.emplace(name, make_device_state_probe(backend(name).device())).first;
+  return it->second->sample();
+}
+
+std::string Harness::device_state_source(const std::string& name) {
+  sample_device(name);  // makes the probe
+  return probes_.at(name)->source();
+}
+
 void Harness::add_backend(const std::string& name, std::unique_ptr<Backend> backend) {
+  probes_.erase(name);
   backends_[name] = std::move(backend);
   std::erase(creation_order_, name);
   creation_order_.push_back(name);

@@ -10,6 +10,7 @@
 
 #include "backends/backend.h"
 #include "bench/accuracy.h"
+#include "bench/device_state.h"
 #include "bench/image_compare.h"
 #include "bench/timing_stats.h"
 
@@ -104,6 +105,10 @@ struct CaseResult {
   std::optional<double> flicker_percent;   // --stability: pixels whose shadow factor changed by > 0.5 next frame
   std::optional<double> flicker_mean_abs;  // --stability: mean |change| of the shadow factor over covered pixels
   int object_face_pairs = 0;               // object x face draws the plan asks for (six_pass draws per frame)
+  // The device's clocks, temperature, power and throttling before and after each repetition's frames
+  // (bench/device_state.h), and where they came from.
+  std::vector<DeviceState> device_states;
+  std::string device_state_source;
 };
 
 class Harness {
@@ -116,6 +121,9 @@ class Harness {
   Backend& backend(const std::string& name);
   // Uses `backend` for `name` instead of the registry's (tests substitute scripted backends).
   void add_backend(const std::string& name, std::unique_ptr<Backend> backend);
+  // The state of `name`'s device now (clocks, temperature, power); its probe is chosen when the backend comes up.
+  DeviceState sample_device(const std::string& name);
+  std::string device_state_source(const std::string& name);
   // Loads (and caches) a scene by name or path; throws scene::SceneError.
   const scene::Scene& scene(const std::string& name_or_path, bool rebase_origin = false);
   // The scene a case renders (its remedies decide how it is loaded).
@@ -143,6 +151,7 @@ class Harness {
   RunOptions options_;
   std::map<std::string, std::unique_ptr<Backend>> backends_;
   std::vector<std::string> creation_order_;  // of backends_: destroyed in reverse
+  std::map<std::string, std::unique_ptr<DeviceStateProbe>> probes_;  // by backend
   std::map<std::string, std::string> loaded_scene_;  // backend -> scene name it holds
   std::map<std::string, scene::Scene> scenes_;
   // The six_pass images of the latest case group (same case but technique), kept for the checks.

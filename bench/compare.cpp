@@ -128,8 +128,28 @@ std::map<std::string, std::string> device_keys(const RunData& run) {
   return keys;
 }
 
+static double median_clock(const RunData& run) {
+  std::vector<double> clocks;
+  for (const auto& [id, c] : run.cases) {
+    const json* state = c->contains("device_state") ? &(*c)["device_state"] : nullptr;
+    if (!state || !state->is_object() || !state->contains("samples") || !(*state)["samples"].is_array()) continue;
+    for (const json& s : (*state)["samples"])
+      if (s.is_object() && s.contains("clock_mhz") && s["clock_mhz"].is_number())
+        clocks.push_back(s["clock_mhz"].get<double>());
+  }
+  return clocks.empty() ? -1.0 : median(clocks);
+}
+
+std::string Comparison::clock_note() const {
+  if (base_clock_mhz <= 0 || new_clock_mhz <= 0) return "";
+  return fmt("clocks (median of every device-state sample): base %.0f MHz, ", base_clock_mhz) +
+         fmt("new %.0f MHz ", new_clock_mhz) + fmt("(%+.1f%%)", 100 * (new_clock_mhz / base_clock_mhz - 1));
+}
+
 Comparison compare_runs(const RunData& base, const RunData& fresh, const CompareOptions& options) {
   Comparison c;
+  c.base_clock_mhz = median_clock(base);
+  c.new_clock_mhz = median_clock(fresh);
   c.base_devices = device_keys(base);
   c.new_devices = device_keys(fresh);
   for (const auto& [id, _] : base.cases)
@@ -201,6 +221,7 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
     work += !cc.work_changes.empty();
     images += !cc.image_changes.empty();
   }
+  if (!c.clock_note().empty()) s << c.clock_note() << "\n";
   s << c.cases.size() << " cases compared: " << regressions << " timing regressions, " << improvements
     << " improvements, " << work << " work changes, " << images << " image changes (alpha " << o.alpha
     << " family-wise, minimum effect " << 100 * o.min_effect << "%)\n";
@@ -211,7 +232,7 @@ std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
   std::ostringstream s;
   s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << (o.metric == "cpu" ? "process CPU time" : "wall time") << " per frame, Holm-corrected (alpha " << o.alpha
     << "), minimum effect " << 100 * o.min_effect << "%. Work counters compared exactly; images by checksum, "
-    << "then metrics.\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
+    << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".") << "\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
     << "|---|---|---|---|---|---|---|\n";
   for (const auto& cc : c.cases) {
     std::string notes;

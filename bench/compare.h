@@ -49,6 +49,10 @@ struct Comparison {
   std::vector<std::string> only_in_base;   // listed, not an error
   std::vector<std::string> only_in_new;
   std::map<std::string, std::string> base_devices, new_devices;
+  // Median clock over every device-state sample of each run (bench/device_state.h); -1 where a run has none. Two
+  // runs of one device at different clocks are different measurements: the output says so.
+  double base_clock_mhz = -1, new_clock_mhz = -1;
+  std::string clock_note() const;  // "clocks: base 1980 MHz, new 1755 MHz (-11.4%)"; empty without both
 };
 
 Comparison compare_runs(const RunData& base, const RunData& fresh, const CompareOptions& options);

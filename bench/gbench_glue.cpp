@@ -79,6 +79,8 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
   std::vector<FrameTiming> frames;
   try {
     Backend& b = harness.activate(r.config);
+    if (r.device_state_source.empty()) r.device_state_source = harness.device_state_source(r.config.backend);
+    r.device_states.push_back(harness.sample_device(r.config.backend));  // before this repetition's frames
     // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings.
     for (int i = 0; i < o.warmup_frames; ++i) r.warmup.push_back(render_measured(b, i));
     int frame = o.warmup_frames;
@@ -103,6 +105,7 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
     // Named: the macro stores the pointer in one statement and issues the request in the next.
     const std::string dump_label = r.config.id() + " frames=" + std::to_string(frame - o.warmup_frames);
     CALLGRIND_DUMP_STATS_AT(dump_label.c_str());
+    r.device_states.push_back(harness.sample_device(r.config.backend));  // after them
     std::vector<std::string> api_errors = b.drain_api_errors();  // outside the timed loop
     if (!api_errors.empty()) throw std::runtime_error("API error (checking mode): " + api_errors.front());
     state.counters["shadow_wall_ms"] = Counter(sums[0], Counter::kAvgIterations);

@@ -144,6 +144,11 @@ json case_to_json(const CaseResult& r) {
                         {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
                         {"frame_wall_ms", r.first_frame->frame_wall_ms}};
   if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
+  if (!r.device_states.empty()) {
+    j["device_state"] = {{"source", r.device_state_source}, {"samples", json::array()},
+                         {"warning", clock_warning(r.device_states)}};
+    for (const DeviceState& d : r.device_states) j["device_state"]["samples"].push_back(to_json(d));
+  }
   if (r.repetitions > 0) {
     j["timing"] = timing_to_json(r);
     j["gpu_timer"] = {{"available", r.gpu_timer.available},

@@ -89,6 +89,10 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
   for (const CaseResult& r : results)
     if (r.status != Status::ok && r.status != Status::unsupported)
       md << "  - `" << r.config.id() << "` " << to_string(r.status) << ": " << r.reason << "\n";
+  // A figure measured while the clock moved is not the device's figure: say so next to the statuses.
+  for (const CaseResult& r : results)
+    if (std::string w = clock_warning(r.device_states); !w.empty())
+      md << "- **warning** `" << r.config.id() << "`: " << w << " (" << r.device_state_source << ")\n";
 
   ratio_table<Technique>(md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
                          &CaseConfig::technique, Technique::six_pass, shadow_wall);

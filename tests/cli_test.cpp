@@ -198,6 +198,8 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
     EXPECT_TRUE(c["timing"]["shadow"]["cpu_wall_ms"]["median"].get<double>() > 0);
     EXPECT_TRUE(c["counters"]["shadow"]["draw_calls"].get<int>() > 0);
     EXPECT_TRUE(c["gpu_timer"].contains("reliable"));
+    EXPECT_FALSE(c["device_state"]["source"].get<std::string>().empty());
+    EXPECT_EQ(c["device_state"]["samples"].size(), 4u) << "before and after each of 2 repetitions";
     EXPECT_TRUE(fs::exists(out / c["images"]["lit"].get<std::string>()));
     EXPECT_TRUE(fs::exists(out / c["images"]["cube_faces"].get<std::string>()));
     // --images failed (the default): PNGs for every case, float buffers only for cases that failed a check.

@@ -54,7 +54,7 @@ class CompareTest : public ::testing::Test {
 
   std::string write_run(const std::string& name, const std::map<std::string, std::vector<double>>& times,
                         uint64_t gs_primitives = 432, float shadow_value = 0.0f,
-                        const std::string& renderer = "llvmpipe") {
+                        const std::string& renderer = "llvmpipe", double clock_mhz = -1) {
     fs::path run = dir_ / name;
     fs::create_directories(run / "img");
     json doc{{"context", json::object()}, {"benchmarks", json::array()}};
@@ -70,6 +70,9 @@ class CompareTest : public ::testing::Test {
       write_pfm((run / file).string(), 4, 4, 1, pixels);
       cases.push_back({{"id", id}, {"status", "ok"}, {"images", {{"shadow_factor", file}}},
                        {"counters", {{"shadow", {{"valid", true}, {"gs_primitives", gs_primitives}}}}}});
+      if (clock_mhz > 0)
+        cases.back()["device_state"] = {{"source", "nvml"},
+                                        {"samples", json::array({{{"clock_mhz", clock_mhz}}, {{"clock_mhz", clock_mhz}}})}};
     }
     doc["omnishadow"] = {{"format", "omnishadow-results/1"},
                          {"cases", cases},
@@ -105,6 +108,19 @@ TEST_F(CompareTest, TimingVerdictsNeedSignificanceAndEffect) {
   EXPECT_EQ(compare_command(base, fresh, o), 1);
   EXPECT_TRUE(fs::exists(fs::path(fresh) / "compare" / "summary.md"));
   EXPECT_EQ(compare_command(base, base, o), 0);
+}
+
+// Runs of one device at different clocks are different measurements: compare shows both clocks.
+TEST_F(CompareTest, ClockDifferencesBetweenRunsAreShown) {
+  std::string base = write_run("base", {{"a", kBase}}, 432, 0.0f, "llvmpipe", 1980);
+  std::string fresh = write_run("new", {{"a", kBase}}, 432, 0.0f, "llvmpipe", 1755);
+  Comparison c = compare_runs(load_run(base), load_run(fresh), CompareOptions{});
+  EXPECT_DOUBLE_EQ(c.base_clock_mhz, 1980);
+  EXPECT_DOUBLE_EQ(c.new_clock_mhz, 1755);
+  EXPECT_NE(c.clock_note().find("base 1980 MHz, new 1755 MHz (-11.4%)"), std::string::npos) << c.clock_note();
+  EXPECT_NE(comparison_table(c, CompareOptions{}).find("1755 MHz"), std::string::npos);
+  std::string plain = write_run("plain", {{"a", kBase}});
+  EXPECT_TRUE(compare_runs(load_run(base), load_run(plain), CompareOptions{}).clock_note().empty());
 }
 
 TEST_F(CompareTest, WorkAndImageChangesAreRegressionsWhateverTheTiming) {

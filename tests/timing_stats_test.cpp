@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bench/device_state.h"
 #include "bench/timing_stats.h"
 
 namespace omnishadow::bench {
@@ -70,6 +71,39 @@ TEST(Summary, PercentilesOfEveryFrame) {
   EXPECT_GT(t.p99, 10.0);
   EXPECT_DOUBLE_EQ(t.max, 50.0);
   EXPECT_DOUBLE_EQ(quantile_sorted({}, 0.5), 0.0);
+}
+
+}  // namespace
+}  // namespace omnishadow::bench
+
+namespace omnishadow::bench {
+namespace {
+
+TEST(DeviceState, ClockWarningOnlyWhenTheClockMovedOrThrottled) {
+  DeviceState idle, boost, steady;
+  idle.clock_mhz = 345;
+  boost.clock_mhz = 1980;
+  steady.clock_mhz = 1965;  // within 5% of 1980
+  EXPECT_EQ(clock_warning({boost, steady, boost}), "");
+  EXPECT_EQ(clock_warning({idle, boost}), "clocks moved during the case: 345-1980 MHz");
+  DeviceState hot = boost;
+  hot.throttle = "hw_thermal_slowdown";
+  EXPECT_EQ(clock_warning({boost, hot}), "throttled: hw_thermal_slowdown");
+  EXPECT_EQ(clock_warning({DeviceState{}, DeviceState{}}), "") << "unknown clocks say nothing";
+  EXPECT_FALSE(to_json(hot).contains("temperature_c")) << "unknown fields are left out";
+  EXPECT_EQ(to_json(hot)["clock_mhz"], 1980);
+}
+
+// Here (no GPU) the probe reads the CPUs' frequency; on any machine it names its source and never throws.
+TEST(DeviceState, ProbeNamesItsSource) {
+  DeviceInfo cpu;
+  cpu.renderer = "llvmpipe (LLVM 15.0.6, 256 bits)";
+  cpu.shares_host_memory = true;
+  auto probe = make_device_state_probe(cpu);
+  EXPECT_EQ(probe->source(), "cpu frequency");
+  DeviceState s = probe->sample();
+  if (s.clock_mhz < 0) GTEST_SKIP() << "this machine publishes no CPU frequency (/proc/cpuinfo, cpufreq)";
+  EXPECT_GT(s.clock_mhz, 100.0);
 }
 
 }  // namespace

@@ -1,0 +1,44 @@
+#pragma once
+// The device's state around each case's timed repetitions, wherever the platform tells: clocks, temperature,
+// power and throttle reasons. A GPU idles at a fraction of its boost clock (an H100: 345 against 1980 MHz), so a
+// figure measured while the clock moved is not the device's figure; the summary warns about such cases.
+//   NVIDIA: NVML (libnvidia-ml.so.1, opened at run time: no build dependency, nothing needed where it is absent)
+//   AMD:    sysfs of the amdgpu card (pp_dpm_sclk / pp_dpm_mclk, hwmon temperature and power)
+//   Intel:  sysfs of the i915 card (gt_cur_freq_mhz)
+//   CPU drivers (llvmpipe, lavapipe) and anything else: the CPUs' current frequency (cpufreq, or /proc/cpuinfo)
+//   and the cpufreq governor.
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backends/backend.h"
+
+namespace omnishadow::bench {
+
+struct DeviceState {
+  double clock_mhz = -1.0;         // graphics (shader) clock; CPU drivers: the mean CPU frequency
+  double memory_clock_mhz = -1.0;
+  double temperature_c = -1.0;
+  double power_w = -1.0;
+  std::string throttle;            // NVML's active clock event reasons as words ("sw_power_cap hw_slowdown"); "" none
+  std::string governor;            // cpufreq governor where the clock is a CPU's
+};
+nlohmann::json to_json(const DeviceState& s);  // fields that are unknown (-1, "") are left out
+
+class DeviceStateProbe {
+ public:
+  virtual ~DeviceStateProbe() = default;
+  virtual std::string source() const = 0;  // "nvml", "amdgpu sysfs", "i915 sysfs", "cpu frequency", "none"
+  virtual DeviceState sample() = 0;
+};
+// The best source for this device (by vendor and renderer), falling back to the CPU frequency.
+std::unique_ptr<DeviceStateProbe> make_device_state_probe(const DeviceInfo& device);
+
+// "clocks moved during the case: 345-1980 MHz": the clock's spread across samples beyond `tolerance` (relative to
+// the highest), or throttling seen; empty when steady or unknown.
+std::string clock_warning(const std::vector<DeviceState>& samples, double tolerance = 0.05);
+
+}  // namespace omnishadow::bench
