@@ -55,8 +55,11 @@ struct FrameTiming {
 // A timed frame renders what a renderer would for the case: the shadow pass, then the lighting pass in its timed
 // variant (one colour target, a shader specialised for the case: gpu::LightingVariant). A check frame renders the
 // same shadow pass, then the lighting pass in the check variant (lit colour, shadow factor, world position) and,
-// untimed after it, in the timed variant, so that read_back() holds both lit images of one frame.
-enum class FrameKind { timed, check };
+// untimed after it, in the timed variant, so that read_back() holds both lit images of one frame. A floor frame
+// does only what every variant must: the case's shadow render passes with their clears and no draw, then the
+// lighting pass into the timed target with a constant shader (shaders/floor.frag); a pass's time as a multiple
+// of its floor is what the technique or filter costs beyond that. A floor frame leaves the cube cleared.
+enum class FrameKind { timed, check, floor };
 
 // Everything read back after a check frame. Images are stored as the API holds them: row 0 is the bottom row of the
 // lit frame (GL window convention) and, for cube faces, row 0 is t = 0 of the face (cube-map addressing).

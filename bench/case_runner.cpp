@@ -11,6 +11,7 @@
 #include "backends/common/shadow_plan.h"
 #include "bench/image_io.h"
 #include "bench/memory_budget.h"
+#include "bench/timing_stats.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -256,6 +257,38 @@ void Harness::check_accuracy(CaseResult& r, const Images& images) {
   r.images["error_heatmap"] = rel.string();
 }
 
+// Not the filter, remedies or PCF scale (the floor's lighting has no lookup), nor the optimisations (no draws).
+static std::string floor_key(const CaseConfig& c) {
+  return c.backend + "/" + c.scene + (c.remedies.rebase_origin ? "#rebase" : "") + "/c" + std::to_string(c.cube_size) +
+         "/f" + std::to_string(c.width) + "x" + std::to_string(c.height) + "/" + std::string(to_string(c.technique)) +
+         "/" + std::string(to_string(c.storage)) + "/" + std::string(to_string(c.depth_format));
+}
+
+void Harness::measure_floor(CaseResult& r, Backend& b) {
+  const std::string key = floor_key(r.config);
+  auto it = floors_.find(key);
+  if (it == floors_.end()) {
+    std::vector<FrameTiming> frames;
+    for (int i = 0; i < 2 + kFloorFrames; ++i) {  // two warm-up frames first
+      FrameTiming t = b.render(options_.check_frame, FrameKind::floor);
+      if (i >= 2) frames.push_back(t);
+    }
+    auto median_of = [&](auto get) {
+      std::vector<double> v;
+      for (const FrameTiming& f : frames) v.push_back(get(f));
+      return summarize(v).median;
+    };
+    FrameTiming floor;
+    floor.shadow.cpu_wall_ms = median_of([](const FrameTiming& f) { return f.shadow.cpu_wall_ms; });
+    floor.lighting.cpu_wall_ms = median_of([](const FrameTiming& f) { return f.lighting.cpu_wall_ms; });
+    floor.shadow.gpu_ms = median_of([](const FrameTiming& f) { return f.shadow.gpu_ms; });
+    floor.lighting.gpu_ms = median_of([](const FrameTiming& f) { return f.lighting.gpu_ms; });
+    floor.frame_wall_ms = median_of([](const FrameTiming& f) { return f.frame_wall_ms; });
+    it = floors_.emplace(key, floor).first;
+  }
+  r.floor = it->second;
+}
+
 void Harness::prepare(CaseResult& r) {
   try {
     Backend& b = backend(r.config.backend);
@@ -280,6 +313,7 @@ void Harness::prepare(CaseResult& r) {
       return;
     }
     if (options_.accuracy) check_accuracy(r, images);
+    measure_floor(r, b);
     const bool is_reference = r.config == reference_config(r.config);
     if (!is_reference) check_against_six_pass(r, images);
     check_against_other_backend(r, images);

@@ -109,7 +109,12 @@ struct CaseResult {
   // (bench/device_state.h), and where they came from.
   std::vector<DeviceState> device_states;
   std::string device_state_source;
+  // The case's floor (FrameKind::floor): its shadow render passes with clears only and the frame shaded with a
+  // constant; medians of kFloorFrames frames, shared by every case of the same backend, scene, sizes, technique
+  // and storage. A pass's time over its floor is what the technique or filter costs beyond what any variant pays.
+  std::optional<FrameTiming> floor;
 };
+inline constexpr int kFloorFrames = 5;
 
 class Harness {
  public:
@@ -137,6 +142,7 @@ class Harness {
   bool admit(CaseResult& result, Backend& b);
   void count_work(CaseResult& result, Backend& b, float light_far);
   void check_accuracy(CaseResult& result, const Images& images);
+  void measure_floor(CaseResult& result, Backend& b);
   void check_timed_variant(CaseResult& result, const Images& images);
   void check_against_six_pass(CaseResult& result, const Images& images);
   void count_non_finite(CaseResult& result, const Images& images);
@@ -165,6 +171,7 @@ class Harness {
   };
   std::map<std::string, CrossReference> cross_;
   std::map<std::string, std::unique_ptr<reference::RayCaster>> casters_;  // by scene
+  std::map<std::string, FrameTiming> floors_;  // by the axes a floor depends on
   std::map<std::string, Truth> truths_;  // by scene, frame and positions fingerprint: shared by all its cases
 };
 

@@ -105,6 +105,27 @@ json accuracy_to_json(const Accuracy& a) {
   return j;
 }
 
+// The floor, and each pass's median over it (wall time; GPU time where both are reliable).
+json floor_to_json(const CaseResult& r) {
+  const FrameTiming& f = *r.floor;
+  auto gpu = [&](double v) { return r.gpu_timer.reliable && v > 0 ? json(v) : json(nullptr); };
+  json j = {{"frames", kFloorFrames},
+            {"shadow_wall_ms", f.shadow.cpu_wall_ms},
+            {"lighting_wall_ms", f.lighting.cpu_wall_ms},
+            {"shadow_gpu_ms", gpu(f.shadow.gpu_ms)},
+            {"lighting_gpu_ms", gpu(f.lighting.gpu_ms)}};
+  if (r.frames.empty()) return j;
+  std::vector<double> shadow, lighting;
+  for (const FrameTiming& t : r.frames) {
+    shadow.push_back(t.shadow.cpu_wall_ms);
+    lighting.push_back(t.lighting.cpu_wall_ms);
+  }
+  auto over = [](double v, double floor) { return floor > 0 ? json(v / floor) : json(nullptr); };
+  j["shadow_over_floor"] = over(summarize(shadow).median, f.shadow.cpu_wall_ms);
+  j["lighting_over_floor"] = over(summarize(lighting).median, f.lighting.cpu_wall_ms);
+  return j;
+}
+
 json timing_to_json(const CaseResult& r) {
   std::vector<double> frame_wall;
   for (const FrameTiming& f : r.frames) frame_wall.push_back(f.frame_wall_ms);
@@ -144,6 +165,7 @@ json case_to_json(const CaseResult& r) {
                         {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
                         {"frame_wall_ms", r.first_frame->frame_wall_ms}};
   if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
+  if (r.floor) j["floor"] = floor_to_json(r);
   if (!r.device_states.empty()) {
     j["device_state"] = {{"source", r.device_state_source}, {"samples", json::array()},
                          {"warning", clock_warning(r.device_states)}};

@@ -64,6 +64,28 @@ void ratio_table(std::ostringstream& md, const std::vector<CaseResult>& results,
   }
 }
 
+// Every timed case's passes as multiples of their floor (the same render passes with nothing drawn; the frame
+// shaded with a constant): how far a technique or filter is from what the device does at all.
+void floor_table(std::ostringstream& md, const std::vector<CaseResult>& results) {
+  std::ostringstream rows;
+  for (const CaseResult& r : results) {
+    if (!r.floor || r.frames.empty()) continue;
+    const double shadow = summary_of(r.frames, shadow_wall).median, lighting = summary_of(r.frames, lighting_wall).median;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "| `%s` | %.2f ms = %.1fx %.2f | %.2f ms = %.1fx %.2f |\n", r.config.id().c_str(),
+                  shadow, r.floor->shadow.cpu_wall_ms > 0 ? shadow / r.floor->shadow.cpu_wall_ms : 0.0,
+                  r.floor->shadow.cpu_wall_ms, lighting,
+                  r.floor->lighting.cpu_wall_ms > 0 ? lighting / r.floor->lighting.cpu_wall_ms : 0.0,
+                  r.floor->lighting.cpu_wall_ms);
+    rows << buf;
+  }
+  if (rows.str().empty()) return;
+  md << "\n## Passes against their floor (median wall time = multiple x floor)\n\n"
+     << "Floor: the case's shadow render passes cleared with nothing drawn; the frame shaded with a constant.\n\n"
+     << "| case | shadow pass | lighting pass |\n|---|---|---|\n"
+     << rows.str();
+}
+
 }  // namespace
 
 std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases) {
@@ -94,6 +116,7 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
     if (std::string w = clock_warning(r.device_states); !w.empty())
       md << "- **warning** `" << r.config.id() << "`: " << w << " (" << r.device_state_source << ")\n";
 
+  floor_table(md, results);
   ratio_table<Technique>(md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
                          &CaseConfig::technique, Technique::six_pass, shadow_wall);
   ratio_table<Filter>(md, results, "Lighting pass: median wall time per filter, all techniques pooled (ratio to hard)", &CaseConfig::filter,

@@ -260,6 +260,27 @@ TEST_P(BackendTest, UnsupportedCasesSayWhy) {
   EXPECT_FALSE(backend_->supports(huge).ok);
 }
 
+// A floor frame clears the cube and shades with a constant; the frames after it are the case's own again, the
+// statically cached cube included (it is rendered anew, not served cleared).
+TEST_P(BackendTest, FloorFramesLeaveTheCaseIntact) {
+  CaseConfig cached = room_case(Technique::six_pass, Filter::pcf_disk20, 256);
+  cached.scene = "ogldev";  // a light that stands still, so the cache serves it
+  cached.optimizations.static_cache = true;
+  scene::Scene ogldev = scene::load_scene_file(kScenes + "/ogldev.json");
+  ogldev.name = "ogldev";
+  backend_->load(ogldev);
+  CaseConfig fresh = cached;
+  fresh.optimizations.static_cache = false;
+  Images reference = render(fresh, 5);
+  backend_->configure(cached);
+  backend_->render(4, FrameKind::timed);
+  FrameTiming floor = backend_->render(5, FrameKind::floor);
+  EXPECT_GT(floor.shadow.cpu_wall_ms, 0.0);
+  EXPECT_GT(floor.lighting.cpu_wall_ms, 0.0);
+  backend_->render(5, FrameKind::check);
+  testing::expect_same_images(backend_->read_back(), reference, "after a floor frame");
+}
+
 // The checking mode (GL debug context / Vulkan validation layer): every technique, storage, filter and depth format
 // the backend supports renders both frame kinds, counts work and reads back with no API message.
 TEST_P(BackendTest, EveryCaseIsCleanInTheCheckingMode) {
@@ -280,6 +301,7 @@ TEST_P(BackendTest, EveryCaseIsCleanInTheCheckingMode) {
           }
           checked->configure(c);
           checked->render(7, FrameKind::timed);
+          checked->render(7, FrameKind::floor);
           checked->render(7, FrameKind::check);
           checked->count_work(7);
           EXPECT_EQ(checked->read_back().cube_size, 32);

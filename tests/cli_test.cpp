@@ -199,6 +199,8 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
     EXPECT_TRUE(c["counters"]["shadow"]["draw_calls"].get<int>() > 0);
     EXPECT_TRUE(c["gpu_timer"].contains("reliable"));
     EXPECT_FALSE(c["device_state"]["source"].get<std::string>().empty());
+    EXPECT_GT(c["floor"]["shadow_wall_ms"].get<double>(), 0.0);
+    EXPECT_GT(c["floor"]["lighting_over_floor"].get<double>(), 0.0);
     EXPECT_EQ(c["device_state"]["samples"].size(), 4u) << "before and after each of 2 repetitions";
     EXPECT_TRUE(fs::exists(out / c["images"]["lit"].get<std::string>()));
     EXPECT_TRUE(fs::exists(out / c["images"]["cube_faces"].get<std::string>()));
@@ -227,6 +229,7 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
   EXPECT_GT(j["omnishadow"]["phases"]["untimed_seconds"].get<double>(), 0.0);
   EXPECT_GT(j["omnishadow"]["phases"]["timed_seconds"].get<double>(), 0.0);
   EXPECT_NE(o.out.find("s untimed"), std::string::npos) << "the summary gives both parts' seconds";
+  EXPECT_NE(o.out.find("Passes against their floor"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "summary.md"));
   EXPECT_NE(o.out.find("ratio to six_pass"), std::string::npos);
 

@@ -214,6 +214,7 @@ void GlBackend::configure_case(const CaseConfig& c) {
   }
 
   map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, {});
+  floor_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "floor.frag"}}, {});
   shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format);
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
@@ -295,22 +296,32 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   if (frame.reuse_cube) return stats;  // static caching: the cube already holds this light
   glViewport(0, 0, shadow_.size, shadow_.size);
   glUseProgram(shadow_program_);
-  const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};  // r32f: "nothing here" (docs/glossary.md)
-  const GLfloat depth_one = 1.0f;
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (int p = 0; p < passes.count; ++p) {
-    // Six passes: face p's framebuffer; one pass: the layered framebuffer (its clear clears all six layers).
-    const GLuint fbo = passes.count == 6 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
-    if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
+    begin_shadow_pass(p, passes.count);
     bind_pass_uniforms(p);
     draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided);
   }
   return stats;
 }
 
-GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant) {
+// Render pass p of `count`: six passes bind face p's framebuffer, one pass the layered framebuffer (whose clear
+// clears all six layers); depth cleared to 1, an r32f cube to FLT_MAX ("nothing here", docs/glossary.md).
+void GlBackend::begin_shadow_pass(int p, int count) {
+  const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
+  const GLfloat depth_one = 1.0f;
+  const GLuint fbo = count == 6 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
+  if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
+}
+
+void GlBackend::clear_shadow_targets() {
+  const int passes = traits(config_->technique).passes;
+  for (int p = 0; p < passes; ++p) begin_shadow_pass(p, passes);
+}
+
+GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLuint program) {
   DrawStats stats;
   const LightingTargets& target = lighting_[size_t(variant)];
   glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
@@ -326,7 +337,7 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant) {
   glClearNamedFramebufferfv(target.fbo, GL_DEPTH, 0, &depth_one);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glUseProgram(lighting_programs_[size_t(variant)]);
+  glUseProgram(program);
   glBindVertexArray(lighting_vao_);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
   glBindTextureUnit(gpu::kShadowMapBinding, shadow_.stored);
@@ -341,6 +352,7 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant) {
 FrameTiming GlBackend::render(int frame, FrameKind kind) {
   if (!config_) throw std::logic_error("render() before configure()");
   const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
+  const GLuint program = kind == FrameKind::floor ? floor_program_ : lighting_programs_[size_t(variant)];
   // Each pass is bracketed by glFinish so that its wall time is its own. On llvmpipe the vertex and geometry
   // stages run on this thread inside glDraw*, so cpu_submit includes them; rasterisation runs on the
   // LP_NUM_THREADS worker threads and completes inside glFinish.
@@ -348,20 +360,25 @@ FrameTiming GlBackend::render(int frame, FrameKind kind) {
   auto t0 = Clock::now();
   gpu::ShadowFrame plan = update_frame_uniforms(frame);
   queries_->begin_timer(kShadowPass);
-  shadow_pass(plan);
-  planner_.rendered(plan, *config_);
+  if (kind == FrameKind::floor) {
+    clear_shadow_targets();
+    planner_.reset();  // the cube no longer holds any light
+  } else {
+    shadow_pass(plan);
+    planner_.rendered(plan, *config_);
+  }
   queries_->end_timer();
   auto t1 = Clock::now();
   glFinish();
   auto t2 = Clock::now();
   queries_->begin_timer(kLightingPass);
-  lighting_pass(variant);
+  lighting_pass(variant, program);
   queries_->end_timer();
   auto t3 = Clock::now();
   glFinish();
   auto t4 = Clock::now();
   if (kind == FrameKind::check) {  // the timed variant's colour of the same frame, for the timed_lit check
-    lighting_pass(gpu::LightingVariant::timed);
+    lighting_pass(gpu::LightingVariant::timed, lighting_programs_[size_t(gpu::LightingVariant::timed)]);
     glFinish();
     checked_ = true;
   }
@@ -380,7 +397,8 @@ FrameCounters GlBackend::count_work(int frame) {
   planner_.rendered(plan, *config_);
   if (queries_->has_statistics()) queries_->end_statistics();
   if (queries_->has_statistics()) queries_->begin_statistics(kLightingPass);
-  DrawStats lighting = lighting_pass(gpu::LightingVariant::timed);
+  DrawStats lighting =
+      lighting_pass(gpu::LightingVariant::timed, lighting_programs_[size_t(gpu::LightingVariant::timed)]);
   if (queries_->has_statistics()) queries_->end_statistics();
   glFinish();
   c.shadow = queries_->statistics(kShadowPass);

@@ -43,8 +43,10 @@ class GlBackend final : public Backend {
   GLuint program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
   gpu::ShadowFrame update_frame_uniforms(int frame);
   DrawStats shadow_pass(const gpu::ShadowFrame& f);
-  // The lighting pass in one variant: its targets and program (lighting_[v], lighting_programs_[v]).
-  DrawStats lighting_pass(gpu::LightingVariant variant);
+  // The lighting pass into lighting_[targets] with `program` (lighting_programs_[v], or floor_program_).
+  DrawStats lighting_pass(gpu::LightingVariant targets, GLuint program);
+  void begin_shadow_pass(int p, int count);  // binds and clears render pass p's framebuffer
+  void clear_shadow_targets();  // the floor frame's shadow pass: the case's framebuffers cleared, nothing drawn
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   void bind_pass_uniforms(int entry);
   // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only).
@@ -74,6 +76,7 @@ class GlBackend final : public Backend {
   GLuint map_program_ = 0;
   GLuint shadow_program_ = 0;
   std::array<GLuint, 2> lighting_programs_{};  // by gpu::LightingVariant
+  GLuint floor_program_ = 0;                   // lighting.vert + floor.frag
   std::unique_ptr<FrameQueries> queries_;
   gpu::ShadowFramePlanner planner_;
   std::vector<std::string> api_errors_;  // filled by the KHR_debug callback in the checking mode

@@ -256,6 +256,9 @@ void VkBackend::release_case() {
   for (auto& variant : lighting_pipelines_)
     for (VkPipeline p : variant)
       if (p) vkDestroyPipeline(d, p, nullptr);
+  for (VkPipeline p : floor_pipelines_)
+    if (p) vkDestroyPipeline(d, p, nullptr);
+  floor_pipelines_ = {};
   for (VkPipeline p : map_pipelines_)
     if (p) vkDestroyPipeline(d, p, nullptr);
   shadow_pipelines_ = {};
@@ -332,6 +335,12 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
     for (int cull = 0; cull < 2; ++cull) {
       lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
       lighting_pipelines_[size_t(v)][static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);
+      if (v != gpu::LightingVariant::timed) continue;
+      // The lighting floor: the timed target, lighting.vert with the constant floor.frag (FrameKind::floor).
+      PipelineDesc floor = lighting;
+      floor.stages[1].second = gpu::variant_key("floor.frag", gpu::kNoVariant);
+      floor.fragment_constants.clear();
+      floor_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, floor);
     }
   }
 
@@ -424,10 +433,12 @@ void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
   }
 }
 
-void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws) {
+// floor: the case's render passes with their clears and nothing drawn (FrameKind::floor).
+void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws,
+                              bool floor) {
   begin_pass(cb, 0, statistics);
-  record_maps(cb, draws);
-  if (frame.reuse_cube) {  // static caching: the cube already holds this light; timestamps and queries still close
+  if (!floor) record_maps(cb, draws);
+  if (frame.reuse_cube && !floor) {  // static caching: the cube already holds this light; timestamps and queries still close
     end_pass(cb, 0, statistics);
     return;
   }
@@ -452,13 +463,14 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
     vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
     const gpu::PassUniforms pass{static_cast<int32_t>(p), 0, {0, 0}};
     vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
-    draw_list(cb, shadow_pipelines_, shadow_layout_, shadow_set_, passes.draws[p], draws);
+    if (!floor) draw_list(cb, shadow_pipelines_, shadow_layout_, shadow_set_, passes.draws[p], draws);
     vkCmdEndRenderPass(cb);
   }
   end_pass(cb, 0, statistics);
 }
 
-void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws) {
+void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws,
+                                bool floor) {
   const LightingTargets& target = lighting_[size_t(variant)];
   const uint32_t colors = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(variant)]);
   begin_pass(cb, 1, statistics);
@@ -480,7 +492,8 @@ void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant
   vkCmdSetScissor(cb, 0, 1, &scissor);
   VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-  draw_list(cb, lighting_pipelines_[size_t(variant)], lighting_layout_, lighting_set_, all_objects_, draws);
+  draw_list(cb, floor ? floor_pipelines_ : lighting_pipelines_[size_t(variant)], lighting_layout_, lighting_set_,
+            all_objects_, draws);
   vkCmdEndRenderPass(cb);
   end_pass(cb, 1, statistics);
 }
@@ -499,6 +512,7 @@ double VkBackend::timestamp_ms(uint32_t first) const {
 FrameTiming VkBackend::render(int frame, FrameKind kind) {
   if (!config_) throw std::logic_error("render() before configure()");
   const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
+  const bool floor = kind == FrameKind::floor;
   // Each pass is its own submission, waited on before the next, so its wall time is its own (as GL's glFinish).
   // cpu_submit covers uniform update, command recording and vkQueueSubmit.
   FrameTiming t;
@@ -506,13 +520,13 @@ FrameTiming VkBackend::render(int frame, FrameKind kind) {
   auto t0 = Clock::now();
   gpu::ShadowFrame plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
   std::memcpy(frame_uniforms_.mapped, &plan.uniforms, sizeof plan.uniforms);
-  record_shadow(command_buffers_[0], plan, false, draws);
+  record_shadow(command_buffers_[0], plan, false, draws, floor);
   ctx_->submit(command_buffers_[0]);
-  planner_.rendered(plan, *config_);
+  floor ? planner_.reset() : planner_.rendered(plan, *config_);  // a floor frame leaves the cube cleared
   auto t1 = Clock::now();
   ctx_->wait();
   auto t2 = Clock::now();
-  record_lighting(command_buffers_[1], variant, false, draws);
+  record_lighting(command_buffers_[1], variant, false, draws, floor);
   ctx_->submit(command_buffers_[1]);
   auto t3 = Clock::now();
   ctx_->wait();

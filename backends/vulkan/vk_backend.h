@@ -43,8 +43,10 @@ class VkBackend final : public Backend {
   // configure()'s steps.
   void create_pipelines(const CaseConfig& c);
   void write_lighting_descriptors(const CaseConfig& c);
-  void record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws);
-  void record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws);
+  void record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws,
+                     bool floor = false);
+  void record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws,
+                       bool floor = false);
   void record_maps(VkCommandBuffer cb, uint64_t& draws);  // one 2D map per spot/directional light
   // The draws in order; a draw with a face mask (vs_layer + face culling) pushes it for the vertex shader.
   void draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
@@ -83,6 +85,7 @@ class VkBackend final : public Backend {
   std::array<VkPipeline, 3> map_pipelines_{};       // [0] no culling, [1] back faces, [2] front faces (the directional notes)
   std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
   std::array<std::array<VkPipeline, 2>, 2> lighting_pipelines_{};  // [variant][back-face culling]
+  std::array<VkPipeline, 2> floor_pipelines_{};                     // the lighting floor, [back-face culling]
 };
 
 }  // namespace omnishadow::vk
