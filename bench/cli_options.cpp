@@ -49,8 +49,15 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
       "--frame", [&m](const std::string& t) { m.frame_sizes = parse_size_list(t, "--frame"); },
       "comma list of WIDTHxHEIGHT (default: each scene's camera size)");
   auto named = [](auto v) { return std::string(to_string(v)); };
-  list_option(r, "--technique", m.techniques, [](const std::string& s) { return parse_enum<Technique>(s); }, named,
-              "comma list: " + valid_values<Technique>());
+  r.add_option_function<std::string>(
+       "--technique",
+       [&m](const std::string& t) {
+         m.techniques = parse_enum_list<Technique>(t, "--technique");
+         m.techniques_given = true;
+       },
+       "comma list: " + valid_values<Technique>() +
+           " (default: every technique the backend can do; one asked for by name is reported unsupported)")
+      ->default_str(join(m.techniques, named));
   list_option(r, "--filter", m.filters, [](const std::string& s) { return parse_enum<Filter>(s); }, named,
               "comma list: " + valid_values<Filter>());
   list_option(r, "--storage", m.storages, [](const std::string& s) { return parse_enum<Storage>(s); }, named,

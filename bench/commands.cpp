@@ -91,6 +91,29 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The default matrix asks every backend for every technique; one that a backend cannot do at all (GL and
+// multiview here) is left out of that backend's cases, with one line saying so, instead of a line per case.
+std::vector<CaseConfig> drop_techniques_a_backend_cannot_do(const std::vector<CaseConfig>& cases, Harness& harness) {
+  std::map<std::pair<std::string, Technique>, Support> verdicts;
+  std::vector<CaseConfig> kept;
+  for (const CaseConfig& c : cases) {
+    auto key = std::make_pair(c.backend, c.technique);
+    if (!verdicts.count(key)) {
+      CaseConfig probe;  // the technique alone: default storage, filter and sizes
+      probe.backend = c.backend;
+      probe.technique = c.technique;
+      probe.cube_size = 64;
+      Support s = harness.backend(c.backend).supports(probe);
+      if (!s.ok)
+        std::fprintf(stderr, "omnishadow: %s left out on %s (not asked for by name): %s\n",
+                     std::string(to_string(c.technique)).c_str(), c.backend.c_str(), s.reason.c_str());
+      verdicts[key] = s;
+    }
+    if (verdicts[key].ok) kept.push_back(c);
+  }
+  return kept;
+}
+
 // Everything that can be wrong with the request, found before anything runs: scenes load, backends come up,
 // sizes fit the devices, the matrix is not empty. Throws std::invalid_argument (or the loaders' errors).
 std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness, RunInfo& info) {
@@ -115,6 +138,7 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
                                     std::to_string(max_2d) + ")");
   }
   std::vector<CaseConfig> cases = expand(cmd.matrix, scene_sizes);
+  if (!cmd.matrix.techniques_given) cases = drop_techniques_a_backend_cannot_do(cases, harness);
   cases = shard(cases, cmd.shard_index, cmd.shard_count);
   cases = apply_benchmark_filter(cases, cmd.benchmark_args);
   for (CaseConfig& c : cases) c.injected_work = cmd.injected_work;

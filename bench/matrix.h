@@ -27,6 +27,9 @@ struct MatrixSpec {
   std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
   std::vector<float> pcf_scales{1.0f};                        // --pcf-scale 0,1,20
+  // --technique not given: techniques a backend cannot do at all are left out of its cases (said once on stderr)
+  // rather than reported unsupported case by case; a technique asked for by name is always reported.
+  bool techniques_given = false;
 };
 
 // scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.

@@ -270,6 +270,28 @@ TEST_F(CliRun, TwoApiRunsExitZeroInEitherOrder) {
   }
 }
 
+// The default matrix does not ask a backend for a technique it cannot do at all; asked for by name, it is reported.
+TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
+  fs::path out = scratch("defaults");
+  Outcome o = run("run --scene room --cube 32 --frame 64x48 --filter hard --frames 1 --warmup 0 --no-accuracy "
+                  "--images none --out " + out.string() + " --benchmark_repetitions=1");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  bool multiview_supported = o.err.find("multiview left out on gl") == std::string::npos;
+  size_t cases = j["omnishadow"]["cases"].size();
+  EXPECT_EQ(cases, multiview_supported ? 5u : 4u) << o.err;
+  for (const auto& c : j["omnishadow"]["cases"]) EXPECT_EQ(c["status"], "ok") << c.dump();
+  fs::path named = scratch("named");
+  Outcome n = run("run --scene room --cube 32 --frame 64x48 --technique multiview --filter hard --frames 1 "
+                  "--warmup 0 --no-accuracy --images none --out " + named.string() + " --benchmark_repetitions=1");
+  ASSERT_EQ(n.exit_code, 0) << n.err;
+  auto k = nlohmann::json::parse(omnishadow::bench::read_file((named / "results.json").string()));
+  ASSERT_EQ(k["omnishadow"]["cases"].size(), 1u);
+  if (!multiview_supported) {
+    EXPECT_EQ(k["omnishadow"]["cases"][0]["status"], "unsupported");
+  }
+}
+
 TEST_F(CliRun, ListShowsWhatThisMachineSupports) {
   Outcome o = run("list");
   ASSERT_EQ(o.exit_code, 0);
