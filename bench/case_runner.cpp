@@ -138,7 +138,20 @@ void CaseResult::add(Finding finding) {
   findings.push_back(std::move(finding));
 }
 
-Harness::Harness(RunOptions options) : options_(std::move(options)) {}
+Harness::Harness(RunOptions options) : options_(std::move(options)) {
+  if (options_.async_images) writer_ = std::make_unique<AsyncWriter>();
+}
+
+void Harness::write_later(const CaseResult& r, std::function<void()> write) {
+  if (writer_)
+    writer_->submit(r.config.id(), std::move(write));
+  else
+    write();
+}
+
+std::vector<std::pair<std::string, std::string>> Harness::drain_writes() {
+  return writer_ ? writer_->drain() : std::vector<std::pair<std::string, std::string>>{};
+}
 // Backends go in the reverse order of their creation (a map would destroy them by name): each API's teardown
 // then runs while what it was created after still stands.
 Harness::~Harness() {
@@ -252,8 +265,8 @@ void Harness::check_accuracy(CaseResult& r, const Images& images) {
   if (!options_.write_images()) return;
   fs::path rel = fs::path("images") / r.config.id() / "error_heatmap.png";
   fs::create_directories((fs::path(options_.out_dir) / rel).parent_path());
-  write_png_rgb_top_down((fs::path(options_.out_dir) / rel).string(), images.width, images.height,
-                         error_heatmap(truth, images));
+  write_later(r, [path = (fs::path(options_.out_dir) / rel).string(), w = images.width, h = images.height,
+                  rgb = error_heatmap(truth, images)] { write_png_rgb_top_down(path, w, h, rgb); });
   r.images["error_heatmap"] = rel.string();
 }
 
@@ -462,8 +475,10 @@ void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float
     fs::path dir = fs::path("images") / r.config.id();
     c.diff_image = (dir / ("diff_" + c.name + ".png")).string();
     fs::create_directories(fs::path(options_.out_dir) / dir);
-    write_png_rgb_top_down((fs::path(options_.out_dir) / c.diff_image).string(), width, height,
-                           diff_image_rgb(a, b, grey, width, height, c.tolerance, scale, flip));
+    write_later(r, [path = (fs::path(options_.out_dir) / c.diff_image).string(), width, height,
+                    rgb = diff_image_rgb(a, b, grey, width, height, c.tolerance, scale, flip)] {
+      write_png_rgb_top_down(path, width, height, rgb);
+    });
   }
   r.checks.push_back(c);
 }
@@ -508,26 +523,36 @@ void Harness::write_images(CaseResult& r, const Images& img) {
     r.images[role] = (rel / file).string();
     return (dir / file).string();
   };
-  write_png_rgba_bottom_up(out("lit", "lit.png"), img.width, img.height, img.lit_rgba8);
-  write_png_gray(out("shadow_factor_png", "shadow_factor.png"), img.width, img.height, img.shadow_factor, 0.0f, 1.0f,
-                 true);
-  const float far_plane = img.light_far;
-  write_png_gray(out("cube_faces", "cube_faces.png"), img.cube_size * 6, img.cube_size, concat_faces(img), 0.0f,
-                 far_plane, false);
   const bool failed = r.status == Status::failed_check || r.status == Status::failed_quality;
-  if (options_.images != RunOptions::ImagePolicy::all && !failed) return;
-  // The float buffers: 24 bytes a pixel (1.9 MB per 800x600 buffer), what a failed check needs to be examined.
-  write_pfm(out("shadow_factor", "shadow_factor.pfm"), img.width, img.height, 1, img.shadow_factor);
-  std::vector<float> xyz, coverage;
-  xyz.reserve(img.world_position.size() / 4 * 3);
-  coverage.reserve(img.world_position.size() / 4);
-  for (size_t i = 0; i < img.world_position.size(); i += 4) {
-    xyz.insert(xyz.end(), img.world_position.begin() + static_cast<ptrdiff_t>(i),
-               img.world_position.begin() + static_cast<ptrdiff_t>(i) + 3);
-    coverage.push_back(img.world_position[i + 3]);
+  // The float buffers (24 bytes a pixel, 1.9 MB per 800x600 buffer) are what a failed check needs to be examined.
+  const bool floats = options_.images == RunOptions::ImagePolicy::all || failed;
+  struct Files {
+    std::string lit, shadow_png, cube, shadow_pfm, position, coverage;
+  } files{out("lit", "lit.png"), out("shadow_factor_png", "shadow_factor.png"), out("cube_faces", "cube_faces.png")};
+  if (floats) {
+    files.shadow_pfm = out("shadow_factor", "shadow_factor.pfm");
+    files.position = out("world_position", "world_position.pfm");
+    files.coverage = out("coverage", "coverage.pfm");
   }
-  write_pfm(out("world_position", "world_position.pfm"), img.width, img.height, 3, xyz);
-  write_pfm(out("coverage", "coverage.pfm"), img.width, img.height, 1, coverage);
+  // The writer gets its own copies: `img` may be reused (the six_pass reference) before the files are written.
+  write_later(r, [files, w = img.width, h = img.height, n = img.cube_size, far_plane = img.light_far,
+                  lit = img.lit_rgba8, shadow = img.shadow_factor, cube = concat_faces(img),
+                  position = floats ? img.world_position : std::vector<float>{}] {
+    write_png_rgba_bottom_up(files.lit, w, h, lit);
+    write_png_gray(files.shadow_png, w, h, shadow, 0.0f, 1.0f, true);
+    write_png_gray(files.cube, n * 6, n, cube, 0.0f, far_plane, false);
+    if (files.shadow_pfm.empty()) return;
+    write_pfm(files.shadow_pfm, w, h, 1, shadow);
+    std::vector<float> xyz, coverage;
+    xyz.reserve(position.size() / 4 * 3);
+    coverage.reserve(position.size() / 4);
+    for (size_t i = 0; i < position.size(); i += 4) {
+      xyz.insert(xyz.end(), position.begin() + static_cast<ptrdiff_t>(i), position.begin() + static_cast<ptrdiff_t>(i) + 3);
+      coverage.push_back(position[i + 3]);
+    }
+    write_pfm(files.position, w, h, 3, xyz);
+    write_pfm(files.coverage, w, h, 1, coverage);
+  });
 }
 
 }  // namespace omnishadow::bench

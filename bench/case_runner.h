@@ -2,6 +2,7 @@
 // Runs the untimed part of every case: configure, render the check frame, read back, count work, write
 // images and compare against the six_pass rendering of the same case. Timing is gbench_glue's job.
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -10,6 +11,7 @@
 
 #include "backends/backend.h"
 #include "bench/accuracy.h"
+#include "bench/async_writer.h"
 #include "bench/device_state.h"
 #include "bench/image_compare.h"
 #include "bench/timing_stats.h"
@@ -38,6 +40,9 @@ struct RunOptions {
   enum class ImagePolicy { none, failed, all };
   ImagePolicy images = ImagePolicy::failed;
   bool write_images() const { return images != ImagePolicy::none; }
+  // Encode and write image files on a worker thread (bench/async_writer.h) while the next case renders; the
+  // caller drains them (Harness::drain_writes) before anything is timed. Off: written before prepare() returns.
+  bool async_images = false;
   bool accuracy = true;     // shadow error against exact visibility (ray-cast reference)
   bool memory_precheck = true;  // fail a case that cannot fit before it allocates (bench/memory_budget.h)
   // Also render check_frame + 1 and report how much of the shadow factor changed (flicker): with a light that
@@ -137,6 +142,8 @@ class Harness {
   Backend& activate(const CaseConfig& config);
   // The untimed part of a case. Never throws: failures become the result's status and reason.
   void prepare(CaseResult& result);
+  // With async_images: waits for every image file submitted so far; returns the failures as (case id, message).
+  std::vector<std::pair<std::string, std::string>> drain_writes();
 
  private:
   bool admit(CaseResult& result, Backend& b);
@@ -151,6 +158,7 @@ class Harness {
   void record_check(CaseResult& result, CheckResult check, const std::vector<float>& a, const std::vector<float>& b,
                     const std::vector<float>& grey, int width, int height, double scale, bool flip);
   void write_images(CaseResult& result, const Images& images);
+  void write_later(const CaseResult& result, std::function<void()> write);  // now, or on the writer
   std::string scene_path(const std::string& name_or_path) const;
   const Truth& truth_for(const CaseConfig& config, const Images& images);
 
@@ -171,6 +179,7 @@ class Harness {
   };
   std::map<std::string, CrossReference> cross_;
   std::map<std::string, std::unique_ptr<reference::RayCaster>> casters_;  // by scene
+  std::unique_ptr<AsyncWriter> writer_;  // with async_images
   std::map<std::string, FrameTiming> floors_;  // by the axes a floor depends on
   std::map<std::string, Truth> truths_;  // by scene, frame and positions fingerprint: shared by all its cases
 };

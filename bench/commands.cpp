@@ -192,7 +192,12 @@ void run_untimed(Harness& harness, const std::vector<CaseConfig>& cases, RunStat
                  elapsed / static_cast<double>(i + 1) * static_cast<double>(cases.size() - i - 1));
     run.save(nullptr, false);
   }
+  // Every image file is written before anything is timed; a file that could not be written fails its case.
+  for (const auto& [id, message] : harness.drain_writes())
+    for (CaseResult& r : run.results)
+      if (r.config.id() == id) r.add({Status::failed, "images", "writing images: " + message, {}});
   run.info.phases.untimed_seconds = seconds_since(start);
+  run.save(nullptr, false);
 }
 
 // Google Benchmark takes its own flags; ours are gone by now. Returns false (after the error line) on a flag it
@@ -247,6 +252,7 @@ void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
 int run_command(const RunCommand& cmd) {
   RunOptions options = cmd.harness;
   if (options.out_dir.empty()) options.out_dir = default_out_dir();
+  options.async_images = true;  // drained at the end of the untimed part
   Harness harness(options);
   RunState run;
   run.info.command_line = cmd.command_line;

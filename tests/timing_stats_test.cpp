@@ -108,3 +108,30 @@ TEST(DeviceState, ProbeNamesItsSource) {
 
 }  // namespace
 }  // namespace omnishadow::bench
+
+#include <atomic>
+#include <stdexcept>
+
+#include "bench/async_writer.h"
+
+namespace omnishadow::bench {
+namespace {
+
+TEST(AsyncWriter, RunsEveryJobAndNamesTheOnesThatFailed) {
+  std::atomic<int> done{0};
+  AsyncWriter writer(2);  // a small queue: submit waits for room instead of growing
+  for (int i = 0; i < 20; ++i)
+    writer.submit("case" + std::to_string(i), [&done, i] {
+      if (i == 7) throw std::runtime_error("disk full");
+      ++done;
+    });
+  auto failures = writer.drain();
+  EXPECT_EQ(done.load(), 19);
+  ASSERT_EQ(failures.size(), 1u);
+  EXPECT_EQ(failures[0].first, "case7");
+  EXPECT_EQ(failures[0].second, "disk full");
+  EXPECT_TRUE(writer.drain().empty()) << "reported once";
+}
+
+}  // namespace
+}  // namespace omnishadow::bench
