@@ -250,6 +250,30 @@ void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
   r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
 }
 
+// The cube against exact first-hit distances, whatever the camera sees. Cases of one scene, light, range and size
+// share the truth; a scene without a point light has no cube to check.
+void Harness::check_cube(CaseResult& r, const Images& images) {
+  const scene::Scene& sc = scene_of(r.config);
+  if (!sc.has_point_light || images.cube_size < 1) return;
+  const glm::vec3 light = sc.light.path.at(options_.check_frame);
+  char key[256];
+  std::snprintf(key, sizeof key, "%s/%.9g,%.9g,%.9g/%.9g/%.9g/%d", scene_key(r.config.scene, r.config.remedies.rebase_origin).c_str(),
+                light.x, light.y, light.z, sc.light.near_plane, images.light_far, images.cube_size);
+  auto it = cube_truths_.find(key);
+  if (it == cube_truths_.end()) {
+    auto& caster = casters_[scene_key(r.config.scene, r.config.remedies.rebase_origin)];
+    if (!caster) caster = std::make_unique<reference::RayCaster>(sc);
+    it = cube_truths_.emplace(key, compute_cube_truth(*caster, light, sc.light.near_plane, images.light_far,
+                                                      images.cube_size)).first;
+  }
+  r.cube_texels = check_cube_texels(it->second, images, r.config.storage, r.config.depth_format, sc.light.near_plane);
+  if (r.cube_texels->bad_percent() > kCubeTexelLimitPercent)
+    r.add({Status::failed_check, "cube_texels", describe(*r.cube_texels),
+           {{"bad_percent", r.cube_texels->bad_percent()},
+            {"max_error", r.cube_texels->max_error},
+            {"texels", double(r.cube_texels->texels)}}});
+}
+
 // The error against exact visibility, the --max-error limit, and the error heatmap.
 void Harness::check_accuracy(CaseResult& r, const Images& images) {
   const Truth& truth = truth_for(r.config, images);
@@ -325,7 +349,10 @@ void Harness::prepare(CaseResult& r) {
              {{"api_errors", double(errors.size())}}});
       return;
     }
-    if (options_.accuracy) check_accuracy(r, images);
+    if (options_.accuracy) {
+      check_cube(r, images);
+      check_accuracy(r, images);
+    }
     measure_floor(r, b);
     const bool is_reference = r.config == reference_config(r.config);
     if (!is_reference) check_against_six_pass(r, images);

@@ -12,6 +12,7 @@
 #include "backends/backend.h"
 #include "bench/accuracy.h"
 #include "bench/async_writer.h"
+#include "bench/cube_truth.h"
 #include "bench/device_state.h"
 #include "bench/image_compare.h"
 #include "bench/timing_stats.h"
@@ -118,7 +119,10 @@ struct CaseResult {
   // constant; medians of kFloorFrames frames, shared by every case of the same backend, scene, sizes, technique
   // and storage. A pass's time over its floor is what the technique or filter costs beyond what any variant pays.
   std::optional<FrameTiming> floor;
+  std::optional<CubeTexelReport> cube_texels;  // the cube against exact first-hit distances (bench/cube_truth.h)
 };
+// A case whose cube has more than this share of checked texels wrong (bench/cube_truth.h) fails its check.
+inline constexpr double kCubeTexelLimitPercent = 0.1;
 inline constexpr int kFloorFrames = 5;
 
 class Harness {
@@ -150,6 +154,7 @@ class Harness {
   void count_work(CaseResult& result, Backend& b, float light_far);
   void check_accuracy(CaseResult& result, const Images& images);
   void measure_floor(CaseResult& result, Backend& b);
+  void check_cube(CaseResult& result, const Images& images);
   void check_timed_variant(CaseResult& result, const Images& images);
   void check_against_six_pass(CaseResult& result, const Images& images);
   void count_non_finite(CaseResult& result, const Images& images);
@@ -180,7 +185,8 @@ class Harness {
   std::map<std::string, CrossReference> cross_;
   std::map<std::string, std::unique_ptr<reference::RayCaster>> casters_;  // by scene
   std::unique_ptr<AsyncWriter> writer_;  // with async_images
-  std::map<std::string, FrameTiming> floors_;  // by the axes a floor depends on
+  std::map<std::string, FrameTiming> floors_;
+  std::map<std::string, CubeTruth> cube_truths_;  // by scene, light position, near, far and cube size  // by the axes a floor depends on
   std::map<std::string, Truth> truths_;  // by scene, frame and positions fingerprint: shared by all its cases
 };
 

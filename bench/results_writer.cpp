@@ -166,6 +166,19 @@ json case_to_json(const CaseResult& r) {
                         {"frame_wall_ms", r.first_frame->frame_wall_ms}};
   if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
   if (r.floor) j["floor"] = floor_to_json(r);
+  if (r.cube_texels) {
+    const CubeTexelReport& k = *r.cube_texels;
+    j["cube_texels"] = {{"reference", "exact first-hit distance along each checked texel centre's direction"},
+                        {"stride", k.stride},
+                        {"texels", k.texels},
+                        {"bad_percent", k.bad_percent()},
+                        {"wrong", k.wrong},
+                        {"spurious", k.spurious},
+                        {"missing", k.missing},
+                        {"max_error", k.max_error},
+                        {"bad_per_face", k.bad_per_face},
+                        {"limit_percent", kCubeTexelLimitPercent}};
+  }
   if (!r.device_states.empty()) {
     j["device_state"] = {{"source", r.device_state_source}, {"samples", json::array()},
                          {"warning", clock_warning(r.device_states)}};

@@ -45,6 +45,19 @@ float stored_to_distance(Storage storage, float stored, int s, int t, int size, 
   return stored;
 }
 
+glm::vec3 texel_direction(int face, int s, int t, int size) {
+  // Table 8.19 inverted: s = (sc / |ma| + 1) / 2, t = (tc / |ma| + 1) / 2 at the texel centre.
+  const float u = 2.0f * (float(s) + 0.5f) / float(size) - 1.0f, v = 2.0f * (float(t) + 0.5f) / float(size) - 1.0f;
+  switch (face) {
+    case 0: return {1.0f, -v, -u};   // +X: sc = -rz, tc = -ry
+    case 1: return {-1.0f, -v, u};   // -X: sc = +rz, tc = -ry
+    case 2: return {u, 1.0f, v};     // +Y: sc = +rx, tc = +rz
+    case 3: return {u, -1.0f, -v};   // -Y: sc = +rx, tc = -rz
+    case 4: return {u, -v, 1.0f};    // +Z: sc = +rx, tc = -ry
+    default: return {-u, -v, -1.0f}; // -Z: sc = -rx, tc = -ry
+  }
+}
+
 FaceCoord direction_to_face(const glm::vec3& d) {
   glm::vec3 a = glm::abs(d);
   int face;

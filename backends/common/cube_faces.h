@@ -57,4 +57,9 @@ struct FaceCoord {
 };
 FaceCoord direction_to_face(const glm::vec3& direction);
 
+// The direction through the centre of texel (s, t) of a face of `size`, straight from the same spec table (not
+// from the face view matrices above, so that a wrong up vector or face order there cannot hide from a check that
+// uses this): the major axis is +-1, the other two components are in (-1, 1).
+glm::vec3 texel_direction(int face, int s, int t, int size);
+
 }  // namespace omnishadow::cube

@@ -1,0 +1,53 @@
+#pragma once
+// Truth for the cube itself, independent of the camera: for texel centres of every face (all of them up to 128
+// a face edge, above that a regular grid of 128 x 128 per face, stated as `stride`), the exact distance from the
+// light to the first surface along the texel's direction, within the face frustum's near and far, by casting the
+// ray against the scene's triangles (backends/reference). Held against what the shadow pass stored, it catches a
+// wrong face orientation, a swapped face, a wrong projection or a broken depth conversion on any scene, wherever
+// the camera looks. Texel directions come from the cube-map spec table (cube::texel_direction), never from the
+// harness's own face matrices.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "backends/backend.h"
+#include "backends/reference/ray_caster.h"
+
+namespace omnishadow::bench {
+
+inline constexpr int kCubeTruthGrid = 128;  // texels checked per face edge, at most
+
+struct CubeTruth {
+  int size = 0;    // the cube's face size
+  int stride = 1;  // every stride-th texel in s and t (size / stride texels a face edge)
+  float far_plane = 0.0f;
+  std::array<std::vector<float>, 6> distance;  // per checked texel, row-major; -1 where the ray hits nothing
+};
+CubeTruth compute_cube_truth(const reference::RayCaster& caster, const glm::vec3& light, float near_plane,
+                             float far_plane, int cube_size);
+
+struct CubeTexelReport {
+  int stride = 1;
+  uint64_t texels = 0;        // checked
+  uint64_t wrong = 0;         // both say "surface", |stored - exact| beyond the bound
+  uint64_t spurious = 0;      // stored a surface where the ray meets none within far
+  uint64_t missing = 0;       // stored nothing where the ray meets a surface within far
+  double max_error = 0.0;     // largest |stored - exact| where both say "surface", world units
+  std::array<uint64_t, 6> bad_per_face{};  // wrong + spurious + missing
+  uint64_t bad() const { return wrong + spurious + missing; }
+  double bad_percent() const { return texels ? 100.0 * double(bad()) / double(texels) : 0.0; }
+};
+// The bound per texel: twice the storage's step at that distance (UNORM depth: far / (2^bits - 1) for
+// linear_depth, the projective step d^2 (f - n) / (n f) 2^-bits for hardware_depth; float: 2^-23 relative) plus
+// 1e-4 of the distance for interpolation.
+CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
+                                  DepthFormat format, float near_plane);
+
+// "cube_texels: 5.21% of 98304 texels wrong (+Y 31.2%, -Y 0.1%), max error 3.1 units" for a finding.
+std::string describe(const CubeTexelReport& r);
+
+}  // namespace omnishadow::bench
