@@ -257,14 +257,17 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
   if (!sc.has_point_light || images.cube_size < 1) return;
   const glm::vec3 light = sc.light.path.at(options_.check_frame);
   char key[256];
-  std::snprintf(key, sizeof key, "%s/%.9g,%.9g,%.9g/%.9g/%.9g/%d", scene_key(r.config.scene, r.config.remedies.rebase_origin).c_str(),
-                light.x, light.y, light.z, sc.light.near_plane, images.light_far, images.cube_size);
+  std::snprintf(key, sizeof key, "%s/%.9g,%.9g,%.9g/%.9g/%.9g/%d/%d",
+                scene_key(r.config.scene, r.config.remedies.rebase_origin).c_str(), light.x, light.y, light.z,
+                sc.light.near_plane, images.light_far, images.cube_size, int(r.config.remedies.two_sided));
   auto it = cube_truths_.find(key);
   if (it == cube_truths_.end()) {
     auto& caster = casters_[scene_key(r.config.scene, r.config.remedies.rebase_origin)];
     if (!caster) caster = std::make_unique<reference::RayCaster>(sc);
-    it = cube_truths_.emplace(key, compute_cube_truth(*caster, light, sc.light.near_plane, images.light_far,
-                                                      images.cube_size)).first;
+    it = cube_truths_
+             .emplace(key, compute_cube_truth(*caster, sc, light, sc.light.near_plane, images.light_far,
+                                              images.cube_size, r.config.remedies.two_sided))
+             .first;
   }
   r.cube_texels = check_cube_texels(it->second, images, r.config.storage, r.config.depth_format, sc.light.near_plane);
   if (r.cube_texels->bad_percent() > kCubeTexelLimitPercent)

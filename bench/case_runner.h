@@ -121,8 +121,7 @@ struct CaseResult {
   std::optional<FrameTiming> floor;
   std::optional<CubeTexelReport> cube_texels;  // the cube against exact first-hit distances (bench/cube_truth.h)
 };
-// A case whose cube has more than this share of checked texels wrong (bench/cube_truth.h) fails its check.
-inline constexpr double kCubeTexelLimitPercent = 0.1;
+
 inline constexpr int kFloorFrames = 5;
 
 class Harness {

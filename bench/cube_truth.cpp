@@ -9,8 +9,43 @@
 
 namespace omnishadow::bench {
 
-CubeTruth compute_cube_truth(const reference::RayCaster& caster, const glm::vec3& light, float near_plane,
-                             float far_plane, int cube_size) {
+namespace {
+
+// Per triangle (scene order, as the ray caster holds them): true where the shadow pass culls its back face.
+std::vector<uint8_t> culled_triangles(const scene::Scene& scene, bool two_sided) {
+  std::vector<uint8_t> culled(scene.vertices.size() / 3, 0);
+  if (two_sided) return culled;
+  for (const scene::Object& o : scene.objects)
+    if (o.cull_back_faces)
+      for (uint32_t v = o.first_vertex; v < o.first_vertex + o.vertex_count; v += 3) culled[v / 3] = 1;
+  return culled;
+}
+
+// The first surface the rasteriser keeps along `unit` from `origin` within `length`: back faces of culled
+// triangles (counter-clockwise is front, as in both APIs here) are passed through.
+double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& scene,
+                      const std::vector<uint8_t>& culled, glm::vec3 origin, const glm::vec3& unit, double length) {
+  double travelled = 0.0;
+  for (int guard = 0; guard < 64; ++guard) {
+    reference::Hit hit = caster.closest(origin, unit, length - travelled);
+    if (!hit.hit) return -1.0;
+    const size_t tri = hit.triangle;
+    if (!culled[tri]) return travelled + hit.distance;
+    const glm::vec3 a = scene.vertices[3 * tri].position, b = scene.vertices[3 * tri + 1].position,
+                    c = scene.vertices[3 * tri + 2].position;
+    if (glm::dot(glm::cross(b - a, c - a), unit) < 0.0f) return travelled + hit.distance;  // a front face
+    const double step = hit.distance + 1e-4;  // past the back face
+    travelled += step;
+    origin += unit * float(step);
+  }
+  return -1.0;
+}
+
+}  // namespace
+
+CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene, const glm::vec3& light,
+                             float near_plane, float far_plane, int cube_size, bool two_sided) {
+  const std::vector<uint8_t> culled = culled_triangles(scene, two_sided);
   CubeTruth t;
   t.size = cube_size;
   t.stride = cube_size > kCubeTruthGrid ? cube_size / kCubeTruthGrid : 1;
@@ -24,10 +59,12 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const glm::vec3
         const glm::vec3 d = cube::texel_direction(face, s, tt, cube_size);
         const float len = glm::length(d);  // the face axis component is 1: axis distance = distance / len
         const glm::vec3 unit = d / len;
-        // The face frustum clips at the axis distances near and far.
-        const double start = double(near_plane) * len, end = double(far_plane) * len;
-        reference::Hit hit = caster.closest(light + unit * float(start), unit, end - start);
-        if (hit.hit) out[size_t(y) * size_t(n) + size_t(x)] = float(start + hit.distance);
+        // The face frustum clips at the axis distances near and far. A surface lying exactly on the near plane is
+        // kept by the rasteriser (the room's cube face at x = -1 with the light at the origin and near 1), so the
+        // ray starts a hair before it.
+        const double start = double(near_plane) * len * (1.0 - 1e-5), end = double(far_plane) * len;
+        const double hit = first_kept_hit(caster, scene, culled, light + unit * float(start), unit, end - start);
+        if (hit >= 0.0) out[size_t(y) * size_t(n) + size_t(x)] = float(start + hit);
       }
     return out;
   };

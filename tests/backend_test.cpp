@@ -15,6 +15,7 @@
 #include "backends/common/techniques.h"
 #include "backends/reference/ray_caster.h"
 #include "bench/accuracy.h"
+#include "bench/cube_truth.h"
 #include "tests/optimization_checks.h"
 
 namespace omnishadow {
@@ -138,6 +139,31 @@ TEST_P(BackendTest, HardShadowsAgreeWithTheReference) {
   EXPECT_LT(a.misclassified_percent, 0.1);
   size_t truly_shadowed = std::count(truth.point_shadow.begin(), truth.point_shadow.end(), 1.0f);
   EXPECT_GT(truly_shadowed, truth.point_shadow.size() / 100) << "the test needs shadows to be meaningful";
+}
+
+// The cube itself against exact first-hit distances (bench/cube_truth.h), and the same check catching a cube whose
+// faces were swapped or whose stored distances lost the far scale, as a broken backend would store them.
+TEST_P(BackendTest, CubeTexelsAgreeWithExactDistances) {
+  Images img = render(room_case(Technique::six_pass, Filter::hard, 256), 90);
+  reference::RayCaster caster(*room_);
+  const glm::vec3 light = room_->light.path.at(90);
+  bench::CubeTruth truth =
+      bench::compute_cube_truth(caster, *room_, light, room_->light.near_plane, img.light_far, 256, false);
+  bench::CubeTexelReport ok = bench::check_cube_texels(truth, img, Storage::linear_depth, DepthFormat::d32f,
+                                                       room_->light.near_plane);
+  EXPECT_EQ(ok.texels, 6u * 128 * 128);
+  EXPECT_LT(ok.bad_percent(), bench::kCubeTexelLimitPercent) << bench::describe(ok);
+  Images swapped = img;
+  std::swap(swapped.cube_distance[2], swapped.cube_distance[3]);  // +Y and -Y
+  bench::CubeTexelReport bad = bench::check_cube_texels(truth, swapped, Storage::linear_depth, DepthFormat::d32f,
+                                                        room_->light.near_plane);
+  EXPECT_GT(bad.bad_percent(), 5.0) << bench::describe(bad);
+  EXPECT_GT(bad.bad_per_face[2], 0u);
+  Images unscaled = img;
+  for (auto& face : unscaled.cube_distance)
+    for (float& v : face) v /= img.light_far;  // distance / far read back as if it were the distance
+  EXPECT_GT(bench::check_cube_texels(truth, unscaled, Storage::linear_depth, DepthFormat::d32f,
+                                     room_->light.near_plane).bad_percent(), 50.0);
 }
 
 // Error falls as the cube grows: each size's misclassification is at most the previous one's plus a noise band

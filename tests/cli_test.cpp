@@ -427,11 +427,18 @@ TEST_F(CliRun, ExtremesHoldTheirStatedBounds) {
   int checked = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     std::string id = c["id"];
-    ASSERT_EQ(c["status"], "ok") << id << ": " << c["reason"];
-    for (const auto& [buffer, count] : c["non_finite"].items()) EXPECT_EQ(count, 0) << id << " " << buffer;
-    double error = c["accuracy"]["misclassified_percent"];
     std::string scene = c["axes"]["scene"];
     bool rebased = c["axes"]["remedies"] == "rebase";
+    if (scene == "offset_1e6" && !rebased) {
+      // Far from the origin the cube itself is wrong (float positions at 1e6 step by 0.06): the cube-texel check
+      // says so whatever the camera sees; rebased, it holds.
+      EXPECT_EQ(c["status"], "failed_check") << id;
+      EXPECT_NE(c["reason"].get<std::string>().find("cube_texels"), std::string::npos) << c["reason"];
+    } else {
+      ASSERT_EQ(c["status"], "ok") << id << ": " << c["reason"];
+    }
+    for (const auto& [buffer, count] : c["non_finite"].items()) EXPECT_EQ(count, 0) << id << " " << buffer;
+    double error = c["accuracy"]["misclassified_percent"];
     if (scene == "nf_1e6" || scene == "degenerate" || scene == "stability_tiny_steps") {
       EXPECT_LT(error, 0.3) << id;
     }

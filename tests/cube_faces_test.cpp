@@ -81,3 +81,22 @@ TEST(CubeFaces, ProjectionIsNinetyDegreesAndDepthRangesDifferOnlyInDepth) {
 
 }  // namespace
 }  // namespace omnishadow::cube
+
+namespace omnishadow::cube {
+namespace {
+
+// texel_direction inverts the sampling table: every texel's direction selects that face and that texel again.
+TEST(TexelDirection, RoundTripsThroughTheSamplingTable) {
+  const int size = 16;
+  for (int f = 0; f < kFaceCount; ++f)
+    for (int t = 0; t < size; ++t)
+      for (int s = 0; s < size; ++s) {
+        FaceCoord c = direction_to_face(texel_direction(f, s, t, size));
+        ASSERT_EQ(c.face, f) << s << "," << t;
+        EXPECT_EQ(static_cast<int>(c.s * size), s) << "face " << f;
+        EXPECT_EQ(static_cast<int>(c.t * size), t) << "face " << f;
+      }
+}
+
+}  // namespace
+}  // namespace omnishadow::cube
