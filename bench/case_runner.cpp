@@ -270,7 +270,8 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
              .first;
   }
   r.cube_texels = check_cube_texels(it->second, images, r.config.storage, r.config.depth_format, sc.light.near_plane);
-  if (r.cube_texels->bad_percent() > kCubeTexelLimitPercent)
+  // One texel alone can be a tie at an edge through its centre (a 2-texel cube has 24 texels in all).
+  if (r.cube_texels->bad_percent() > kCubeTexelLimitPercent && r.cube_texels->bad() > 1)
     r.add({Status::failed_check, "cube_texels", describe(*r.cube_texels),
            {{"bad_percent", r.cube_texels->bad_percent()},
             {"max_error", r.cube_texels->max_error},
@@ -281,13 +282,15 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
 void Harness::check_accuracy(CaseResult& r, const Images& images) {
   const Truth& truth = truth_for(r.config, images);
   r.accuracy = measure_accuracy(truth, images);
-  if (options_.max_error_percent >= 0 && r.accuracy->misclassified_percent > options_.max_error_percent) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "shadow disagrees with exact visibility on %.3f%% of pixels (--max-error %g%%)",
-                  r.accuracy->misclassified_percent, options_.max_error_percent);
+  const bool given = options_.max_error_percent >= 0;
+  const double limit = given ? options_.max_error_percent
+                             : r.config.filter == Filter::hard ? kDefaultHardMaxErrorPercent : -1.0;
+  if (limit >= 0 && r.accuracy->misclassified_percent > limit) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "shadow disagrees with exact visibility on %.3f%% of pixels (%s %g%%)",
+                  r.accuracy->misclassified_percent, given ? "--max-error" : "default limit for hard shadows", limit);
     r.add({Status::failed_quality, "max_error", buf,
-           {{"misclassified_percent", r.accuracy->misclassified_percent},
-            {"max_error_percent", options_.max_error_percent}}});
+           {{"misclassified_percent", r.accuracy->misclassified_percent}, {"max_error_percent", limit}}});
   }
   if (!options_.write_images()) return;
   fs::path rel = fs::path("images") / r.config.id() / "error_heatmap.png";

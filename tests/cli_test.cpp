@@ -457,6 +457,25 @@ TEST_F(CliRun, ExtremesHoldTheirStatedBounds) {
 // Where a variant breaks, the result says so, and a remedy measured on and off in one run repairs it: a light
 // inside a closed caster sees through it with back-face culling (measured 98.9% misclassified) and not with
 // two-sided casters (0%); without bias, acne misclassifies about half the room (49%).
+// Without --max-error, a hard-filter case has a default limit (5% of pixels misclassified): a 2-texel cube
+// (about 40%) fails it with the measured error; the same case with --max-error 50 does not.
+TEST_F(CliRun, HardShadowsHaveADefaultErrorLimit) {
+  auto j = run_extremes("default_limit", "--scene nf_25 --cube 2,512");
+  ASSERT_FALSE(j.is_null());
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    double e = c["accuracy"]["misclassified_percent"];
+    EXPECT_EQ(c["status"], e > 5.0 ? "failed_quality" : "ok") << c["id"] << " " << e;
+    if (e > 5.0) {
+      EXPECT_NE(c["reason"].get<std::string>().find("default limit for hard shadows 5%"), std::string::npos)
+          << c["reason"];
+    }
+  }
+  EXPECT_GT(j["omnishadow"]["cases"][0]["accuracy"]["misclassified_percent"].get<double>(), 5.0) << "cube 2 breaks";
+  auto relaxed = run_extremes("relaxed_limit", "--scene nf_25 --cube 2 --max-error 99");
+  ASSERT_FALSE(relaxed.is_null());
+  EXPECT_EQ(relaxed["omnishadow"]["cases"][0]["status"], "ok");
+}
+
 TEST_F(CliRun, RemediesAreMeasuredOnAndOff) {
   auto j = run_extremes("remedies", "--scene light_in_caster,nf_25 --remedy none,two_sided,bias0 --cube 256 "
                                     "--max-error 5");
