@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "backends/common/case_config.h"
+#include "backends/common/techniques.h"
 #include "backends/common/work_counters.h"
 #include "scenes/scene.h"
 
@@ -77,29 +78,39 @@ struct Images {
   std::array<std::vector<float>, 6> cube_distance;
 };
 
+// The public calls check the order of use (load, configure, render, read_back) and keep the state every backend
+// shares; each backend implements the protected steps with its API.
 class Backend {
  public:
   virtual ~Backend() = default;
-  virtual const DeviceInfo& device() const = 0;
+  const DeviceInfo& device() const { return info_; }  // filled by the backend's constructor
   virtual Support supports(const CaseConfig& config) const = 0;  // unsupported is a result, not an error
-  virtual void load(const scene::Scene& scene) = 0;              // upload geometry once per scene
+  void load(const scene::Scene& scene);  // upload geometry once per scene; forgets the case
   // Makes `config` the current case: targets, programs, queries. Throws std::logic_error before load(), and
   // std::runtime_error("unsupported: ...") for a case supports() refuses; nothing to do for the current case.
   void configure(const CaseConfig& config);
-  virtual FrameTiming render(int frame, FrameKind kind) = 0;     // blocks until the frame has completed
-  virtual FrameCounters count_work(int frame) = 0;              // renders `frame` once, timed kind, with statistics
-  virtual Images read_back() = 0;                               // results of the last check frame
+  FrameTiming render(int frame, FrameKind kind);  // blocks until the frame has completed
+  FrameCounters count_work(int frame);           // renders `frame` once, timed kind, with statistics
+  Images read_back();                            // results of the last check frame
   // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
   // when the checking mode is off. Drained outside timed loops.
-  virtual std::vector<std::string> drain_api_errors() = 0;
+  virtual std::vector<std::string> drain_api_errors();
 
  protected:
+  virtual void upload_scene(const scene::Scene& scene) = 0;  // releases the case and the last scene's geometry
   // configure()'s work once the case is known to be new and supported: release the last case's objects, create
   // this one's, and set config_ (left empty when it throws).
   virtual void configure_case(const CaseConfig& config) = 0;
+  virtual FrameTiming render_frame(int frame, FrameKind kind) = 0;
+  virtual FrameCounters count_frame_work(int frame) = 0;
+  virtual Images read_back_images() = 0;
 
-  std::optional<scene::Scene> scene_;  // set by load(): objects, light path, camera (vertices live on the device)
-  std::optional<CaseConfig> config_;   // the current case
+  DeviceInfo info_;
+  std::optional<scene::Scene> scene_;    // set by load(): objects, light path, camera (vertices live on the device)
+  std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's and the 2D maps' draws
+  std::optional<CaseConfig> config_;     // the current case
+  bool checked_ = false;                 // a check frame was rendered since configure (read_back needs one)
+  std::vector<std::string> api_errors_;  // the checking mode's messages, where the backend collects them here
 };
 
 // Creates a backend by name ("gl"). Options are backend-specific: "egl_platform" = surfaceless|device,

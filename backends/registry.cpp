@@ -19,12 +19,48 @@ std::string option(const std::map<std::string, std::string>& options, const std:
 
 std::vector<std::string> backend_names() { return {"gl", "vulkan"}; }
 
+void Backend::load(const scene::Scene& scene) {
+  config_.reset();
+  checked_ = false;
+  upload_scene(scene);
+  scene_ = scene;
+  scene_->vertices.clear();  // only the device's copy is needed after upload
+  scene_->vertices.shrink_to_fit();
+  all_objects_.clear();
+  for (uint32_t i = 0; i < scene.objects.size(); ++i) all_objects_.push_back({i, 1, 0});
+}
+
 void Backend::configure(const CaseConfig& c) {
   if (!scene_) throw std::logic_error("configure() before load()");
   if (config_ && *config_ == c) return;
   Support s = supports(c);
   if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
+  checked_ = false;
   configure_case(c);
+}
+
+FrameTiming Backend::render(int frame, FrameKind kind) {
+  if (!config_) throw std::logic_error("render() before configure()");
+  FrameTiming t = render_frame(frame, kind);
+  if (kind == FrameKind::check) checked_ = true;
+  return t;
+}
+
+FrameCounters Backend::count_work(int frame) {
+  if (!config_) throw std::logic_error("count_work() before configure()");
+  return count_frame_work(frame);
+}
+
+Images Backend::read_back() {
+  if (!config_) throw std::logic_error("read_back() before configure()");
+  if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
+  return read_back_images();
+}
+
+std::vector<std::string> Backend::drain_api_errors() {
+  std::vector<std::string> out;
+  out.swap(api_errors_);
+  return out;
 }
 
 std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<std::string, std::string>& options) {

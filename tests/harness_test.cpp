@@ -25,32 +25,32 @@ class ScriptedBackend : public Backend {
     info_.renderer = "scripted";
     info_.max_cube_size = 4096;
   }
-  const DeviceInfo& device() const override { return info_; }
   Support supports(const CaseConfig& c) const override {
     if (c.technique == Technique::vs_layer) return {false, "scripted: no vs_layer"};
     return {};
   }
-  void load(const scene::Scene& s) override { scene_ = s; }
+  void upload_scene(const scene::Scene&) override {}
   void configure_case(const CaseConfig& c) override {
     if (c.technique == Technique::geometry_shader && c.filter == Filter::pcf_grid64)
       throw std::runtime_error("scripted failure while configuring");
     current_ = c;
+    config_ = c;
   }
-  FrameTiming render(int, FrameKind) override {
+  FrameTiming render_frame(int, FrameKind) override {
     FrameTiming t;
     t.shadow = {0.5, 2.0, 1.5};
     t.lighting = {0.5, 3.0, 2.5};
     t.frame_wall_ms = 5.0;
     return t;
   }
-  FrameCounters count_work(int) override {
+  FrameCounters count_frame_work(int) override {
     FrameCounters c;
     c.shadow.valid = true;
     c.shadow.primitives_submitted = current_.technique == Technique::six_pass ? 432 : 72;
     c.shadow.draw_calls = 6;
     return c;
   }
-  Images read_back() override {
+  Images read_back_images() override {
     Images img;
     img.width = 4;
     img.height = 3;
@@ -70,10 +70,8 @@ class ScriptedBackend : public Backend {
       img.timed_lit_rgba8[5] = 1;  // the timed variant lit one channel differently
     return img;
   }
-  std::vector<std::string> drain_api_errors() override { return {}; }
 
  private:
-  DeviceInfo info_;
   CaseConfig current_;
 };
 

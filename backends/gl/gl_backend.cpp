@@ -138,16 +138,11 @@ Support GlBackend::supports(const CaseConfig& c) const {
   return {};
 }
 
-void GlBackend::load(const scene::Scene& scene) {
+void GlBackend::upload_scene(const scene::Scene& scene) {
   release_case();
   glDeleteBuffers(1, &vertex_buffer_);
   const GLuint vaos[] = {shadow_vao_, lighting_vao_};
   glDeleteVertexArrays(2, vaos);
-  scene_ = scene;
-  scene_->vertices.clear();  // only the GPU copy is needed after upload
-  all_objects_.clear();
-  for (uint32_t i = 0; i < scene.objects.size(); ++i) all_objects_.push_back({i, 1, 0});
-  scene_->vertices.shrink_to_fit();
 
   glCreateBuffers(1, &vertex_buffer_);
   glNamedBufferStorage(vertex_buffer_, static_cast<GLsizeiptr>(scene.vertices.size() * sizeof(scene::Vertex)),
@@ -188,7 +183,6 @@ void GlBackend::release_case() {
   if (shadow_.depth) destroy(shadow_);
   for (LightingTargets& t : lighting_)
     if (t.fbo) destroy(t);
-  checked_ = false;
   if (maps_.depth) destroy(maps_);
   config_.reset();
 }
@@ -349,8 +343,7 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
   return stats;
 }
 
-FrameTiming GlBackend::render(int frame, FrameKind kind) {
-  if (!config_) throw std::logic_error("render() before configure()");
+FrameTiming GlBackend::render_frame(int frame, FrameKind kind) {
   const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
   const GLuint program = kind == FrameKind::floor ? floor_program_ : lighting_programs_[size_t(variant)];
   // Each pass is bracketed by glFinish so that its wall time is its own. On llvmpipe the vertex and geometry
@@ -380,7 +373,6 @@ FrameTiming GlBackend::render(int frame, FrameKind kind) {
   if (kind == FrameKind::check) {  // the timed variant's colour of the same frame, for the timed_lit check
     lighting_pass(gpu::LightingVariant::timed, lighting_programs_[size_t(gpu::LightingVariant::timed)]);
     glFinish();
-    checked_ = true;
   }
   t.shadow = {ms_between(t0, t1), ms_between(t0, t2), queries_->timer_ms(kShadowPass)};
   t.lighting = {ms_between(t2, t3), ms_between(t2, t4), queries_->timer_ms(kLightingPass)};
@@ -388,8 +380,7 @@ FrameTiming GlBackend::render(int frame, FrameKind kind) {
   return t;
 }
 
-FrameCounters GlBackend::count_work(int frame) {
-  if (!config_) throw std::logic_error("count_work() before configure()");
+FrameCounters GlBackend::count_frame_work(int frame) {
   FrameCounters c;
   gpu::ShadowFrame plan = update_frame_uniforms(frame);
   if (queries_->has_statistics()) queries_->begin_statistics(kShadowPass);
@@ -408,15 +399,7 @@ FrameCounters GlBackend::count_work(int frame) {
   return c;
 }
 
-std::vector<std::string> GlBackend::drain_api_errors() {
-  std::vector<std::string> out;
-  out.swap(api_errors_);
-  return out;
-}
-
-Images GlBackend::read_back() {
-  if (!config_) throw std::logic_error("read_back() before configure()");
-  if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
+Images GlBackend::read_back_images() {
   const LightingTargets& timed = lighting_[size_t(gpu::LightingVariant::timed)];
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;

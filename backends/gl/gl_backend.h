@@ -27,16 +27,14 @@ class GlBackend final : public Backend {
   GlBackend(const std::string& egl_platform, int device_index, bool api_checks);
   ~GlBackend() override;
 
-  const DeviceInfo& device() const override { return info_; }
   Support supports(const CaseConfig& config) const override;
-  void load(const scene::Scene& scene) override;
-  FrameTiming render(int frame, FrameKind kind) override;
-  FrameCounters count_work(int frame) override;
-  Images read_back() override;
-  std::vector<std::string> drain_api_errors() override;
 
  private:
+  void upload_scene(const scene::Scene& scene) override;
   void configure_case(const CaseConfig& config) override;
+  FrameTiming render_frame(int frame, FrameKind kind) override;  // each pass bracketed by glFinish
+  FrameCounters count_frame_work(int frame) override;
+  Images read_back_images() override;
   struct DrawStats {
     uint64_t draw_calls = 0;
   };
@@ -54,12 +52,10 @@ class GlBackend final : public Backend {
   void release_case();
 
   EglContext context_;
-  DeviceInfo info_;
   bool has_layer_array_ = false;
   bool has_pipeline_statistics_ = false;
   GLint uniform_alignment_ = 256;
 
-  std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's draws
   GLuint vertex_buffer_ = 0;
   GLuint shadow_vao_ = 0;    // position only
   GLuint lighting_vao_ = 0;  // position, normal, colour
@@ -71,7 +67,6 @@ class GlBackend final : public Backend {
 
   ShadowTargets shadow_{};
   std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
-  bool checked_ = false;                       // a check frame was rendered since configure (read_back needs one)
   MapTargets maps_{};
   GLuint map_program_ = 0;
   GLuint shadow_program_ = 0;
@@ -79,7 +74,6 @@ class GlBackend final : public Backend {
   GLuint floor_program_ = 0;                   // lighting.vert + floor.frag
   std::unique_ptr<FrameQueries> queries_;
   gpu::ShadowFramePlanner planner_;
-  std::vector<std::string> api_errors_;  // filled by the KHR_debug callback in the checking mode
 };
 
 }  // namespace omnishadow::gl

@@ -236,17 +236,12 @@ Support VkBackend::supports(const CaseConfig& c) const {
   return {};
 }
 
-void VkBackend::load(const scene::Scene& scene) {
+void VkBackend::upload_scene(const scene::Scene& scene) {
   vkDeviceWaitIdle(ctx_->device());
   release_case();
   destroy(*ctx_, vertex_buffer_);
   vertex_buffer_ = upload_buffer(*ctx_, scene.vertices.data(), scene.vertices.size() * sizeof(scene::Vertex),
                                  VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-  scene_ = scene;
-  scene_->vertices.clear();
-  scene_->vertices.shrink_to_fit();
-  all_objects_.clear();
-  for (uint32_t i = 0; i < scene.objects.size(); ++i) all_objects_.push_back({i, 1, 0});
 }
 
 void VkBackend::release_case() {
@@ -267,7 +262,6 @@ void VkBackend::release_case() {
   destroy(*ctx_, maps_);
   destroy(*ctx_, shadow_);
   for (LightingTargets& t : lighting_) destroy(*ctx_, t);
-  checked_ = false;
   config_.reset();
 }
 
@@ -509,8 +503,7 @@ double VkBackend::timestamp_ms(uint32_t first) const {
   return static_cast<double>(delta) * ctx_->properties().limits.timestampPeriod * 1e-6;
 }
 
-FrameTiming VkBackend::render(int frame, FrameKind kind) {
-  if (!config_) throw std::logic_error("render() before configure()");
+FrameTiming VkBackend::render_frame(int frame, FrameKind kind) {
   const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
   const bool floor = kind == FrameKind::floor;
   // Each pass is its own submission, waited on before the next, so its wall time is its own (as GL's glFinish).
@@ -538,13 +531,11 @@ FrameTiming VkBackend::render(int frame, FrameKind kind) {
     record_lighting(command_buffers_[1], gpu::LightingVariant::timed, false, draws);
     ctx_->submit(command_buffers_[1]);
     ctx_->wait();
-    checked_ = true;
   }
   return t;
 }
 
-FrameCounters VkBackend::count_work(int frame) {
-  if (!config_) throw std::logic_error("count_work() before configure()");
+FrameCounters VkBackend::count_frame_work(int frame) {
   gpu::ShadowFrame plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
   std::memcpy(frame_uniforms_.mapped, &plan.uniforms, sizeof plan.uniforms);
   const bool stats = statistics_ != VK_NULL_HANDLE;
@@ -570,9 +561,7 @@ FrameCounters VkBackend::count_work(int frame) {
   return c;
 }
 
-Images VkBackend::read_back() {
-  if (!config_) throw std::logic_error("read_back() before configure()");
-  if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
+Images VkBackend::read_back_images() {
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
   img.width = static_cast<int>(check.width);

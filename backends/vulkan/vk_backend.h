@@ -25,16 +25,16 @@ class VkBackend final : public Backend {
   VkBackend(const std::string& device_selector, bool validation);
   ~VkBackend() override;
 
-  const DeviceInfo& device() const override { return info_; }
   Support supports(const CaseConfig& config) const override;
-  void load(const scene::Scene& scene) override;
-  FrameTiming render(int frame, FrameKind kind) override;
-  FrameCounters count_work(int frame) override;
-  Images read_back() override;
+  // The validation layer's messages, collected by the context's messenger.
   std::vector<std::string> drain_api_errors() override { return ctx_->drain_messages(); }
 
  private:
+  void upload_scene(const scene::Scene& scene) override;
   void configure_case(const CaseConfig& config) override;
+  FrameTiming render_frame(int frame, FrameKind kind) override;  // one fence-waited submission per pass
+  FrameCounters count_frame_work(int frame) override;
+  Images read_back_images() override;
   // The constructor's steps.
   void describe_device(bool validation);
   void create_layouts();
@@ -58,7 +58,6 @@ class VkBackend final : public Backend {
 
   std::unique_ptr<VkContext> ctx_;
   std::unique_ptr<ShaderModules> modules_;
-  DeviceInfo info_;
 
   VkDescriptorSetLayout shadow_set_layout_ = VK_NULL_HANDLE;    // binding 0: frame uniforms
   VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;  // + binding 2: the shadow cube, 3: 2D maps
@@ -74,13 +73,11 @@ class VkBackend final : public Backend {
   VkQueryPool statistics_ = VK_NULL_HANDLE;  // 0: shadow pass, 1: lighting pass
   std::array<VkCommandBuffer, 2> command_buffers_{};
 
-  std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's and the 2D maps' draws
   Buffer vertex_buffer_;
 
   ShadowTargets shadow_;
   gpu::ShadowFramePlanner planner_;
   std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
-  bool checked_ = false;                       // a check frame was rendered since configure (read_back needs one)
   MapTargets maps_;
   std::array<VkPipeline, 3> map_pipelines_{};       // [0] no culling, [1] back faces, [2] front faces (the directional notes)
   std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
