@@ -168,16 +168,14 @@ Backend& Harness::backend(const std::string& name) {
   return ref;
 }
 
-DeviceState Harness::sample_device(const std::string& name) {
+DeviceStateProbe& Harness::probe(const std::string& name) {
   auto it = probes_.find(name);
   if (it == probes_.end()) it = probes_.emplace(name, make_device_state_probe(backend(name).device())).first;
-  return it->second->sample();
+  return *it->second;
 }
 
-std::string Harness::device_state_source(const std::string& name) {
-  sample_device(name);  // makes the probe
-  return probes_.at(name)->source();
-}
+DeviceState Harness::sample_device(const std::string& name) { return probe(name).sample(); }
+std::string Harness::device_state_source(const std::string& name) { return probe(name).source(); }
 
 void Harness::add_backend(const std::string& name, std::unique_ptr<Backend> backend) {
   probes_.erase(name);
@@ -262,10 +260,8 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
                 sc.light.near_plane, images.light_far, images.cube_size, int(r.config.remedies.two_sided));
   auto it = cube_truths_.find(key);
   if (it == cube_truths_.end()) {
-    auto& caster = casters_[scene_key(r.config.scene, r.config.remedies.rebase_origin)];
-    if (!caster) caster = std::make_unique<reference::RayCaster>(sc);
     it = cube_truths_
-             .emplace(key, compute_cube_truth(*caster, sc, light, sc.light.near_plane, images.light_far,
+             .emplace(key, compute_cube_truth(caster_of(r.config), sc, light, sc.light.near_plane, images.light_far,
                                               images.cube_size, r.config.remedies.two_sided))
              .first;
   }
@@ -489,16 +485,21 @@ void Harness::check_against_six_pass(CaseResult& r, const Images& images) {
       r.add({Status::failed_check, "driver_evidence", evidence, {}});
 }
 
+// One ray caster per loaded scene, shared by the pixel truth and the cube truth.
+const reference::RayCaster& Harness::caster_of(const CaseConfig& c) {
+  auto& caster = casters_[scene_key(c.scene, c.remedies.rebase_origin)];
+  if (!caster) caster = std::make_unique<reference::RayCaster>(scene_of(c));
+  return *caster;
+}
+
 const Truth& Harness::truth_for(const CaseConfig& c, const Images& images) {
   const std::string loaded = scene_key(c.scene, c.remedies.rebase_origin);
   std::string key = loaded + "/" + std::to_string(options_.check_frame) + "/" +
                     std::to_string(positions_fingerprint(images));
   auto it = truths_.find(key);
   if (it != truths_.end()) return it->second;
-  const scene::Scene& s = scene_of(c);
-  auto& caster = casters_[loaded];
-  if (!caster) caster = std::make_unique<reference::RayCaster>(s);
-  return truths_.emplace(key, compute_truth(*caster, s, options_.check_frame, images, options_.truth)).first->second;
+  return truths_.emplace(key, compute_truth(caster_of(c), scene_of(c), options_.check_frame, images, options_.truth))
+      .first->second;
 }
 
 void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float>& a, const std::vector<float>& b,

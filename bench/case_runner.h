@@ -169,6 +169,8 @@ class Harness {
                     const std::vector<float>& grey, int width, int height, double scale, bool flip);
   void write_images(CaseResult& result, const Images& images);
   void write_later(const CaseResult& result, std::function<void()> write);  // now, or on the writer
+  DeviceStateProbe& probe(const std::string& backend_name);
+  const reference::RayCaster& caster_of(const CaseConfig& config);
   std::string scene_path(const std::string& name_or_path) const;
   const Truth& truth_for(const CaseConfig& config, const Images& images);
 
