@@ -108,6 +108,13 @@ struct CaseResult {
   std::vector<FrameTiming> frames;            // every timed frame of every repetition
   GpuTimerCheck gpu_timer;
   int repetitions = 0;
+  // Per repetition: the mean frame wall time and process CPU time of its timed frames (what Google Benchmark
+  // reports per repetition and `compare` tests); the precision and stability figures are computed over these.
+  std::vector<double> repetition_frame_ms, repetition_cpu_ms;
+  // Why its repetitions ended: "count" (the fixed count), "precision" (--precision met), "cap" (--precision not
+  // met by --max-repetitions), "sustain" (--sustain's time), "stopped" (SIGINT/SIGTERM); empty if never timed.
+  std::string repetitions_ended_by;
+  double precision_target_percent = 0.0;  // --precision, 0 without
   std::optional<Accuracy> accuracy;  // against the ray-cast reference, for the check frame
   std::optional<FrameTiming> first_frame;  // the check frame rendered cold, right after configure
   float light_far = 0.0f;                  // far plane of the check frame's cube (fitted with fit_range)

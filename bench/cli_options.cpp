@@ -1,6 +1,7 @@
 #include "bench/cli_options.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 namespace omnishadow::bench {
@@ -115,6 +116,22 @@ void add_check_options(CLI::App& r, RunOptions& o) {
       ->check(CLI::Range(0.0, 100.0));
 }
 
+// Repetitions run in rounds (bench/repetition_policy.h); the fixed count stays Google Benchmark's flag
+// --benchmark_repetitions=N, read in finish_run_options.
+void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
+  r.add_option("--precision", p.precision_percent,
+               "repeat each case (in rounds, interleaved with the others) until the 95% confidence interval of its "
+               "median per-repetition frame time is within +-P% (at least 6 repetitions; at most "
+               "--max-repetitions)")
+      ->check(CLI::Range(0.01, 100.0));
+  r.add_option("--max-repetitions", p.max_repetitions, "the cap on repetitions per case under --precision")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  r.add_option("--sustain", p.sustain_seconds,
+               "loop the matrix in rounds for this many seconds and report each case's worst repetition against "
+               "its best (stability %; clocks recorded per repetition)")
+      ->check(CLI::Range(1.0, 7.0 * 24 * 3600));
+}
+
 }  // namespace
 
 std::map<std::string, std::string> CommonOptions::backend_options() const {
@@ -149,20 +166,43 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
       ->capture_default_str()->check(CLI::IsMember({"failed", "all", "none"}));
   r.add_flag("--no-images", flags.no_images, "the same as --images none");
   r.add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
-  r.add_option("--shard", flags.shard, "i/N: run the i-th of N deterministic slices of the matrix");
+  r.add_option("--shard", flags.shard, "i/N: run the i-th of N deterministic slices of the matrix (0-based); auto: from the CI engine's "
+               "variables (GitLab parallel, Slurm arrays, Kubernetes indexed jobs, OMNISHADOW_SHARD_INDEX/COUNT)");
+  add_repetition_options(r, run.repetitions);
 }
 
 void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOptions& common) {
-  if (!flags.shard.empty()) {
+  if (flags.shard == "auto") {
+    ShardFromEnvironment s = shard_from_environment([](const char* name) { return std::getenv(name); });
+    run.shard_index = s.index;
+    run.shard_count = s.count;
+    std::fprintf(stderr, "omnishadow: --shard auto: %s\n", s.source.c_str());
+  } else if (!flags.shard.empty()) {
     int consumed = 0;
     if (std::sscanf(flags.shard.c_str(), "%d/%d%n", &run.shard_index, &run.shard_count, &consumed) != 2 ||
         consumed != static_cast<int>(flags.shard.size()) || run.shard_count < 1 || run.shard_index < 0 ||
         run.shard_index >= run.shard_count)
       throw std::invalid_argument("--shard: expected i/N with 0 <= i < N, got '" + flags.shard + "'");
   }
-  for (const std::string& a : run.benchmark_args)
+  for (const std::string& a : run.benchmark_args) {
     if (a.rfind("--benchmark_out", 0) == 0)
       throw std::invalid_argument(a + ": omnishadow writes results.json itself; choose the folder with --out");
+    if (a.rfind("--benchmark_repetitions=", 0) == 0) {
+      const std::string value = a.substr(24);
+      size_t used = 0;
+      int n = 0;
+      try {
+        n = std::stoi(value, &used);
+      } catch (const std::exception&) {
+      }
+      if (used != value.size() || n < 1 || n > 100000)
+        throw std::invalid_argument("--benchmark_repetitions: expected a count from 1 to 100000, got '" + value + "'");
+      run.repetitions.repetitions = n;
+    }
+  }
+  if (run.repetitions.precision_percent > 0.0 && run.repetitions.sustain_seconds > 0.0)
+    throw std::invalid_argument("--precision and --sustain: choose one (sustain loops for a time, precision until "
+                                "the interval is narrow enough)");
   using Policy = RunOptions::ImagePolicy;
   run.harness.images = flags.no_images || flags.images == "none" ? Policy::none
                        : flags.images == "all"                   ? Policy::all

@@ -55,12 +55,6 @@ std::vector<CaseConfig> apply_benchmark_filter(const std::vector<CaseConfig>& ca
   return out;
 }
 
-int repetitions_of(const std::vector<std::string>& benchmark_args) {
-  for (const std::string& a : benchmark_args)
-    if (a.rfind("--benchmark_repetitions=", 0) == 0) return std::max(1, std::atoi(a.c_str() + 24));
-  return 1;
-}
-
 // Refuses to clobber an earlier run; creates the folder and proves it is writable.
 void prepare_out_dir(const std::string& dir) {
   std::error_code ec;
@@ -203,12 +197,12 @@ void run_untimed(Harness& harness, const std::vector<CaseConfig>& cases, RunStat
 // Google Benchmark takes its own flags; ours are gone by now. Returns false (after the error line) on a flag it
 // does not know. It keeps pointers into its argv (the executable's name in the JSON context): `gb_args` must
 // outlive the run.
-bool init_benchmark(const RunCommand& cmd, const std::string& raw_path, const RunInfo& info,
+bool init_benchmark(const RunCommand& cmd, const RunInfo& info,
                     std::vector<std::string>& gb_args) {
   gb_args = {"omnishadow"};
-  gb_args.insert(gb_args.end(), cmd.benchmark_args.begin(), cmd.benchmark_args.end());
-  gb_args.push_back("--benchmark_out=" + raw_path);
-  gb_args.push_back("--benchmark_out_format=json");
+  // The repetitions are the policy's (rounds), not Google Benchmark's; its JSON is written from the rounds' runs.
+  for (const std::string& a : cmd.benchmark_args)
+    if (a.rfind("--benchmark_repetitions=", 0) != 0) gb_args.push_back(a);
   std::vector<char*> gb_argv;
   for (std::string& a : gb_args) gb_argv.push_back(a.data());
   int gb_argc = static_cast<int>(gb_argv.size());
@@ -238,7 +232,7 @@ void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
     print_error(std::string("reading Google Benchmark's output: ") + e.what());
   }
   run.save(gbench, complete);
-  std::string summary = summary_markdown(run.results, run.info.phases);
+  std::string summary = summary_markdown(run.results, run.info.phases, run.info.repetitions);
   try {
     write_file_atomic((fs::path(run.info.options.out_dir) / "summary.md").string(), summary);
   } catch (const std::exception& e) {
@@ -257,6 +251,7 @@ int run_command(const RunCommand& cmd) {
   RunState run;
   run.info.command_line = cmd.command_line;
   run.info.options = options;
+  run.info.repetitions = cmd.repetitions;
   run.results_path = (fs::path(options.out_dir) / "results.json").string();
   std::vector<CaseConfig> cases;
   try {
@@ -280,10 +275,14 @@ int run_command(const RunCommand& cmd) {
   }
 
   const std::string raw_path = (fs::path(options.out_dir) / ".gbench_raw.json").string();
-  if (!init_benchmark(cmd, raw_path, run.info, run.benchmark_argv)) return 2;
+  if (!init_benchmark(cmd, run.info, run.benchmark_argv)) return 2;
   auto timed_start = std::chrono::steady_clock::now();
-  run_timed(harness, run.results, repetitions_of(cmd.benchmark_args), [&] { run.save(nullptr, false); },
-            [&] { return run.stopped(); });
+  try {
+    run_timed(harness, run.results, cmd.repetitions, raw_path, [&] { run.save(nullptr, false); },
+              [&] { return run.stopped(); });
+  } catch (const std::exception& e) {
+    print_error(std::string("writing Google Benchmark's output: ") + e.what());
+  }
   run.info.phases.timed_seconds = seconds_since(timed_start);
 
   const bool interrupted = run.stopped();

@@ -8,6 +8,7 @@
 
 #include "bench/case_runner.h"
 #include "bench/matrix.h"
+#include "bench/repetition_policy.h"
 
 namespace omnishadow::bench {
 
@@ -20,6 +21,7 @@ struct RunCommand {
   int injected_work = 0;       // --inject-fragment-work
   int shard_index = 0;
   int shard_count = 1;
+  RepetitionPolicy repetitions;  // --benchmark_repetitions, --precision, --max-repetitions, --sustain
   std::vector<std::string> benchmark_args;  // --benchmark_* flags, passed to Google Benchmark
   std::string command_line;
 };

@@ -238,4 +238,22 @@ std::string clock_warning(const std::vector<DeviceState>& samples, double tolera
   return out;
 }
 
+std::string clock_range(const std::vector<DeviceState>& samples) {
+  auto range = [&](double DeviceState::*field, const char* unit) -> std::string {
+    double lo = 0, hi = 0;
+    for (const DeviceState& s : samples) {
+      if (s.*field <= 0) continue;
+      lo = lo == 0 ? s.*field : std::min(lo, s.*field);
+      hi = std::max(hi, s.*field);
+    }
+    if (hi <= 0) return "";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.0f-%.0f %s", lo, hi, unit);
+    return buf;
+  };
+  std::string out = range(&DeviceState::clock_mhz, "MHz");
+  if (std::string t = range(&DeviceState::temperature_c, "C"); !t.empty()) out += (out.empty() ? "" : ", ") + t;
+  return out.empty() ? "-" : out;
+}
+
 }  // namespace omnishadow::bench

@@ -40,5 +40,7 @@ std::unique_ptr<DeviceStateProbe> make_device_state_probe(const DeviceInfo& devi
 // "clocks moved during the case: 345-1980 MHz": the clock's spread across samples beyond `tolerance` (relative to
 // the highest), or throttling seen; empty when steady or unknown.
 std::string clock_warning(const std::vector<DeviceState>& samples, double tolerance = 0.05);
+// "1410-1980 MHz, 41-63 C" over the samples (the parts known); "-" when nothing is.
+std::string clock_range(const std::vector<DeviceState>& samples);
 
 }  // namespace omnishadow::bench

@@ -1,5 +1,7 @@
 #include "bench/gbench_glue.h"
 
+#include "bench/gbench_report.h"
+
 #include <benchmark/benchmark.h>
 #include <valgrind/callgrind.h>
 
@@ -35,46 +37,28 @@ void set_pass_counters(benchmark::State& state, const std::string& pass, const P
     state.counters[pass + "_" + s.name] = Counter(static_cast<double>(c.*s.member));
 }
 
-// Console output: Google Benchmark's table with only the headline counters; the JSON keeps all of them.
-class CompactConsoleReporter : public benchmark::ConsoleReporter {
- public:
-  CompactConsoleReporter() : benchmark::ConsoleReporter(OO_Tabular) {}
-  void ReportRuns(const std::vector<Run>& runs) override {
-    std::vector<Run> compact = runs;
-    for (Run& run : compact)
-      std::erase_if(run.counters, [](const auto& kv) {
-        return kv.first != "shadow_wall_ms" && kv.first != "lighting_wall_ms" && kv.first != "shadow_gpu_ms";
-      });
-    benchmark::ConsoleReporter::ReportRuns(compact);
-  }
-};
-
+// One line per repetition on stderr: which round, which case, how far along.
 struct Progress {
-  int done = 0;
-  int total = 0;
+  const RepetitionPolicy& policy;
+  int round = 0;
+  int done = 0;  // repetitions so far, all cases
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-  void step(const std::string& id) {
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  void step(const std::string& id, int in_round, int round_size) {
     ++done;
-    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    double eta = done > 1 ? elapsed / (done - 1) * (total - done + 1) : 0.0;
-    std::fprintf(stderr, "[time %d/%d] %s  (elapsed %.0fs, eta %.0fs)\n", done, total, id.c_str(), elapsed, eta);
+    std::string of = policy.cap() > 0 ? "/" + std::to_string(policy.cap()) : "";
+    std::fprintf(stderr, "[time round %d%s, %d/%d] %s  (elapsed %.0fs)\n", round, of.c_str(), in_round, round_size,
+                 id.c_str(), elapsed());
   }
 };
 
 // Cases whose checks ran (passed or not) are timed; cases that could not be prepared are not.
 bool is_timed(Status s) { return s == Status::ok || s == Status::failed_check || s == Status::failed_quality; }
 
-void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progress& progress, bool stop) {
-  progress.step(r.config.id());
-  if (stop) {
-    r.add({Status::interrupted, "timing", "interrupted: the run was stopped before this case was timed", {}});
-    state.SkipWithError(r.reason.c_str());
-    return;
-  }
-  if (!is_timed(r.status)) {
-    state.SkipWithError((std::string(to_string(r.status)) + ": " + r.reason).c_str());
-    return;
-  }
+// One repetition of one case: warm-up frames, then the timed frames Google Benchmark iterates over.
+void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
   const RunOptions& o = harness.options();
   std::vector<FrameTiming> frames;
   try {
@@ -129,38 +113,76 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state, Progres
     state.SkipWithError(("failed: " + r.reason).c_str());
   }
   r.frames.insert(r.frames.end(), frames.begin(), frames.end());
+  if (!frames.empty()) {
+    double wall = 0.0, cpu = 0.0;
+    for (const FrameTiming& t : frames) wall += t.frame_wall_ms, cpu += t.process_cpu_ms;
+    r.repetition_frame_ms.push_back(wall / static_cast<double>(frames.size()));
+    r.repetition_cpu_ms.push_back(cpu / static_cast<double>(frames.size()));
+  }
   ++r.repetitions;
   std::vector<FrameTiming> all = r.warmup;
   all.insert(all.end(), r.frames.begin(), r.frames.end());
   r.gpu_timer = check_gpu_timer(all);
 }
 
+// The cases that get another repetition this round (matrix order; Google Benchmark may shuffle it).
+std::vector<CaseResult*> next_round(std::vector<CaseResult>& results, const RepetitionPolicy& policy,
+                                    double elapsed) {
+  std::vector<CaseResult*> out;
+  for (CaseResult& r : results)
+    if (is_timed(r.status) && needs_repetition(policy, r.repetition_frame_ms, elapsed)) out.push_back(&r);
+  return out;
+}
+
+std::string ended_by(const RepetitionPolicy& policy, const CaseResult& r, bool stopped, double elapsed) {
+  if (!needs_repetition(policy, r.repetition_frame_ms, elapsed)) {
+    if (policy.sustain_seconds > 0.0) return "sustain";
+    if (policy.precision_percent <= 0.0) return "count";
+    return r.repetitions >= policy.cap() && median_interval(r.repetition_frame_ms).half_width_percent >
+                                                policy.precision_percent
+               ? "cap"
+               : "precision";
+  }
+  return stopped ? "stopped" : "count";
+}
+
 }  // namespace
 
-void run_timed(Harness& harness, std::vector<CaseResult>& results, int repetitions,
-               const std::function<void()>& after_case, const std::function<bool()>& stop_requested) {
-  Progress progress;
-  int timed = 0;
-  for (CaseResult& r : results) {
-    // Cases that are unsupported or failed before timing are not handed to Google Benchmark: it would print an
-    // ERROR OCCURRED line per repetition for each; the summary lists them once per reason instead.
-    if (!is_timed(r.status)) continue;
-    ++timed;
-    benchmark::RegisterBenchmark(r.config.id().c_str(),
-                                 [&harness, &r, &progress, &after_case, &stop_requested](benchmark::State& state) {
-                                   time_case(harness, r, state, progress, stop_requested());
-                                   after_case();
-                                 })
-        ->UseManualTime()
-        ->Iterations(harness.options().frames)
-        ->Unit(benchmark::kMillisecond);
+void run_timed(Harness& harness, std::vector<CaseResult>& results, const RepetitionPolicy& policy,
+               const std::string& gbench_json_path, const std::function<void()>& after_case,
+               const std::function<bool()>& stop_requested) {
+  Progress progress{policy};
+  RoundReporter reporter;
+  const int frames = harness.options().frames;
+  for (;;) {
+    std::vector<CaseResult*> round = next_round(results, policy, progress.elapsed());
+    if (round.empty() || stop_requested()) break;
+    ++progress.round;
+    int in_round = 0;
+    for (CaseResult* r : round)
+      benchmark::RegisterBenchmark(r->config.id().c_str(),
+                                   [&, r, size = static_cast<int>(round.size())](benchmark::State& state) {
+                                     progress.step(r->config.id(), ++in_round, size);
+                                     time_case(harness, *r, state);
+                                     after_case();
+                                   })
+          ->UseManualTime()
+          ->Iterations(frames)
+          ->Unit(benchmark::kMillisecond);
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    benchmark::ClearRegisteredBenchmarks();
   }
-  progress.total = timed * repetitions;
-
-  CompactConsoleReporter console;
-  benchmark::JSONReporter json;  // writes to --benchmark_out, which main() always sets
-  benchmark::RunSpecifiedBenchmarks(&console, &json);
-  benchmark::ClearRegisteredBenchmarks();
+  const bool stopped = stop_requested();
+  for (CaseResult& r : results) {
+    if (r.repetitions == 0) {
+      if (is_timed(r.status) && stopped)
+        r.add({Status::interrupted, "timing", "interrupted: the run was stopped before this case was timed", {}});
+      continue;
+    }
+    r.precision_target_percent = policy.precision_percent;
+    r.repetitions_ended_by = ended_by(policy, r, stopped, progress.elapsed());
+  }
+  write_gbench_json(gbench_json_path, reporter.all_runs());
 }
 
 }  // namespace omnishadow::bench

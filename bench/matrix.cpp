@@ -102,4 +102,47 @@ std::vector<CaseConfig> shard(const std::vector<CaseConfig>& cases, int index, i
   return out;
 }
 
+namespace {
+
+int env_int(const std::function<const char*(const char*)>& getenv, const char* name, int min) {
+  const char* text = getenv(name);
+  std::string value = text ? text : "";
+  size_t used = 0;
+  int v = min - 1;
+  try {
+    v = std::stoi(value, &used);
+  } catch (const std::exception&) {
+  }
+  if (value.empty() || used != value.size() || v < min)
+    throw std::invalid_argument(std::string("--shard auto: ") + name + "='" + value + "' is not an integer >= " +
+                                std::to_string(min));
+  return v;
+}
+
+}  // namespace
+
+ShardFromEnvironment shard_from_environment(const std::function<const char*(const char*)>& getenv) {
+  auto has = [&](const char* name) { return getenv(name) != nullptr; };
+  ShardFromEnvironment s;
+  if (has("OMNISHADOW_SHARD_INDEX")) {
+    s = {env_int(getenv, "OMNISHADOW_SHARD_INDEX", 0), env_int(getenv, "OMNISHADOW_SHARD_COUNT", 1), "OMNISHADOW_SHARD_INDEX"};
+  } else if (has("CI_NODE_INDEX")) {
+    s = {env_int(getenv, "CI_NODE_INDEX", 1) - 1, env_int(getenv, "CI_NODE_TOTAL", 1), "GitLab CI_NODE_INDEX"};
+  } else if (has("SLURM_ARRAY_TASK_ID")) {
+    int min = has("SLURM_ARRAY_TASK_MIN") ? env_int(getenv, "SLURM_ARRAY_TASK_MIN", 0) : 0;
+    s = {env_int(getenv, "SLURM_ARRAY_TASK_ID", 0) - min, env_int(getenv, "SLURM_ARRAY_TASK_COUNT", 1),
+         "Slurm SLURM_ARRAY_TASK_ID"};
+  } else if (has("JOB_COMPLETION_INDEX")) {
+    s = {env_int(getenv, "JOB_COMPLETION_INDEX", 0), env_int(getenv, "OMNISHADOW_SHARD_COUNT", 1),
+         "Kubernetes JOB_COMPLETION_INDEX"};
+  } else {
+    return {0, 1, "none"};
+  }
+  if (s.index < 0 || s.index >= s.count)
+    throw std::invalid_argument("--shard auto: " + s.source + " gives shard " + std::to_string(s.index) + " of " +
+                                std::to_string(s.count) + " (0-based): out of range");
+  s.source += " -> shard " + std::to_string(s.index) + "/" + std::to_string(s.count);
+  return s;
+}
+
 }  // namespace omnishadow::bench

@@ -3,6 +3,7 @@
 // frame size, storage, depth format, filter, optimisations, technique). Technique is innermost so that each
 // single-pass case runs right after the six_pass case it is checked against.
 
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -37,6 +38,19 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec, const std::map<std::strin
 
 // Deterministic sharding: shard `index` of `count` keeps cases whose position modulo count equals index.
 std::vector<CaseConfig> shard(const std::vector<CaseConfig>& cases, int index, int count);
+
+// `--shard auto`: the shard (0-based index, count) from the variables a CI engine or batch system sets, first
+// found wins: OMNISHADOW_SHARD_INDEX / OMNISHADOW_SHARD_COUNT (0-based; what our GitHub Actions workflow exports
+// from its matrix, GitHub itself numbers nothing), GitLab's CI_NODE_INDEX / CI_NODE_TOTAL (`parallel:`, 1-based),
+// Slurm's SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN / SLURM_ARRAY_TASK_COUNT, Kubernetes indexed jobs'
+// JOB_COMPLETION_INDEX with OMNISHADOW_SHARD_COUNT (Kubernetes does not export the completions). No variables:
+// the whole matrix (0, 1), and `source` says so. Throws std::invalid_argument naming a variable that is malformed.
+struct ShardFromEnvironment {
+  int index = 0;
+  int count = 1;
+  std::string source;  // "GitLab CI_NODE_INDEX=2 CI_NODE_TOTAL=4", ..., or "none"
+};
+ShardFromEnvironment shard_from_environment(const std::function<const char*(const char*)>& getenv);
 
 // "256,512" -> {256, 512}; throws std::invalid_argument naming `option` on anything but positive integers.
 std::vector<int> parse_int_list(const std::string& text, const std::string& option);

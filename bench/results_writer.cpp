@@ -1,6 +1,7 @@
 #include "bench/results_writer.h"
 
 #include "bench/file_io.h"
+#include "bench/repetition_policy.h"
 #include "bench/system_info.h"
 
 namespace omnishadow::bench {
@@ -126,6 +127,22 @@ json floor_to_json(const CaseResult& r) {
   return j;
 }
 
+// The per-repetition frame times, how sure their median is, and how stable they were (bench/repetition_policy.h).
+json repetitions_to_json(const CaseResult& r) {
+  MedianInterval ci = median_interval(r.repetition_frame_ms);
+  json interval = nullptr;
+  if (ci.defined)
+    interval = {{"median_ms", ci.median},     {"low_ms", ci.low},
+                {"high_ms", ci.high},         {"coverage", ci.coverage},
+                {"half_width_percent", ci.half_width_percent}};
+  return {{"frame_ms", r.repetition_frame_ms},
+          {"frame_cpu_ms", r.repetition_cpu_ms},
+          {"ended_by", r.repetitions_ended_by},
+          {"precision_target_percent", r.precision_target_percent > 0 ? json(r.precision_target_percent) : json(nullptr)},
+          {"median_interval_95", interval},
+          {"stability_percent", stability_percent(r.repetition_frame_ms)}};
+}
+
 json timing_to_json(const CaseResult& r) {
   std::vector<double> frame_wall;
   for (const FrameTiming& f : r.frames) frame_wall.push_back(f.frame_wall_ms);
@@ -133,6 +150,7 @@ json timing_to_json(const CaseResult& r) {
           {"timed_frames", r.frames.size()},
           {"warmup_frames", r.warmup.size()},
           {"frame_wall_ms", summary_to_json(frame_wall)},
+          {"per_repetition", repetitions_to_json(r)},
           {"shadow", pass_timing_to_json(r.frames, &FrameTiming::shadow, r.gpu_timer.reliable)},
           {"lighting", pass_timing_to_json(r.frames, &FrameTiming::lighting, r.gpu_timer.reliable)}};
 }
@@ -224,6 +242,12 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                        {"phases",
                         {{"untimed_seconds", run.phases.untimed_seconds < 0 ? json(nullptr) : json(run.phases.untimed_seconds)},
                          {"timed_seconds", run.phases.timed_seconds < 0 ? json(nullptr) : json(run.phases.timed_seconds)}}},
+                       {"repetition_policy",
+                        {{"repetitions", run.repetitions.repetitions},
+                         {"precision_percent", run.repetitions.precision_percent},
+                         {"max_repetitions", run.repetitions.max_repetitions},
+                         {"sustain_seconds", run.repetitions.sustain_seconds},
+                         {"order", "rounds: one repetition of every unfinished case per round"}}},
                        {"options",
                         {{"warmup_frames", o.warmup_frames},
                          {"injected_fragment_work", results.empty() ? 0 : results.front().config.injected_work},

@@ -20,6 +20,7 @@ struct RunInfo {
   RunOptions options;
   std::string stopped_by;  // "SIGINT" / "SIGTERM" when the run was interrupted
   RunPhases phases;
+  RepetitionPolicy repetitions;
 };
 
 nlohmann::json case_to_json(const CaseResult& r);

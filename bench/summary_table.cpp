@@ -1,5 +1,6 @@
 #include "bench/summary_table.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -86,9 +87,53 @@ void floor_table(std::ostringstream& md, const std::vector<CaseResult>& results)
      << rows.str();
 }
 
+// Under --precision: the interval each case reached and the cases that hit the cap. Under --sustain: each case's
+// worst repetition against its best, the clocks it ran at, and the cases below kStabilityPassPercent.
+void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& results, const RepetitionPolicy& p) {
+  if (p.precision_percent <= 0.0 && p.sustain_seconds <= 0.0) return;
+  int total = 0, capped = 0, unstable = 0;
+  std::ostringstream rows;
+  for (const CaseResult& r : results) {
+    if (r.repetition_frame_ms.empty()) continue;
+    total += static_cast<int>(r.repetition_frame_ms.size());
+    MedianInterval ci = median_interval(r.repetition_frame_ms);
+    const double stability = stability_percent(r.repetition_frame_ms);
+    auto [best, worst] = std::minmax_element(r.repetition_frame_ms.begin(), r.repetition_frame_ms.end());
+    capped += r.repetitions_ended_by == "cap";
+    unstable += stability < kStabilityPassPercent;
+    char buf[320];
+    if (p.sustain_seconds > 0.0)
+      std::snprintf(buf, sizeof buf, "| `%s` | %zu | %.3f | %.3f | %.1f%%%s | %s |\n", r.config.id().c_str(),
+                    r.repetition_frame_ms.size(), *best, *worst, stability,
+                    stability < kStabilityPassPercent ? " **below 97%**" : "", clock_range(r.device_states).c_str());
+    else
+      std::snprintf(buf, sizeof buf, "| `%s` | %zu | %.3f | %s | %s |\n", r.config.id().c_str(),
+                    r.repetition_frame_ms.size(), ci.median,
+                    ci.defined ? ("+-" + std::to_string(ci.half_width_percent).substr(0, 5) + "%").c_str() : "-",
+                    r.repetitions_ended_by.c_str());
+    rows << buf;
+  }
+  if (p.sustain_seconds > 0.0) {
+    md << "\n## Sustained run (" << p.sustain_seconds << " s of rounds): best repetition / worst\n\n"
+       << total << " repetitions; " << unstable << " cases below " << kStabilityPassPercent
+       << "% (per-repetition mean frame time, shortest over longest)\n\n"
+       << "| case | repetitions | best ms | worst ms | stability | clocks |\n|---|---|---|---|---|---|\n";
+  } else {
+    md << "\n## Repetitions to +-" << p.precision_percent
+       << "% (95% interval of the median per-repetition frame time)\n\n"
+       << total << " repetitions in all (a fixed count of " << p.cap() << " would take "
+       << p.cap() * static_cast<int>(std::count_if(results.begin(), results.end(),
+                                                   [](const CaseResult& r) { return !r.repetition_frame_ms.empty(); }))
+       << "); " << capped << " cases hit the cap of " << p.cap() << "\n\n"
+       << "| case | repetitions | median ms | reached | ended by |\n|---|---|---|---|---|\n";
+  }
+  md << rows.str();
+}
+
 }  // namespace
 
-std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases) {
+std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases,
+                             const RepetitionPolicy& policy) {
   std::ostringstream md;
   std::map<std::string, int> status_counts;
   for (const CaseResult& r : results) ++status_counts[std::string(to_string(r.status))];
@@ -116,6 +161,7 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
     if (std::string w = clock_warning(r.device_states); !w.empty())
       md << "- **warning** `" << r.config.id() << "`: " << w << " (" << r.device_state_source << ")\n";
 
+  repetition_table(md, results, policy);
   floor_table(md, results);
   ratio_table<Technique>(md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
                          &CaseConfig::technique, Technique::six_pass, shadow_wall);

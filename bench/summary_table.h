@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bench/case_runner.h"
+#include "bench/repetition_policy.h"
 
 namespace omnishadow::bench {
 
@@ -17,6 +18,7 @@ struct RunPhases {
   double timed_seconds = -1.0;
 };
 
-std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases = {});
+std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases = {},
+                             const RepetitionPolicy& policy = {});
 
 }  // namespace omnishadow::bench

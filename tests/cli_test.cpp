@@ -157,7 +157,10 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"compare --alpha 2 @FOREIGN_RESULTS@ @FOREIGN_RESULTS@", "--alpha"},
                       BadInput{"run --pcf-scale -1 --out @OUT@", "--pcf-scale: '-1' is not a scale"},
                       BadInput{"run --remedy bias0+slope_bias --out @OUT@", "--remedy: bias0 and slope_bias exclude"},
-                      BadInput{"run --optimize cull+warp --out @OUT@", "--optimize: unknown optimisation 'warp'"}),
+                      BadInput{"run --optimize cull+warp --out @OUT@", "--optimize: unknown optimisation 'warp'"},
+                      BadInput{"run --precision 2 --sustain 5 --out @OUT@", "--precision and --sustain: choose one"},
+                      BadInput{"run --precision 0 --out @OUT@", "--precision"},
+                      BadInput{"run --out @OUT@ --benchmark_repetitions=zero", "--benchmark_repetitions: expected"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
 
 class CliRun : public ::testing::Test {
@@ -254,6 +257,23 @@ TEST_F(CliRun, CompareScriptReadsTwoRuns) {
   ASSERT_EQ(WEXITSTATUS(status), 0) << text;
   EXPECT_NE(text.find("gl/room/c32/f800x600/geometry_shader/hard"), std::string::npos) << text;
   EXPECT_NE(text.find("U Test"), std::string::npos) << text;
+}
+
+// Rounds until the time is up; every case then holds its stability figure and its clock samples per repetition.
+TEST_F(CliRun, SustainLoopsRoundsAndReportsStability) {
+  fs::path out = scratch("sustain");
+  Outcome o = run("run --scene room --cube 32 --frame 64x48 --technique six_pass,geometry_shader --filter hard "
+                  "--frames 2 --warmup 0 --no-accuracy --no-images --sustain 2 --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    const auto& per = c["timing"]["per_repetition"];
+    EXPECT_EQ(per["ended_by"], "sustain") << c["id"];
+    EXPECT_GE(per["frame_ms"].size(), 2u) << "2 s of rounds hold more than one repetition of a 64x48 frame";
+    EXPECT_EQ(c["device_state"]["samples"].size(), 2 * per["frame_ms"].size());  // before and after each
+    EXPECT_GT(per["stability_percent"].get<double>(), 0.0);
+  }
+  EXPECT_NE(o.out.find("## Sustained run (2 s of rounds)"), std::string::npos) << o.out;
 }
 
 // Both APIs in one process, in either order, must exit cleanly: teardown of one may not break the other.

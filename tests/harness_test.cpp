@@ -11,6 +11,7 @@
 #include "bench/gbench_glue.h"
 #include "bench/results_reader.h"
 #include "bench/results_writer.h"
+#include "bench/summary_table.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -40,7 +41,8 @@ class ScriptedBackend : public Backend {
     FrameTiming t;
     t.shadow = {0.5, 2.0, 1.5};
     t.lighting = {0.5, 3.0, 2.5};
-    t.frame_wall_ms = 5.0;
+    // With jitter: the frame time walks through a 7-step cycle (per-repetition means then differ).
+    t.frame_wall_ms = 5.0 + jitter_ms * static_cast<double>(frames_rendered_++ % 7);
     return t;
   }
   FrameCounters count_frame_work(int) override {
@@ -71,8 +73,11 @@ class ScriptedBackend : public Backend {
     return img;
   }
 
+  double jitter_ms = 0.0;
+
  private:
   CaseConfig current_;
+  int frames_rendered_ = 0;
 };
 
 class HarnessTest : public ::testing::Test {
@@ -89,7 +94,9 @@ class HarnessTest : public ::testing::Test {
     o.frames = 3;
     o.warmup_frames = 1;
     harness_ = std::make_unique<Harness>(o);
-    harness_->add_backend("gl", std::make_unique<ScriptedBackend>());
+    auto backend = std::make_unique<ScriptedBackend>();
+    backend_ = backend.get();
+    harness_->add_backend("gl", std::move(backend));
   }
   void TearDown() override { fs::remove_all(out_); }
 
@@ -111,6 +118,7 @@ class HarnessTest : public ::testing::Test {
 
   fs::path out_;
   std::unique_ptr<Harness> harness_;
+  ScriptedBackend* backend_ = nullptr;
 };
 
 TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
@@ -201,13 +209,10 @@ TEST_F(HarnessTest, ImagePolicyDecidesWhichFilesAreWritten) {
 TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {
   std::vector<CaseResult> results = prepare_all({Filter::hard, Filter::pcf_grid64});
   std::string raw = (out_ / "raw.json").string();
-  std::vector<std::string> args = {"harness_test", "--benchmark_out=" + raw, "--benchmark_repetitions=2"};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  int argc = static_cast<int>(argv.size());
-  benchmark::Initialize(&argc, argv.data());
   int saves = 0;
-  run_timed(*harness_, results, 2, [&] { ++saves; }, [] { return false; });
+  RepetitionPolicy two;
+  two.repetitions = 2;
+  run_timed(*harness_, results, two, raw, [&] { ++saves; }, [] { return false; });
   EXPECT_EQ(saves, 10);  // 5 timed cases x 2 repetitions (vs_layer unsupported twice, gs pcf_grid64 failed)
   for (const CaseResult& r : results) {
     if (r.status == Status::unsupported || r.status == Status::failed) {
@@ -229,6 +234,39 @@ TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {
   for (const auto& b : j["benchmarks"]) errors += b.value("error_occurred", false);
   EXPECT_EQ(errors, 0);  // unsupported and failed cases are not handed to Google Benchmark (no ERROR lines)
   EXPECT_EQ(j["benchmarks"].size(), 5u * 2u + 5u * 4u);  // per repetition, and mean/median/stddev/cv
+  for (const auto& b : j["benchmarks"]) {
+    // Named as Google Benchmark names a case (no "/repeats:" from the rounds), numbered per case.
+    EXPECT_EQ(b["name"].get<std::string>().find("repeats"), std::string::npos);
+    if (b["run_type"] == "iteration") {
+      EXPECT_LT(b["repetition_index"].get<int>(), 2);
+    }
+    if (b.value("aggregate_name", "") == "mean") {
+      EXPECT_NEAR(b["real_time"].get<double>(), 5.0, 1e-9);  // the scripted frame time, in ms
+    }
+  }
+  EXPECT_EQ(j["omnishadow"]["cases"][0]["timing"]["per_repetition"]["ended_by"], "count");
+}
+
+TEST_F(HarnessTest, PrecisionRepeatsUntilTheIntervalIsNarrowOrTheCap) {
+  std::vector<CaseResult> results = prepare_all({Filter::hard});
+  RepetitionPolicy policy;
+  policy.precision_percent = 1.0;
+  policy.max_repetitions = 9;
+  run_timed(*harness_, results, policy, (out_ / "raw.json").string(), [] {}, [] { return false; });
+  for (const CaseResult& r : results) {
+    if (r.repetitions == 0) continue;
+    // The scripted backend's frames all take the same time: the interval has no width once it is defined.
+    EXPECT_EQ(r.repetitions, RepetitionPolicy::kMinForInterval) << r.config.id();
+    EXPECT_EQ(r.repetitions_ended_by, "precision");
+  }
+  backend_->jitter_ms = 1.0;  // repetitions now differ by up to ~40%: +-1% is out of reach
+  results = prepare_all({Filter::hard});
+  run_timed(*harness_, results, policy, (out_ / "raw2.json").string(), [] {}, [] { return false; });
+  EXPECT_EQ(results[0].repetitions, 9);
+  EXPECT_EQ(results[0].repetitions_ended_by, "cap");
+  EXPECT_LT(stability_percent(results[0].repetition_frame_ms), 97.0);
+  const std::string summary = summary_markdown(results, {}, policy);
+  EXPECT_NE(summary.find("cases hit the cap of 9"), std::string::npos) << summary;
 }
 
 }  // namespace

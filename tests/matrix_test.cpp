@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 #include "bench/matrix.h"
@@ -47,6 +48,39 @@ TEST(Matrix, ShardsPartitionTheMatrix) {
   EXPECT_EQ(unique.size(), cases.size());
   EXPECT_EQ(shard(cases, 1, 3), shard(cases, 1, 3));
   EXPECT_THROW(shard(cases, 3, 3), std::invalid_argument);
+}
+
+// --shard auto: each engine's variables and numbering (GitLab 1-based, the others 0-based).
+TEST(Matrix, ShardAutoReadsEachEnginesVariables) {
+  auto from = [](std::map<std::string, std::string> env) {
+    return shard_from_environment([env](const char* name) -> const char* {
+      auto it = env.find(name);
+      return it == env.end() ? nullptr : it->second.c_str();
+    });
+  };
+  auto gitlab = from({{"CI_NODE_INDEX", "2"}, {"CI_NODE_TOTAL", "4"}});
+  EXPECT_EQ(gitlab.index, 1);
+  EXPECT_EQ(gitlab.count, 4);
+  auto github = from({{"OMNISHADOW_SHARD_INDEX", "0"}, {"OMNISHADOW_SHARD_COUNT", "3"}, {"CI_NODE_INDEX", "9"}});
+  EXPECT_EQ(github.index, 0);  // ours first: a GitLab job may run our script with its own shard variables too
+  EXPECT_EQ(github.count, 3);
+  auto slurm = from({{"SLURM_ARRAY_TASK_ID", "12"}, {"SLURM_ARRAY_TASK_MIN", "10"}, {"SLURM_ARRAY_TASK_COUNT", "5"}});
+  EXPECT_EQ(slurm.index, 2);
+  EXPECT_EQ(slurm.count, 5);
+  auto k8s = from({{"JOB_COMPLETION_INDEX", "3"}, {"OMNISHADOW_SHARD_COUNT", "8"}});
+  EXPECT_EQ(k8s.index, 3);
+  EXPECT_EQ(k8s.count, 8);
+  auto none = from({});
+  EXPECT_EQ(none.count, 1);
+  EXPECT_EQ(none.source, "none");
+  EXPECT_THROW(from({{"CI_NODE_INDEX", "0"}, {"CI_NODE_TOTAL", "4"}}), std::invalid_argument);  // GitLab is 1-based
+  EXPECT_THROW(from({{"CI_NODE_INDEX", "5"}, {"CI_NODE_TOTAL", "4"}}), std::invalid_argument);
+  EXPECT_THROW(from({{"JOB_COMPLETION_INDEX", "1"}}), std::invalid_argument);  // the count must be given
+  try {
+    from({{"CI_NODE_INDEX", "two"}, {"CI_NODE_TOTAL", "4"}});
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("CI_NODE_INDEX='two'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Matrix, ListParsingNamesTheOptionAndTheValidValues) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "bench/device_state.h"
+#include "bench/repetition_policy.h"
 #include "bench/timing_stats.h"
 
 namespace omnishadow::bench {
@@ -131,6 +132,59 @@ TEST(AsyncWriter, RunsEveryJobAndNamesTheOnesThatFailed) {
   EXPECT_EQ(failures[0].first, "case7");
   EXPECT_EQ(failures[0].second, "disk full");
   EXPECT_TRUE(writer.drain().empty()) << "reported once";
+}
+
+// The sign-test interval: n = 6 takes the extremes (coverage 1 - 2/64); n = 9 ranks 2 and 8 (1 - 2 * 10/512);
+// fewer than 6 samples cannot bracket the median at 95%.
+TEST(RepetitionPolicy, MedianIntervalUsesBinomialOrderStatistics) {
+  MedianInterval five = median_interval({1, 2, 3, 4, 5});
+  EXPECT_FALSE(five.defined);
+  MedianInterval six = median_interval({10, 9, 11, 12, 8, 10});
+  ASSERT_TRUE(six.defined);
+  EXPECT_DOUBLE_EQ(six.low, 8);
+  EXPECT_DOUBLE_EQ(six.high, 12);
+  EXPECT_DOUBLE_EQ(six.median, 10);
+  EXPECT_NEAR(six.coverage, 1.0 - 2.0 / 64.0, 1e-12);
+  EXPECT_DOUBLE_EQ(six.half_width_percent, 20.0);
+  MedianInterval nine = median_interval({1, 2, 3, 4, 5, 6, 7, 8, 9});
+  ASSERT_TRUE(nine.defined);
+  EXPECT_DOUBLE_EQ(nine.low, 2);
+  EXPECT_DOUBLE_EQ(nine.high, 8);
+  EXPECT_NEAR(nine.coverage, 1.0 - 2.0 * 10.0 / 512.0, 1e-12);
+  // Large n stays finite (log-space binomial) and the interval narrows around the median.
+  std::vector<double> many;
+  for (int i = 0; i < 1001; ++i) many.push_back(100.0 + (i % 11) * 0.1);
+  MedianInterval big = median_interval(many);
+  ASSERT_TRUE(big.defined);
+  EXPECT_LE(big.half_width_percent, 0.11);
+  EXPECT_GE(big.coverage, 0.95);
+}
+
+TEST(RepetitionPolicy, StopsOnCountPrecisionCapOrTime) {
+  RepetitionPolicy fixed;
+  fixed.repetitions = 3;
+  EXPECT_TRUE(needs_repetition(fixed, {1, 1}, 0));
+  EXPECT_FALSE(needs_repetition(fixed, {1, 1, 1}, 0));
+
+  RepetitionPolicy precise;
+  precise.precision_percent = 2.0;
+  precise.max_repetitions = 8;
+  EXPECT_TRUE(needs_repetition(precise, {1, 1, 1, 1, 1}, 0));           // below the 6 an interval needs
+  EXPECT_FALSE(needs_repetition(precise, {1, 1, 1.01, 1, 0.99, 1}, 0));  // +-1%
+  EXPECT_TRUE(needs_repetition(precise, {1, 1, 1.1, 1, 0.9, 1}, 0));     // +-10%: another
+  EXPECT_FALSE(needs_repetition(precise, {1, 1, 1.1, 1, 0.9, 1, 1.2, 0.8}, 0));  // the cap
+  EXPECT_EQ(precise.cap(), 8);
+
+  RepetitionPolicy sustain;
+  sustain.sustain_seconds = 10;
+  EXPECT_TRUE(needs_repetition(sustain, {1, 1, 1, 1, 1, 1, 1, 1, 1, 1}, 9.9));
+  EXPECT_FALSE(needs_repetition(sustain, {1}, 10.0));
+  EXPECT_TRUE(needs_repetition(sustain, {}, 20.0));  // every case gets at least one repetition
+}
+
+TEST(RepetitionPolicy, StabilityIsBestOverWorst) {
+  EXPECT_DOUBLE_EQ(stability_percent({10, 10.5, 12.5}), 80.0);
+  EXPECT_DOUBLE_EQ(stability_percent({7}), 100.0);
 }
 
 }  // namespace
