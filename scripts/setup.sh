@@ -10,6 +10,7 @@ packages=(
   libegl-mesa0 libgl1-mesa-dri            # Mesa: llvmpipe through EGL surfaceless on machines without a GPU
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers  # Vulkan loader, SPIR-V compiler, lavapipe
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
+  python3-yaml                             # tests/workflows_test.py: the fleet workflow files parse
   valgrind                                 # callgrind: deterministic instruction counts (scripts/instruction_counts.sh)
 )
 [ "${1:-}" = "--fuzz" ] && packages+=(clang-14 libclang-rt-14-dev)

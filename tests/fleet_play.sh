@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Plays the GPU fleet's shell steps here (the steps .gitlab-ci.yml and .github/workflows/gpu-fleet.yml call): three
+# shards numbered as GitLab numbers them, one as our GitHub workflow does, the fan-in merge, and the comparison.
+# The merged run must hold exactly the unsharded run's cases, and comparing the two must pass (same work, same
+# images). Usage: tests/fleet_play.sh (from ctest; needs build/release/omnishadow and OpenGL).
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+bin="${OMNISHADOW_BIN:-$here/build/release/omnishadow}"
+# Skipped (ctest SKIP_RETURN_CODE 77) only for the reason `list` gives; a failing `list` fails the test.
+if reason="$(XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" "$bin" list | grep -m1 'gl: unavailable')"; then
+  echo "fleet play skipped: OpenGL backend unavailable here: $reason"
+  exit 77
+fi
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+matrix=(--backend gl --scene room --cube 32 --frame 64x48 --technique six_pass,geometry_shader
+        --filter hard,pcf_disk20 --frames 1 --warmup 0 --no-accuracy --images all --benchmark_repetitions=2)
+for i in 1 2 3; do
+  CI_NODE_INDEX=$i CI_NODE_TOTAL=3 bash "$here/scripts/fleet_shard.sh" "$work/shards/$i" "${matrix[@]}" \
+    >"$work/shard$i.log" 2>&1 || { cat "$work/shard$i.log"; exit 1; }
+  grep -q "GitLab CI_NODE_INDEX -> shard $((i - 1))/3" "$work/shard$i.log" || { echo "shard $i: no --shard auto line"; exit 1; }
+done
+bash "$here/scripts/fleet_merge.sh" "$work/merged" "$work"/shards/* >/dev/null
+"$bin" run --out "$work/whole" "${matrix[@]}" >/dev/null 2>&1
+# GitHub numbering (0-based, exported by the workflow) gives the same slice as GitLab's shard 2.
+OMNISHADOW_SHARD_INDEX=1 OMNISHADOW_SHARD_COUNT=3 bash "$here/scripts/fleet_shard.sh" "$work/github1" "${matrix[@]}" \
+  >/dev/null 2>&1
+/usr/bin/python3 - "$work" <<'PY'
+import json, sys
+work = sys.argv[1]
+ids = lambda run: sorted(c["id"] for c in json.load(open(f"{work}/{run}/results.json"))["omnishadow"]["cases"])
+merged, whole = ids("merged"), ids("whole")
+assert merged == whole and len(whole) == 4, f"merged {merged} != unsharded {whole}"
+assert ids("github1") == ids("shards/2"), "GitHub's shard 1 is GitLab's shard 2"
+bench = [b for b in json.load(open(f"{work}/merged/results.json"))["benchmarks"] if b.get("run_type") == "iteration"]
+assert len(bench) == 8, f"every shard's repetitions kept: {len(bench)} of 8"
+PY
+bash "$here/scripts/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare.log" 2>&1 || { cat "$work/compare.log"; exit 1; }
+test -s "$work/merged/compare/summary.md"
+echo "fleet play: 3 shards merged to the unsharded run's 4 cases; compare passed"
