@@ -239,7 +239,7 @@ def main():
     design = (f"{args.repetitions} interleaved repetitions in one run per side" if args.alternate <= 1 else
               f"{args.alternate} alternating runs of {max(1, args.repetitions // args.alternate)} repetitions per "
               "side, pooled")
-    md = [f"# Regression-detection sensitivity\n\n{args.trials} trials x {result['cases_per_run']} cases (CI matrix, "
+    md = [f"# Regression-detection sensitivity\n\n{args.trials} trials x {result['cases_per_run']} cases (CI matrix, {args.frames} frames per repetition, "
           f"{design}; metric: {'process CPU time' if METRIC == 'cpu' else 'wall time'} per frame); every run a "
           "separate process. Realized median change: "
           + ", ".join(f"{a} {100 * v:+.1f}%" for a, v in realized.items()) + ".\n",
