@@ -53,6 +53,24 @@ double psnr(double squared_error_sum, uint64_t values) {
   return 10.0 * std::log10(static_cast<double>(values) / squared_error_sum);  // peak 1.0
 }
 
+// The hidden fraction of a spherical light of radius r centred at `light`, seen from p: the sphere seen from p is a
+// disk facing p, sampled on k x k strata jittered per pixel (deterministic).
+float hidden_fraction(const reference::RayCaster& caster, const glm::vec3& light, const glm::vec3& p, float r, int k,
+                      uint32_t pixel, float eps) {
+  glm::vec3 w = glm::normalize(light - p);
+  glm::vec3 helper = std::fabs(w.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  glm::vec3 u = glm::normalize(glm::cross(helper, w)), v = glm::cross(w, u);
+  int hidden = 0;
+  for (int a = 0; a < k; ++a)
+    for (int b = 0; b < k; ++b) {
+      uint32_t stratum = static_cast<uint32_t>(a * k + b);
+      glm::vec2 d = concentric((static_cast<float>(a) + jitter(pixel, 2 * stratum)) / k,
+                               (static_cast<float>(b) + jitter(pixel, 2 * stratum + 1)) / k);
+      hidden += caster.blocked(light + r * (d.x * u + d.y * v), p, eps);
+    }
+  return static_cast<float>(hidden) / static_cast<float>(k * k);
+}
+
 }  // namespace
 
 Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& img,
@@ -87,6 +105,11 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   };
   const glm::vec3 camera = scene.camera.position;
   const int k = std::max(1, options.samples_per_axis);
+  // Radius-fit slots: one per kFitStride-th pixel of every kFitStride-th row, filled where covered.
+  const bool fit = options.light_radius > 0 && map == nullptr;
+  const int fit_w = (img.width + kFitStride - 1) / kFitStride, fit_h = (img.height + kFitStride - 1) / kFitStride;
+  std::vector<int64_t> fit_slot_pixel(fit ? static_cast<size_t>(fit_w) * fit_h : 0, -1);
+  if (fit) t.fit_shadow.assign(kFitRadii.size(), std::vector<float>(fit_slot_pixel.size(), 0.0f));
 
   parallel_rows(img.height, [&](int y) {
     for (int x = 0; x < img.width; ++x) {
@@ -103,20 +126,15 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       if (options.light_radius > 0 && (map != nullptr)) {
         t.sphere_shadow[i] = t.point_shadow[i];  // the soft reference models the point light only
       } else if (options.light_radius > 0) {
-        // The sphere seen from p is a disk facing p; sample it stratified.
-        glm::vec3 w = glm::normalize(light - p);
-        glm::vec3 helper = std::fabs(w.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-        glm::vec3 u = glm::normalize(glm::cross(helper, w)), v = glm::cross(w, u);
-        int hidden = 0;
-        for (int a = 0; a < k; ++a)
-          for (int b = 0; b < k; ++b) {
-            uint32_t stratum = static_cast<uint32_t>(a * k + b);
-            glm::vec2 d = concentric((static_cast<float>(a) + jitter(static_cast<uint32_t>(i), 2 * stratum)) / k,
-                                     (static_cast<float>(b) + jitter(static_cast<uint32_t>(i), 2 * stratum + 1)) / k);
-            glm::vec3 sample = light + options.light_radius * (d.x * u + d.y * v);
-            hidden += caster.blocked(sample, p, eps);
-          }
-        t.sphere_shadow[i] = static_cast<float>(hidden) / static_cast<float>(k * k);
+        t.sphere_shadow[i] = hidden_fraction(caster, light, p, options.light_radius, k, static_cast<uint32_t>(i), eps);
+      }
+      if (fit && x % kFitStride == 0 && y % kFitStride == 0) {
+        const size_t slot = static_cast<size_t>(y / kFitStride) * fit_w + static_cast<size_t>(x / kFitStride);
+        fit_slot_pixel[slot] = static_cast<int64_t>(i);
+        for (size_t r = 0; r < kFitRadii.size(); ++r)
+          t.fit_shadow[r][slot] = kFitRadii[r] == 0.0f ? t.point_shadow[i]
+                                                        : hidden_fraction(caster, light, p, kFitRadii[r],
+                                                                          kFitSamplesPerAxis, static_cast<uint32_t>(i), eps);
       }
 
       // The exact surface under the pixel, for the unshadowed lighting terms (same Blinn-Phong as the shader).
@@ -133,6 +151,14 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       }
     }
   });
+  // Keep the covered slots only, in image order.
+  for (size_t slot = 0; slot < fit_slot_pixel.size(); ++slot) {
+    if (fit_slot_pixel[slot] < 0) continue;
+    const size_t kept = t.fit_pixels.size();
+    t.fit_pixels.push_back(static_cast<uint32_t>(fit_slot_pixel[slot]));
+    for (std::vector<float>& shadow : t.fit_shadow) shadow[kept] = shadow[slot];
+  }
+  for (std::vector<float>& shadow : t.fit_shadow) shadow.resize(t.fit_pixels.size());
   return t;
 }
 
@@ -172,6 +198,16 @@ Accuracy measure_accuracy(const Truth& t, const Images& img) {
   if (!t.sphere_shadow.empty()) a.mae_sphere = abs_sphere / n;
   a.psnr_point_db = psnr(sq_point, lit_values);
   if (!t.sphere_shadow.empty()) a.psnr_sphere_db = psnr(sq_sphere, lit_values);
+  if (!t.fit_pixels.empty()) {
+    for (const std::vector<float>& shadow : t.fit_shadow) {
+      double sum = 0;
+      for (size_t j = 0; j < t.fit_pixels.size(); ++j) sum += std::fabs(img.shadow_factor[t.fit_pixels[j]] - shadow[j]);
+      a.fit_mae.push_back(sum / static_cast<double>(t.fit_pixels.size()));
+    }
+    const size_t best = static_cast<size_t>(std::min_element(a.fit_mae.begin(), a.fit_mae.end()) - a.fit_mae.begin());
+    a.fit_radius = kFitRadii[best];
+    a.fit_mae_best = a.fit_mae[best];
+  }
   return a;
 }
 

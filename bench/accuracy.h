@@ -4,6 +4,7 @@
 // visibility, and the fractional visibility of a spherical light of a stated radius (stratified samples),
 // which is the penumbra that PCF imitates.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -20,6 +21,14 @@ struct TruthOptions {
   int samples_per_axis = 8;   // stratified samples on the light's disk: 8 x 8 = 64
 };
 
+// Which light does a filter imitate? The soft reference's radius is one arbitrary choice, so every case is also
+// compared with spherical lights of these radii (world units; 0 = the point light) and reports the radius whose
+// shadow it matches best (least mean |difference|). Sampled sparsely to stay cheap next to the main reference:
+// every kFitStride-th pixel in x and y, kFitSamplesPerAxis^2 stratified rays per pixel and radius.
+inline constexpr std::array<float, 8> kFitRadii = {0.0f, 0.025f, 0.05f, 0.1f, 0.2f, 0.4f, 0.8f, 1.6f};
+inline constexpr int kFitStride = 4;
+inline constexpr int kFitSamplesPerAxis = 4;
+
 struct Truth {
   int width = 0, height = 0;
   TruthOptions options;
@@ -28,6 +37,10 @@ struct Truth {
   std::vector<float> sphere_shadow;   // hidden fraction of the spherical light (empty when radius is 0)
   std::vector<glm::vec3> direct;      // unshadowed (diffuse + specular) * albedo, from the exact surface hit
   std::vector<uint8_t> has_direct;    // 0 where the camera ray found no surface at the GPU's position
+  // The radius fit (empty without a soft reference, or for spot/directional lights): the pixels sampled (indices
+  // into the image) and, per kFitRadii entry, the hidden fraction of that light at each.
+  std::vector<uint32_t> fit_pixels;
+  std::vector<std::vector<float>> fit_shadow;
 };
 
 Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& images,
@@ -42,6 +55,10 @@ struct Accuracy {
   double mae_sphere = -1;              // mean |GPU shadow factor - spherical-light truth|; -1 without it
   double psnr_point_db = -1;           // lit frame vs the same frame lit with exact point visibility; -1 = identical
   double psnr_sphere_db = -1;          // ... with the spherical light's visibility; -1 = identical or absent
+  // The radius fit: mean |GPU shadow factor - truth| per kFitRadii entry over the sampled pixels, and the best.
+  std::vector<double> fit_mae;
+  double fit_radius = -1;              // -1 without a fit
+  double fit_mae_best = -1;
 };
 
 Accuracy measure_accuracy(const Truth& truth, const Images& images);

@@ -86,18 +86,23 @@ def main():
     md = [f"# Speed against accuracy\n\nError metric: `{args.metric}` against the ray-cast reference "
           "(mae_sphere: the spherical light of the run's `light_radius`). Time: median frame wall time "
           "(shadow + lighting pass). ★ = Pareto-optimal in its scene (nothing else is both faster and more "
-          "accurate). Runs: " + ", ".join(args.runs) + "\n"]
+          "accurate). Fits light radius: the spherical light (radius in world units, 0 = the point light) whose soft "
+          "shadow the case matches best, and the mean abs error there (`accuracy.radius_fit`): which light a filter "
+          "imitates, whatever radius the run's reference used. Runs: " + ", ".join(args.runs) + "\n"]
     for (backend, scene), rows in sorted(groups.items()):
         rows.sort(key=lambda r: r[1])
         front = set(pareto([(ms, err) for _, ms, err in rows]))
         md.append(f"\n## {backend} / {scene}\n\n| configuration | frame ms | {args.metric} | misclassified % "
-                  "| false / missed shadow % | PSNR point dB | status |\n|---|---|---|---|---|---|---|")
+                  "| false / missed shadow % | PSNR point dB | fits light radius (mae) | status |\n"
+                  "|---|---|---|---|---|---|---|---|")
         for i, (case, ms, err) in enumerate(rows):
             a = case["accuracy"]
             psnr = a.get("psnr_point_db")
+            fit = a.get("radius_fit")
+            fits = f"{fit['best_radius']:g} ({fit['best_mae']:.4f})" if fit else "-"
             md.append(f"| {'★ ' if i in front else ''}{label(case)} | {ms:.2f} | {err:.5f} | "
                       f"{a['misclassified_percent']:.3f} | {a['false_shadow_percent']:.3f} / "
-                      f"{a['missed_shadow_percent']:.3f} | {'∞' if psnr is None else f'{psnr:.1f}'} | "
+                      f"{a['missed_shadow_percent']:.3f} | {'∞' if psnr is None else f'{psnr:.1f}'} | {fits} | "
                       f"{case['status']} |")
         plot(out_dir, backend, scene, rows, front, args.metric)
         md.append(f"\n![{backend} {scene}](tradeoff_{backend}_{scene}.png)\n")

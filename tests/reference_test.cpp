@@ -111,5 +111,30 @@ TEST(Truth, MetricsCountFalseAndMissedShadowsApart) {
   EXPECT_EQ(bench::measure_accuracy(t, img).psnr_point_db, -1.0) << "identical: no finite PSNR";
 }
 
+// The radius fit: a shadow factor equal to one radius's truth picks that radius; the point light's truth picks 0.
+TEST(Truth, RadiusFitPicksTheLightAFilterImitates) {
+  scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
+  RayCaster caster(s);
+  Images img;
+  img.width = 64;  // every kFitStride-th pixel of one row is sampled: 16 pixels across the shadow's edge
+  img.height = 1;
+  for (int x = 0; x < img.width; ++x) img.world_position.insert(img.world_position.end(), {x * 0.05f, 0.0f, 0.0f, 1.0f});
+  bench::TruthOptions o;
+  o.light_radius = 0.1f;
+  bench::Truth t = bench::compute_truth(caster, s, 0, img, o);
+  ASSERT_EQ(t.fit_pixels.size(), 16u);
+  ASSERT_EQ(t.fit_shadow.size(), bench::kFitRadii.size());
+  for (size_t r : {size_t{0}, size_t{5}}) {
+    img.shadow_factor.assign(64, 0.0f);
+    for (size_t j = 0; j < t.fit_pixels.size(); ++j) img.shadow_factor[t.fit_pixels[j]] = t.fit_shadow[r][j];
+    bench::Accuracy a = bench::measure_accuracy(t, img);
+    EXPECT_EQ(a.fit_radius, bench::kFitRadii[r]);
+    EXPECT_EQ(a.fit_mae_best, 0.0);
+    EXPECT_EQ(a.fit_mae.size(), bench::kFitRadii.size());
+  }
+  o.light_radius = 0.0f;  // no soft reference: no fit either
+  EXPECT_TRUE(bench::compute_truth(caster, s, 0, img, o).fit_pixels.empty());
+}
+
 }  // namespace
 }  // namespace omnishadow::reference
