@@ -1,5 +1,7 @@
 #include "bench/results_writer.h"
 
+#include <cmath>
+
 #include "bench/file_io.h"
 #include "bench/repetition_policy.h"
 #include "bench/system_info.h"
@@ -103,6 +105,17 @@ json accuracy_to_json(const Accuracy& a) {
     j["mae_sphere"] = a.mae_sphere;
     j["psnr_sphere_db"] = db(a.psnr_sphere_db);
   }
+  // Radii are short decimals held as floats: written rounded, not as 0.20000000298.
+  auto radius = [](double r) { return std::round(r * 1e4) / 1e4; };
+  std::vector<double> radii;
+  for (float r : kFitRadii) radii.push_back(radius(r));
+  if (a.fit_radius >= 0)
+    j["radius_fit"] = {{"radii", radii},
+                       {"mae", a.fit_mae},
+                       {"best_radius", radius(a.fit_radius)},
+                       {"best_mae", a.fit_mae_best},
+                       {"sampling", "every " + std::to_string(kFitStride) + "th pixel in x and y, " +
+                                        std::to_string(kFitSamplesPerAxis * kFitSamplesPerAxis) + " rays per radius"}};
   return j;
 }
 
@@ -238,6 +251,7 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                        {"complete", complete},
                        {"stopped_by", run.stopped_by.empty() ? json(nullptr) : json(run.stopped_by)},
                        {"commit", build_commit()},
+                       {"commit_date", build_commit_date()},
                        {"command_line", run.command_line},
                        {"phases",
                         {{"untimed_seconds", run.phases.untimed_seconds < 0 ? json(nullptr) : json(run.phases.untimed_seconds)},

@@ -26,6 +26,7 @@ std::string cpu_model() {
 }  // namespace
 
 std::string build_commit() { return OMNISHADOW_COMMIT; }
+std::string build_commit_date() { return OMNISHADOW_COMMIT_DATE; }
 
 std::map<std::string, std::string> system_info() {
   std::map<std::string, std::string> info;

@@ -10,5 +10,7 @@ namespace omnishadow::bench {
 // MESA_LOADER_DRIVER_OVERRIDE, kernel, commit, build_type.
 std::map<std::string, std::string> system_info();
 std::string build_commit();
+// The commit date (ISO 8601, git %cI) of that commit; empty outside a git checkout.
+std::string build_commit_date();
 
 }  // namespace omnishadow::bench
