@@ -2,9 +2,13 @@
 
 #include <benchmark/benchmark.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -296,6 +300,29 @@ int run_command(const RunCommand& cmd) {
     for (const CaseResult& r : run.results)
       if (fails_run(r.status)) return 1;
   return 0;
+}
+
+int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out) {
+  const std::string python = "/usr/bin/python3";
+  const std::string script = std::string(OMNISHADOW_SOURCE_DIR) + "/scripts/report.py";
+  std::error_code ec;
+  if (!fs::exists(python, ec) || !fs::exists(script, ec)) {
+    print_error("report needs " + python + " and " + script + " (scripts/setup.sh installs Python's packages)");
+    return 2;
+  }
+  std::vector<std::string> args = {python, script, run};
+  if (!history.empty()) {
+    args.push_back("--history");
+    args.insert(args.end(), history.begin(), history.end());
+  }
+  if (!out.empty()) args.insert(args.end(), {"--out", out});
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::fflush(stdout);
+  execv(python.c_str(), argv.data());
+  print_error("report: cannot run " + python + ": " + std::strerror(errno));
+  return 2;
 }
 
 int list_command(const std::string& scenes_dir, const std::map<std::string, std::string>& backend_options) {

@@ -29,6 +29,10 @@ struct RunCommand {
 int run_command(const RunCommand& cmd);
 int list_command(const std::string& scenes_dir, const std::map<std::string, std::string>& backend_options);
 
+// `report RUN [--history ...] [--out FILE]`: scripts/report.py (the HTML page is written with matplotlib, in Python),
+// run with Debian's /usr/bin/python3 in place of this process. Exit 2 when either is missing.
+int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out);
+
 // One line on stderr, "omnishadow: error: ...".
 void print_error(const std::string& message);
 

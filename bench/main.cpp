@@ -74,6 +74,12 @@ int main(int argc, char** argv) {
   CLI::App* mrg = app.add_subcommand("merge", "join the results of --shard runs into one run");
   mrg->add_option("out", merge_out, "folder for the merged results.json")->required();
   mrg->add_option("runs", merge_inputs, "run folders or results.json files")->required();
+  std::string report_run, report_out;
+  std::vector<std::string> report_history;
+  CLI::App* rep = app.add_subcommand("report", "one self-contained HTML page of a run (and its history)");
+  rep->add_option("run", report_run, "run folder")->required();
+  rep->add_option("--history", report_history, "run folders (or folders of runs) of the same device, any order");
+  rep->add_option("--out", report_out, "the HTML file (default RUN/report.html)");
   CLI::App* key = app.add_subcommand("device-key", "print the device key of each backend of a run (baselines/)");
   key->add_option("run", key_run, "run folder or results.json")->required();
 
@@ -96,6 +102,7 @@ int main(int argc, char** argv) {
   }
   if (list->parsed()) return list_command(common.scenes_dir, common.backend_options());
   if (r->parsed()) return run_command(run);
+  if (rep->parsed()) return report_command(report_run, report_history, report_out);
   return run_file_command(app.get_subcommand("compare"), mrg, compare_flags, compare, merge_out, merge_inputs,
                           key_run);
 }

@@ -11,6 +11,7 @@ packages=(
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers  # Vulkan loader, SPIR-V compiler, lavapipe
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
   python3-yaml                             # tests/workflows_test.py: the fleet workflow files parse
+  chromium                                 # tests/report_test.sh: the HTML report rendered in a real browser
   valgrind                                 # callgrind: deterministic instruction counts (scripts/instruction_counts.sh)
 )
 [ "${1:-}" = "--fuzz" ] && packages+=(clang-14 libclang-rt-14-dev)

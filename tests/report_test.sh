@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# `omnishadow report` in a real browser: a small run and a synthetic history of it (24 commits, one case 15%
+# slower from the seventeenth on) make one HTML page; headless Chromium loads it, every case id must be in the page,
+# the history must name the slowed case's step, and a screenshot is taken (OMNISHADOW_REPORT_SCREENSHOT=FILE keeps
+# it, e.g. docs/report.png). Skipped (exit 77) only where Chromium or OpenGL is missing, saying which.
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+bin="${OMNISHADOW_BIN:-$here/build/release/omnishadow}"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+browser="$(command -v chromium || command -v chromium-browser || true)"
+if [ -z "$browser" ]; then
+  echo "report test skipped: no chromium on PATH (Debian package chromium; scripts/setup.sh installs it)"
+  exit 77
+fi
+if reason="$("$bin" list | grep -m1 'gl: unavailable')"; then
+  echo "report test skipped: OpenGL backend unavailable here: $reason"
+  exit 77
+fi
+tmp="$(mktemp -d)"
+trap '[ -n "${KEEP:-}" ] || rm -rf "$tmp"' EXIT
+"$bin" run --backend gl --scene room --cube 64 --frame 160x120 --technique six_pass,geometry_shader \
+  --filter hard,pcf_disk20 --frames 2 --warmup 0 --light-radius 0 --out "$tmp/run" --benchmark_repetitions=3 \
+  >"$tmp/run.log" 2>&1 || { cat "$tmp/run.log"; exit 1; }
+/usr/bin/python3 - "$tmp" <<'PY'
+import copy, json, os, random, sys
+tmp = sys.argv[1]
+doc = json.load(open(f"{tmp}/run/results.json"))
+slowed = doc["omnishadow"]["cases"][0]["id"]
+for i in range(24):
+    d = copy.deepcopy(doc)
+    d["omnishadow"]["commit"] = f"c{i:02d}"
+    d["omnishadow"]["commit_date"] = f"2026-11-{i + 1:02d}T00:00:00+00:00"
+    for c in d["omnishadow"]["cases"]:
+        per = c.get("timing", {}).get("per_repetition", {})
+        wobble = random.Random(i).gauss(1.0, 0.01)
+        per["frame_ms"] = [v * wobble * (1.15 if c["id"] == slowed and i >= 16 else 1.0) for v in per.get("frame_ms", [])]
+    os.makedirs(f"{tmp}/history/r{i:02d}")
+    json.dump(d, open(f"{tmp}/history/r{i:02d}/results.json", "w"))
+open(f"{tmp}/slowed", "w").write(slowed)
+PY
+"$bin" report "$tmp/run" --history "$tmp/history" --out "$tmp/report.html" >/dev/null
+"$browser" --headless=new --no-sandbox --disable-gpu --dump-dom "file://$tmp/report.html" 2>/dev/null >"$tmp/dom.html"
+/usr/bin/python3 - "$tmp" <<'PY'
+import html, json, sys
+tmp = sys.argv[1]
+dom = html.unescape(open(f"{tmp}/dom.html").read())
+ids = [c["id"] for c in json.load(open(f"{tmp}/run/results.json"))["omnishadow"]["cases"]]
+missing = [i for i in ids if i not in dom]
+assert not missing, f"case ids missing from the rendered page: {missing}"
+assert "at c16" in dom, "the history step at c16 is not shown"
+assert dom.count("data:image/png;base64,") >= 3, "charts are not embedded"
+assert "http://" not in dom and "https://" not in dom, "the page must not reach the network"
+print(f"report: {len(ids)} cases present in the page Chromium rendered")
+PY
+"$browser" --headless=new --no-sandbox --disable-gpu --window-size=1280,2400 --screenshot="$tmp/report.png" \
+  "file://$tmp/report.html" >/dev/null 2>&1
+test -s "$tmp/report.png"
+if [ -n "${OMNISHADOW_REPORT_SCREENSHOT:-}" ]; then cp "$tmp/report.png" "$OMNISHADOW_REPORT_SCREENSHOT"; fi
