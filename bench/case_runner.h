@@ -115,6 +115,11 @@ struct CaseResult {
   // met by --max-repetitions), "sustain" (--sustain's time), "stopped" (SIGINT/SIGTERM); empty if never timed.
   std::string repetitions_ended_by;
   double precision_target_percent = 0.0;  // --precision, 0 without
+  bool precision_on_cpu = false;          // --precision-metric cpu
+  // The per-repetition figures --precision judges (wall time, or process CPU time).
+  const std::vector<double>& precision_samples() const {
+    return precision_on_cpu ? repetition_cpu_ms : repetition_frame_ms;
+  }
   std::optional<Accuracy> accuracy;  // against the ray-cast reference, for the check frame
   std::optional<FrameTiming> first_frame;  // the check frame rendered cold, right after configure
   float light_far = 0.0f;                  // far plane of the check frame's cube (fitted with fit_range)

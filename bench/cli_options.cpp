@@ -124,6 +124,10 @@ void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
                "median per-repetition frame time is within +-P% (at least 6 repetitions; at most "
                "--max-repetitions)")
       ->check(CLI::Range(0.01, 100.0));
+  r.add_option_function<std::string>(
+       "--precision-metric", [&p](const std::string& m) { p.cpu_metric = m == "cpu"; },
+       "what --precision judges: wall (frame wall time) or cpu (process CPU time per frame; compare --metric cpu)")
+      ->check(CLI::IsMember({"wall", "cpu"}))->default_str("wall");
   r.add_option("--max-repetitions", p.max_repetitions, "the cap on repetitions per case under --precision")
       ->capture_default_str()->check(CLI::Range(1, 100000));
   r.add_option("--sustain", p.sustain_seconds,

@@ -130,15 +130,15 @@ std::vector<CaseResult*> next_round(std::vector<CaseResult>& results, const Repe
                                     double elapsed) {
   std::vector<CaseResult*> out;
   for (CaseResult& r : results)
-    if (is_timed(r.status) && needs_repetition(policy, r.repetition_frame_ms, elapsed)) out.push_back(&r);
+    if (is_timed(r.status) && needs_repetition(policy, r.precision_samples(), elapsed)) out.push_back(&r);
   return out;
 }
 
 std::string ended_by(const RepetitionPolicy& policy, const CaseResult& r, bool stopped, double elapsed) {
-  if (!needs_repetition(policy, r.repetition_frame_ms, elapsed)) {
+  if (!needs_repetition(policy, r.precision_samples(), elapsed)) {
     if (policy.sustain_seconds > 0.0) return "sustain";
     if (policy.precision_percent <= 0.0) return "count";
-    return r.repetitions >= policy.cap() && median_interval(r.repetition_frame_ms).half_width_percent >
+    return r.repetitions >= policy.cap() && median_interval(r.precision_samples()).half_width_percent >
                                                 policy.precision_percent
                ? "cap"
                : "precision";
@@ -153,6 +153,7 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, const Repetit
                const std::function<bool()>& stop_requested) {
   Progress progress{policy};
   RoundReporter reporter;
+  for (CaseResult& r : results) r.precision_on_cpu = policy.cpu_metric;
   const int frames = harness.options().frames;
   for (;;) {
     std::vector<CaseResult*> round = next_round(results, policy, progress.elapsed());

@@ -14,6 +14,7 @@ struct RepetitionPolicy {
   double precision_percent = 0.0;  // --precision: target half-width of the 95% interval, % of the median; 0 off
   int max_repetitions = 30;        // --max-repetitions: the cap under --precision
   double sustain_seconds = 0.0;    // --sustain: loop rounds until this much time has passed; 0 off
+  bool cpu_metric = false;         // --precision-metric cpu: judge the process CPU time per frame, not wall time
   // The least repetitions a precision target is judged on: the smallest sample whose extreme order statistics
   // bracket the median with >= 95% confidence (1 - 2 / 2^6 = 96.9%).
   static constexpr int kMinForInterval = 6;

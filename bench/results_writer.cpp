@@ -142,10 +142,11 @@ json floor_to_json(const CaseResult& r) {
 
 // The per-repetition frame times, how sure their median is, and how stable they were (bench/repetition_policy.h).
 json repetitions_to_json(const CaseResult& r) {
-  MedianInterval ci = median_interval(r.repetition_frame_ms);
+  MedianInterval ci = median_interval(r.precision_samples());
   json interval = nullptr;
   if (ci.defined)
-    interval = {{"median_ms", ci.median},     {"low_ms", ci.low},
+    interval = {{"metric", r.precision_on_cpu ? "frame_cpu_ms" : "frame_ms"},
+                {"median_ms", ci.median},     {"low_ms", ci.low},
                 {"high_ms", ci.high},         {"coverage", ci.coverage},
                 {"half_width_percent", ci.half_width_percent}};
   return {{"frame_ms", r.repetition_frame_ms},
@@ -261,6 +262,7 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                          {"precision_percent", run.repetitions.precision_percent},
                          {"max_repetitions", run.repetitions.max_repetitions},
                          {"sustain_seconds", run.repetitions.sustain_seconds},
+                         {"precision_metric", run.repetitions.cpu_metric ? "cpu" : "wall"},
                          {"order", "rounds: one repetition of every unfinished case per round"}}},
                        {"options",
                         {{"warmup_frames", o.warmup_frames},

@@ -96,7 +96,7 @@ void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& res
   for (const CaseResult& r : results) {
     if (r.repetition_frame_ms.empty()) continue;
     total += static_cast<int>(r.repetition_frame_ms.size());
-    MedianInterval ci = median_interval(r.repetition_frame_ms);
+    MedianInterval ci = median_interval(r.precision_samples());
     const double stability = stability_percent(r.repetition_frame_ms);
     auto [best, worst] = std::minmax_element(r.repetition_frame_ms.begin(), r.repetition_frame_ms.end());
     capped += r.repetitions_ended_by == "cap";
@@ -120,7 +120,7 @@ void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& res
        << "| case | repetitions | best ms | worst ms | stability | clocks |\n|---|---|---|---|---|---|\n";
   } else {
     md << "\n## Repetitions to +-" << p.precision_percent
-       << "% (95% interval of the median per-repetition frame time)\n\n"
+       << "% (95% interval of the median per-repetition frame " << (p.cpu_metric ? "CPU" : "wall") << " time)\n\n"
        << total << " repetitions in all (a fixed count of " << p.cap() << " would take "
        << p.cap() * static_cast<int>(std::count_if(results.begin(), results.end(),
                                                    [](const CaseResult& r) { return !r.repetition_frame_ms.empty(); }))

@@ -212,7 +212,8 @@ def main():
     designs = {"fixed": (args.repetitions, ())}
     if args.precision:
         designs[f"precision{args.precision:g}"] = (
-            args.min_repetitions, ("--precision", str(args.precision), "--max-repetitions", str(args.max_repetitions)))
+            args.min_repetitions, ("--precision", str(args.precision), "--max-repetitions", str(args.max_repetitions),
+                                   "--precision-metric", args.metric))
     outcomes = {d: {arm: [] for arm in arms} for d in designs}  # per design, arm, trial: compared cases
     spent = {d: [] for d in designs}  # repetitions per run (all cases)
     rng = random.Random(12345)

@@ -2,8 +2,11 @@
 // Shadow pass vertex stage. Vertices arrive in world space (scenes are baked at load).
 #if defined(TECHNIQUE_VS_LAYER)
 #extension GL_ARB_shader_viewport_layer_array : require
-#elif defined(TECHNIQUE_MULTIVIEW)
+#elif defined(TECHNIQUE_MULTIVIEW) && defined(VULKAN)
 #extension GL_EXT_multiview : require
+#elif defined(TECHNIQUE_MULTIVIEW)
+#extension GL_OVR_multiview2 : require
+layout(num_views = 6) in;  // GL: the framebuffer's six views of the cube's array layers
 #endif
 #include "common.glsl"
 
@@ -41,8 +44,12 @@ void main() {
 #endif
   gl_Position = frame.face_view_proj[face] * vec4(in_position, 1.0);
 #elif defined(TECHNIQUE_MULTIVIEW)
-  // One draw, six views (view mask 0b111111): the view index picks the face.
+  // One draw, six views (Vulkan: view mask 0b111111; GL: num_views = 6): the view index picks the face.
+#ifdef VULKAN
   int face = int(gl_ViewIndex);
+#else
+  int face = int(gl_ViewID_OVR);
+#endif
 #ifdef WRITE_WORLD_POSITION
   world_position = in_position;
 #endif

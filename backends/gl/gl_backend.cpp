@@ -70,7 +70,11 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   info_.extra["max_2d_size"] = std::to_string(std::min(max_texture, max_renderbuffer));
   has_layer_array_ = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
   has_pipeline_statistics_ = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
+  GLint max_views = 0;
+  if (epoxy_has_gl_extension("GL_OVR_multiview2")) glGetIntegerv(GL_MAX_VIEWS_OVR, &max_views);
+  has_multiview_ = max_views >= 6;
   info_.extra["GL_ARB_shader_viewport_layer_array"] = has_layer_array_ ? "yes" : "no";
+  info_.extra["GL_OVR_multiview2"] = max_views > 0 ? "yes, " + std::to_string(max_views) + " views" : "no";
   info_.extra["GL_ARB_pipeline_statistics_query"] = has_pipeline_statistics_ ? "yes" : "no";
   info_.extra["GL_SHADING_LANGUAGE_VERSION"] = gl_string(GL_SHADING_LANGUAGE_VERSION);
   info_.extra["api_checks"] = api_checks ? "KHR_debug errors captured (debug context)" : "off";
@@ -130,8 +134,8 @@ Support GlBackend::supports(const CaseConfig& c) const {
   if (feature == TechniqueFeature::layer_from_vertex && !has_layer_array_)
     return {false, "GL_ARB_shader_viewport_layer_array is not exposed by " + info_.renderer};
   if (Support s = common_support(c); !s.ok) return s;
-  if (feature == TechniqueFeature::multiview)
-    return {false, "multiview is implemented with VK_KHR_multiview (backend vulkan); GL_OVR_multiview2 is not"};
+  if (feature == TechniqueFeature::multiview && !has_multiview_)
+    return {false, "GL_OVR_multiview2 with 6 views is not exposed by " + info_.renderer};
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
@@ -209,7 +213,7 @@ void GlBackend::configure_case(const CaseConfig& c) {
 
   map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, {});
   floor_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "floor.frag"}}, {});
-  shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format);
+  shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format, traits(c.technique).multiview);
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
   lighting_[size_t(gpu::LightingVariant::timed)] = create_lighting_targets(c.width, c.height, false);

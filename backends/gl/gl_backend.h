@@ -53,6 +53,7 @@ class GlBackend final : public Backend {
 
   EglContext context_;
   bool has_layer_array_ = false;
+  bool has_multiview_ = false;  // GL_OVR_multiview2 with GL_MAX_VIEWS_OVR >= 6
   bool has_pipeline_statistics_ = false;
   GLint uniform_alignment_ = 256;
 

@@ -27,17 +27,33 @@ void check_complete(GLuint fbo, const char* what) {
     throw std::runtime_error(std::string(what) + " framebuffer incomplete (status " + hex(status) + ")");
 }
 
-GLuint create_cube(GLenum internal_format, int size) {
-  GLuint tex = 0;
-  glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &tex);
-  glTextureStorage2D(tex, 1, internal_format, size, size);
-  // NEAREST and clamp as in the point-shadow tutorial; the hw_compare2x2 filter overrides filtering with a sampler object.
+// NEAREST and clamp as in the point-shadow tutorial; the hw_compare2x2 filter overrides filtering with a sampler object.
+void cube_parameters(GLuint tex) {
   glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   glTextureParameteri(tex, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+}
+
+GLuint create_cube(GLenum internal_format, int size) {
+  GLuint tex = 0;
+  glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &tex);
+  glTextureStorage2D(tex, 1, internal_format, size, size);
+  cube_parameters(tex);
   return tex;
+}
+
+// Six layers of a 2D array (what multiview renders into) and a cube-map view of them (what is sampled): layer f is
+// face f in both, so the face order is the cube's.
+GLuint create_cube_array(GLenum internal_format, int size, GLuint& cube_view) {
+  GLuint array = 0;
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &array);
+  glTextureStorage3D(array, 1, internal_format, size, size, 6);
+  glGenTextures(1, &cube_view);  // a view needs a name never bound (glCreateTextures would give it a target)
+  glTextureView(cube_view, GL_TEXTURE_CUBE_MAP, array, internal_format, 0, 1, 0, 6);
+  cube_parameters(cube_view);
+  return array;
 }
 
 GLuint create_2d(GLenum internal_format, int width, int height) {
@@ -58,23 +74,40 @@ GLenum depth_internal_format(DepthFormat format) {
   return GL_DEPTH_COMPONENT32F;
 }
 
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format) {
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview) {
   ShadowTargets t;
   t.storage = storage;
   t.size = size;
-  t.depth = create_cube(depth_internal_format(depth_format), size);
-  if (storage == Storage::r32f_distance) t.stored = create_cube(GL_R32F, size);
-  else t.stored = t.depth;
+  if (multiview) {
+    t.depth_array = create_cube_array(depth_internal_format(depth_format), size, t.depth);
+    if (storage == Storage::r32f_distance) t.stored_array = create_cube_array(GL_R32F, size, t.stored);
+  } else {
+    t.depth = create_cube(depth_internal_format(depth_format), size);
+    if (storage == Storage::r32f_distance) t.stored = create_cube(GL_R32F, size);
+  }
+  if (storage != Storage::r32f_distance) t.stored = t.depth, t.stored_array = t.depth_array;
   check_allocation("the shadow cube");
+  const GLuint depth_target = multiview ? t.depth_array : t.depth;
+  const GLuint stored_target = multiview ? t.stored_array : t.stored;
 
   // A cube map texture is layered: attaching it whole gives a layered framebuffer, attaching one layer
   // (glNamedFramebufferTextureLayer, layer = face) gives the per-face framebuffer of six_pass.
+  // With multiview the whole-cube attachment is six views instead (GL_OVR_multiview has no named-framebuffer form).
+  auto attach_all = [&](GLuint fbo, GLenum attachment, GLuint texture) {
+    if (!multiview) {
+      glNamedFramebufferTexture(fbo, attachment, texture, 0);
+      return;
+    }
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+    glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, attachment, texture, 0, 0, 6);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  };
   auto attach = [&](GLuint fbo, int layer) {
-    if (layer < 0) glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, t.depth, 0);
-    else glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, t.depth, 0, layer);
+    if (layer < 0) attach_all(fbo, GL_DEPTH_ATTACHMENT, depth_target);
+    else glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_target, 0, layer);
     if (storage == Storage::r32f_distance) {
-      if (layer < 0) glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, t.stored, 0);
-      else glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, t.stored, 0, layer);
+      if (layer < 0) attach_all(fbo, GL_COLOR_ATTACHMENT0, stored_target);
+      else glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, stored_target, 0, layer);
       glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
     } else {
       glNamedFramebufferDrawBuffer(fbo, GL_NONE);
@@ -88,7 +121,7 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
   }
   glCreateFramebuffers(1, &t.layered_fbo);
   attach(t.layered_fbo, -1);
-  check_complete(t.layered_fbo, "layered shadow");
+  check_complete(t.layered_fbo, multiview ? "multiview shadow" : "layered shadow");
   return t;
 }
 
@@ -97,6 +130,8 @@ void destroy(ShadowTargets& t) {
   glDeleteFramebuffers(1, &t.layered_fbo);
   if (t.stored != t.depth) glDeleteTextures(1, &t.stored);
   glDeleteTextures(1, &t.depth);
+  if (t.stored_array != t.depth_array) glDeleteTextures(1, &t.stored_array);
+  glDeleteTextures(1, &t.depth_array);  // 0 is ignored
   t = ShadowTargets{};
 }
 

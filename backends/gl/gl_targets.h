@@ -14,8 +14,11 @@ namespace omnishadow::gl {
 struct ShadowTargets {
   GLuint stored = 0;       // what the lighting pass samples: depth cube (linear_depth) or R32F cube
   GLuint depth = 0;        // the depth cube the pass tests against (== stored for linear_depth)
+  // Multiview (GL_OVR_multiview2) renders into 2D array textures, never cube maps: the cube is then a texture view
+  // (GL 4.3) of six array layers, sampled and read back as the cube. 0 for every other technique.
+  GLuint depth_array = 0, stored_array = 0;
   std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face, built once
-  GLuint layered_fbo = 0;             // single-pass techniques: the whole cube, gl_Layer picks the face
+  GLuint layered_fbo = 0;             // single-pass techniques: the whole cube, gl_Layer (or the view) picks the face
   Storage storage = Storage::linear_depth;
   int size = 0;
 };
@@ -43,7 +46,8 @@ struct LightingTargets {
 
 GLenum depth_internal_format(DepthFormat format);
 // Throw std::runtime_error naming the incomplete framebuffer, or GL_OUT_OF_MEMORY for allocations that failed.
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format);
+// multiview: the layered framebuffer holds six views of the arrays (glFramebufferTextureMultiviewOVR).
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview = false);
 void destroy(ShadowTargets& t);
 LightingTargets create_lighting_targets(int width, int height, bool check_outputs);
 void destroy(LightingTargets& t);
