@@ -278,13 +278,17 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
 void Harness::check_accuracy(CaseResult& r, const Images& images) {
   const Truth& truth = truth_for(r.config, images);
   r.accuracy = measure_accuracy(truth, images);
-  const bool given = options_.max_error_percent >= 0;
-  const double limit = given ? options_.max_error_percent
-                             : r.config.filter == Filter::hard ? kDefaultHardMaxErrorPercent : -1.0;
+  const bool given = options_.max_error_percent >= 0, hard = r.config.filter == Filter::hard;
+  const double limit = given                          ? options_.max_error_percent
+                       : hard                         ? kDefaultHardMaxErrorPercent
+                       : r.config.pcf_scale == 1.0f   ? kDefaultSoftMaxErrorPercent
+                                                      : -1.0;
   if (limit >= 0 && r.accuracy->misclassified_percent > limit) {
     char buf[200];
     std::snprintf(buf, sizeof buf, "shadow disagrees with exact visibility on %.3f%% of pixels (%s %g%%)",
-                  r.accuracy->misclassified_percent, given ? "--max-error" : "default limit for hard shadows", limit);
+                  r.accuracy->misclassified_percent,
+                  given ? "--max-error" : hard ? "default limit for hard shadows" : "default limit for soft filters",
+                  limit);
     r.add({Status::failed_quality, "max_error", buf,
            {{"misclassified_percent", r.accuracy->misclassified_percent}, {"max_error_percent", limit}}});
   }

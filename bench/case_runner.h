@@ -23,6 +23,10 @@ namespace omnishadow::bench {
 // here stay well below it (room 0.06-0.3%, heavy 1.3% at cube 512, the directional notes' scene 3.4%); a broken
 // lookup (a flipped axis, no bias: 49% acne) is far above it.
 inline constexpr double kDefaultHardMaxErrorPercent = 5.0;
+// The default limit for the soft filters at the tutorials' kernel size (--pcf-scale 1): their penumbra is
+// misclassified at the 0.5 threshold here and there (room 0.2-0.3%, heavy 2.9-5.1% at cube 256), while a kernel
+// scaled by 10 (scripts/mutants.py) misclassifies 25-39% on heavy. A scale chosen with --pcf-scale has no default.
+inline constexpr double kDefaultSoftMaxErrorPercent = 15.0;
 
 struct RunOptions {
   std::string out_dir;                // results/<run>; images go under out_dir/images/<case id>/
@@ -56,7 +60,7 @@ struct RunOptions {
   bool stability = false;
   // A case whose shadow disagrees with exact visibility on more than this % of pixels is failed_quality, with the
   // measured error in its reason (the stability suite's "where a variant breaks"). Negative (not given): hard-filter
-  // cases only, at kDefaultHardMaxErrorPercent; soft filters imitate an area light and have no default limit.
+  // cases at kDefaultHardMaxErrorPercent, soft filters at the tutorials' scale at kDefaultSoftMaxErrorPercent.
   double max_error_percent = -1.0;
   TruthOptions truth;       // the spherical light of the soft reference
   std::map<std::string, std::string> backend_options;  // egl_platform, gl_device, vk_device, api_checks
