@@ -76,6 +76,12 @@ struct Images {
   // Per face, the light distance in world units that the shadow pass stored (linear_depth values are
   // multiplied back by light_far; texels nothing was drawn to hold light_far, or FLT_MAX for r32f_distance).
   std::array<std::vector<float>, 6> cube_distance;
+  // Spot/directional lights' 2D maps (none without such lights): per map, the stored window depth in [0, 1],
+  // row-major, row 0 at NDC y = -1; 1 where nothing was drawn. The maps use the API's clip depth range (GL -1..1,
+  // Vulkan 0..1), which the truth must know.
+  int map_size = 0;
+  bool map_depth_zero_to_one = false;
+  std::vector<std::vector<float>> map_depth;
 };
 
 // The public calls check the order of use (load, configure, render, read_back) and keep the state every backend

@@ -274,6 +274,27 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
             {"texels", double(r.cube_texels->texels)}}});
 }
 
+void Harness::check_maps(CaseResult& r, const Images& images) {
+  const scene::Scene& sc = scene_of(r.config);
+  if (images.map_depth.empty() || images.map_size < 1) return;
+  const cube::DepthRange range =
+      images.map_depth_zero_to_one ? cube::DepthRange::zero_to_one : cube::DepthRange::minus_one_to_one;
+  const std::string key = scene_key(r.config.scene, r.config.remedies.rebase_origin) + "/" +
+                          std::to_string(options_.check_frame) + "/" + std::to_string(images.map_size) + "/" +
+                          std::to_string(int(range));
+  auto it = map_truths_.find(key);
+  if (it == map_truths_.end())
+    it = map_truths_
+             .emplace(key, compute_map_truth(caster_of(r.config), sc, options_.check_frame, images.map_size, range))
+             .first;
+  r.map_texels = check_map_texels(it->second, images, r.config.depth_format);
+  if (r.map_texels->bad_percent() > kMapTexelLimitPercent && r.map_texels->bad() > 1)
+    r.add({Status::failed_check, "map_texels", describe(*r.map_texels),
+           {{"bad_percent", r.map_texels->bad_percent()},
+            {"max_error", r.map_texels->max_error},
+            {"texels", double(r.map_texels->texels)}}});
+}
+
 // The error against exact visibility, the --max-error limit, and the error heatmap.
 void Harness::check_accuracy(CaseResult& r, const Images& images) {
   const Truth& truth = truth_for(r.config, images);
@@ -357,6 +378,7 @@ void Harness::prepare(CaseResult& r) {
     }
     if (options_.accuracy) {
       check_cube(r, images);
+      check_maps(r, images);
       check_accuracy(r, images);
     }
     measure_floor(r, b);

@@ -13,6 +13,7 @@
 #include "bench/accuracy.h"
 #include "bench/async_writer.h"
 #include "bench/cube_truth.h"
+#include "bench/map_truth.h"
 #include "bench/device_state.h"
 #include "bench/image_compare.h"
 #include "bench/timing_stats.h"
@@ -142,6 +143,7 @@ struct CaseResult {
   // and storage. A pass's time over its floor is what the technique or filter costs beyond what any variant pays.
   std::optional<FrameTiming> floor;
   std::optional<CubeTexelReport> cube_texels;  // the cube against exact first-hit distances (bench/cube_truth.h)
+  std::optional<MapTexelReport> map_texels;    // spot/directional maps against exact depths (bench/map_truth.h)
 };
 
 inline constexpr int kFloorFrames = 5;
@@ -176,6 +178,7 @@ class Harness {
   void check_accuracy(CaseResult& result, const Images& images);
   void measure_floor(CaseResult& result, Backend& b);
   void check_cube(CaseResult& result, const Images& images);
+  void check_maps(CaseResult& result, const Images& images);
   void check_timed_variant(CaseResult& result, const Images& images);
   void check_against_six_pass(CaseResult& result, const Images& images);
   void count_non_finite(CaseResult& result, const Images& images);
@@ -209,6 +212,7 @@ class Harness {
   std::map<std::string, std::unique_ptr<reference::RayCaster>> casters_;  // by scene
   std::unique_ptr<AsyncWriter> writer_;  // with async_images
   std::map<std::string, FrameTiming> floors_;
+  std::map<std::string, MapTruth> map_truths_;  // by scene, frame, map size and depth range
   std::map<std::string, CubeTruth> cube_truths_;  // by scene, light position, near, far and cube size  // by the axes a floor depends on
   std::map<std::string, Truth> truths_;  // by scene, frame and positions fingerprint: shared by all its cases
 };

@@ -9,20 +9,15 @@
 
 namespace omnishadow::bench {
 
-namespace {
-
-// Per triangle (scene order, as the ray caster holds them): true where the shadow pass culls its back face.
-std::vector<uint8_t> culled_triangles(const scene::Scene& scene, bool two_sided) {
-  std::vector<uint8_t> culled(scene.vertices.size() / 3, 0);
-  if (two_sided) return culled;
+std::vector<uint8_t> culled_triangles(const scene::Scene& scene, CulledFaces closed_objects) {
+  std::vector<uint8_t> culled(scene.vertices.size() / 3, uint8_t(CulledFaces::none));
   for (const scene::Object& o : scene.objects)
     if (o.cull_back_faces)
-      for (uint32_t v = o.first_vertex; v < o.first_vertex + o.vertex_count; v += 3) culled[v / 3] = 1;
+      for (uint32_t v = o.first_vertex; v < o.first_vertex + o.vertex_count; v += 3)
+        culled[v / 3] = uint8_t(closed_objects);
   return culled;
 }
 
-// The first surface the rasteriser keeps along `unit` from `origin` within `length`: back faces of culled
-// triangles (counter-clockwise is front, as in both APIs here) are passed through.
 double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& scene,
                       const std::vector<uint8_t>& culled, glm::vec3 origin, const glm::vec3& unit, double length) {
   double travelled = 0.0;
@@ -30,22 +25,21 @@ double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& sc
     reference::Hit hit = caster.closest(origin, unit, length - travelled);
     if (!hit.hit) return -1.0;
     const size_t tri = hit.triangle;
-    if (!culled[tri]) return travelled + hit.distance;
+    if (culled[tri] == uint8_t(CulledFaces::none)) return travelled + hit.distance;
     const glm::vec3 a = scene.vertices[3 * tri].position, b = scene.vertices[3 * tri + 1].position,
                     c = scene.vertices[3 * tri + 2].position;
-    if (glm::dot(glm::cross(b - a, c - a), unit) < 0.0f) return travelled + hit.distance;  // a front face
-    const double step = hit.distance + 1e-4;  // past the back face
+    const bool front = glm::dot(glm::cross(b - a, c - a), unit) < 0.0f;  // counter-clockwise towards the ray
+    if (front != (culled[tri] == uint8_t(CulledFaces::front))) return travelled + hit.distance;  // kept
+    const double step = hit.distance + 1e-4;  // past the culled face
     travelled += step;
     origin += unit * float(step);
   }
   return -1.0;
 }
 
-}  // namespace
-
 CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene, const glm::vec3& light,
                              float near_plane, float far_plane, int cube_size, bool two_sided) {
-  const std::vector<uint8_t> culled = culled_triangles(scene, two_sided);
+  const std::vector<uint8_t> culled = culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back);
   CubeTruth t;
   t.size = cube_size;
   t.stride = cube_size > kCubeTruthGrid ? cube_size / kCubeTruthGrid : 1;

@@ -20,6 +20,16 @@
 namespace omnishadow::bench {
 
 inline constexpr int kCubeTruthGrid = 128;  // texels checked per face edge, at most
+
+// Which faces of closed objects (Object::cull_back_faces) a shadow pass culls: back faces (cube, maps), front faces
+// (a map light with cull_front_faces, the directional notes' peter-panning fix), or none (the two_sided remedy).
+enum class CulledFaces : uint8_t { none, back, front };
+// Per triangle (scene order, as the ray caster holds them): what the pass culls of it.
+std::vector<uint8_t> culled_triangles(const scene::Scene& scene, CulledFaces closed_objects);
+// The first surface the rasteriser keeps along `unit` from `origin` within `length` (counter-clockwise is front, as
+// in both APIs here): culled faces are passed through. -1 when none.
+double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& scene,
+                      const std::vector<uint8_t>& culled, glm::vec3 origin, const glm::vec3& unit, double length);
 // A case whose cube has more than this share of checked texels wrong (and more than one: a single texel can be a
 // tie at an edge through its centre) fails its check. Correct cubes measured here
 // (room, heavy, ogldev, mixed; cubes 128-1024; every storage; D16 and D32F; GL and Vulkan): at most 0.0163%.

@@ -211,6 +211,19 @@ json case_to_json(const CaseResult& r) {
                         {"bad_per_face", k.bad_per_face},
                         {"limit_percent", kCubeTexelLimitPercent}};
   }
+  if (r.map_texels) {
+    const MapTexelReport& k = *r.map_texels;
+    j["map_texels"] = {{"reference", "exact window depth of the first kept surface along each checked texel's ray"},
+                       {"stride", k.stride},
+                       {"texels", k.texels},
+                       {"bad_percent", k.bad_percent()},
+                       {"wrong", k.wrong},
+                       {"spurious", k.spurious},
+                       {"missing", k.missing},
+                       {"max_error", k.max_error},
+                       {"bad_per_map", k.bad_per_map},
+                       {"limit_percent", kMapTexelLimitPercent}};
+  }
   if (!r.device_states.empty()) {
     j["device_state"] = {{"source", r.device_state_source}, {"samples", json::array()},
                          {"warning", clock_warning(r.device_states)}};

@@ -11,6 +11,7 @@
 #include "backends/backend.h"
 #include "backends/reference/ray_caster.h"
 #include "bench/accuracy.h"
+#include "bench/map_truth.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::testing {
@@ -140,6 +141,20 @@ inline void check_map_lights(Backend& b, const std::string& backend, const std::
     EXPECT_LT(a.misclassified_percent, bound) << name;
     size_t shadowed = std::count(img.shadow_factor.begin(), img.shadow_factor.end(), 1.0f);
     EXPECT_GT(shadowed, img.shadow_factor.size() / 200) << name << ": the map light casts shadows";
+    // The maps themselves against exact depths (bench/map_truth.h), and the check catching a map upside down.
+    ASSERT_EQ(img.map_depth.size(), s.map_lights.size()) << name;
+    const cube::DepthRange range =
+        img.map_depth_zero_to_one ? cube::DepthRange::zero_to_one : cube::DepthRange::minus_one_to_one;
+    bench::MapTruth truth = bench::compute_map_truth(caster, s, 30, img.map_size, range);
+    bench::MapTexelReport ok = bench::check_map_texels(truth, img, c.depth_format);
+    EXPECT_GT(ok.texels, 0u) << name;
+    EXPECT_LE(ok.bad_percent(), bench::kMapTexelLimitPercent) << name << ": " << bench::describe(ok);
+    Images flipped = img;
+    for (std::vector<float>& map : flipped.map_depth)
+      for (int row = 0; row < img.map_size / 2; ++row)
+        std::swap_ranges(map.begin() + row * img.map_size, map.begin() + (row + 1) * img.map_size,
+                         map.begin() + (img.map_size - 1 - row) * img.map_size);
+    EXPECT_GT(bench::check_map_texels(truth, flipped, c.depth_format).bad_percent(), 1.0) << name;
   }
   // mixed without its spot and directional lights: same shadow factor (the point light's), a darker frame.
   scene::Scene mixed = scene::load_scene_file(scenes_dir + "/mixed.json");

@@ -441,6 +441,16 @@ Images GlBackend::read_back_images() {
   }
   GLenum error = glGetError();
   if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");
+  if (!scene_->map_lights.empty()) {
+    img.map_size = maps_.size;
+    const size_t texels = size_t(maps_.size) * size_t(maps_.size);
+    for (int l = 0; l < static_cast<int>(scene_->map_lights.size()); ++l) {
+      std::vector<float> layer(texels);
+      glGetTextureSubImage(maps_.depth, 0, 0, 0, l, maps_.size, maps_.size, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                           static_cast<GLsizei>(texels * sizeof(float)), layer.data());
+      img.map_depth.push_back(std::move(layer));
+    }
+  }
   return img;
 }
 

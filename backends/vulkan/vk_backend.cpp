@@ -561,6 +561,29 @@ FrameCounters VkBackend::count_frame_work(int frame) {
   return c;
 }
 
+namespace {
+
+// Texels as read back (D16, X8_D24 or 32-bit float: depth or R32F) to floats; UNORM depth to [0, 1].
+std::vector<float> decode_texels(VkFormat format, const uint8_t* src, size_t count) {
+  std::vector<float> out(count);
+  for (size_t i = 0; i < count; ++i) {
+    if (format == VK_FORMAT_D16_UNORM) {
+      uint16_t x;
+      std::memcpy(&x, src + 2 * i, 2);
+      out[i] = static_cast<float>(x) / 65535.0f;
+    } else if (format == VK_FORMAT_X8_D24_UNORM_PACK32) {
+      uint32_t x;
+      std::memcpy(&x, src + 4 * i, 4);
+      out[i] = static_cast<float>(x & 0xFFFFFFu) / 16777215.0f;
+    } else {
+      std::memcpy(&out[i], src + 4 * i, 4);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 Images VkBackend::read_back_images() {
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
@@ -586,25 +609,20 @@ Images VkBackend::read_back_images() {
   img.light_far = far_plane;
   for (size_t f = 0; f < 6; ++f) {
     auto& face = img.cube_distance[f];
-    face.resize(texels);
-    const uint8_t* src = bytes.data() + f * texels * texel_bytes;
-    for (size_t i = 0; i < texels; ++i) {
-      float v;
-      if (stored.format == VK_FORMAT_D16_UNORM) {
-        uint16_t x;
-        std::memcpy(&x, src + 2 * i, 2);
-        v = static_cast<float>(x) / 65535.0f;
-      } else if (stored.format == VK_FORMAT_X8_D24_UNORM_PACK32) {
-        uint32_t x;
-        std::memcpy(&x, src + 4 * i, 4);
-        v = static_cast<float>(x & 0xFFFFFFu) / 16777215.0f;
-      } else {
-        std::memcpy(&v, src + 4 * i, 4);
-      }
-      face[i] = cube::stored_to_distance(shadow_.storage, v, int(i % shadow_.size), int(i / shadow_.size),
+    face = decode_texels(stored.format, bytes.data() + f * texels * texel_bytes, texels);
+    for (size_t i = 0; i < texels; ++i)
+      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % shadow_.size), int(i / shadow_.size),
                                          int(shadow_.size), scene_->light.near_plane, far_plane,
                                          cube::DepthRange::zero_to_one);
-    }
+  }
+  if (!scene_->map_lights.empty()) {
+    img.map_size = static_cast<int>(maps_.size);
+    img.map_depth_zero_to_one = true;
+    const uint32_t map_bytes = maps_.depth.format == VK_FORMAT_D16_UNORM ? 2 : 4;
+    std::vector<uint8_t> all = read_image(*ctx_, maps_.depth, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, map_bytes);
+    const size_t map_texels = size_t(maps_.size) * maps_.size;
+    for (size_t l = 0; l < scene_->map_lights.size(); ++l)
+      img.map_depth.push_back(decode_texels(maps_.depth.format, all.data() + l * map_texels * map_bytes, map_texels));
   }
   return img;
 }
