@@ -157,6 +157,14 @@ json repetitions_to_json(const CaseResult& r) {
           {"stability_percent", stability_percent(r.repetition_frame_ms)}};
 }
 
+// A cube or map texel report (bench/cube_truth.h, bench/map_truth.h): the fields both have.
+template <typename Report>
+json texels_to_json(const Report& k, const char* reference, double limit_percent) {
+  return {{"reference", reference},     {"stride", k.stride},       {"texels", k.texels},
+          {"bad_percent", k.bad_percent()}, {"wrong", k.wrong},      {"spurious", k.spurious},
+          {"missing", k.missing},       {"max_error", k.max_error}, {"limit_percent", limit_percent}};
+}
+
 json timing_to_json(const CaseResult& r) {
   std::vector<double> frame_wall;
   for (const FrameTiming& f : r.frames) frame_wall.push_back(f.frame_wall_ms);
@@ -199,30 +207,14 @@ json case_to_json(const CaseResult& r) {
   if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
   if (r.floor) j["floor"] = floor_to_json(r);
   if (r.cube_texels) {
-    const CubeTexelReport& k = *r.cube_texels;
-    j["cube_texels"] = {{"reference", "exact first-hit distance along each checked texel centre's direction"},
-                        {"stride", k.stride},
-                        {"texels", k.texels},
-                        {"bad_percent", k.bad_percent()},
-                        {"wrong", k.wrong},
-                        {"spurious", k.spurious},
-                        {"missing", k.missing},
-                        {"max_error", k.max_error},
-                        {"bad_per_face", k.bad_per_face},
-                        {"limit_percent", kCubeTexelLimitPercent}};
+    j["cube_texels"] = texels_to_json(*r.cube_texels, "exact first-hit distance along each checked texel centre's "
+                                      "direction", kCubeTexelLimitPercent);
+    j["cube_texels"]["bad_per_face"] = r.cube_texels->bad_per_face;
   }
   if (r.map_texels) {
-    const MapTexelReport& k = *r.map_texels;
-    j["map_texels"] = {{"reference", "exact window depth of the first kept surface along each checked texel's ray"},
-                       {"stride", k.stride},
-                       {"texels", k.texels},
-                       {"bad_percent", k.bad_percent()},
-                       {"wrong", k.wrong},
-                       {"spurious", k.spurious},
-                       {"missing", k.missing},
-                       {"max_error", k.max_error},
-                       {"bad_per_map", k.bad_per_map},
-                       {"limit_percent", kMapTexelLimitPercent}};
+    j["map_texels"] = texels_to_json(*r.map_texels, "exact window depth of the first kept surface along each "
+                                     "checked texel's ray", kMapTexelLimitPercent);
+    j["map_texels"]["bad_per_map"] = r.map_texels->bad_per_map;
   }
   if (!r.device_states.empty()) {
     j["device_state"] = {{"source", r.device_state_source}, {"samples", json::array()},
