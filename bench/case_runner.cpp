@@ -1,5 +1,7 @@
 #include "bench/case_runner.h"
 
+#include <chrono>
+
 #include <algorithm>
 #include <cfloat>
 #include <cstdio>
@@ -354,21 +356,28 @@ void Harness::measure_floor(CaseResult& r, Backend& b) {
 }
 
 void Harness::prepare(CaseResult& r) {
+  // Where the untimed part's time goes, per step (results.json "untimed_ms", the summary's totals).
+  auto step = [&r](const char* name, auto&& body) {
+    const auto start = std::chrono::steady_clock::now();
+    body();
+    r.untimed_ms[name] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
   try {
     Backend& b = backend(r.config.backend);
     if (!admit(r, b)) return;
-    activate(r.config);
+    step("configure", [&] { activate(r.config); });
     // Cold: right after configure, nothing cached; the timed kind, what the timed frames render.
-    r.first_frame = b.render(options_.check_frame, FrameKind::timed);
+    step("first_frame", [&] { r.first_frame = b.render(options_.check_frame, FrameKind::timed); });
     // The check frame renders every buffer the checks read, and the timed variant's colour beside them. With
     // static caching it is served from the cube the cold frame rendered, so the cache is what gets checked.
-    b.render(options_.check_frame, FrameKind::check);
-    Images images = b.read_back();
+    step("check_frame", [&] { b.render(options_.check_frame, FrameKind::check); });
+    Images images;
+    step("read_back", [&] { images = b.read_back(); });
     r.light_far = images.light_far;
     count_non_finite(r, images);
     check_timed_variant(r, images);
     if (options_.stability) measure_flicker(r, b, images);
-    count_work(r, b, images.light_far);
+    step("work_counters", [&] { count_work(r, b, images.light_far); });
     if (std::vector<std::string> errors = b.drain_api_errors(); !errors.empty()) {
       r.add({Status::failed, "api",
              "API error (checking mode): " + errors.front() +
@@ -377,16 +386,20 @@ void Harness::prepare(CaseResult& r) {
       return;
     }
     if (options_.accuracy) {
-      check_cube(r, images);
-      check_maps(r, images);
-      check_accuracy(r, images);
+      step("cube_and_map_truth", [&] {
+        check_cube(r, images);
+        check_maps(r, images);
+      });
+      step("accuracy", [&] { check_accuracy(r, images); });
     }
-    measure_floor(r, b);
+    step("floor", [&] { measure_floor(r, b); });
     const bool is_reference = r.config == reference_config(r.config);
-    if (!is_reference) check_against_six_pass(r, images);
-    check_against_other_backend(r, images);
+    step("comparisons", [&] {
+      if (!is_reference) check_against_six_pass(r, images);
+      check_against_other_backend(r, images);
+    });
     // Last, when the case's status is known: a failed check also keeps every float buffer.
-    if (options_.write_images()) write_images(r, images);
+    if (options_.write_images()) step("images", [&] { write_images(r, images); });
     if (is_reference) {
       reference_key_ = group_key(r.config);
       reference_ = std::move(images);

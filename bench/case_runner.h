@@ -144,6 +144,9 @@ struct CaseResult {
   std::optional<FrameTiming> floor;
   std::optional<CubeTexelReport> cube_texels;  // the cube against exact first-hit distances (bench/cube_truth.h)
   std::optional<MapTexelReport> map_texels;    // spot/directional maps against exact depths (bench/map_truth.h)
+  // Milliseconds of the untimed part per step (configure, check_frame, read_back, cube_and_map_truth, accuracy,
+  // comparisons, images, ...); a truth or reference shared with earlier cases costs only the case that computed it.
+  std::map<std::string, double> untimed_ms;
 };
 
 inline constexpr int kFloorFrames = 5;

@@ -205,6 +205,7 @@ json case_to_json(const CaseResult& r) {
                         {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
                         {"frame_wall_ms", r.first_frame->frame_wall_ms}};
   if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
+  if (!r.untimed_ms.empty()) j["untimed_ms"] = r.untimed_ms;
   if (r.floor) j["floor"] = floor_to_json(r);
   if (r.cube_texels) {
     j["cube_texels"] = texels_to_json(*r.cube_texels, "exact first-hit distance along each checked texel centre's "

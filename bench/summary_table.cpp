@@ -145,6 +145,18 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
                   phases.timed_seconds > 0 ? phases.untimed_seconds / phases.timed_seconds : 0.0);
     md << buf;
   }
+  std::map<std::string, double> steps;  // the untimed part's seconds per step, all cases
+  for (const CaseResult& r : results)
+    for (const auto& [name, ms] : r.untimed_ms) steps[name] += ms / 1000.0;
+  if (!steps.empty()) {
+    md << "Untimed part by step:";
+    for (const auto& [name, seconds] : steps) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " %s %.1f s", name.c_str(), seconds);
+      md << buf << (name == steps.rbegin()->first ? "" : ",");
+    }
+    md << "\n\n";
+  }
   for (const auto& [status, count] : status_counts) md << "- " << status << ": " << count << "\n";
   // Unsupported cases once per reason (a GL run asking for multiview gave one line per case before).
   std::map<std::string, std::vector<std::string>> unsupported;
