@@ -6,7 +6,8 @@ orders the runs by commit date (results.json's commit_date; else `git log` in --
 the median per commit where a commit ran more than once, and for every case and metric finds the steps:
   timings (frame time, per-pass wall and GPU time):  scripts/changepoints.py (PELT + Mann-Whitney U + minimum step),
                                                      kept when the history without its newest commit has it too
-  work counters, misclassified %, cube-texel errors: exact; any change of value is a step
+  work counters, misclassified %, cube-texel errors and images (SHA-256 of the lit frame, cube faces and shadow
+  factor PNGs the run wrote): exact; any change of value is a step
 Steps recorded in the accepted file (results/accepted_steps.json: case and metric patterns, commit, reason) stop
 alerting: a series is analysed from its latest accepted step on, and an alert placed within ACCEPT_WINDOW commits
 of an accepted step is silent, so only a new step raises a new alert.
@@ -15,6 +16,7 @@ Writes OUT/history.json and OUT/history.md (regressions first); exit 1 when ther
 Usage: scripts/history.py RUN_OR_FOLDER... [--out DIR] [--accepted FILE] [--repo DIR] [--device-key KEY]
 """
 import argparse
+import hashlib
 import json
 import os
 import re
@@ -77,7 +79,19 @@ def case_times(doc):
     return out
 
 
-def metrics(case):
+# Images compared exactly, by the SHA-256 of the file the run wrote (same pixels, same encoder, same bytes).
+IMAGE_ROLES = ("lit", "cube_faces", "shadow_factor_png")
+
+
+def image_digest(run_dir, relative):
+    try:
+        with open(os.path.join(run_dir, relative), "rb") as f:
+            return hashlib.sha256(f.read()).hexdigest()[:16]
+    except OSError:
+        return None
+
+
+def metrics(case, run_dir="."):
     """(metric, value, exact) of one case in one run."""
     t = case.get("timing", {})
     per = t.get("per_repetition", {}).get("frame_ms") or []
@@ -94,6 +108,9 @@ def metrics(case):
         yield "misclassified_percent", case["accuracy"].get("misclassified_percent"), True
     if "cube_texels" in case:
         yield "cube_texel_bad_percent", case["cube_texels"].get("bad_percent"), True
+    for role in IMAGE_ROLES:
+        if role in case.get("images", {}):
+            yield f"image_{role}", image_digest(run_dir, case["images"][role]), True
 
 
 def commit_order(docs, repo):
@@ -180,7 +197,8 @@ def analyse(runs, accepted, repo, key=None):
         if commit not in commits:
             commits.append(commit)
         for case in doc["omnishadow"].get("cases", []):
-            for metric, value, is_exact in metrics(case):
+            run_dir = doc["_path"] if os.path.isdir(doc["_path"]) else os.path.dirname(doc["_path"])
+            for metric, value, is_exact in metrics(case, run_dir):
                 if value is None:
                     continue
                 values.setdefault((case["id"], metric), {}).setdefault(commit, []).append(value)
@@ -188,7 +206,9 @@ def analyse(runs, accepted, repo, key=None):
     alerts = []
     for (case_id, metric), by_commit in sorted(values.items()):
         series_commits = [c for c in commits if c in by_commit]
-        series = [float(np.median(by_commit[c])) for c in series_commits]
+        # Timings: the median of a commit's runs. Exact figures: the first run's (they agree unless the driver does not).
+        series = [by_commit[c][0] if exact[(case_id, metric)] else float(np.median(by_commit[c]))
+                  for c in series_commits]
         accepted_at = accepted_indices(series_commits, case_id, metric, accepted)
         if exact[(case_id, metric)]:
             steps = steps_after_accepted(series, accepted_at, changepoints.exact_steps)
@@ -196,7 +216,8 @@ def analyse(runs, accepted, repo, key=None):
             steps = persistent(series, accepted_at, timing_find)
         for s in steps:
             i = s["index"]
-            change = s["after"] / s["before"] - 1.0 if s["before"] else float("inf")
+            numeric = not isinstance(s["before"], str)
+            change = (s["after"] / s["before"] - 1.0 if s["before"] else 1.0) if numeric else 1.0
             alerts.append({"case": case_id, "metric": metric, "commit": series_commits[i],
                            "before": s["before"], "after": s["after"], "step": change, "exact": exact[(case_id, metric)],
                            "confidence": s.get("confidence", 1.0), "regression": change > 0,
@@ -213,8 +234,10 @@ def markdown(result):
         md += ["| case | metric | first commit after | before | after | step | confidence |", "|---|---|---|---|---|---|---|"]
         for a in result["alerts"]:
             confidence = "exact" if a["exact"] else f"{a['confidence']:.4f}"
-            md.append(f"| `{a['case']}` | {a['metric']} | {a['commit']} | {a['before']:.4g} | {a['after']:.4g} | "
-                      f"{100 * a['step']:+.1f}% | {confidence} |")
+            before, after = (f"{a['before']:.4g}", f"{a['after']:.4g}") if not isinstance(a["before"], str) else (
+                a["before"], a["after"])
+            step = f"{100 * a['step']:+.1f}%" if not isinstance(a["before"], str) else "changed"
+            md.append(f"| `{a['case']}` | {a['metric']} | {a['commit']} | {before} | {after} | {step} | {confidence} |")
         md.append("\nAccept a step (it stops alerting; a new step alerts again): add "
                   '`{"case": "<regex>", "metric": "<regex>", "commit": "<sha>", "reason": "..."}` to '
                   "results/accepted_steps.json.")

@@ -17,9 +17,11 @@ import changepoints  # noqa: E402
 HISTORY = os.path.join(ROOT, "scripts", "history.py")
 
 
-def write_run(folder, commit, day, frame_ms, draws):
+def write_run(folder, commit, day, frame_ms, draws, lit=b"lit pixels"):
     os.makedirs(folder)
-    case = {"id": "gl/room/c512/six_pass/hard", "status": "ok",
+    with open(os.path.join(folder, "lit.png"), "wb") as f:
+        f.write(lit)
+    case = {"id": "gl/room/c512/six_pass/hard", "status": "ok", "images": {"lit": "lit.png"},
             "timing": {"per_repetition": {"frame_ms": list(frame_ms)}},
             "counters": {"shadow": {"valid": True, "draw_calls": draws}, "lighting": {"valid": True, "draw_calls": 1}}}
     doc = {"context": {"date": f"2026-11-{day:02d}T00:00:00"},
@@ -54,22 +56,25 @@ def main():
         for i in range(30):
             level = 1.08 if i >= 20 else 1.0
             write_run(os.path.join(runs, f"r{i:02d}"), f"c{i:02d}", i + 1, level * np.exp(rng.normal(0, 0.02, 5)),
-                      7 if i >= 25 else 6)
+                      7 if i >= 25 else 6, b"new pixels" if i >= 27 else b"lit pixels")
         accepted = os.path.join(tmp, "accepted.json")
         code, result, log = history(runs, accepted, os.path.join(tmp, "h1"))
         found = {(a["metric"], a["commit"]) for a in result["alerts"]}
         check(code == 1, f"alerts must exit 1: {log}")
         check(("frame_ms", "c20") in found, f"the 8% step at c20: {found}")
         check(("shadow_draw_calls", "c25") in found, f"the counter change at c25: {found}")
+        check(("image_lit", "c27") in found, f"the image change at c27: {found}")
         check(len([a for a in result["alerts"] if a["metric"] == "frame_ms"]) == 1, f"one timing step: {found}")
         check(result["alerts"][0]["regression"], "regressions first")
         with open(accepted, "w") as f:
             json.dump({"steps": [{"case": "room", "metric": ".*", "commit": "c20", "reason": "bigger shader"},
-                                 {"case": "room", "metric": "draw_calls", "commit": "c25", "reason": "a new pass"}]}, f)
+                                 {"case": "room", "metric": "draw_calls", "commit": "c25", "reason": "a new pass"},
+                                 {"case": "room", "metric": "image", "commit": "c27", "reason": "new colours"}]}, f)
         code, result, log = history(runs, accepted, os.path.join(tmp, "h2"))
         check(code == 0 and not result["alerts"], f"accepted steps stop alerting: {result['alerts']}")
         for i in range(30, 40):  # a new step after the accepted ones alerts again
-            write_run(os.path.join(runs, f"r{i:02d}"), f"c{i:02d}", i + 1, 1.2 * np.exp(rng.normal(0, 0.02, 5)), 7)
+            write_run(os.path.join(runs, f"r{i:02d}"), f"c{i:02d}", i + 1, 1.2 * np.exp(rng.normal(0, 0.02, 5)), 7,
+                      b"new pixels")
         code, result, log = history(runs, accepted, os.path.join(tmp, "h3"))
         check([a["commit"] for a in result["alerts"]] == ["c30"], f"the new step at c30 alerts: {result['alerts']}")
         with open(accepted, "w") as f:
