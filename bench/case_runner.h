@@ -151,6 +151,9 @@ struct CaseResult {
 
 inline constexpr int kFloorFrames = 5;
 
+// The key of a loaded scene: its name, and whether the rebase remedy moved it (truth caches are per key).
+std::string scene_key(const std::string& name, bool rebase_origin);
+
 class Harness {
  public:
   explicit Harness(RunOptions options);
