@@ -151,6 +151,12 @@ struct CaseResult {
 
 inline constexpr int kFloorFrames = 5;
 
+// The case every other case of its group is checked against (six_pass, no culling or caching), and the group's key.
+CaseConfig reference_config(const CaseConfig& c);
+std::string group_key(const CaseConfig& c);
+// The cube's faces side by side in face order, one image (the cube_faces PNG and check).
+std::vector<float> concat_faces(const Images& img);
+
 // The key of a loaded scene: its name, and whether the rebase remedy moved it (truth caches are per key).
 std::string scene_key(const std::string& name, bool rebase_origin);
 
