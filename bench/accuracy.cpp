@@ -71,10 +71,8 @@ float hidden_fraction(const reference::RayCaster& caster, const glm::vec3& light
   return static_cast<float>(hidden) / static_cast<float>(k * k);
 }
 
-}  // namespace
-
-Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& img,
-                    const TruthOptions& options) {
+// Every per-pixel buffer sized for the image, nothing covered yet.
+Truth blank_truth(const Images& img, const TruthOptions& options) {
   Truth t;
   t.width = img.width;
   t.height = img.height;
@@ -85,6 +83,26 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   if (options.light_radius > 0) t.sphere_shadow.assign(n, 0.0f);
   t.direct.assign(n, glm::vec3(0.0f));
   t.has_direct.assign(n, 0);
+  return t;
+}
+
+// The radius fit's slots hold every kFitStride-th pixel (-1 where nothing was drawn): keep the covered ones only,
+// in image order.
+void keep_covered_fit_slots(Truth& t, const std::vector<int64_t>& slot_pixel) {
+  for (size_t slot = 0; slot < slot_pixel.size(); ++slot) {
+    if (slot_pixel[slot] < 0) continue;
+    const size_t kept = t.fit_pixels.size();
+    t.fit_pixels.push_back(static_cast<uint32_t>(slot_pixel[slot]));
+    for (std::vector<float>& shadow : t.fit_shadow) shadow[kept] = shadow[slot];
+  }
+  for (std::vector<float>& shadow : t.fit_shadow) shadow.resize(t.fit_pixels.size());
+}
+
+}  // namespace
+
+Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& img,
+                    const TruthOptions& options) {
+  Truth t = blank_truth(img, options);
   // The light whose shadow the images report (lighting.frag): the point light, else the first spot/directional
   // light. A directional light is a point far along its reverse direction; a spot light reaches only its map.
   const scene::MapLight* map = scene.has_point_light || scene.map_lights.empty() ? nullptr : &scene.map_lights[0];
@@ -151,14 +169,7 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       }
     }
   });
-  // Keep the covered slots only, in image order.
-  for (size_t slot = 0; slot < fit_slot_pixel.size(); ++slot) {
-    if (fit_slot_pixel[slot] < 0) continue;
-    const size_t kept = t.fit_pixels.size();
-    t.fit_pixels.push_back(static_cast<uint32_t>(fit_slot_pixel[slot]));
-    for (std::vector<float>& shadow : t.fit_shadow) shadow[kept] = shadow[slot];
-  }
-  for (std::vector<float>& shadow : t.fit_shadow) shadow.resize(t.fit_pixels.size());
+  keep_covered_fit_slots(t, fit_slot_pixel);
   return t;
 }
 

@@ -12,6 +12,19 @@ namespace omnishadow::bench {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A cube or map whose checked texels are wrong beyond `limit_percent` fails its case. One texel alone can be a tie
+// at an edge through its centre (a 2-texel cube has 24 texels in all), so it takes more than one.
+template <typename Report>
+void add_texel_finding(CaseResult& r, const char* check, const Report& report, double limit_percent) {
+  if (report.bad_percent() <= limit_percent || report.bad() <= 1) return;
+  r.add({Status::failed_check, check, describe(report),
+         {{"bad_percent", report.bad_percent()}, {"max_error", report.max_error}, {"texels", double(report.texels)}}});
+}
+
+}  // namespace
+
 void Harness::check_cube(CaseResult& r, const Images& images) {
   const scene::Scene& sc = scene_of(r.config);
   if (!sc.has_point_light || images.cube_size < 1) return;
@@ -28,12 +41,7 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
              .first;
   }
   r.cube_texels = check_cube_texels(it->second, images, r.config.storage, r.config.depth_format, sc.light.near_plane);
-  // One texel alone can be a tie at an edge through its centre (a 2-texel cube has 24 texels in all).
-  if (r.cube_texels->bad_percent() > kCubeTexelLimitPercent && r.cube_texels->bad() > 1)
-    r.add({Status::failed_check, "cube_texels", describe(*r.cube_texels),
-           {{"bad_percent", r.cube_texels->bad_percent()},
-            {"max_error", r.cube_texels->max_error},
-            {"texels", double(r.cube_texels->texels)}}});
+  add_texel_finding(r, "cube_texels", *r.cube_texels, kCubeTexelLimitPercent);
 }
 
 void Harness::check_maps(CaseResult& r, const Images& images) {
@@ -50,11 +58,7 @@ void Harness::check_maps(CaseResult& r, const Images& images) {
              .emplace(key, compute_map_truth(caster_of(r.config), sc, options_.check_frame, images.map_size, range))
              .first;
   r.map_texels = check_map_texels(it->second, images, r.config.depth_format);
-  if (r.map_texels->bad_percent() > kMapTexelLimitPercent && r.map_texels->bad() > 1)
-    r.add({Status::failed_check, "map_texels", describe(*r.map_texels),
-           {{"bad_percent", r.map_texels->bad_percent()},
-            {"max_error", r.map_texels->max_error},
-            {"texels", double(r.map_texels->texels)}}});
+  add_texel_finding(r, "map_texels", *r.map_texels, kMapTexelLimitPercent);
 }
 
 // The error against exact visibility, the --max-error limit, and the error heatmap.

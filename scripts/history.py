@@ -66,17 +66,19 @@ def device_key(doc):
                      for b, d in sorted(o.get("devices", {}).items()))
 
 
+def frame_ms(case):
+    """The median per-repetition frame time (ms), the figure compare tests; runs before the rounds give the median
+    frame; None for a case never timed."""
+    t = case.get("timing", {})
+    per = t.get("per_repetition", {}).get("frame_ms") or []
+    if per:
+        return float(np.median(per))
+    return t["frame_wall_ms"]["median"] if "frame_wall_ms" in t else None
+
+
 def case_times(doc):
-    """Per case id: the median per-repetition frame time (ms), the figure compare tests."""
-    out = {}
-    for c in doc["omnishadow"].get("cases", []):
-        t = c.get("timing", {})
-        per = t.get("per_repetition", {}).get("frame_ms") or []
-        if per:
-            out[c["id"]] = float(np.median(per))
-        elif "frame_wall_ms" in t:
-            out[c["id"]] = t["frame_wall_ms"]["median"]
-    return out
+    """Per case id: frame_ms of every timed case."""
+    return {c["id"]: frame_ms(c) for c in doc["omnishadow"].get("cases", []) if frame_ms(c) is not None}
 
 
 # Images compared exactly, by the SHA-256 of the file the run wrote (same pixels, same encoder, same bytes).
@@ -94,9 +96,8 @@ def image_digest(run_dir, relative):
 def metrics(case, run_dir="."):
     """(metric, value, exact) of one case in one run."""
     t = case.get("timing", {})
-    per = t.get("per_repetition", {}).get("frame_ms") or []
-    if per:
-        yield "frame_ms", float(np.median(per)), False
+    if frame_ms(case) is not None:
+        yield "frame_ms", frame_ms(case), False
     for p in ("shadow", "lighting"):
         for kind in ("cpu_wall_ms", "gpu_ms"):
             if kind in t.get(p, {}):
