@@ -62,6 +62,24 @@ struct FrameTiming {
 // of its floor is what the technique or filter costs beyond that. A floor frame leaves the cube cleared.
 enum class FrameKind { timed, check, floor };
 
+// What the device tells of the cube without reading it back: per face, a 64-bit hash of the stored values (equal
+// hashes: equal faces, but for a chance of about 2^-64) and how many are not finite. Hashes are of the values as
+// stored, so they compare between cases of one backend (and storage), never across APIs.
+struct CubeFaceSummary {
+  uint64_t hash = 0;
+  uint64_t non_finite = 0;
+  bool operator==(const CubeFaceSummary&) const = default;
+};
+using CubeSummary = std::array<CubeFaceSummary, 6>;
+
+// The check grid of a cube: every texel up to kCubeSampleGrid a face edge, above that every stride-th in s and t.
+inline constexpr int kCubeSampleGrid = 128;
+inline int cube_sample_stride(int cube_size) { return cube_size > kCubeSampleGrid ? cube_size / kCubeSampleGrid : 1; }
+
+// How much of the cube read_back() copies to the host. sampled: the summary and the check grid only (a 4096 cube is
+// 400 MB as floats; its grid 400 KB); full: every texel too, for images and for comparing faces whose hashes differ.
+enum class CubeReadBack { sampled, full };
+
 // Everything read back after a check frame. Images are stored as the API holds them: row 0 is the bottom row of the
 // lit frame (GL window convention) and, for cube faces, row 0 is t = 0 of the face (cube-map addressing).
 struct Images {
@@ -75,7 +93,14 @@ struct Images {
   float light_far = 0.0f;  // the far plane the cube was rendered with (the scene's, or fitted: fit_range)
   // Per face, the light distance in world units that the shadow pass stored (linear_depth values are
   // multiplied back by light_far; texels nothing was drawn to hold light_far, or FLT_MAX for r32f_distance).
+  // Empty unless the read-back was CubeReadBack::full: the summary and sample below serve the checks otherwise.
   std::array<std::vector<float>, 6> cube_distance;
+  CubeSummary cube_summary;  // always: computed on the device (shaders/cube_summary.comp)
+  // Light distances (as cube_distance) at the check grid's texels: (x * stride + stride / 2, y * stride + stride / 2)
+  // for x, y < cube_size / stride, row-major per face. Always read back; tiny next to the cube.
+  int cube_sample_stride = 1;
+  std::array<std::vector<float>, 6> cube_sample;
+  bool has_full_cube() const { return !cube_distance[0].empty(); }
   // Spot/directional lights' 2D maps (none without such lights): per map, the stored window depth in [0, 1],
   // row-major, row 0 at NDC y = -1; 1 where nothing was drawn. The maps use the API's clip depth range (GL -1..1,
   // Vulkan 0..1), which the truth must know.
@@ -97,7 +122,7 @@ class Backend {
   void configure(const CaseConfig& config);
   FrameTiming render(int frame, FrameKind kind);  // blocks until the frame has completed
   FrameCounters count_work(int frame);           // renders `frame` once, timed kind, with statistics
-  Images read_back();                            // results of the last check frame
+  Images read_back(CubeReadBack cube = CubeReadBack::full);  // results of the last check frame
   // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
   // when the checking mode is off. Drained outside timed loops.
   virtual std::vector<std::string> drain_api_errors();
@@ -109,7 +134,7 @@ class Backend {
   virtual void configure_case(const CaseConfig& config) = 0;
   virtual FrameTiming render_frame(int frame, FrameKind kind) = 0;
   virtual FrameCounters count_frame_work(int frame) = 0;
-  virtual Images read_back_images() = 0;
+  virtual Images read_back_images(CubeReadBack cube) = 0;  // cube_summary and cube_sample always filled
 
   DeviceInfo info_;
   std::optional<scene::Scene> scene_;    // set by load(): objects, light path, camera (vertices live on the device)

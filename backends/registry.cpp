@@ -51,10 +51,10 @@ FrameCounters Backend::count_work(int frame) {
   return count_frame_work(frame);
 }
 
-Images Backend::read_back() {
+Images Backend::read_back(CubeReadBack cube) {
   if (!config_) throw std::logic_error("read_back() before configure()");
   if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
-  return read_back_images();
+  return read_back_images(cube);
 }
 
 std::vector<std::string> Backend::drain_api_errors() {

@@ -71,6 +71,18 @@ float hidden_fraction(const reference::RayCaster& caster, const glm::vec3& light
   return static_cast<float>(hidden) / static_cast<float>(k * k);
 }
 
+}  // namespace
+
+int sphere_stride_for(const TruthOptions& options, int width, int height) {
+  if (options.sphere_stride > 0) return options.sphere_stride;
+  int stride = 1;
+  auto cast = [&](int s) { return int64_t((width + s - 1) / s) * int64_t((height + s - 1) / s); };
+  while (cast(stride) > kSphereFullPixels) ++stride;
+  return stride;
+}
+
+namespace {
+
 // Every per-pixel buffer sized for the image, nothing covered yet.
 Truth blank_truth(const Images& img, const TruthOptions& options) {
   Truth t;
@@ -81,12 +93,13 @@ Truth blank_truth(const Images& img, const TruthOptions& options) {
   t.covered.assign(n, 0);
   t.point_shadow.assign(n, 0.0f);
   if (options.light_radius > 0) t.sphere_shadow.assign(n, 0.0f);
+  t.sphere_stride = sphere_stride_for(options, img.width, img.height);
   t.direct.assign(n, glm::vec3(0.0f));
   t.has_direct.assign(n, 0);
   return t;
 }
 
-// The radius fit's slots hold every kFitStride-th pixel (-1 where nothing was drawn): keep the covered ones only,
+// The radius fit's slots hold every fit_stride-th pixel (-1 where nothing was drawn): keep the covered ones only,
 // in image order.
 void keep_covered_fit_slots(Truth& t, const std::vector<int64_t>& slot_pixel) {
   for (size_t slot = 0; slot < slot_pixel.size(); ++slot) {
@@ -123,9 +136,11 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   };
   const glm::vec3 camera = scene.camera.position;
   const int k = std::max(1, options.samples_per_axis);
-  // Radius-fit slots: one per kFitStride-th pixel of every kFitStride-th row, filled where covered.
+  // Radius-fit slots: one per fit_stride-th pixel of every fit_stride-th row, filled where covered; large frames
+  // thin the fit as they thin the soft reference.
   const bool fit = options.light_radius > 0 && map == nullptr;
-  const int fit_w = (img.width + kFitStride - 1) / kFitStride, fit_h = (img.height + kFitStride - 1) / kFitStride;
+  const int fit_stride = fit_stride_for(t.sphere_stride);
+  const int fit_w = (img.width + fit_stride - 1) / fit_stride, fit_h = (img.height + fit_stride - 1) / fit_stride;
   std::vector<int64_t> fit_slot_pixel(fit ? static_cast<size_t>(fit_w) * fit_h : 0, -1);
   if (fit) t.fit_shadow.assign(kFitRadii.size(), std::vector<float>(fit_slot_pixel.size(), 0.0f));
 
@@ -143,11 +158,11 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
 
       if (options.light_radius > 0 && (map != nullptr)) {
         t.sphere_shadow[i] = t.point_shadow[i];  // the soft reference models the point light only
-      } else if (options.light_radius > 0) {
+      } else if (options.light_radius > 0 && x % t.sphere_stride == 0 && y % t.sphere_stride == 0) {
         t.sphere_shadow[i] = hidden_fraction(caster, light, p, options.light_radius, k, static_cast<uint32_t>(i), eps);
       }
-      if (fit && x % kFitStride == 0 && y % kFitStride == 0) {
-        const size_t slot = static_cast<size_t>(y / kFitStride) * fit_w + static_cast<size_t>(x / kFitStride);
+      if (fit && x % fit_stride == 0 && y % fit_stride == 0) {
+        const size_t slot = static_cast<size_t>(y / fit_stride) * fit_w + static_cast<size_t>(x / fit_stride);
         fit_slot_pixel[slot] = static_cast<int64_t>(i);
         for (size_t r = 0; r < kFitRadii.size(); ++r)
           t.fit_shadow[r][slot] = kFitRadii[r] == 0.0f ? t.point_shadow[i]
@@ -175,29 +190,34 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
 
 Accuracy measure_accuracy(const Truth& t, const Images& img) {
   Accuracy a;
-  uint64_t wrong = 0, false_shadow = 0, missed = 0, lit_values = 0;
+  a.sphere_stride = t.sphere_stride;
+  uint64_t wrong = 0, false_shadow = 0, missed = 0, lit_values = 0, sphere_lit_values = 0;
   double abs_point = 0, abs_sphere = 0, sq_point = 0, sq_sphere = 0;
+  const size_t width = size_t(std::max(t.width, 1)), stride = size_t(t.sphere_stride);
   for (size_t i = 0; i < t.covered.size(); ++i) {
     if (!t.covered[i]) continue;
     ++a.pixels;
+    const bool sphere = !t.sphere_shadow.empty() && (i % width) % stride == 0 && (i / width) % stride == 0;
+    a.sphere_pixels += sphere;
     const float gpu = img.shadow_factor[i];
     const bool gpu_shadowed = gpu > 0.5f, truth_shadowed = t.point_shadow[i] > 0.5f;
     wrong += gpu_shadowed != truth_shadowed;
     false_shadow += gpu_shadowed && !truth_shadowed;
     missed += !gpu_shadowed && truth_shadowed;
     abs_point += std::fabs(gpu - t.point_shadow[i]);
-    if (!t.sphere_shadow.empty()) abs_sphere += std::fabs(gpu - t.sphere_shadow[i]);
+    if (sphere) abs_sphere += std::fabs(gpu - t.sphere_shadow[i]);
     if (t.has_direct[i]) {
       // lit(s) = base + (1 - s) * direct, so two shadow factors change the lit colour by (s1 - s2) * direct.
       for (int c = 0; c < 3; ++c) {
         double dp = (gpu - t.point_shadow[i]) * t.direct[i][c];
         sq_point += dp * dp;
-        if (!t.sphere_shadow.empty()) {
+        if (sphere) {
           double ds = (gpu - t.sphere_shadow[i]) * t.direct[i][c];
           sq_sphere += ds * ds;
         }
       }
       lit_values += 3;
+      sphere_lit_values += sphere ? 3 : 0;
     }
   }
   if (a.pixels == 0) return a;
@@ -206,9 +226,9 @@ Accuracy measure_accuracy(const Truth& t, const Images& img) {
   a.false_shadow_percent = 100.0 * static_cast<double>(false_shadow) / n;
   a.missed_shadow_percent = 100.0 * static_cast<double>(missed) / n;
   a.mae_point = abs_point / n;
-  if (!t.sphere_shadow.empty()) a.mae_sphere = abs_sphere / n;
+  if (a.sphere_pixels) a.mae_sphere = abs_sphere / static_cast<double>(a.sphere_pixels);
   a.psnr_point_db = psnr(sq_point, lit_values);
-  if (!t.sphere_shadow.empty()) a.psnr_sphere_db = psnr(sq_sphere, lit_values);
+  if (a.sphere_pixels) a.psnr_sphere_db = psnr(sq_sphere, sphere_lit_values);
   if (!t.fit_pixels.empty()) {
     for (const std::vector<float>& shadow : t.fit_shadow) {
       double sum = 0;

@@ -29,15 +29,40 @@ CaseConfig reference_config(const CaseConfig& c) {
 
 std::string group_key(const CaseConfig& c) { return reference_config(c).id(); }
 
+int face_edge(const Images& img) {
+  return img.has_full_cube() ? img.cube_size : img.cube_size / std::max(img.cube_sample_stride, 1);
+}
+
 std::vector<float> concat_faces(const Images& img) {
-  // Faces side by side, face order left to right, so one PNG shows the whole cube.
-  int n = img.cube_size;
+  // Faces side by side, face order left to right, so one PNG shows the whole cube (the check grid when only that
+  // came back: every stride-th texel).
+  const int n = face_edge(img);
+  const auto& faces = img.has_full_cube() ? img.cube_distance : img.cube_sample;
   std::vector<float> strip(static_cast<size_t>(n) * static_cast<size_t>(n) * 6);
   for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < n; ++y)
-      std::copy_n(img.cube_distance[static_cast<size_t>(f)].begin() + static_cast<ptrdiff_t>(y) * n, n,
+    for (int y = 0; y < n && faces[size_t(f)].size() >= size_t(n) * size_t(n); ++y)
+      std::copy_n(faces[static_cast<size_t>(f)].begin() + static_cast<ptrdiff_t>(y) * n, n,
                   strip.begin() + (static_cast<ptrdiff_t>(y) * 6 + f) * n);
   return strip;
+}
+
+CubeReadBack Harness::cube_read_back_for(const CaseConfig& c) const {
+  using P = RunOptions::CubeReadBackPolicy;
+  switch (options_.cube_read_back) {
+    case P::full: return CubeReadBack::full;
+    case P::sampled: return CubeReadBack::sampled;
+    case P::automatic: break;
+  }
+  const bool small = c.cube_size <= RunOptions::kFullCubeReadBackMax;
+  return small || options_.images == RunOptions::ImagePolicy::all ? CubeReadBack::full : CubeReadBack::sampled;
+}
+
+// The case's check frame again, its cube read in full into `images` (for a value-by-value comparison once hashes
+// differed). Rendering is deterministic, so it is the frame already checked; the floor frame cleared the cube since.
+void Harness::read_full_cube(const CaseConfig& c, Images& images) {
+  Backend& b = activate(c);
+  b.render(options_.check_frame, FrameKind::check);
+  images.cube_distance = b.read_back(CubeReadBack::full).cube_distance;
 }
 
 std::string_view to_string(Status s) {
@@ -154,7 +179,7 @@ bool Harness::admit(CaseResult& r, Backend& b) {
     return false;
   }
   if (!options_.memory_precheck) return true;
-  const MemoryNeed need = estimate_case_memory(r.config);
+  const MemoryNeed need = estimate_case_memory(r.config, cube_read_back_for(r.config));
   std::string shortfall = memory_shortfall(need, host_memory_available(), b.device());
   if (shortfall.empty()) return true;
   r.add({Status::resource_error, "memory", shortfall,
@@ -225,7 +250,8 @@ void Harness::prepare(CaseResult& r) {
     // static caching it is served from the cube the cold frame rendered, so the cache is what gets checked.
     step("check_frame", [&] { b.render(options_.check_frame, FrameKind::check); });
     Images images;
-    step("read_back", [&] { images = b.read_back(); });
+    step("read_back", [&] { images = b.read_back(cube_read_back_for(r.config)); });
+    r.cube_read_back = images.has_full_cube() ? "full" : "sampled";
     r.light_far = images.light_far;
     count_non_finite(r, images);
     check_timed_variant(r, images);
@@ -261,7 +287,7 @@ void Harness::prepare(CaseResult& r) {
     // Host allocation failed (a read-back copy, or a CPU driver's texture): the case fails, the run goes on.
     reference_key_.clear();
     reference_ = Images{};
-    MemoryNeed need = estimate_case_memory(r.config);
+    MemoryNeed need = estimate_case_memory(r.config, cube_read_back_for(r.config));
     r.add({Status::resource_error, "memory",
            "out of host memory (std::bad_alloc): the case needs about " + format_bytes(need.device_bytes) +
                " of targets and " + format_bytes(need.host_bytes) + " of read-back copies",
@@ -281,7 +307,7 @@ void Harness::count_non_finite(CaseResult& r, const Images& images) {
   auto count = [](const std::vector<float>& v) {
     return static_cast<uint64_t>(std::count_if(v.begin(), v.end(), [](float x) { return !std::isfinite(x); }));
   };
-  for (const auto& face : images.cube_distance) r.non_finite_cube += count(face);
+  for (const CubeFaceSummary& face : images.cube_summary) r.non_finite_cube += face.non_finite;
   r.non_finite_shadow = count(images.shadow_factor);
   r.non_finite_position = count(images.world_position);
   if (r.non_finite_cube + r.non_finite_shadow + r.non_finite_position > 0) {
@@ -299,7 +325,7 @@ void Harness::count_non_finite(CaseResult& r, const Images& images) {
 // Leaves the backend on the case (the next read_back is check_frame + 1's; the caller holds its images).
 void Harness::measure_flicker(CaseResult& r, Backend& b, const Images& images) {
   b.render(options_.check_frame + 1, FrameKind::check);
-  Images next = b.read_back();
+  Images next = b.read_back(CubeReadBack::sampled);
   uint64_t flipped = 0, covered = 0;
   double sum = 0.0;
   for (size_t i = 0; i < images.shadow_factor.size() && i < next.shadow_factor.size(); ++i) {
@@ -335,7 +361,7 @@ void Harness::write_images(CaseResult& r, const Images& img) {
     files.coverage = out("coverage", "coverage.pfm");
   }
   // The writer gets its own copies: `img` may be reused (the six_pass reference) before the files are written.
-  write_later(r, [files, w = img.width, h = img.height, n = img.cube_size, far_plane = img.light_far,
+  write_later(r, [files, w = img.width, h = img.height, n = face_edge(img), far_plane = img.light_far,
                   lit = img.lit_rgba8, shadow = img.shadow_factor, cube = concat_faces(img),
                   position = floats ? img.world_position : std::vector<float>{}] {
     write_png_rgba_bottom_up(files.lit, w, h, lit);

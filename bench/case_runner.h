@@ -54,6 +54,13 @@ struct RunOptions {
   // Encode and write image files on a worker thread (bench/async_writer.h) while the next case renders; the
   // caller drains them (Harness::drain_writes) before anything is timed. Off: written before prepare() returns.
   bool async_images = false;
+  // How much of each cube comes back to the host (--cube-read-back). automatic: in full up to
+  // kFullCubeReadBackMax a face edge or with --images all, above that only what the device computes (face hashes,
+  // non-finite counts, the check grid: shaders/cube_summary.comp), the cube in full only where hashes differ
+  // from six_pass's. full / sampled: always one or the other (sampled still reads in full where hashes differ).
+  enum class CubeReadBackPolicy { automatic, full, sampled };
+  CubeReadBackPolicy cube_read_back = CubeReadBackPolicy::automatic;
+  static constexpr int kFullCubeReadBackMax = 1024;  // 6 x 1024^2 floats: 24 MB
   bool accuracy = true;     // shadow error against exact visibility (ray-cast reference)
   bool memory_precheck = true;  // fail a case that cannot fit before it allocates (bench/memory_budget.h)
   // Also render check_frame + 1 and report how much of the shadow factor changed (flicker): with a light that
@@ -75,6 +82,8 @@ struct CheckResult {
   double max_percent = 0.0;  // of values beyond the tolerance; 0 = none may differ
   bool passed = true;
   std::string diff_image;  // relative to out_dir, written on failure only
+  // "values": compared value by value; "hash": the device's face hashes were equal, so were the values (cubes).
+  std::string method = "values";
 };
 
 // A case's result code, the worst of its findings (dEQP's result codes are the model): users filter on these.
@@ -131,6 +140,9 @@ struct CaseResult {
   int empty_faces = 0;                     // faces with no caster at the check frame (with face culling: cleared only)
   // NaN or Inf anywhere in the read-back buffers (cube, shadow factor, world position): any is a failed check.
   uint64_t non_finite_cube = 0, non_finite_shadow = 0, non_finite_position = 0;
+  // "full" or "sampled" (RunOptions::cube_read_back); "sampled+full" when face hashes differed from six_pass's and
+  // the cube was read again in full to compare its values.
+  std::string cube_read_back;
   std::optional<double> flicker_percent;   // --stability: pixels whose shadow factor changed by > 0.5 next frame
   std::optional<double> flicker_mean_abs;  // --stability: mean |change| of the shadow factor over covered pixels
   int object_face_pairs = 0;               // object x face draws the plan asks for (six_pass draws per frame)
@@ -155,7 +167,8 @@ inline constexpr int kFloorFrames = 5;
 CaseConfig reference_config(const CaseConfig& c);
 std::string group_key(const CaseConfig& c);
 // The cube's faces side by side in face order, one image (the cube_faces PNG and check).
-std::vector<float> concat_faces(const Images& img);
+std::vector<float> concat_faces(const Images& img);  // the full cube's faces, or the check grid's
+int face_edge(const Images& img);                     // texels a face edge in concat_faces
 
 // The key of a loaded scene: its name, and whether the rebase remedy moved it (truth caches are per key).
 std::string scene_key(const std::string& name, bool rebase_origin);
@@ -192,7 +205,9 @@ class Harness {
   void check_cube(CaseResult& result, const Images& images);
   void check_maps(CaseResult& result, const Images& images);
   void check_timed_variant(CaseResult& result, const Images& images);
-  void check_against_six_pass(CaseResult& result, const Images& images);
+  void check_against_six_pass(CaseResult& result, Images& images);  // may read the cube again in full
+  CubeReadBack cube_read_back_for(const CaseConfig& config) const;
+  void read_full_cube(const CaseConfig& config, Images& images);
   void count_non_finite(CaseResult& result, const Images& images);
   void measure_flicker(CaseResult& result, Backend& b, const Images& images);
   void check_against_other_backend(CaseResult& result, const Images& images);

@@ -110,6 +110,10 @@ void add_check_options(CLI::App& r, RunOptions& o) {
   r.add_option("--light-samples", o.truth.samples_per_axis,
                "stratified samples per axis on that light (8 = 64 rays per pixel)")
       ->capture_default_str()->check(CLI::Range(1, 64));
+  r.add_option("--sphere-stride", o.truth.sphere_stride,
+               "cast the soft reference at every Nth pixel in x and y (0: every pixel up to 800x600 pixels, above "
+               "that the stride that brings it under; mae_sphere/psnr_sphere are means over those pixels)")
+      ->capture_default_str()->check(CLI::Range(0, 64));
   r.add_option("--max-error", o.max_error_percent,
                "fail a case (failed_quality, error in the reason) whose shadow disagrees with exact visibility on "
                "more than this % of pixels")
@@ -169,6 +173,11 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
                "all (every file for every case), none")
       ->capture_default_str()->check(CLI::IsMember({"failed", "all", "none"}));
   r.add_flag("--no-images", flags.no_images, "the same as --images none");
+  r.add_option("--cube-read-back", flags.cube_read_back,
+               "how much of each cube comes back to the host for the checks: auto (in full up to 1024 a face edge "
+               "or with --images all; above, the GPU's face hashes and check grid, in full only where hashes differ "
+               "from six_pass's), full, sampled")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "full", "sampled"}));
   r.add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
   r.add_option("--shard", flags.shard, "i/N: run the i-th of N deterministic slices of the matrix (0-based); auto: from the CI engine's "
                "variables (GitLab parallel, Slurm arrays, Kubernetes indexed jobs, OMNISHADOW_SHARD_INDEX/COUNT)");
@@ -211,6 +220,10 @@ void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOpti
   run.harness.images = flags.no_images || flags.images == "none" ? Policy::none
                        : flags.images == "all"                   ? Policy::all
                                                                  : Policy::failed;
+  using ReadBack = RunOptions::CubeReadBackPolicy;
+  run.harness.cube_read_back = flags.cube_read_back == "full"      ? ReadBack::full
+                               : flags.cube_read_back == "sampled" ? ReadBack::sampled
+                                                                   : ReadBack::automatic;
   run.harness.accuracy = !flags.no_accuracy;
   run.harness.memory_precheck = !flags.no_memory_precheck;
   run.harness.scenes_dir = common.scenes_dir;

@@ -28,6 +28,7 @@ void add_common_options(CLI::App& sub, CommonOptions& o);
 // (--no-accuracy, ...) land in RunFlags and are applied by finish_run_options.
 struct RunFlags {
   std::string images = "failed";
+  std::string cube_read_back = "auto";
   bool no_images = false;
   bool no_accuracy = false;
   bool no_memory_precheck = false;

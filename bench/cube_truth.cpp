@@ -42,7 +42,7 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
   const std::vector<uint8_t> culled = culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back);
   CubeTruth t;
   t.size = cube_size;
-  t.stride = cube_size > kCubeTruthGrid ? cube_size / kCubeTruthGrid : 1;
+  t.stride = cube_sample_stride(cube_size);
   t.far_plane = far_plane;
   const int n = cube_size / t.stride;
   auto face_truth = [&](int face) {
@@ -91,16 +91,20 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
                                   DepthFormat format, float near_plane) {
   CubeTexelReport r;
   r.stride = truth.stride;
-  if (images.cube_size != truth.size) return r;
   const int n = truth.size / truth.stride;
+  if (images.cube_size != truth.size) return r;
+  if (!images.has_full_cube() && (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
+    return r;
   const double far_plane = images.light_far;
   for (int f = 0; f < 6; ++f) {
-    const auto& stored = images.cube_distance[size_t(f)];
+    // The check grid is the truth's grid: read from the device's sample, or from the full cube where it came back.
+    const bool full = images.has_full_cube();
+    const auto& stored = full ? images.cube_distance[size_t(f)] : images.cube_sample[size_t(f)];
     const auto& exact = truth.distance[size_t(f)];
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const int s = x * truth.stride + truth.stride / 2, t = y * truth.stride + truth.stride / 2;
-        const double got = stored[size_t(t) * size_t(truth.size) + size_t(s)];
+        const double got = full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
         const double want = exact[size_t(y) * size_t(n) + size_t(x)];
         // "Nothing here": the clear value, far (depth storages) or FLT_MAX (r32f).
         const bool got_surface = got < far_plane * (1.0 - 1e-6) && got != double(FLT_MAX);

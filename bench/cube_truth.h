@@ -19,7 +19,7 @@
 
 namespace omnishadow::bench {
 
-inline constexpr int kCubeTruthGrid = 128;  // texels checked per face edge, at most
+inline constexpr int kCubeTruthGrid = kCubeSampleGrid;  // texels checked per face edge, at most (the device's grid)
 
 // Which faces of closed objects (Object::cull_back_faces) a shadow pass culls: back faces (cube, maps), front faces
 // (a map light with cull_front_faces, the directional notes' peter-panning fix), or none (the two_sided remedy).

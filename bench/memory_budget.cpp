@@ -48,7 +48,7 @@ std::string format_bytes(uint64_t bytes) {
   return buf;
 }
 
-MemoryNeed estimate_case_memory(const CaseConfig& c) {
+MemoryNeed estimate_case_memory(const CaseConfig& c, CubeReadBack cube) {
   const uint64_t texels = 6ull * uint64_t(c.cube_size) * uint64_t(c.cube_size);
   const uint64_t pixels = uint64_t(c.width) * uint64_t(c.height);
   MemoryNeed need;
@@ -57,7 +57,10 @@ MemoryNeed estimate_case_memory(const CaseConfig& c) {
   need.device_bytes += pixels * (4 + 4 + 16 + 4) + pixels * (4 + 4);
   // Host: the read-back cube as floats, held twice (this case and the six_pass reference kept for checks), plus
   // the face strip written as an image (one more float copy and bytes), and the per-pixel buffers four times over.
-  need.host_bytes = texels * 4 * 3 + texels + pixels * (4 + 4 + 4 + 16) * 4;
+  // A sampled read-back brings only the check grid (a cube read in full after all is a failing case's path).
+  const int grid = c.cube_size / cube_sample_stride(c.cube_size);
+  const uint64_t host_texels = cube == CubeReadBack::full ? texels : 6ull * uint64_t(grid) * uint64_t(grid);
+  need.host_bytes = host_texels * 4 * 3 + host_texels + pixels * (4 + 4 + 4 + 16) * 4;
   return need;
 }
 

@@ -15,7 +15,7 @@ struct MemoryNeed {
   uint64_t device_bytes = 0;  // cube (stored + depth) and lighting targets, on the device
   uint64_t host_bytes = 0;    // read-back copies the harness holds at once (images, reference, accuracy)
 };
-MemoryNeed estimate_case_memory(const CaseConfig& config);
+MemoryNeed estimate_case_memory(const CaseConfig& config, CubeReadBack cube = CubeReadBack::full);
 
 struct MemoryAvailable {
   uint64_t host_bytes = 0;  // min(MemAvailable, cgroup memory.max - memory.current, RLIMIT_AS - VmSize)

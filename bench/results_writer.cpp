@@ -77,6 +77,7 @@ json checks_to_json(const std::vector<CheckResult>& checks) {
                    {"values_differing", k.difference.differing},
                    {"values_compared", k.difference.total},
                    {"percent_differing", k.difference.percent_differing()},
+                   {"method", k.method},
                    {"diff_image", k.diff_image.empty() ? json(nullptr) : json(k.diff_image)}});
   return out;
 }
@@ -104,6 +105,8 @@ json accuracy_to_json(const Accuracy& a) {
   if (a.mae_sphere >= 0) {
     j["mae_sphere"] = a.mae_sphere;
     j["psnr_sphere_db"] = db(a.psnr_sphere_db);
+    j["sphere_stride"] = a.sphere_stride;  // every sphere_stride-th pixel in x and y (bench/accuracy.h)
+    j["sphere_pixels"] = a.sphere_pixels;
   }
   // Radii are short decimals held as floats: written rounded, not as 0.20000000298.
   auto radius = [](double r) { return std::round(r * 1e4) / 1e4; };
@@ -114,7 +117,7 @@ json accuracy_to_json(const Accuracy& a) {
                        {"mae", a.fit_mae},
                        {"best_radius", radius(a.fit_radius)},
                        {"best_mae", a.fit_mae_best},
-                       {"sampling", "every " + std::to_string(kFitStride) + "th pixel in x and y, " +
+                       {"sampling", "every " + std::to_string(fit_stride_for(a.sphere_stride)) + "th pixel in x and y, " +
                                         std::to_string(kFitSamplesPerAxis * kFitSamplesPerAxis) + " rays per radius"}};
   return j;
 }
@@ -206,6 +209,7 @@ json case_to_json(const CaseResult& r) {
                         {"frame_wall_ms", r.first_frame->frame_wall_ms}};
   if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
   if (!r.untimed_ms.empty()) j["untimed_ms"] = r.untimed_ms;
+  if (!r.cube_read_back.empty()) j["cube_read_back"] = r.cube_read_back;
   if (r.floor) j["floor"] = floor_to_json(r);
   if (r.cube_texels) {
     j["cube_texels"] = texels_to_json(*r.cube_texels, "exact first-hit distance along each checked texel centre's "

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "backends/backend.h"
+#include "backends/common/cube_summary.h"
 #include "backends/common/techniques.h"
 #include "backends/reference/ray_caster.h"
 #include "bench/accuracy.h"
@@ -196,12 +197,51 @@ TEST_P(BackendTest, SinglePassTechniquesReproduceSixPassExactly) {
       }
       Images img = render(c, 41);
       for (size_t f = 0; f < 6; ++f) EXPECT_EQ(img.cube_distance[f], six.cube_distance[f]) << c.id() << " face " << f;
+      EXPECT_EQ(img.cube_summary, six.cube_summary) << c.id() << ": equal cubes, equal device hashes";
       EXPECT_EQ(img.lit_rgba8, six.lit_rgba8) << c.id();
       EXPECT_EQ(img.shadow_factor, six.shadow_factor) << c.id();
       ++compared;
     }
   }
   EXPECT_GE(compared, 3);
+}
+
+// The device's cube summary (shaders/cube_summary.comp): its check grid is the full cube's texels at the grid,
+// bit for bit; a sampled read-back gives the same summary without the cube; the hash is the host's
+// (cube::summarize_on_host) over the stored values (r32f_distance stores the distance itself); a moved light
+// changes every face's hash.
+TEST_P(BackendTest, CubeSummaryIsTheFullCubesHashAndGrid) {
+  for (int size : {64, 512}) {
+    CaseConfig c = room_case(Technique::six_pass, Filter::hard, size, Storage::r32f_distance);
+    backend_->configure(c);
+    backend_->render(7, FrameKind::check);
+    Images full = backend_->read_back(CubeReadBack::full);
+    Images sampled = backend_->read_back(CubeReadBack::sampled);
+    EXPECT_FALSE(sampled.has_full_cube());
+    EXPECT_EQ(sampled.cube_summary, full.cube_summary);
+    EXPECT_EQ(full.cube_sample_stride, cube_sample_stride(size));
+    Images host = full;
+    cube::summarize_on_host(host);
+    EXPECT_EQ(full.cube_summary, host.cube_summary) << "size " << size << ": GLSL and C++ hash mixes disagree";
+    EXPECT_EQ(full.cube_sample, host.cube_sample) << "size " << size;
+    EXPECT_EQ(sampled.cube_sample, host.cube_sample) << "size " << size;
+    for (const CubeFaceSummary& face : full.cube_summary) EXPECT_EQ(face.non_finite, 0u);
+  }
+  for (Storage storage : all_values<Storage>()) {
+    Images a = render(room_case(Technique::six_pass, Filter::hard, 256, storage), 7);
+    Images b = render(room_case(Technique::six_pass, Filter::hard, 256, storage), 90);
+    Images a_again = render(room_case(Technique::six_pass, Filter::hard, 256, storage), 7);
+    EXPECT_EQ(a.cube_summary, a_again.cube_summary) << to_string(storage);
+    for (size_t f = 0; f < 6; ++f) EXPECT_NE(a.cube_summary[f].hash, b.cube_summary[f].hash) << to_string(storage) << " face " << f;
+    // The grid holds what the full cube holds there, as distances, in every storage.
+    const int stride = a.cube_sample_stride, n = 256 / stride;
+    for (size_t f = 0; f < 6; ++f)
+      for (int y = 0; y < n; y += 7)
+        for (int x = 0; x < n; x += 5)
+          ASSERT_EQ(a.cube_sample[f][size_t(y * n + x)],
+                    a.cube_distance[f][size_t((y * stride + stride / 2) * 256 + x * stride + stride / 2)])
+              << to_string(storage) << " face " << f;
+  }
 }
 
 TEST_P(BackendTest, BothStoragesSeeTheSameShadows) {

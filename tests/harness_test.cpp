@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "backends/common/cube_summary.h"
 #include "bench/case_runner.h"
 #include "bench/file_io.h"
 #include "bench/gbench_glue.h"
@@ -52,7 +53,7 @@ class ScriptedBackend : public Backend {
     c.shadow.draw_calls = 6;
     return c;
   }
-  Images read_back_images() override {
+  Images read_back_images(CubeReadBack cube) override {
     Images img;
     img.width = 4;
     img.height = 3;
@@ -70,10 +71,14 @@ class ScriptedBackend : public Backend {
     img.timed_lit_rgba8 = img.lit_rgba8;
     if (current_.technique == Technique::six_pass && current_.filter == Filter::pcf_grid64)
       img.timed_lit_rgba8[5] = 1;  // the timed variant lit one channel differently
+    cube::summarize_on_host(img);  // what a GPU backend computes on the device
+    if (cube == CubeReadBack::sampled) img.cube_distance = {};
+    ++read_backs_[cube == CubeReadBack::full];
     return img;
   }
 
   double jitter_ms = 0.0;
+  std::array<int, 2> read_backs_{};  // [sampled, full]
 
  private:
   CaseConfig current_;
@@ -83,12 +88,14 @@ class ScriptedBackend : public Backend {
 class HarnessTest : public ::testing::Test {
  protected:
   void SetUp() override { start(RunOptions::ImagePolicy::failed); }
-  void start(RunOptions::ImagePolicy images) {
+  void start(RunOptions::ImagePolicy images,
+             RunOptions::CubeReadBackPolicy cube = RunOptions::CubeReadBackPolicy::automatic) {
     out_ = fs::temp_directory_path() / ("omnishadow_harness_" + std::to_string(::getpid()));
     fs::remove_all(out_);
     fs::create_directories(out_);
     RunOptions o;
     o.images = images;
+    o.cube_read_back = cube;
     o.out_dir = out_.string();
     o.scenes_dir = OMNISHADOW_TEST_SCENES_DIR;
     o.frames = 3;
@@ -168,6 +175,35 @@ TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   EXPECT_TRUE(fs::exists(out_ / d.images.at("shadow_factor")));
   EXPECT_TRUE(r[1].images.count("lit"));
   EXPECT_FALSE(r[1].images.count("world_position"));
+}
+
+// With only the device's summary read back, equal face hashes settle the comparison with six_pass and no cube
+// comes back in full; where hashes differ both cubes are read in full and compared value by value, so the
+// findings (and the driver's evidence, which needs every face) are the same as with full read-backs.
+TEST_F(HarnessTest, SampledReadBackComparesHashesFirstAndReadsInFullOnlyWhatDiffers) {
+  start(RunOptions::ImagePolicy::failed, RunOptions::CubeReadBackPolicy::sampled);
+  std::vector<CaseResult> r = prepare_all({Filter::hard, Filter::pcf_disk20});
+  EXPECT_EQ(r[0].cube_read_back, "sampled");
+  ASSERT_EQ(r[1].status, Status::ok) << r[1].reason;
+  EXPECT_EQ(r[1].cube_read_back, "sampled");
+  ASSERT_EQ(r[1].checks[1].name, "cube_faces");
+  EXPECT_EQ(r[1].checks[1].method, "hash");
+  EXPECT_TRUE(r[1].checks[1].passed);
+  EXPECT_EQ(r[1].checks[1].difference.total, 96u);
+  // Every view in one face: read again in full, the driver's evidence still found.
+  EXPECT_EQ(r[2].status, Status::failed_check);
+  EXPECT_EQ(r[2].cube_read_back, "sampled+full");
+  EXPECT_NE(r[2].reason.find("all six faces hold the same image"), std::string::npos) << r[2].reason;
+  // One texel off: the same figures as a full read-back gives.
+  const CaseResult& d = r[5];
+  ASSERT_EQ(d.status, Status::failed_check);
+  EXPECT_EQ(d.cube_read_back, "sampled+full");
+  EXPECT_EQ(d.checks[1].method, "values");
+  EXPECT_EQ(d.checks[1].difference.differing, 1u);
+  EXPECT_FLOAT_EQ(static_cast<float>(d.checks[1].difference.max_abs), 0.25f);
+  // Full read-backs: the three cases whose hashes differ (instanced in both groups, geometry_shader's one texel)
+  // and the two six_pass references they were compared with, nothing else.
+  EXPECT_EQ(backend_->read_backs_[1], 5);
 }
 
 // Findings accumulate: a quality finding is not overwritten by a later check failure, and the status is the worst.

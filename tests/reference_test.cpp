@@ -136,5 +136,38 @@ TEST(Truth, RadiusFitPicksTheLightAFilterImitates) {
   EXPECT_TRUE(bench::compute_truth(caster, s, 0, img, o).fit_pixels.empty());
 }
 
+// Large frames cast the soft reference at every sphere_stride-th pixel: the stride keeps the rays under the budget
+// of an 800x600 frame, and the sphere figures (means) over the subsample stay close to the full frame's.
+TEST(Truth, SoftReferenceIsSubsampledAboveAnEightHundredBySixHundredFrame) {
+  bench::TruthOptions o;
+  EXPECT_EQ(bench::sphere_stride_for(o, 800, 600), 1);
+  EXPECT_EQ(bench::sphere_stride_for(o, 1920, 1080), 3);
+  EXPECT_EQ(bench::sphere_stride_for(o, 3840, 2160), 5);
+  o.sphere_stride = 2;
+  EXPECT_EQ(bench::sphere_stride_for(o, 800, 600), 2);
+
+  scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
+  RayCaster caster(s);
+  Images img;
+  img.width = 240;  // x from 0 to 2.4 across the penumbra of the box's shadow edge (x = 1.25), two rows
+  img.height = 2;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) img.world_position.insert(img.world_position.end(), {x * 0.01f, 0.0f, y * 0.01f, 1.0f});
+  o.light_radius = 0.5f;
+  o.samples_per_axis = 8;
+  o.sphere_stride = 1;
+  bench::Truth full = bench::compute_truth(caster, s, 0, img, o);
+  o.sphere_stride = 2;
+  bench::Truth sub = bench::compute_truth(caster, s, 0, img, o);
+  img.shadow_factor = full.point_shadow;  // a hard shadow, judged against the soft light
+  bench::Accuracy a = bench::measure_accuracy(full, img), b = bench::measure_accuracy(sub, img);
+  EXPECT_EQ(a.sphere_pixels, 480u);
+  EXPECT_EQ(b.sphere_pixels, 120u);
+  EXPECT_EQ(b.sphere_stride, 2);
+  EXPECT_GT(a.mae_sphere, 0.05);
+  EXPECT_NEAR(b.mae_sphere, a.mae_sphere, 0.1 * a.mae_sphere);
+  EXPECT_EQ(b.misclassified_percent, a.misclassified_percent) << "point figures use every pixel";
+}
+
 }  // namespace
 }  // namespace omnishadow::reference

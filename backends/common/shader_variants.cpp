@@ -62,7 +62,8 @@ std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant v
 
 std::vector<std::string> spirv_variant_keys() {
   std::set<std::string> keys = {variant_key("lighting.vert", kNoVariant), variant_key("map_depth.vert", kNoVariant),
-                                variant_key("map_depth.frag", kNoVariant), variant_key("floor.frag", kNoVariant)};
+                                variant_key("map_depth.frag", kNoVariant), variant_key("floor.frag", kNoVariant),
+                                variant_key("cube_summary.comp", kNoVariant)};
   CaseConfig c;
   for (const TechniqueTraits& t : kTechniques)
     for (Storage storage : all_values<Storage>())

@@ -9,10 +9,12 @@
 #include <stdexcept>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/cube_summary.h"
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
 #include "backends/common/shader_variants.h"
 #include "backends/common/techniques.h"
+#include "backends/gl/gl_cube_summary.h"
 
 namespace omnishadow::gl {
 namespace {
@@ -213,6 +215,7 @@ void GlBackend::configure_case(const CaseConfig& c) {
 
   map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, {});
   floor_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "floor.frag"}}, {});
+  summary_program_ = program({{GL_COMPUTE_SHADER, "cube_summary.comp"}}, {});
   shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format, traits(c.technique).multiview);
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
@@ -403,7 +406,7 @@ FrameCounters GlBackend::count_frame_work(int frame) {
   return c;
 }
 
-Images GlBackend::read_back_images() {
+Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
   const LightingTargets& timed = lighting_[size_t(gpu::LightingVariant::timed)];
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
@@ -428,7 +431,10 @@ Images GlBackend::read_back_images() {
   const bool depth_stored = shadow_.storage != Storage::r32f_distance;
   const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
   img.light_far = far_plane;
-  for (int f = 0; f < 6; ++f) {
+  read_cube_summary(summary_program_, shadow_.stored_layers, nearest_sampler_, shadow_.size, img);
+  cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane,
+                           cube::DepthRange::minus_one_to_one);
+  for (int f = 0; f < 6 && cube_read_back == CubeReadBack::full; ++f) {
     auto& face = img.cube_distance[static_cast<size_t>(f)];
     face.resize(texels);
     glGetTextureSubImage(shadow_.stored, 0, 0, 0, f, shadow_.size, shadow_.size, 1,

@@ -34,7 +34,7 @@ class GlBackend final : public Backend {
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // each pass bracketed by glFinish
   FrameCounters count_frame_work(int frame) override;
-  Images read_back_images() override;
+  Images read_back_images(CubeReadBack cube) override;
   struct DrawStats {
     uint64_t draw_calls = 0;
   };
@@ -73,6 +73,7 @@ class GlBackend final : public Backend {
   GLuint shadow_program_ = 0;
   std::array<GLuint, 2> lighting_programs_{};  // by gpu::LightingVariant
   GLuint floor_program_ = 0;                   // lighting.vert + floor.frag
+  GLuint summary_program_ = 0;                 // cube_summary.comp
   std::unique_ptr<FrameQueries> queries_;
   gpu::ShadowFramePlanner planner_;
 };

@@ -86,6 +86,13 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
     if (storage == Storage::r32f_distance) t.stored = create_cube(GL_R32F, size);
   }
   if (storage != Storage::r32f_distance) t.stored = t.depth, t.stored_array = t.depth_array;
+  if (multiview) {
+    t.stored_layers = t.stored_array;
+  } else {
+    glGenTextures(1, &t.stored_layers);
+    glTextureView(t.stored_layers, GL_TEXTURE_2D_ARRAY, t.stored,
+                  storage == Storage::r32f_distance ? GL_R32F : depth_internal_format(depth_format), 0, 1, 0, 6);
+  }
   check_allocation("the shadow cube");
   const GLuint depth_target = multiview ? t.depth_array : t.depth;
   const GLuint stored_target = multiview ? t.stored_array : t.stored;
@@ -128,6 +135,7 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
 void destroy(ShadowTargets& t) {
   glDeleteFramebuffers(6, t.face_fbos.data());
   glDeleteFramebuffers(1, &t.layered_fbo);
+  if (t.stored_layers != t.stored_array) glDeleteTextures(1, &t.stored_layers);
   if (t.stored != t.depth) glDeleteTextures(1, &t.stored);
   glDeleteTextures(1, &t.depth);
   if (t.stored_array != t.depth_array) glDeleteTextures(1, &t.stored_array);

@@ -17,6 +17,9 @@ struct ShadowTargets {
   // Multiview (GL_OVR_multiview2) renders into 2D array textures, never cube maps: the cube is then a texture view
   // (GL 4.3) of six array layers, sampled and read back as the cube. 0 for every other technique.
   GLuint depth_array = 0, stored_array = 0;
+  // The stored cube as a 2D array (a texture view of it, or stored_array itself): what the cube summary's compute
+  // shader fetches texels from (a cube sampler has no texelFetch).
+  GLuint stored_layers = 0;
   std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face, built once
   GLuint layered_fbo = 0;             // single-pass techniques: the whole cube, gl_Layer (or the view) picks the face
   Storage storage = Storage::linear_depth;

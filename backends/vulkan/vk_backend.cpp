@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/cube_summary.h"
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
 #include "backends/common/shader_variants.h"
@@ -58,6 +59,7 @@ VkBackend::VkBackend(const std::string& device_selector, bool validation)
   create_layouts();
   create_descriptor_sets();
   create_samplers_and_queries();
+  summarizer_ = std::make_unique<CubeSummarizer>(*ctx_, *modules_);
 }
 
 void VkBackend::describe_device(bool validation) {
@@ -190,6 +192,7 @@ VkBackend::~VkBackend() {
   VkDevice d = ctx_->device();
   vkDeviceWaitIdle(d);
   release_case();
+  summarizer_.reset();
   destroy(*ctx_, vertex_buffer_);
   destroy(*ctx_, frame_uniforms_);
   vkFreeCommandBuffers(d, ctx_->command_pool(), 2, command_buffers_.data());
@@ -584,7 +587,7 @@ std::vector<float> decode_texels(VkFormat format, const uint8_t* src, size_t cou
 
 }  // namespace
 
-Images VkBackend::read_back_images() {
+Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
   img.width = static_cast<int>(check.width);
@@ -602,12 +605,16 @@ Images VkBackend::read_back_images() {
 
   img.cube_size = static_cast<int>(shadow_.size);
   const Image& stored = shadow_.stored();
-  const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
-  std::vector<uint8_t> bytes = read_image(*ctx_, stored, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, texel_bytes);
-  const size_t texels = size_t(shadow_.size) * shadow_.size;
   const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
   img.light_far = far_plane;
-  for (size_t f = 0; f < 6; ++f) {
+  summarizer_->read(stored, nearest_sampler_, shadow_.size, img);
+  cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane, cube::DepthRange::zero_to_one);
+  const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
+  std::vector<uint8_t> bytes;
+  if (cube_read_back == CubeReadBack::full)
+    bytes = read_image(*ctx_, stored, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, texel_bytes);
+  const size_t texels = size_t(shadow_.size) * shadow_.size;
+  for (size_t f = 0; f < 6 && !bytes.empty(); ++f) {
     auto& face = img.cube_distance[f];
     face = decode_texels(stored.format, bytes.data() + f * texels * texel_bytes, texels);
     for (size_t i = 0; i < texels; ++i)

@@ -14,6 +14,7 @@
 #include "backends/common/techniques.h"
 #include "backends/common/shadow_frame.h"
 #include "backends/vulkan/vk_context.h"
+#include "backends/vulkan/vk_cube_summary.h"
 #include "backends/vulkan/vk_pipelines.h"
 #include "backends/vulkan/vk_resources.h"
 #include "backends/vulkan/vk_targets.h"
@@ -34,7 +35,7 @@ class VkBackend final : public Backend {
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // one fence-waited submission per pass
   FrameCounters count_frame_work(int frame) override;
-  Images read_back_images() override;
+  Images read_back_images(CubeReadBack cube) override;
   // The constructor's steps.
   void describe_device(bool validation);
   void create_layouts();
@@ -58,6 +59,7 @@ class VkBackend final : public Backend {
 
   std::unique_ptr<VkContext> ctx_;
   std::unique_ptr<ShaderModules> modules_;
+  std::unique_ptr<CubeSummarizer> summarizer_;
 
   VkDescriptorSetLayout shadow_set_layout_ = VK_NULL_HANDLE;    // binding 0: frame uniforms
   VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;  // + binding 2: the shadow cube, 3: 2D maps

@@ -131,6 +131,13 @@ void transition(VkCommandBuffer cb, const Image& image, VkImageLayout from, VkIm
   vkCmdPipelineBarrier(cb, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
 }
 
+void barrier_to_host(VkCommandBuffer cb, VkPipelineStageFlags stage, VkAccessFlags access) {
+  VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  to_host.srcAccessMask = access;
+  to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cb, stage, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0, nullptr, 0, nullptr);
+}
+
 std::vector<uint8_t> read_image(VkContext& ctx, const Image& image, VkImageLayout layout, uint32_t texel_bytes) {
   VkDeviceSize size = VkDeviceSize(image.width) * image.height * image.layers * texel_bytes;
   Buffer staging = create_buffer(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
@@ -150,11 +157,7 @@ std::vector<uint8_t> read_image(VkContext& ctx, const Image& image, VkImageLayou
       if (layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
         transition(cb, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_ACCESS_TRANSFER_READ_BIT,
                    VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
-      VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-      to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-      to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-      vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0,
-                           nullptr, 0, nullptr);
+      barrier_to_host(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
     });
   } catch (...) {
     destroy(ctx, staging);

@@ -44,6 +44,9 @@ void transition(VkCommandBuffer cb, const Image& image, VkImageLayout from, VkIm
                 VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
                 VkPipelineStageFlags dst_stage);
 
+// Makes writes of `stage` (with `access`) visible to the host once the submission's fence has signalled.
+void barrier_to_host(VkCommandBuffer cb, VkPipelineStageFlags stage, VkAccessFlags access);
+
 // Copies every layer of `image` (in `layout`, left there) into host memory, tightly packed, layer after layer.
 std::vector<uint8_t> read_image(VkContext& ctx, const Image& image, VkImageLayout layout, uint32_t texel_bytes);
 

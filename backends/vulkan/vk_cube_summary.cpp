@@ -1,0 +1,102 @@
+#include "backends/vulkan/vk_cube_summary.h"
+
+#include "backends/common/cube_summary.h"
+#include "backends/common/shader_variants.h"
+
+namespace omnishadow::vk {
+
+CubeSummarizer::CubeSummarizer(VkContext& ctx, ShaderModules& modules) : ctx_(ctx) {
+  VkDevice d = ctx_.device();
+  VkDescriptorSetLayoutBinding bindings[2] = {
+      {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
+  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  set_info.bindingCount = 2;
+  set_info.pBindings = bindings;
+  OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &set_layout_));
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 2 * sizeof(int32_t)};  // size, stride
+  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set_layout_;
+  layout_info.pushConstantRangeCount = 1;
+  layout_info.pPushConstantRanges = &push;
+  OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_));
+  VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  pipeline_info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  pipeline_info.stage.module = modules.get(gpu::variant_key("cube_summary.comp", gpu::kNoVariant));
+  pipeline_info.stage.pName = "main";
+  pipeline_info.layout = layout_;
+  OMNISHADOW_VK(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_));
+  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
+  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool_info.maxSets = 1;
+  pool_info.poolSizeCount = 2;
+  pool_info.pPoolSizes = sizes;
+  OMNISHADOW_VK(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_));
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = pool_;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &set_layout_;
+  OMNISHADOW_VK(vkAllocateDescriptorSets(d, &alloc, &set_));
+}
+
+CubeSummarizer::~CubeSummarizer() {
+  VkDevice d = ctx_.device();
+  vkDestroyDescriptorPool(d, pool_, nullptr);
+  vkDestroyPipeline(d, pipeline_, nullptr);
+  vkDestroyPipelineLayout(d, layout_, nullptr);
+  vkDestroyDescriptorSetLayout(d, set_layout_, nullptr);
+}
+
+void CubeSummarizer::read(const Image& stored, VkSampler sampler, uint32_t cube_size, Images& img) {
+  const size_t bytes = cube::summary_buffer_bytes(int(cube_size));
+  Buffer buffer = create_buffer(ctx_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                true);
+  VkImageView layers = VK_NULL_HANDLE;
+  try {
+    layers = create_view(ctx_, stored, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
+    VkDescriptorImageInfo image_info{sampler, layers, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkDescriptorBufferInfo buffer_info{buffer.buffer, 0, bytes};
+    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+    writes[0].dstSet = writes[1].dstSet = set_;
+    writes[0].dstBinding = 0;
+    writes[0].descriptorCount = 1;
+    writes[0].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    writes[0].pImageInfo = &image_info;
+    writes[1].dstBinding = 1;
+    writes[1].descriptorCount = 1;
+    writes[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[1].pBufferInfo = &buffer_info;
+    vkUpdateDescriptorSets(ctx_.device(), 2, writes, 0, nullptr);
+    const int32_t params[2] = {int32_t(cube_size), int32_t(cube_sample_stride(int(cube_size)))};
+    ctx_.submit_and_wait([&](VkCommandBuffer cb) {
+      vkCmdFillBuffer(cb, buffer.buffer, 0, VK_WHOLE_SIZE, 0);  // the sums start at 0
+      // The fill, and the shadow pass's writes to the cube (an earlier submission), before the shader's accesses.
+      VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+      before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+      vkCmdPipelineBarrier(cb,
+                           VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                               VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
+      vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
+      // 16 x 16 invocations a group, each 16 rows of a column (shaders/cube_summary.comp).
+      vkCmdDispatch(cb, (cube_size + 15) / 16, (cube_size + 255) / 256, 6);
+      barrier_to_host(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);
+    });
+  } catch (...) {
+    vkDestroyImageView(ctx_.device(), layers, nullptr);
+    destroy(ctx_, buffer);
+    throw;
+  }
+  cube::unpack_summary(buffer.mapped, int(cube_size), img);
+  vkDestroyImageView(ctx_.device(), layers, nullptr);
+  destroy(ctx_, buffer);
+}
+
+}  // namespace omnishadow::vk
