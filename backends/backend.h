@@ -95,7 +95,10 @@ struct Images {
   // multiplied back by light_far; texels nothing was drawn to hold light_far, or FLT_MAX for r32f_distance).
   // Empty unless the read-back was CubeReadBack::full: the summary and sample below serve the checks otherwise.
   std::array<std::vector<float>, 6> cube_distance;
-  CubeSummary cube_summary;  // always: computed on the device (shaders/cube_summary.comp)
+  // Always: computed on the device (shaders/cube_summary.comp, over the stored values) for a sampled read-back, on
+  // the host (cube::summarize_on_host, over the distances) for a full one. Hashes of the two kinds never compare.
+  CubeSummary cube_summary;
+  bool cube_summary_on_device = false;
   // Light distances (as cube_distance) at the check grid's texels: (x * stride + stride / 2, y * stride + stride / 2)
   // for x, y < cube_size / stride, row-major per face. Always read back; tiny next to the cube.
   int cube_sample_stride = 1;

@@ -120,7 +120,8 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
   // were not (the case's own, and six_pass's, rendered again: their frames are deterministic).
   CheckResult faces_check{"cube_faces", ref_config.id()};
   faces_check.tolerance = options_.face_tolerance;
-  if (images.cube_summary == reference_->cube_summary && reference_->light_far == images.light_far) {
+  if (images.cube_summary_on_device == reference_->cube_summary_on_device &&
+      images.cube_summary == reference_->cube_summary && reference_->light_far == images.light_far) {
     const uint64_t texels = 6ull * uint64_t(images.cube_size) * uint64_t(images.cube_size);
     faces_check.difference = {texels, 0, 0.0};
     faces_check.method = "hash";

@@ -24,6 +24,7 @@ void unpack_summary(const void* buffer, int cube_size, Images& img) {
   const size_t grid = size_t(cube_size / stride), per_face = grid * grid;
   const auto* values = static_cast<const float*>(buffer) + kSummaryWords;
   img.cube_sample_stride = stride;
+  img.cube_summary_on_device = true;
   for (size_t f = 0; f < 6; ++f) {
     img.cube_summary[f].hash = uint64_t(words[6 + f]) << 32 | words[f];
     img.cube_summary[f].non_finite = words[12 + f];
@@ -45,6 +46,7 @@ void sample_to_distance(Images& img, Storage storage, float near_plane, float fa
 void summarize_on_host(Images& img) {
   const int n = img.cube_size, stride = cube_sample_stride(n), grid = n / stride;
   img.cube_sample_stride = stride;
+  img.cube_summary_on_device = false;
   for (size_t f = 0; f < 6; ++f) {
     const std::vector<float>& face = img.cube_distance[f];
     uint32_t low = 0, high = 0;

@@ -431,9 +431,11 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
   const bool depth_stored = shadow_.storage != Storage::r32f_distance;
   const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
   img.light_far = far_plane;
-  read_cube_summary(summary_program_, shadow_.stored_layers, nearest_sampler_, shadow_.size, img);
-  cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane,
-                           cube::DepthRange::minus_one_to_one);
+  if (cube_read_back == CubeReadBack::sampled) {
+    read_cube_summary(summary_program_, shadow_.stored_layers, nearest_sampler_, shadow_.size, img);
+    cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane,
+                             cube::DepthRange::minus_one_to_one);
+  }
   for (int f = 0; f < 6 && cube_read_back == CubeReadBack::full; ++f) {
     auto& face = img.cube_distance[static_cast<size_t>(f)];
     face.resize(texels);
@@ -445,6 +447,7 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
       face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
                                          scene_->light.near_plane, far_plane, cube::DepthRange::minus_one_to_one);
   }
+  if (cube_read_back == CubeReadBack::full) cube::summarize_on_host(img);  // the cube is here: no compute pass
   GLenum error = glGetError();
   if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");
   if (!scene_->map_lights.empty()) {

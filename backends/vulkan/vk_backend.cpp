@@ -607,8 +607,10 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
   const Image& stored = shadow_.stored();
   const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
   img.light_far = far_plane;
-  summarizer_->read(stored, nearest_sampler_, shadow_.size, img);
-  cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane, cube::DepthRange::zero_to_one);
+  if (cube_read_back == CubeReadBack::sampled) {
+    summarizer_->read(stored, nearest_sampler_, shadow_.size, img);
+    cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane, cube::DepthRange::zero_to_one);
+  }
   const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
   std::vector<uint8_t> bytes;
   if (cube_read_back == CubeReadBack::full)
@@ -622,6 +624,7 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
                                          int(shadow_.size), scene_->light.near_plane, far_plane,
                                          cube::DepthRange::zero_to_one);
   }
+  if (!bytes.empty()) cube::summarize_on_host(img);  // the cube is here: no compute pass
   if (!scene_->map_lights.empty()) {
     img.map_size = static_cast<int>(maps_.size);
     img.map_depth_zero_to_one = true;
