@@ -12,6 +12,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -165,101 +166,135 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-int run(const Options& o) {
-  omnishadow::gl::EglContext context("surfaceless", 0, false);
-  const GLuint depth_program = link({{GL_VERTEX_SHADER, tutorial::kDepthVertex},
-                                     {GL_GEOMETRY_SHADER, tutorial::kDepthGeometry},
-                                     {GL_FRAGMENT_SHADER, tutorial::kDepthFragment}});
-  const GLuint light_program = link({{GL_VERTEX_SHADER, tutorial::kLightingVertex},
-                                     {GL_FRAGMENT_SHADER, tutorial::lighting_fragment(o.filter, o.albedo)}});
-  const GLuint vao = cube_vao(), wood = wood_texture();
-
-  // The depth cube map and its framebuffer, as the tutorial makes them.
-  GLuint depth_cube = 0, depth_fbo = 0;
+// The depth cube map and its framebuffer, as the tutorial makes them; returns the framebuffer.
+GLuint depth_cube_framebuffer(int size, GLuint& depth_cube) {
   glGenTextures(1, &depth_cube);
   glBindTexture(GL_TEXTURE_CUBE_MAP, depth_cube);
   for (GLenum f = 0; f < 6; ++f)
-    glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, GL_DEPTH_COMPONENT, o.cube, o.cube, 0, GL_DEPTH_COMPONENT,
+    glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, GL_DEPTH_COMPONENT, size, size, 0, GL_DEPTH_COMPONENT,
                  GL_FLOAT, nullptr);
   for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glTexParameteri(GL_TEXTURE_CUBE_MAP, p, GL_NEAREST);
   for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
     glTexParameteri(GL_TEXTURE_CUBE_MAP, p, GL_CLAMP_TO_EDGE);
-  glGenFramebuffers(1, &depth_fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo);
+  GLuint fbo = 0;
+  glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glFramebufferTexture(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depth_cube, 0);
   glDrawBuffer(GL_NONE);
   glReadBuffer(GL_NONE);
+  return fbo;
+}
 
-  // The window's framebuffer, headless: RGBA8 colour and 24-bit depth (with stencil, as GLFW's default).
-  GLuint window_fbo = 0, buffers[2] = {};
-  glGenFramebuffers(1, &window_fbo);
+// The window's framebuffer, headless: RGBA8 colour and 24-bit depth (with stencil, as GLFW's default).
+GLuint window_framebuffer(int width, int height) {
+  GLuint fbo = 0, buffers[2] = {};
+  glGenFramebuffers(1, &fbo);
   glGenRenderbuffers(2, buffers);
   glBindRenderbuffer(GL_RENDERBUFFER, buffers[0]);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, o.width, o.height);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
   glBindRenderbuffer(GL_RENDERBUFFER, buffers[1]);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, o.width, o.height);
-  glBindFramebuffer(GL_FRAMEBUFFER, window_fbo);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("the headless window framebuffer is incomplete");
-  glEnable(GL_DEPTH_TEST);
+  return fbo;
+}
 
-  const glm::vec3 light(0.0f), camera(0.0f, 0.0f, 3.0f);
-  const float near_plane = 1.0f, far_plane = 25.0f;
-  const glm::mat4 shadow_proj = glm::perspective(glm::radians(90.0f), 1.0f, near_plane, far_plane);
-  const glm::vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-  std::vector<glm::mat4> shadow_matrices;
-  for (int f = 0; f < 6; ++f) shadow_matrices.push_back(shadow_proj * glm::lookAt(light, light + dirs[f], ups[f]));
-  const glm::mat4 projection =
-      glm::perspective(glm::radians(45.0f), float(o.width) / float(o.height), 0.1f, 100.0f);
-  const glm::mat4 view = glm::lookAt(camera, camera + glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
+// One frame of the tutorial's render loop, its two passes timed apart.
+class TutorialRenderer {
+ public:
+  explicit TutorialRenderer(const Options& o)
+      : o_(o),
+        depth_program_(link({{GL_VERTEX_SHADER, tutorial::kDepthVertex},
+                             {GL_GEOMETRY_SHADER, tutorial::kDepthGeometry},
+                             {GL_FRAGMENT_SHADER, tutorial::kDepthFragment}})),
+        light_program_(link({{GL_VERTEX_SHADER, tutorial::kLightingVertex},
+                             {GL_FRAGMENT_SHADER, tutorial::lighting_fragment(o.filter, o.albedo)}})),
+        vao_(cube_vao()),
+        wood_(wood_texture()),
+        depth_fbo_(depth_cube_framebuffer(o.cube, depth_cube_)),
+        window_fbo_(window_framebuffer(o.width, o.height)) {
+    glEnable(GL_DEPTH_TEST);
+    const glm::mat4 shadow_proj = glm::perspective(glm::radians(90.0f), 1.0f, kNear, kFar);
+    const glm::vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    for (int f = 0; f < 6; ++f) shadow_matrices_[size_t(f)] = shadow_proj * glm::lookAt(kLight, kLight + dirs[f], ups[f]);
+    projection_ = glm::perspective(glm::radians(45.0f), float(o.width) / float(o.height), 0.1f, 100.0f);
+    view_ = glm::lookAt(kCamera, kCamera + glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
+  }
 
+  void shadow_pass() {
+    glViewport(0, 0, o_.cube, o_.cube);
+    glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo_);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glUseProgram(depth_program_);
+    for (int f = 0; f < 6; ++f)
+      glUniformMatrix4fv(uniform(depth_program_, "shadowMatrices[" + std::to_string(f) + "]"), 1, GL_FALSE,
+                         glm::value_ptr(shadow_matrices_[size_t(f)]));
+    glUniform1f(uniform(depth_program_, "far_plane"), kFar);
+    glUniform3fv(uniform(depth_program_, "lightPos"), 1, glm::value_ptr(kLight));
+    render_scene(depth_program_, vao_);
+    glFinish();
+  }
+
+  void lighting_pass() {
+    glViewport(0, 0, o_.width, o_.height);
+    glBindFramebuffer(GL_FRAMEBUFFER, window_fbo_);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUseProgram(light_program_);
+    glUniformMatrix4fv(uniform(light_program_, "projection"), 1, GL_FALSE, glm::value_ptr(projection_));
+    glUniformMatrix4fv(uniform(light_program_, "view"), 1, GL_FALSE, glm::value_ptr(view_));
+    glUniform3fv(uniform(light_program_, "lightPos"), 1, glm::value_ptr(kLight));
+    glUniform3fv(uniform(light_program_, "viewPos"), 1, glm::value_ptr(kCamera));
+    glUniform1f(uniform(light_program_, "far_plane"), kFar);
+    glUniform1i(uniform(light_program_, "diffuseTexture"), 0);
+    glUniform1i(uniform(light_program_, "depthMap"), 1);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, wood_);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_CUBE_MAP, depth_cube_);
+    render_scene(light_program_, vao_);
+    glFinish();
+  }
+
+  void write_png(const std::string& path) const {
+    std::vector<uint8_t> rgba(size_t(o_.width) * size_t(o_.height) * 4);
+    glBindFramebuffer(GL_FRAMEBUFFER, window_fbo_);
+    glReadPixels(0, 0, o_.width, o_.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    omnishadow::bench::write_png_rgba_bottom_up(path, o_.width, o_.height, rgba);
+  }
+
+ private:
+  // The scene's light at frame 0 (the origin), the tutorial's camera and light planes.
+  static constexpr glm::vec3 kLight{0.0f, 0.0f, 0.0f}, kCamera{0.0f, 0.0f, 3.0f};
+  static constexpr float kNear = 1.0f, kFar = 25.0f;
+  static GLint uniform(GLuint program, const std::string& name) { return glGetUniformLocation(program, name.c_str()); }
+
+  const Options& o_;
+  GLuint depth_program_, light_program_, vao_, wood_, depth_cube_ = 0, depth_fbo_, window_fbo_;
+  std::array<glm::mat4, 6> shadow_matrices_{};
+  glm::mat4 projection_{1.0f}, view_{1.0f};
+};
+
+int run(const Options& o) {
+  omnishadow::gl::EglContext context("surfaceless", 0, false);
+  TutorialRenderer renderer(o);
   using clock = std::chrono::steady_clock;
   auto ms = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   std::vector<double> shadow_ms, lighting_ms;
   for (int frame = 0; frame < o.warmup + o.frames; ++frame) {
     const auto t0 = clock::now();
-    glViewport(0, 0, o.cube, o.cube);
-    glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo);
-    glClear(GL_DEPTH_BUFFER_BIT);
-    glUseProgram(depth_program);
-    for (int f = 0; f < 6; ++f)
-      glUniformMatrix4fv(glGetUniformLocation(depth_program, ("shadowMatrices[" + std::to_string(f) + "]").c_str()), 1,
-                         GL_FALSE, glm::value_ptr(shadow_matrices[size_t(f)]));
-    glUniform1f(glGetUniformLocation(depth_program, "far_plane"), far_plane);
-    glUniform3fv(glGetUniformLocation(depth_program, "lightPos"), 1, glm::value_ptr(light));
-    render_scene(depth_program, vao);
-    glFinish();
+    renderer.shadow_pass();
     const auto t1 = clock::now();
-    glViewport(0, 0, o.width, o.height);
-    glBindFramebuffer(GL_FRAMEBUFFER, window_fbo);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glUseProgram(light_program);
-    glUniformMatrix4fv(glGetUniformLocation(light_program, "projection"), 1, GL_FALSE, glm::value_ptr(projection));
-    glUniformMatrix4fv(glGetUniformLocation(light_program, "view"), 1, GL_FALSE, glm::value_ptr(view));
-    glUniform3fv(glGetUniformLocation(light_program, "lightPos"), 1, glm::value_ptr(light));
-    glUniform3fv(glGetUniformLocation(light_program, "viewPos"), 1, glm::value_ptr(camera));
-    glUniform1f(glGetUniformLocation(light_program, "far_plane"), far_plane);
-    glUniform1i(glGetUniformLocation(light_program, "diffuseTexture"), 0);
-    glUniform1i(glGetUniformLocation(light_program, "depthMap"), 1);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, wood);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_CUBE_MAP, depth_cube);
-    render_scene(light_program, vao);
-    glFinish();
+    renderer.lighting_pass();
     const auto t2 = clock::now();
     if (frame < o.warmup) continue;
     shadow_ms.push_back(ms(t0, t1));
     lighting_ms.push_back(ms(t1, t2));
   }
-  if (!o.png.empty()) {
-    std::vector<uint8_t> rgba(size_t(o.width) * size_t(o.height) * 4);
-    glReadPixels(0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-    omnishadow::bench::write_png_rgba_bottom_up(o.png, o.width, o.height, rgba);
-  }
+  if (!o.png.empty()) renderer.write_png(o.png);
   if (GLenum e = glGetError(); e != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(e));
   std::printf("{\"filter\": \"%s\", \"albedo\": \"%s\", \"cube\": %d, \"size\": [%d, %d], \"frames\": %d, "
               "\"shadow_ms\": %.4f, \"lighting_ms\": %.4f, \"renderer\": \"%s\"}\n",
