@@ -241,6 +241,9 @@ void add_compare_options(CLI::App& cmp, CompareOptions& compare, CompareFlags& f
                  "time to test: wall (frame wall time) or cpu (process CPU time per frame, all threads: the work "
                  "itself on CPU drivers, less disturbed by other load)")
       ->capture_default_str()->check(CLI::IsMember({"wall", "cpu"}));
+  cmp.add_option("--gate", flags.gate,
+                 "take --metric, --alpha and --min-effect from this gate file (results/baselines/<key>/gate.json, "
+                 "written by scripts/sensitivity.py --write-gate); overrides those options");
   cmp.add_option("--out", compare.out_dir, "folder for summary.md and diffs/ (default NEW/compare)");
   cmp.add_flag("--no-timing", flags.no_timing, "compare work counters and images only");
   cmp.add_flag("--timing-report-only", flags.timing_report_only,

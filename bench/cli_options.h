@@ -40,6 +40,7 @@ void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOpti
 
 struct CompareFlags {
   std::string base_run, new_run;
+  std::string gate;  // --gate FILE
   bool no_timing = false;
   bool timing_report_only = false;
 };

@@ -273,6 +273,29 @@ nlohmann::json comparison_json(const Comparison& c, const CompareOptions& o) {
           {"base_devices", c.base_devices}, {"new_devices", c.new_devices}};
 }
 
+void apply_gate_file(const std::string& path, CompareOptions& options) {
+  nlohmann::json gate;
+  try {
+    gate = nlohmann::json::parse(read_file(path));
+  } catch (const std::exception& e) {
+    throw CompareError("gate file " + path + ": cannot read it as JSON (" + std::string(e.what()) + ")");
+  }
+  auto number = [&](const char* field, double low, double high) {
+    if (!gate.contains(field) || !gate[field].is_number())
+      throw CompareError("gate file " + path + ": field '" + field + "' missing or not a number");
+    const double v = gate[field].get<double>();
+    if (v < low || v > high)
+      throw CompareError("gate file " + path + ": field '" + field + "' out of range [" + std::to_string(low) + ", " +
+                         std::to_string(high) + "]");
+    return v;
+  };
+  options.alpha = number("alpha", 1e-9, 0.5);
+  options.min_effect = number("min_effect", 0.0, 10.0);
+  options.metric = gate.contains("metric") && gate["metric"].is_string() ? gate["metric"].get<std::string>() : "wall";
+  if (options.metric != "wall" && options.metric != "cpu")
+    throw CompareError("gate file " + path + ": field 'metric' must be wall or cpu");
+}
+
 int compare_command(const std::string& base_path, const std::string& new_path, const CompareOptions& options) {
   RunData base = load_run(base_path), fresh = load_run(new_path);
   Comparison c = compare_runs(base, fresh, options);

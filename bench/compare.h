@@ -62,5 +62,8 @@ nlohmann::json comparison_json(const Comparison& c, const CompareOptions& option
 
 // The CLI entry point: prints the table, writes summary.md, returns the exit code.
 int compare_command(const std::string& base, const std::string& fresh, const CompareOptions& options);
+// Sets metric, alpha and min_effect from a gate file (results/baselines/<key>/gate.json, written by
+// scripts/sensitivity.py --write-gate): the one reader of that file. Throws CompareError naming the file and field.
+void apply_gate_file(const std::string& path, CompareOptions& options);
 
 }  // namespace omnishadow::bench

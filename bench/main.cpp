@@ -25,6 +25,7 @@ int run_file_command(CLI::App* cmp, CLI::App* mrg, const CompareFlags& cf, Compa
                      const std::string& key_run) {
   try {
     if (cmp->parsed()) {
+      if (!cf.gate.empty()) apply_gate_file(cf.gate, compare);
       compare.timing = !cf.no_timing;
       compare.timing_fails = !cf.timing_report_only;
       return compare_command(cf.base_run, cf.new_run, compare);

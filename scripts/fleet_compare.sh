@@ -27,7 +27,7 @@ else
 fi
 gate=(--timing-report-only)
 if [ -f "$base/gate.json" ]; then
-  gate=($(/usr/bin/python3 -c 'import json,sys; g=json.load(open(sys.argv[1])); print("--metric", g.get("metric", "wall"), "--alpha", g["alpha"], "--min-effect", g["min_effect"])' "$base/gate.json"))
+  gate=(--gate "$base/gate.json")
 fi
 status=0
 "$bin" compare "$base" "$run" "${gate[@]}" --out "$run/compare" || status=$?

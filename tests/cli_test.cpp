@@ -352,6 +352,33 @@ TEST_F(CliRun, CompareRefusesBadInput) {
   EXPECT_EQ(usage.exit_code, 2);
 }
 
+// A gate file (scripts/sensitivity.py --write-gate) sets the test's metric, alpha and minimum effect; a bad one is a
+// one-line error naming the file and the field.
+TEST_F(CliRun, CompareTakesItsGateFromAGateFile) {
+  fs::path a = scratch("gate_a");
+  ASSERT_EQ(run("run --scene room --cube 32 --technique six_pass --filter hard --frames 2 --no-images --no-accuracy "
+                "--out " + a.string() + " --benchmark_repetitions=3").exit_code, 0);
+  auto write = [&](const std::string& name, const std::string& text) {
+    fs::path p = scratch(name);
+    std::ofstream(p) << text;
+    return p.string();
+  };
+  const std::string good = write("gate.json", R"({"metric": "cpu", "alpha": 0.01, "min_effect": 0.25})");
+  const fs::path cmp_dir = scratch("gate_cmp");
+  Outcome same = run("compare " + a.string() + " " + a.string() + " --gate " + good + " --out " + cmp_dir.string());
+  EXPECT_EQ(same.exit_code, 0) << same.err;
+  auto cmp = nlohmann::json::parse(omnishadow::bench::read_file((cmp_dir / "comparison.json").string()));
+  EXPECT_EQ(cmp["metric"], "cpu") << cmp.dump().substr(0, 400);
+  EXPECT_DOUBLE_EQ(cmp["alpha"].get<double>(), 0.01);
+  EXPECT_DOUBLE_EQ(cmp["min_effect"].get<double>(), 0.25);
+  Outcome bad = run("compare " + a.string() + " " + a.string() + " --gate " + write("bad.json", R"({"alpha": "x"})"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("bad.json: field 'alpha' missing or not a number"), std::string::npos) << bad.err;
+  Outcome junk = run("compare " + a.string() + " " + a.string() + " --gate " + write("junk.json", "{"));
+  EXPECT_EQ(junk.exit_code, 2);
+  EXPECT_NE(junk.err.find("cannot read it as JSON"), std::string::npos) << junk.err;
+}
+
 }  // namespace
 
 namespace {

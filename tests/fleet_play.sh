@@ -37,4 +37,9 @@ assert len(bench) == 8, f"every shard's repetitions kept: {len(bench)} of 8"
 PY
 bash "$here/scripts/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare.log" 2>&1 || { cat "$work/compare.log"; exit 1; }
 test -s "$work/merged/compare/summary.md"
-echo "fleet play: 3 shards merged to the unsharded run's 4 cases; compare passed"
+# A baseline with a proven gate: compare takes metric, alpha and minimum effect from it.
+echo '{"metric": "cpu", "alpha": 0.01, "min_effect": 0.3}' >"$work/whole/gate.json"
+bash "$here/scripts/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare2.log" 2>&1 || { cat "$work/compare2.log"; exit 1; }
+/usr/bin/python3 -c 'import json, sys; c = json.load(open(sys.argv[1])); assert (c["metric"], c["alpha"], c["min_effect"]) == ("cpu", 0.01, 0.3), c' \
+  "$work/merged/compare/comparison.json"
+echo "fleet play: 3 shards merged to the unsharded run's 4 cases; compare passed, with and without a gate file"
