@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# The checks a session with a real GPU owes the open issues (13: real GPUs first; 14: timings a renderer can trust),
+# one step per call so that each fits a device call (10 minutes). Writes OUT/<step>/ and appends one section per step
+# to OUT/summary.md: exit codes, untimed and timed seconds, statuses, clocks, the figures the closing notes ask for.
+# Usage: scripts/gpu_acceptance.sh OUT STEP [STEP...]
+#   exits      `list`, `run --backend gl,vulkan` and `--backend vulkan,gl` must exit 0 (issue 13.1)
+#   multiview  GL and Vulkan multiview against six_pass with --check (issue 13.4)
+#   matrix     the issue's untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
+#              (issue 13.2: the untimed part at most a quarter of the run); clock samples recorded (13.6)
+#   tutorial   scripts/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering (14.1)
+#   precision  scripts/sensitivity.py with the adaptive design beside the fixed one (14.3), 6 trials
+# On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview
+set -uo pipefail
+out="$1"; shift
+here="$(cd "$(dirname "$0")/.." && pwd)"
+bin="${OMNISHADOW_BIN:-$here/build/release/omnishadow}"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+mkdir -p "$out"
+summary="$out/summary.md"
+note() { echo "$*" | tee -a "$summary"; }
+
+# Statuses, untimed/timed seconds and the clock range of a run folder, one line each.
+describe_run() {
+  /usr/bin/python3 - "$1" <<'PY' | tee -a "$summary"
+import collections, json, sys
+doc = json.load(open(sys.argv[1] + "/results.json"))["omnishadow"]
+cases = doc["cases"]
+print("- statuses:", dict(collections.Counter(c["status"] for c in cases)))
+for c in cases:
+    if c["status"] not in ("ok", "unsupported"):
+        print(f"  - {c['id']}: {c['status']}: {c.get('reason', '')[:200]}")
+p = doc.get("phases", {})
+if p:
+    u, t = p.get("untimed_seconds", 0), p.get("timed_seconds", 0)
+    print(f"- untimed {u:.1f} s, timed {t:.1f} s: untimed is {100 * u / max(u + t, 1e-9):.0f}% of the run")
+clocks = [s.get("clock_mhz") for c in cases for s in c.get("device_state", {}).get("samples", []) if s.get("clock_mhz")]
+if clocks:
+    print(f"- graphics clock over the run: {min(clocks):.0f}-{max(clocks):.0f} MHz ({len(clocks)} samples); "
+          f"cases warned: {sum(1 for c in cases if c.get('device_state', {}).get('warning'))}")
+PY
+}
+
+step_exits() {
+  note "## exits"
+  "$bin" list >"$out/exits/list.txt" 2>&1; note "- list: exit $?"
+  for order in gl,vulkan vulkan,gl; do
+    "$bin" run --backend "$order" --scene room --cube 256 --technique six_pass,geometry_shader --filter hard \
+      --frames 2 --warmup 1 --no-accuracy --out "$out/exits/$order" >"$out/exits/$order.log" 2>&1
+    note "- run --backend $order: exit $?"
+  done
+}
+
+step_multiview() {
+  note "## multiview"
+  "$bin" run --backend gl,vulkan --scene room,heavy --cube 512 --technique six_pass,multiview \
+    --filter hard,pcf_disk20 --frames 5 --check --out "$out/multiview/run" >"$out/multiview/run.log" 2>&1
+  note "- run --check: exit $?"
+  describe_run "$out/multiview/run"
+}
+
+step_matrix() {
+  note "## matrix"
+  # heavy with 384 x 171-segment spheres: 32 x 131 k = 4.2 M triangles.
+  sed 's/"segments": \[64, 28\]/"segments": [384, 171]/' "$here/scenes/heavy.json" >"$out/matrix/huge.json"
+  cp "$here/scenes/room.json" "$here/scenes/heavy.json" "$out/matrix/"
+  "$bin" run --backend gl --scenes-dir "$out/matrix" --scene room,heavy,huge --cube 512,1024,2048,4096 \
+    --frames 35 --benchmark_repetitions=5 --out "$out/matrix/run" >"$out/matrix/run.log" 2>&1
+  note "- run: exit $?"
+  describe_run "$out/matrix/run"
+  grep -m1 "Untimed part by step" "$out/matrix/run.log" | tee -a "$summary"
+}
+
+step_tutorial() {
+  note "## tutorial"
+  /usr/bin/python3 "$here/scripts/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
+    >"$out/tutorial/ab.log" 2>&1
+  note "- tutorial_ab.py: exit $?"
+  grep "^|" "$out/tutorial/ab.log" | tee -a "$summary"
+}
+
+step_precision() {
+  note "## precision"
+  /usr/bin/python3 "$here/scripts/sensitivity.py" --trials 6 --frames 12 --precision 2 --min-repetitions 6 \
+    --max-repetitions 30 --out "$out/precision/sens" >"$out/precision/sens.log" 2>&1
+  note "- sensitivity.py: exit $?"
+  sed -n '/Designs compared/,$p' "$out/precision/sens/sensitivity.md" 2>/dev/null | tee -a "$summary"
+}
+
+[ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] (exits multiview matrix tutorial precision)" >&2; exit 2; }
+for step in "$@"; do
+  case "$step" in
+    exits|multiview|matrix|tutorial|precision) mkdir -p "$out/$step"; "step_$step" ;;
+    *) echo "gpu_acceptance: unknown step '$step' (exits multiview matrix tutorial precision)" >&2; exit 2 ;;
+  esac
+done
