@@ -9,7 +9,7 @@
 #              (issue 13.2: the untimed part at most a quarter of the run); clock samples recorded (13.6)
 #   tutorial   scripts/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering (14.1)
 #   precision  scripts/sensitivity.py with the adaptive design beside the fixed one (14.3), 6 trials
-# On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview
+# Exit 1 when a command it ran failed (a failed check included). On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview
 set -uo pipefail
 out="$1"; shift
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -18,6 +18,9 @@ export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 mkdir -p "$out"
 summary="$out/summary.md"
 note() { echo "$*" | tee -a "$summary"; }
+failed=0
+# Records a command's exit code; any but 0 makes the script exit 1 at the end (after every step ran).
+exit_note() { local code=$1; shift; note "- $*: exit $code"; [ "$code" -eq 0 ] || failed=1; }
 
 # Statuses, untimed/timed seconds and the clock range of a run folder, one line each.
 describe_run() {
@@ -42,11 +45,11 @@ PY
 
 step_exits() {
   note "## exits"
-  "$bin" list >"$out/exits/list.txt" 2>&1; note "- list: exit $?"
+  "$bin" list >"$out/exits/list.txt" 2>&1; exit_note $? list
   for order in gl,vulkan vulkan,gl; do
     "$bin" run --backend "$order" --scene room --cube 256 --technique six_pass,geometry_shader --filter hard \
       --frames 2 --warmup 1 --no-accuracy --out "$out/exits/$order" >"$out/exits/$order.log" 2>&1
-    note "- run --backend $order: exit $?"
+    exit_note $? "run --backend $order"
   done
 }
 
@@ -54,7 +57,7 @@ step_multiview() {
   note "## multiview"
   "$bin" run --backend gl,vulkan --scene room,heavy --cube 512 --technique six_pass,multiview \
     --filter hard,pcf_disk20 --frames 5 --check --out "$out/multiview/run" >"$out/multiview/run.log" 2>&1
-  note "- run --check: exit $?"
+  exit_note $? "run --check"
   describe_run "$out/multiview/run"
 }
 
@@ -65,7 +68,7 @@ step_matrix() {
   cp "$here/scenes/room.json" "$here/scenes/heavy.json" "$out/matrix/"
   "$bin" run --backend gl --scenes-dir "$out/matrix" --scene room,heavy,huge --cube 512,1024,2048,4096 \
     --frames 35 --benchmark_repetitions=5 --out "$out/matrix/run" >"$out/matrix/run.log" 2>&1
-  note "- run: exit $?"
+  exit_note $? run
   describe_run "$out/matrix/run"
   grep -m1 "Untimed part by step" "$out/matrix/run.log" | tee -a "$summary"
 }
@@ -74,7 +77,7 @@ step_tutorial() {
   note "## tutorial"
   /usr/bin/python3 "$here/scripts/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
     >"$out/tutorial/ab.log" 2>&1
-  note "- tutorial_ab.py: exit $?"
+  exit_note $? tutorial_ab.py
   grep "^|" "$out/tutorial/ab.log" | tee -a "$summary"
 }
 
@@ -82,14 +85,15 @@ step_precision() {
   note "## precision"
   /usr/bin/python3 "$here/scripts/sensitivity.py" --trials 6 --frames 12 --precision 2 --min-repetitions 6 \
     --max-repetitions 30 --out "$out/precision/sens" >"$out/precision/sens.log" 2>&1
-  note "- sensitivity.py: exit $?"
+  exit_note $? sensitivity.py
   sed -n '/Designs compared/,$p' "$out/precision/sens/sensitivity.md" 2>/dev/null | tee -a "$summary"
 }
 
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] (exits multiview matrix tutorial precision)" >&2; exit 2; }
 for step in "$@"; do
   case "$step" in
-    exits|multiview|matrix|tutorial|precision) mkdir -p "$out/$step"; "step_$step" ;;
+    exits|multiview|matrix|tutorial|precision) rm -rf "${out:?}/$step"; mkdir -p "$out/$step"; "step_$step" ;;
     *) echo "gpu_acceptance: unknown step '$step' (exits multiview matrix tutorial precision)" >&2; exit 2 ;;
   esac
 done
+exit "$failed"
