@@ -1,5 +1,6 @@
 #include "bench/cli_options.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -162,9 +163,33 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
   add_matrix_options(r, run.matrix);
   add_frame_options(r, run.harness);
   add_check_options(r, run.harness);
-  r.add_option("--inject-fragment-work", run.injected_work,
-               "sensitivity experiments only: N extra dependent ALU steps per lighting fragment (default 0)")
-      ->capture_default_str()->check(CLI::Range(0, 1000000));
+  r.add_option_function<std::string>(
+       "--inject-fragment-work",
+       [&run](const std::string& t) {
+         run.matrix.injected_work = parse_list_with(t, "--inject-fragment-work", [](const std::string& item) {
+           size_t used = 0;
+           int v = -1;
+           try {
+             v = std::stoi(item, &used);
+           } catch (const std::exception&) {
+             used = 0;
+           }
+           if (used != item.size() || v < 0 || v > 1000000)
+             throw std::invalid_argument("'" + item + "' is not a whole number from 0 to 1000000");
+           return v;
+         });
+         std::vector<int> sorted = run.matrix.injected_work;
+         std::sort(sorted.begin(), sorted.end());
+         if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+           throw std::invalid_argument("--inject-fragment-work: a value is given twice");
+       },
+       "sensitivity experiments only: N extra dependent ALU steps per lighting fragment; a comma list makes it an "
+       "axis (case ids end in /inj<N>)")
+      ->default_str("0");
+  r.add_option("--replicas", run.matrix.replicas,
+               "sensitivity experiments only: measure K copies of every case in the same rounds (ids end in /rep<k>): "
+               "a same-run A/A test of the timing noise")
+      ->capture_default_str()->check(CLI::Range(1, 16));
   r.add_flag("--no-accuracy", flags.no_accuracy, "skip the shadow error against the ray-cast reference");
   r.add_flag("--no-memory-precheck", flags.no_memory_precheck,
              "allocate even when a case is predicted not to fit (tests the driver's own out-of-memory path)");

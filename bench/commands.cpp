@@ -139,7 +139,6 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
   if (!cmd.matrix.techniques_given) cases = drop_techniques_a_backend_cannot_do(cases, harness);
   cases = shard(cases, cmd.shard_index, cmd.shard_count);
   cases = apply_benchmark_filter(cases, cmd.benchmark_args);
-  for (CaseConfig& c : cases) c.injected_work = cmd.injected_work;
   if (cases.empty()) throw std::invalid_argument("the matrix (after --shard and --benchmark_filter) is empty");
   prepare_out_dir(harness.options().out_dir);
   return cases;

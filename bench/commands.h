@@ -18,7 +18,6 @@ struct RunCommand {
   MatrixSpec matrix;
   RunOptions harness;          // out_dir empty: results/run-<time>
   bool check = false;          // exit 1 if any case failed or failed its checks
-  int injected_work = 0;       // --inject-fragment-work
   int shard_index = 0;
   int shard_count = 1;
   RepetitionPolicy repetitions;  // --benchmark_repetitions, --precision, --max-repetitions, --sustain

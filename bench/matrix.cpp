@@ -73,8 +73,14 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                 for (float pcf_scale : spec.pcf_scales)
                 for (const Remedies& remedies : spec.remedies)
                 for (const Optimizations& optimizations : spec.optimizations)
-                for (Technique technique : spec.techniques) {
+                for (Technique technique : spec.techniques)
+                for (int injected : spec.injected_work)
+                for (int replica = 0; replica < spec.replicas; ++replica) {
                   CaseConfig c;
+                  c.injected_work = injected;
+                  if (spec.injected_work.size() > 1) c.experiment = "inj" + std::to_string(injected);
+                  if (spec.replicas > 1)
+                    c.experiment += (c.experiment.empty() ? "rep" : "/rep") + std::to_string(replica);
                   c.backend = backend;
                   c.scene = scene;
                   c.cube_size = cube;

@@ -28,6 +28,11 @@ struct MatrixSpec {
   std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
   std::vector<float> pcf_scales{1.0f};                        // --pcf-scale 0,1,20
+  // Experiment axes (scripts/sensitivity.py --design same-run): extra fragment work per case, and copies of every
+  // case measured in the same rounds. Each is in the case id only when it has more than one value
+  // (/inj<N>, /rep<k>), so a run with one value keeps the ids of a run without them.
+  std::vector<int> injected_work{0};  // --inject-fragment-work 0,18
+  int replicas = 1;                   // --replicas 2
   // --technique not given: techniques a backend cannot do at all are left out of its cases (said once on stderr)
   // rather than reported unsupported case by case; a technique asked for by name is always reported.
   bool techniques_given = false;

@@ -51,7 +51,7 @@ json device_to_json(const DeviceInfo& d) {
 namespace {
 
 json axes_to_json(const CaseConfig& c) {
-  return {{"backend", c.backend},
+  json axes = {{"backend", c.backend},
           {"scene", c.scene},
           {"cube_size", c.cube_size},
           {"width", c.width},
@@ -63,6 +63,11 @@ json axes_to_json(const CaseConfig& c) {
           {"optimizations", to_string(c.optimizations)},
           {"remedies", to_string(c.remedies)},
           {"pcf_scale", c.pcf_scale}};
+  if (!c.experiment.empty()) {  // only in sensitivity experiments (bench/matrix.h experiment axes)
+    axes["experiment"] = c.experiment;
+    axes["injected_fragment_work"] = c.injected_work;
+  }
+  return axes;
 }
 
 json checks_to_json(const std::vector<CheckResult>& checks) {

@@ -352,6 +352,27 @@ TEST_F(CliRun, CompareRefusesBadInput) {
   EXPECT_EQ(usage.exit_code, 2);
 }
 
+// The same-run experiment axes (scripts/sensitivity_same_run.py): every case once per injected value and replica,
+// measured in the same rounds, each copy with its own id and its injected work recorded.
+TEST_F(CliRun, ExperimentAxesRunEveryCopyInOneRun) {
+  fs::path out = scratch("experiment");
+  Outcome o = run("run --scene room --cube 32 --technique six_pass --filter hard --frames 1 --no-images "
+                  "--no-accuracy --inject-fragment-work 0,5 --replicas 2 --out " + out.string() +
+                  " --benchmark_repetitions=2");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  std::vector<std::string> ids;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    ids.push_back(c["id"]);
+    EXPECT_EQ(c["axes"]["injected_fragment_work"], c["id"].get<std::string>().find("/inj5/") != std::string::npos ? 5 : 0);
+  }
+  const std::string root = "gl/room/c32/f800x600/six_pass/hard/linear_depth/d32f/";
+  EXPECT_EQ(ids, (std::vector<std::string>{root + "inj0/rep0", root + "inj0/rep1", root + "inj5/rep0", root + "inj5/rep1"}));
+  Outcome twice = run("run --scene room --cube 32 --inject-fragment-work 5,5 --out " + scratch("experiment2").string());
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("--inject-fragment-work: a value is given twice"), std::string::npos) << twice.err;
+}
+
 // A gate file (scripts/sensitivity.py --write-gate) sets the test's metric, alpha and minimum effect; a bad one is a
 // one-line error naming the file and the field.
 TEST_F(CliRun, CompareTakesItsGateFromAGateFile) {

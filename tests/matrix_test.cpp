@@ -37,6 +37,31 @@ TEST(Matrix, ExplicitFrameSizesOverrideTheScenes) {
   EXPECT_EQ(cases[0].width, 320);
 }
 
+// The experiment axes: in the id only with more than one value, so a single injected value keeps the plain ids
+// (a run with --inject-fragment-work N compares against one without it).
+TEST(Matrix, ExperimentAxesAreInTheIdOnlyWithSeveralValues) {
+  MatrixSpec spec;
+  spec.scenes = {"room"};
+  spec.cube_sizes = {256};
+  spec.filters = {Filter::hard};
+  spec.techniques = {Technique::six_pass};
+  spec.injected_work = {18};
+  auto single = expand(spec, kSizes);
+  ASSERT_EQ(single.size(), 1u);
+  EXPECT_EQ(single[0].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f");
+  EXPECT_EQ(single[0].injected_work, 18);
+  spec.injected_work = {0, 18};
+  spec.replicas = 2;
+  auto cases = expand(spec, kSizes);
+  ASSERT_EQ(cases.size(), 4u);
+  EXPECT_EQ(cases[0].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/inj0/rep0");
+  EXPECT_EQ(cases[3].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/inj18/rep1");
+  EXPECT_EQ(cases[3].injected_work, 18);
+  EXPECT_EQ(cases[1].injected_work, 0);
+  spec.injected_work = {0};
+  EXPECT_EQ(expand(spec, kSizes)[1].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/rep1");
+}
+
 TEST(Matrix, ShardsPartitionTheMatrix) {
   MatrixSpec spec;
   auto cases = expand(spec, kSizes);

@@ -115,6 +115,7 @@ std::string CaseConfig::id() const {
     std::replace(words.begin(), words.end(), '+', '/');
     id += "/" + words;
   }
+  if (!experiment.empty()) id += "/" + experiment;
   return id;
 }
 

@@ -102,9 +102,12 @@ struct CaseConfig {
   DepthFormat depth_format = DepthFormat::d32f;
   Optimizations optimizations;
   Remedies remedies;
-  // Not an axis and not in the id: extra fragment work for sensitivity experiments (--inject-fragment-work),
+  // Extra fragment work for sensitivity experiments (--inject-fragment-work). With one value it is not in the id,
   // so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;
+  // Id segments of the experiment axes that have more than one value (bench/matrix.h: "inj18", "rep1",
+  // "inj18/rep1"): the same-run A/A and A/B designs of scripts/sensitivity.py. Empty in every other run.
+  std::string experiment;
   // The PCF kernels' radius as a multiple of the tutorials' (grid offset 0.1, disk radius, 2D maps' one texel); an
   // axis of the stability suite (0 collapses every kernel to one direction). In the id as /pcf<scale> unless 1.
   float pcf_scale = 1.0f;
