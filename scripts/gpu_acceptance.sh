@@ -8,7 +8,8 @@
 #   matrix     the issue's untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
 #              (issue 13.2: the untimed part at most a quarter of the run); clock samples recorded (13.6)
 #   tutorial   scripts/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering (14.1)
-#   precision  scripts/sensitivity.py with the adaptive design beside the fixed one (14.3), 6 trials
+#   precision  the adaptive design beside the fixed one (14.3): across runs (scripts/sensitivity.py, as CI compares
+#              builds) and inside one run (scripts/sensitivity_same_run.py), 6 trials each
 # Exit 1 when a command it ran failed (a failed check included). On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview
 set -uo pipefail
 out="$1"; shift
@@ -87,6 +88,10 @@ step_precision() {
     --max-repetitions 30 --out "$out/precision/sens" >"$out/precision/sens.log" 2>&1
   exit_note $? sensitivity.py
   sed -n '/Designs compared/,$p' "$out/precision/sens/sensitivity.md" 2>/dev/null | tee -a "$summary"
+  /usr/bin/python3 "$here/scripts/sensitivity_same_run.py" --trials 6 --repetitions 14,20 --precision 2,3 \
+    --out "$out/precision/same_run" >"$out/precision/same_run.log" 2>&1
+  exit_note $? sensitivity_same_run.py
+  sed -n '/^| design/,/^$/p' "$out/precision/same_run/sensitivity_same_run.md" 2>/dev/null | tee -a "$summary"
 }
 
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] (exits multiview matrix tutorial precision)" >&2; exit 2; }
