@@ -1,6 +1,7 @@
 #include "bench/results_writer.h"
 
 #include <cmath>
+#include <set>
 
 #include "bench/file_io.h"
 #include "bench/repetition_policy.h"
@@ -68,6 +69,14 @@ json axes_to_json(const CaseConfig& c) {
     axes["injected_fragment_work"] = c.injected_work;
   }
   return axes;
+}
+
+// The run's injected fragment work: one number, or the sorted values when it was an experiment axis.
+json injected_work_values(const std::vector<CaseResult>& results) {
+  std::set<int> values;
+  for (const CaseResult& r : results) values.insert(r.config.injected_work);
+  if (values.size() <= 1) return values.empty() ? 0 : *values.begin();
+  return json(std::vector<int>(values.begin(), values.end()));
 }
 
 json checks_to_json(const std::vector<CheckResult>& checks) {
@@ -281,7 +290,7 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                          {"order", "rounds: one repetition of every unfinished case per round"}}},
                        {"options",
                         {{"warmup_frames", o.warmup_frames},
-                         {"injected_fragment_work", results.empty() ? 0 : results.front().config.injected_work},
+                         {"injected_fragment_work", injected_work_values(results)},
                          {"frames", o.frames},
                          {"check_frame", o.check_frame},
                          {"face_tolerance", o.face_tolerance},

@@ -366,6 +366,7 @@ TEST_F(CliRun, ExperimentAxesRunEveryCopyInOneRun) {
     ids.push_back(c["id"]);
     EXPECT_EQ(c["axes"]["injected_fragment_work"], c["id"].get<std::string>().find("/inj5/") != std::string::npos ? 5 : 0);
   }
+  EXPECT_EQ(j["omnishadow"]["options"]["injected_fragment_work"], nlohmann::json({0, 5}));
   const std::string root = "gl/room/c32/f800x600/six_pass/hard/linear_depth/d32f/";
   EXPECT_EQ(ids, (std::vector<std::string>{root + "inj0/rep0", root + "inj0/rep1", root + "inj5/rep0", root + "inj5/rep1"}));
   Outcome twice = run("run --scene room --cube 32 --inject-fragment-work 5,5 --out " + scratch("experiment2").string());
