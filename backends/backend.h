@@ -137,7 +137,8 @@ class Backend {
   virtual void configure_case(const CaseConfig& config) = 0;
   virtual FrameTiming render_frame(int frame, FrameKind kind) = 0;
   virtual FrameCounters count_frame_work(int frame) = 0;
-  virtual Images read_back_images(CubeReadBack cube) = 0;  // cube_summary and cube_sample always filled
+  // sampled: cube_summary and cube_sample from the device; full: cube_distance (read_back() then summarises it).
+  virtual Images read_back_images(CubeReadBack cube) = 0;
 
   DeviceInfo info_;
   std::optional<scene::Scene> scene_;    // set by load(): objects, light path, camera (vertices live on the device)

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "backends/backend.h"
+#include "backends/common/cube_summary.h"
 #include "backends/gl/gl_backend.h"
 #include "backends/vulkan/vk_backend.h"
 
@@ -54,7 +55,11 @@ FrameCounters Backend::count_work(int frame) {
 Images Backend::read_back(CubeReadBack cube) {
   if (!config_) throw std::logic_error("read_back() before configure()");
   if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
-  return read_back_images(cube);
+  Images img = read_back_images(cube);
+  // A full read-back is summarised here, on the host, for every backend (no compute pass where the cube is in host
+  // memory anyway); a sampled one brings the device's summary.
+  if (img.has_full_cube()) cube::summarize_on_host(img);
+  return img;
 }
 
 std::vector<std::string> Backend::drain_api_errors() {

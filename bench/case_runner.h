@@ -82,7 +82,7 @@ struct CheckResult {
   double max_percent = 0.0;  // of values beyond the tolerance; 0 = none may differ
   bool passed = true;
   std::string diff_image;  // relative to out_dir, written on failure only
-  // "values": compared value by value; "hash": the device's face hashes were equal, so were the values (cubes).
+  // "values": compared value by value; "hash": the face hashes were equal, so were the values (cubes).
   std::string method = "values";
 };
 

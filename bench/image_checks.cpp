@@ -115,9 +115,9 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
   }
   const float far_plane = reference_->light_far;
 
-  // Cube faces, in world units: the technique must store what six_pass stores. Equal face hashes (computed on the
-  // device) settle it without the values; otherwise both cubes are compared value by value, read in full if they
-  // were not (the case's own, and six_pass's, rendered again: their frames are deterministic).
+  // Cube faces, in world units: the technique must store what six_pass stores. Equal face hashes (the device's, or
+  // the host's for full read-backs) settle it without the values; otherwise both cubes are compared value by
+  // value, read in full if they were not (the case's own, and six_pass's, rendered again: frames are deterministic).
   CheckResult faces_check{"cube_faces", ref_config.id()};
   faces_check.tolerance = options_.face_tolerance;
   if (images.cube_summary_on_device == reference_->cube_summary_on_device &&

@@ -28,8 +28,10 @@ import subprocess
 import sys
 import time
 
+import sensitivity  # its compare() (raw adjusted p and change per case) and decide()
+from sensitivity import compare, decide
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BINARY = os.path.join(ROOT, "build", "release", "omnishadow")
 ALPHAS = [0.01, 0.05]
 EFFECTS = [0.0, 0.01, 0.02, 0.03, 0.04, 0.05]
 
@@ -70,15 +72,6 @@ def arm(doc, suffix, out):
     return out
 
 
-def compare(base, new, out):
-    cmd = [BINARY, "compare", base, new, "--alpha", "0.5", "--min-effect", "0", "--out", out]
-    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if done.returncode not in (0, 1):
-        sys.exit(f"sensitivity_same_run: compare failed: {done.stderr}")
-    with open(os.path.join(out, "comparison.json")) as f:
-        return json.load(f)["cases"]
-
-
 def medians(doc):
     samples = {}
     for b in doc["benchmarks"]:
@@ -102,10 +95,6 @@ def repetitions_spent(doc):
     return sum(c.get("timing", {}).get("repetitions", 0) for c in doc["omnishadow"]["cases"])
 
 
-def decide(case, alpha, effect):
-    return case["p_adjusted"] < alpha and abs(case["change"]) > effect
-
-
 def rates(trials, alpha, effect):
     aa = [c for t in trials for c in t["aa"]]
     ab = [c for t in trials for pair in t["ab"] for c in pair]
@@ -115,7 +104,6 @@ def rates(trials, alpha, effect):
 
 
 def main():
-    global BINARY
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--trials", type=int, default=10)
     parser.add_argument("--repetitions", default="14,20",
@@ -126,12 +114,13 @@ def main():
     parser.add_argument("--out", default="/tmp/omnishadow-sensitivity-same-run")
     parser.add_argument("--docs", action="store_true")
     args = parser.parse_args()
-    if not os.path.exists(BINARY):
-        sys.exit(f"sensitivity_same_run: {BINARY} missing; run scripts/build.sh first")
+    if not os.path.exists(sensitivity.BINARY):
+        sys.exit(f"sensitivity_same_run: {sensitivity.BINARY} missing; run scripts/build.sh first")
     shutil.rmtree(args.out, ignore_errors=True)
     os.makedirs(args.out)
-    BINARY = shutil.copy2(BINARY, os.path.join(args.out, "omnishadow"))  # a rebuild must not change what is measured
-    os.environ["OMNISHADOW_BIN"] = BINARY
+    # A copy: a rebuild must not change what is measured; sensitivity.compare() runs it too.
+    sensitivity.BINARY = shutil.copy2(sensitivity.BINARY, os.path.join(args.out, "omnishadow"))
+    os.environ["OMNISHADOW_BIN"] = sensitivity.BINARY
     os.environ["CI_MATRIX_FRAMES"] = str(args.frames)
     started = time.time()
     n5, slow = calibrate(args.out)

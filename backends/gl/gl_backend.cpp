@@ -447,7 +447,6 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
       face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
                                          scene_->light.near_plane, far_plane, cube::DepthRange::minus_one_to_one);
   }
-  if (cube_read_back == CubeReadBack::full) cube::summarize_on_host(img);  // the cube is here: no compute pass
   GLenum error = glGetError();
   if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");
   if (!scene_->map_lights.empty()) {

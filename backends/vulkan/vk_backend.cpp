@@ -624,7 +624,6 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
                                          int(shadow_.size), scene_->light.near_plane, far_plane,
                                          cube::DepthRange::zero_to_one);
   }
-  if (!bytes.empty()) cube::summarize_on_host(img);  // the cube is here: no compute pass
   if (!scene_->map_lights.empty()) {
     img.map_size = static_cast<int>(maps_.size);
     img.map_depth_zero_to_one = true;
