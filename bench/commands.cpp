@@ -281,7 +281,8 @@ int run_command(const RunCommand& cmd) {
   if (!init_benchmark(cmd, run.info, run.benchmark_argv)) return 2;
   auto timed_start = std::chrono::steady_clock::now();
   try {
-    run_timed(harness, run.results, cmd.repetitions, raw_path, [&] { run.save(nullptr, false); },
+    run.info.repetitions.compared_cases = compared_cases(run.results);
+    run_timed(harness, run.results, run.info.repetitions, raw_path, [&] { run.save(nullptr, false); },
               [&] { return run.stopped(); });
   } catch (const std::exception& e) {
     print_error(std::string("writing Google Benchmark's output: ") + e.what());

@@ -189,12 +189,27 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
   for (CaseComparison& cc : c.cases) {
     if (cc.base_n == 0 || cc.new_n == 0) continue;
     cc.p_adjusted = adjusted[k++];
+    cc.resolvable = can_resolve(cc.base_n, cc.new_n, p_values.size(), options.alpha);
     bool significant = cc.p_adjusted < options.alpha;
     if (significant && cc.change > options.min_effect) cc.verdict = "regression";
     else if (significant && cc.change < -options.min_effect) cc.verdict = "improvement";
     else cc.verdict = "no change";
   }
   return c;
+}
+
+std::string Comparison::resolution_note(const CompareOptions& options) const {
+  size_t timed = 0, blind = 0;
+  for (const CaseComparison& cc : cases) {
+    if (cc.base_n == 0 || cc.new_n == 0) continue;
+    ++timed;
+    blind += !cc.resolvable;
+  }
+  if (blind == 0) return "";
+  return std::to_string(blind) + " of " + std::to_string(timed) + " timed cases cannot be flagged at alpha " +
+         fmt("%g", options.alpha) + " whatever their change: too few repetitions (over " + std::to_string(timed) +
+         " cases the U test needs " + std::to_string(fewest_resolving_repetitions(timed, options.alpha)) +
+         " a side; run more, or --precision, whose minimum allows for this)";
 }
 
 std::string comparison_table(const Comparison& c, const CompareOptions& o) {
@@ -222,6 +237,7 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
     images += !cc.image_changes.empty();
   }
   if (!c.clock_note().empty()) s << c.clock_note() << "\n";
+  if (!c.resolution_note(o).empty()) s << c.resolution_note(o) << "\n";
   s << c.cases.size() << " cases compared: " << regressions << " timing regressions, " << improvements
     << " improvements, " << work << " work changes, " << images << " image changes (alpha " << o.alpha
     << " family-wise, minimum effect " << 100 * o.min_effect << "%)\n";
@@ -232,7 +248,8 @@ std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
   std::ostringstream s;
   s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << (o.metric == "cpu" ? "process CPU time" : "wall time") << " per frame, Holm-corrected (alpha " << o.alpha
     << "), minimum effect " << 100 * o.min_effect << "%. Work counters compared exactly; images by checksum, "
-    << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".") << "\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
+    << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".")
+    << (c.resolution_note(o).empty() ? "" : " **" + c.resolution_note(o) + ".**") << "\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
     << "|---|---|---|---|---|---|---|\n";
   for (const auto& cc : c.cases) {
     std::string notes;
@@ -265,6 +282,7 @@ nlohmann::json comparison_json(const Comparison& c, const CompareOptions& o) {
                      {"p_adjusted", cc.p_adjusted},
                      {"base_n", cc.base_n},
                      {"new_n", cc.new_n},
+                     {"resolvable", cc.resolvable},
                      {"work_changes", cc.work_changes},
                      {"image_changes", cc.image_changes}});
   return {{"alpha", o.alpha},           {"min_effect", o.min_effect},       {"cases", cases},

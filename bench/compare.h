@@ -12,11 +12,12 @@
 #include <vector>
 
 #include "bench/results_reader.h"
+#include "bench/statistics.h"
 
 namespace omnishadow::bench {
 
 struct CompareOptions {
-  double alpha = 0.05;        // family-wise, over all compared cases (Holm)
+  double alpha = kDefaultAlpha;  // family-wise, over all compared cases (Holm)
   double min_effect = 0.05;   // a significant change smaller than this (relative) is "no change"
   bool timing = true;         // false: counters and images only
   bool timing_fails = true;   // false: timing verdicts are reported but only work and image changes fail
@@ -39,6 +40,9 @@ struct CaseComparison {
   size_t base_n = 0, new_n = 0;
   std::vector<std::string> work_changes;   // "shadow gs_primitives 432 -> 72"
   std::vector<std::string> image_changes;  // "lit: 1.2% of values differ (max 64), diff: ..."
+  // Whether base_n against new_n repetitions could reach significance at all over this comparison's cases
+  // (bench/statistics.h can_resolve): false means "no change" says nothing about the change.
+  bool resolvable = true;
   bool regressed(bool timing_counts = true) const {
     return (timing_counts && verdict == "regression") || !work_changes.empty() || !image_changes.empty();
   }
@@ -53,6 +57,8 @@ struct Comparison {
   // runs of one device at different clocks are different measurements: the output says so.
   double base_clock_mhz = -1, new_clock_mhz = -1;
   std::string clock_note() const;  // "clocks: base 1980 MHz, new 1755 MHz (-11.4%)"; empty without both
+  // "3 of 24 timed cases cannot be flagged at alpha 0.05 whatever their change: ..."; empty when all can.
+  std::string resolution_note(const CompareOptions& options) const;
 };
 
 Comparison compare_runs(const RunData& base, const RunData& fresh, const CompareOptions& options);

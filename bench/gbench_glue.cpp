@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <ctime>
+#include <set>
 #include <cstdio>
 
 namespace omnishadow::bench {
@@ -147,6 +148,17 @@ std::string ended_by(const RepetitionPolicy& policy, const CaseResult& r, bool s
 }
 
 }  // namespace
+
+size_t compared_cases(const std::vector<CaseResult>& results) {
+  std::set<std::string> ids;
+  for (const CaseResult& r : results) {
+    if (!is_timed(r.status)) continue;
+    CaseConfig c = r.config;
+    c.experiment.clear();
+    ids.insert(c.id());
+  }
+  return ids.size();
+}
 
 void run_timed(Harness& harness, std::vector<CaseResult>& results, const RepetitionPolicy& policy,
                const std::string& gbench_json_path, const std::function<void()>& after_case,

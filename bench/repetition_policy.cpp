@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bench/statistics.h"
+
 namespace omnishadow::bench {
 
 int RepetitionPolicy::minimum() const {
   int n = std::max(1, repetitions);
-  return precision_percent > 0.0 ? std::max(n, kMinForInterval) : n;
+  if (precision_percent <= 0.0) return n;
+  return std::max({n, kMinForInterval, fewest_resolving_repetitions(compared_cases)});
 }
 
 int RepetitionPolicy::cap() const {

@@ -5,6 +5,7 @@
 // (--precision: until the median's confidence interval is narrow enough, within a cap), or a time budget
 // (--sustain: the matrix looped for that long; the thermal/clock stability figure).
 
+#include <cstddef>
 #include <vector>
 
 namespace omnishadow::bench {
@@ -15,9 +16,15 @@ struct RepetitionPolicy {
   int max_repetitions = 30;        // --max-repetitions: the cap under --precision
   double sustain_seconds = 0.0;    // --sustain: loop rounds until this much time has passed; 0 off
   bool cpu_metric = false;         // --precision-metric cpu: judge the process CPU time per frame, not wall time
+  // The cases one comparison of this run holds (Holm's family in `omnishadow compare`): the timed cases, each
+  // experiment-axis copy (/inj<N>, /rep<k>) counted once. Set by the harness before timing.
+  size_t compared_cases = 1;
   // The least repetitions a precision target is judged on: the smallest sample whose extreme order statistics
   // bracket the median with >= 95% confidence (1 - 2 / 2^6 = 96.9%).
   static constexpr int kMinForInterval = 6;
+  // Under --precision, the most of: the fixed count, kMinForInterval, and the fewest repetitions at which
+  // `omnishadow compare` over compared_cases cases at its default alpha could flag a case at all (7 for 24 cases,
+  // 8 for 96: bench/statistics.h). A quiet case could otherwise stop precise and still be undetectable.
   int minimum() const;
   int cap() const;  // the most repetitions a case can get (sustain: none, -1)
 };

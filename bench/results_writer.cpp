@@ -285,6 +285,8 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                         {{"repetitions", run.repetitions.repetitions},
                          {"precision_percent", run.repetitions.precision_percent},
                          {"max_repetitions", run.repetitions.max_repetitions},
+                         {"minimum", run.repetitions.minimum()},
+                         {"compared_cases", run.repetitions.compared_cases},
                          {"sustain_seconds", run.repetitions.sustain_seconds},
                          {"precision_metric", run.repetitions.cpu_metric ? "cpu" : "wall"},
                          {"order", "rounds: one repetition of every unfinished case per round"}}},

@@ -66,6 +66,23 @@ double mann_whitney_p(const std::vector<double>& a, const std::vector<double>& b
   return std::min(1.0, std::erfc(std::max(z, 0.0) / std::sqrt(2.0)));
 }
 
+double smallest_p(size_t n1, size_t n2) {
+  std::vector<double> low(n1), high(n2);
+  std::iota(low.begin(), low.end(), 0.0);
+  std::iota(high.begin(), high.end(), static_cast<double>(n1));
+  return mann_whitney_p(low, high);
+}
+
+bool can_resolve(size_t n1, size_t n2, size_t cases, double alpha) {
+  return smallest_p(n1, n2) * static_cast<double>(std::max<size_t>(cases, 1)) < alpha;
+}
+
+int fewest_resolving_repetitions(size_t cases, double alpha) {
+  int n = 1;
+  while (!can_resolve(n, n, cases, alpha) && n < 1000) ++n;  // 1000: alpha / cases below ~1e-600 never ends
+  return n;
+}
+
 std::vector<double> holm_adjust(const std::vector<double>& p) {
   const size_t m = p.size();
   std::vector<size_t> order(m);

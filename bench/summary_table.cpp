@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "bench/statistics.h"
 #include "bench/timing_stats.h"
 
 namespace omnishadow::bench {
@@ -124,7 +125,9 @@ void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& res
        << total << " repetitions in all (a fixed count of " << p.cap() << " would take "
        << p.cap() * static_cast<int>(std::count_if(results.begin(), results.end(),
                                                    [](const CaseResult& r) { return !r.repetition_frame_ms.empty(); }))
-       << "); " << capped << " cases hit the cap of " << p.cap() << "\n\n"
+       << "); " << capped << " cases hit the cap of " << p.cap() << "; at least " << p.minimum()
+       << " each (the fewest at which `omnishadow compare` over " << p.compared_cases << " cases, alpha "
+       << kDefaultAlpha << ", can flag one)\n\n"
        << "| case | repetitions | median ms | reached | ended by |\n|---|---|---|---|---|\n";
   }
   md << rows.str();

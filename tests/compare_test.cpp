@@ -42,6 +42,20 @@ TEST(Statistics, HolmControlsTheFamily) {
   EXPECT_DOUBLE_EQ(median({3, 1, 2, 10}), 2.5);
 }
 
+TEST(Statistics, TooFewRepetitionsCannotBeFlaggedOverManyCases) {
+  EXPECT_NEAR(smallest_p(6, 6), 2.0 / 924.0, 1e-15);  // 2 / C(12, 6): every value of one side below the other
+  EXPECT_NEAR(smallest_p(5, 5), mann_whitney_p({1, 2, 3, 4, 5}, {6, 7, 8, 9, 10}), 1e-15);
+  // The CI matrix's 24 cases: Holm's first step needs p < 0.05 / 24 = 0.00208; 6 a side reach 0.00216 at best.
+  EXPECT_FALSE(can_resolve(6, 6, 24));
+  EXPECT_TRUE(can_resolve(7, 7, 24));
+  EXPECT_TRUE(can_resolve(6, 7, 24));  // 2 / C(13, 6) = 0.00117
+  EXPECT_EQ(fewest_resolving_repetitions(24), 7);
+  EXPECT_EQ(fewest_resolving_repetitions(96), 8);
+  EXPECT_EQ(fewest_resolving_repetitions(1), 4);   // 3 a side: p >= 0.1
+  EXPECT_EQ(fewest_resolving_repetitions(24, 0.01), 8);
+  EXPECT_GE(fewest_resolving_repetitions(5000), 9);  // past the exact table's 25 a side it still ends
+}
+
 // A run folder with one results.json written from scratch, like `omnishadow run` writes it.
 class CompareTest : public ::testing::Test {
  protected:
@@ -108,6 +122,32 @@ TEST_F(CompareTest, TimingVerdictsNeedSignificanceAndEffect) {
   EXPECT_EQ(compare_command(base, fresh, o), 1);
   EXPECT_TRUE(fs::exists(fs::path(fresh) / "compare" / "summary.md"));
   EXPECT_EQ(compare_command(base, base, o), 0);
+}
+
+// "No change" from samples too small to reach significance over the family says nothing: compare says so.
+TEST_F(CompareTest, CasesTooSmallToFlagAreNamed) {
+  std::map<std::string, std::vector<double>> base_times, new_times;
+  const std::vector<double> six(kBase.begin(), kBase.begin() + 6);
+  for (int i = 0; i < 24; ++i) {
+    base_times["case" + std::to_string(i)] = six;
+    new_times["case" + std::to_string(i)] = scaled(six, 2.0);
+  }
+  Comparison c = compare_runs(load_run(write_run("base", base_times)), load_run(write_run("new", new_times)), {});
+  ASSERT_EQ(c.cases.size(), 24u);
+  for (const CaseComparison& cc : c.cases) {
+    EXPECT_FALSE(cc.resolvable) << cc.id;
+    EXPECT_EQ(cc.verdict, "no change") << "twice as slow, yet 6 against 6 over 24 cases cannot reach p < 0.05/24";
+  }
+  const std::string note = c.resolution_note({});
+  EXPECT_NE(note.find("24 of 24 timed cases cannot be flagged"), std::string::npos) << note;
+  EXPECT_NE(note.find("needs 7 a side"), std::string::npos) << note;
+  EXPECT_NE(comparison_table(c, {}).find(note), std::string::npos);
+  EXPECT_EQ(comparison_json(c, {})["cases"][0]["resolvable"], false);
+
+  Comparison few = compare_runs(load_run(write_run("base3", {{"a", six}})), load_run(write_run("new3", {{"a", scaled(six, 2.0)}})), {});
+  EXPECT_TRUE(few.cases[0].resolvable);
+  EXPECT_EQ(few.cases[0].verdict, "regression");
+  EXPECT_TRUE(few.resolution_note({}).empty());
 }
 
 // Runs of one device at different clocks are different measurements: compare shows both clocks.

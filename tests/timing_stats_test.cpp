@@ -182,6 +182,29 @@ TEST(RepetitionPolicy, StopsOnCountPrecisionCapOrTime) {
   EXPECT_TRUE(needs_repetition(sustain, {}, 20.0));  // every case gets at least one repetition
 }
 
+// A precise case must still have enough repetitions for `omnishadow compare` over the run's cases to flag it.
+TEST(RepetitionPolicy, PrecisionMinimumLetsTheComparisonResolve) {
+  RepetitionPolicy precise;
+  precise.precision_percent = 2.0;
+  EXPECT_EQ(precise.minimum(), RepetitionPolicy::kMinForInterval);  // one case: 4 would do, the interval needs 6
+  precise.compared_cases = 24;
+  EXPECT_EQ(precise.minimum(), 7);
+  const std::vector<double> quiet{1, 1, 1.001, 1, 0.999, 1};  // +-0.1% after 6
+  EXPECT_TRUE(needs_repetition(precise, quiet, 0));
+  std::vector<double> seven = quiet;
+  seven.push_back(1.0);
+  EXPECT_FALSE(needs_repetition(precise, seven, 0));
+  precise.compared_cases = 96;
+  EXPECT_EQ(precise.minimum(), 8);
+  precise.repetitions = 12;
+  EXPECT_EQ(precise.minimum(), 12);  // a larger fixed count stays the minimum
+
+  RepetitionPolicy fixed;  // a fixed count is the user's choice, resolvable or not (compare says which)
+  fixed.repetitions = 3;
+  fixed.compared_cases = 24;
+  EXPECT_EQ(fixed.minimum(), 3);
+}
+
 TEST(RepetitionPolicy, StabilityIsBestOverWorst) {
   EXPECT_DOUBLE_EQ(stability_percent({10, 10.5, 12.5}), 80.0);
   EXPECT_DOUBLE_EQ(stability_percent({7}), 100.0);
