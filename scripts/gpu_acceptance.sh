@@ -9,7 +9,8 @@
 #              (issue 13.2: the untimed part at most a quarter of the run); clock samples recorded (13.6)
 #   tutorial   scripts/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering (14.1)
 #   precision  the adaptive design beside the fixed one (14.3): across runs (scripts/sensitivity.py, as CI compares
-#              builds) and inside one run (scripts/sensitivity_same_run.py), 6 trials each
+#              builds) and inside one run (scripts/sensitivity_same_run.py), 6 trials each; every stopping rule
+#              replayed on the fixed design's samples (scripts/repetition_replay.py)
 # Exit 1 when a command it ran failed (a failed check included). On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview
 set -uo pipefail
 out="$1"; shift
@@ -88,10 +89,14 @@ step_precision() {
     --max-repetitions 30 --out "$out/precision/sens" >"$out/precision/sens.log" 2>&1
   exit_note $? sensitivity.py
   sed -n '/Designs compared/,$p' "$out/precision/sens/sensitivity.md" 2>/dev/null | tee -a "$summary"
-  /usr/bin/python3 "$here/scripts/sensitivity_same_run.py" --trials 6 --repetitions 14,20 --precision 2,3 \
-    --out "$out/precision/same_run" >"$out/precision/same_run.log" 2>&1
+  /usr/bin/python3 "$here/scripts/sensitivity_same_run.py" --trials 6 --repetitions 24 --precision 2 \
+    --min-repetitions 7 --out "$out/precision/same_run" >"$out/precision/same_run.log" 2>&1
   exit_note $? sensitivity_same_run.py
   sed -n '/^| design/,/^$/p' "$out/precision/same_run/sensitivity_same_run.md" 2>/dev/null | tee -a "$summary"
+  /usr/bin/python3 "$here/scripts/repetition_replay.py" "$out/precision/same_run" --precision 1,1.5,2,2.5,3 \
+    --minimum 7 >"$out/precision/replay.log" 2>&1
+  exit_note $? repetition_replay.py
+  sed -n '/^| rule/,$p' "$out/precision/replay.log" | tee -a "$summary"
 }
 
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] (exits multiview matrix tutorial precision)" >&2; exit 2; }

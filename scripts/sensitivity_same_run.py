@@ -15,8 +15,8 @@ Designs (interleaved in every trial, order alternating): per fixed count R, `--b
 and detections per design, the repetitions each spent per run, and at the smallest gate where every design has
 <= 1% false alarms, the repetitions saved.
 
-Usage: scripts/sensitivity_same_run.py [--trials 10] [--repetitions 14,20] [--precision 2,3] [--min-repetitions 6]
-                                       [--frames 12] [--out DIR] [--docs]
+Usage: scripts/sensitivity_same_run.py [--trials 10] [--repetitions 24] [--precision 2] [--min-repetitions 7]
+                                       [--frames 12] [--inject N] [--metric wall|cpu] [--out DIR] [--docs]
 --docs writes docs/sensitivity-same-run.md.
 """
 import argparse
@@ -47,14 +47,21 @@ def run_matrix(out, injected, extra, replicas=2):
         return json.load(f)
 
 
-def arm(doc, suffix, out):
-    """The cases whose ids end in /<suffix>, renamed without it: a run folder `omnishadow compare` reads."""
+def arm(doc, suffix, out, keep=None):
+    """The cases whose ids end in /<suffix>, renamed without it: a run folder `omnishadow compare` reads. With
+    `keep` (case id without the suffix -> count), only each case's first `count` repetitions, in the order they
+    ran: what a run that had stopped there would hold (scripts/repetition_replay.py)."""
     tail = "/" + suffix
     part = json.loads(json.dumps(doc))
     part["benchmarks"] = []
+    taken = {}
     for b in doc["benchmarks"]:
         case = b.get("omnishadow_case", "")
         if b.get("run_type") == "iteration" and case.endswith(tail):
+            base = case[: -len(tail)]
+            taken[base] = taken.get(base, 0) + 1
+            if keep is not None and taken[base] > keep(base):
+                continue
             b = dict(b)
             for key in ("omnishadow_case", "name", "run_name"):
                 if isinstance(b.get(key), str):
@@ -106,11 +113,16 @@ def rates(trials, alpha, effect):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--trials", type=int, default=10)
-    parser.add_argument("--repetitions", default="14,20",
+    parser.add_argument("--repetitions", default="24",
                         help="comma list of fixed counts (one fixed design each); the largest is the adaptive cap")
-    parser.add_argument("--precision", default="2,3", help="comma list of adaptive targets P (percent)")
-    parser.add_argument("--min-repetitions", type=int, default=6)
+    parser.add_argument("--precision", default="2", help="comma list of adaptive targets P (percent)")
+    parser.add_argument("--min-repetitions", type=int, default=7)
     parser.add_argument("--frames", type=int, default=12, help="timed frames per repetition")
+    parser.add_argument("--inject", type=int, default=0,
+                        help="iterations of injected work for the A/B arms (default: calibrated to +5%% first)")
+    parser.add_argument("--metric", choices=["wall", "cpu"], default="wall",
+                        help="what --precision judges (--precision-metric) and compare tests (--metric): frame wall "
+                             "time or process CPU time per frame")
     parser.add_argument("--out", default="/tmp/omnishadow-sensitivity-same-run")
     parser.add_argument("--docs", action="store_true")
     args = parser.parse_args()
@@ -122,14 +134,19 @@ def main():
     sensitivity.BINARY = shutil.copy2(sensitivity.BINARY, os.path.join(args.out, "omnishadow"))
     os.environ["OMNISHADOW_BIN"] = sensitivity.BINARY
     os.environ["CI_MATRIX_FRAMES"] = str(args.frames)
+    sensitivity.METRIC = args.metric
     started = time.time()
-    n5, slow = calibrate(args.out)
-    print("calibration (median slowdown per iteration count): "
-          + ", ".join(f"{n}: {100 * v:+.1f}%" for n, v in slow.items()) + f"; taking {n5}", flush=True)
+    if args.inject:
+        n5, slow = args.inject, {}
+    else:
+        n5, slow = calibrate(args.out)
+        print("calibration (median slowdown per iteration count): "
+              + ", ".join(f"{n}: {100 * v:+.1f}%" for n, v in slow.items()) + f"; taking {n5}", flush=True)
     counts = sorted(int(r) for r in args.repetitions.split(","))
     designs = {f"fixed{r}": [f"--benchmark_repetitions={r}"] for r in counts}
     for p in args.precision.split(","):
         designs[f"precision{p}"] = [f"--benchmark_repetitions={args.min_repetitions}", "--precision", p,
+                                    "--precision-metric", args.metric,
                                     "--max-repetitions", str(counts[-1])]
     outcomes = {d: [] for d in designs}
     spent = {d: [] for d in designs}
@@ -156,7 +173,7 @@ def main():
     realized_change = statistics.median(c["change"] for t in outcomes[first] for pair in t["ab"] for c in pair)
     md = ["# Fixed against adaptive repetitions, in one run\n",
           f"`scripts/sensitivity_same_run.py --trials {args.trials} --repetitions {args.repetitions} --precision "
-          f"{args.precision} --min-repetitions {args.min_repetitions} --frames {args.frames}`: the CI matrix (24 "
+          f"{args.precision} --min-repetitions {args.min_repetitions} --frames {args.frames} --metric {args.metric}`: the CI matrix (24 "
           f"cases) four times in the same rounds (`--inject-fragment-work 0,{n5} --replicas 2`; {n5} iterations "
           f"slowed the median case by {100 * realized_change:.1f}% in the {first} design's runs). Per trial and design "
           "one A/A comparison (false alarms) and two A/B comparisons (detections) of 24 cases each; "
@@ -187,6 +204,8 @@ def main():
     if args.docs:
         with open(os.path.join(ROOT, "docs", "sensitivity-same-run.md"), "w") as f:
             f.write(text)
+    print(f"every stopping rule on the {counts[-1]}-repetition runs' own samples: "
+          f"scripts/repetition_replay.py {args.out}")
 
 
 if __name__ == "__main__":
