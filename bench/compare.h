@@ -18,7 +18,7 @@ namespace omnishadow::bench {
 
 struct CompareOptions {
   double alpha = kDefaultAlpha;  // family-wise, over all compared cases (Holm)
-  double min_effect = 0.05;   // a significant change smaller than this (relative) is "no change"
+  double min_effect = 0.05;      // a significant change smaller than this (relative) is "no change"
   bool timing = true;         // false: counters and images only
   bool timing_fails = true;   // false: timing verdicts are reported but only work and image changes fail
   bool allow_device_mismatch = false;

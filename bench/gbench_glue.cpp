@@ -6,9 +6,9 @@
 #include <valgrind/callgrind.h>
 
 #include <chrono>
+#include <cstdio>
 #include <ctime>
 #include <set>
-#include <cstdio>
 
 namespace omnishadow::bench {
 namespace {

@@ -14,14 +14,14 @@
 
 namespace omnishadow::bench {
 
-// Times every case whose checks ran, with console output on stdout, and writes Google Benchmark's JSON of all
-// rounds to `gbench_json_path`. Timings are appended to each result; `after_case` runs after every timed
-// repetition (the caller saves partial results there). When `stop_requested` turns true (SIGINT/SIGTERM) no new
-// round starts: cases never timed are marked "interrupted", the others keep the repetitions they have.
 // The cases one comparison of this run would hold (RepetitionPolicy::compared_cases): the cases that will be
 // timed, the copies of an experiment axis (/inj<N>, /rep<k>) counted once.
 size_t compared_cases(const std::vector<CaseResult>& results);
 
+// Times every case whose checks ran, with console output on stdout, and writes Google Benchmark's JSON of all
+// rounds to `gbench_json_path`. Timings are appended to each result; `after_case` runs after every timed
+// repetition (the caller saves partial results there). When `stop_requested` turns true (SIGINT/SIGTERM) no new
+// round starts: cases never timed are marked "interrupted", the others keep the repetitions they have.
 void run_timed(Harness& harness, std::vector<CaseResult>& results, const RepetitionPolicy& policy,
                const std::string& gbench_json_path, const std::function<void()>& after_case,
                const std::function<bool()>& stop_requested);

@@ -131,6 +131,111 @@ def fixed_cost(fixed, detect):
     return None
 
 
+def make_rules(args, cap):
+    """Rule name -> ("fixed", n) or ("precision", P, minimum, futility)."""
+    rules = {f"fixed{n}": ("fixed", n) for n in range(min(int(m) for m in args.minimum.split(",")), cap + 1)}
+    for p in args.precision.split(","):
+        for m in args.minimum.split(","):
+            for f in args.futility.split(","):
+                name = f"precision{p}/min{m}" + (f"/futility{f}" if float(f) > 0 else "")
+                rules[name] = ("precision", float(p), int(m), float(f))
+    return rules
+
+
+def replay(fixed_docs, rules, cap, key, work):
+    """Per rule, one judge() outcome per fixed run, its arms cut where the rule would have stopped."""
+    outcomes = {name: [] for name in rules}
+    for t, doc in enumerate(fixed_docs):
+        seqs = sequences(doc, key)
+        for name, rule in rules.items():
+            if rule[0] == "fixed":
+                counts = {case: min(rule[1], len(s)) for case, s in seqs.items()}
+            else:
+                counts = {case: stop_count(s, rule[1], rule[2], cap, rule[3]) for case, s in seqs.items()}
+            outcomes[name].append(judge(doc, counts, os.path.join(work, f"t{t:02d}", name.replace("/", "-"))))
+        print(f"replayed run {t + 1}/{len(fixed_docs)} ({len(rules)} rules)", flush=True)
+    return outcomes
+
+
+def real_designs(paths, work):
+    """The real adaptive runs: whether this mirror stops each case arm where the harness did, and their outcomes."""
+    real = {}
+    for path in sorted(paths):
+        p = float(re.search(r"precision([\d.]+)", path).group(1))
+        with open(path) as f:
+            doc = json.load(f)
+        policy = doc["omnishadow"]["repetition_policy"]
+        minimum, cap = policy.get("minimum", max(6, policy["repetitions"])), policy["max_repetitions"]
+        judged = "frame_cpu_ms" if policy.get("precision_metric") == "cpu" else "frame_ms"
+        entry = real.setdefault(p, {"agree": 0, "total": 0, "outcomes": [], "minimum": minimum, "cap": cap,
+                                    "metric": policy.get("precision_metric", "wall")})
+        for s in sequences(doc, judged).values():
+            entry["total"] += 1
+            entry["agree"] += stops(s, p, cap) and not any(stops(s[:n], p, cap) for n in range(minimum, len(s)))
+        counts = {case: len(s) for case, s in sequences(doc).items()}
+        entry["outcomes"].append(judge(doc, counts, os.path.join(work, os.path.basename(os.path.dirname(path)))))
+    return real
+
+
+def savings(rules, per_trial, resamples):
+    """Rows per rule: the pooled figures, what a fixed count needs for the same detection, the saving and (for the
+    adaptive rules) its 90% interval over `resamples` resamplings of the runs."""
+    rows = {name: tally(c) for name, c in per_trial.items()}
+    fixed_names = [n for n in rules if rules[n][0] == "fixed"]
+    fixed = [(rows[n]["spent"], rows[n]["detect"]) for n in fixed_names]
+    for name in rules:
+        need = fixed_cost(fixed, rows[name]["detect"])
+        rows[name]["fixed_cost"] = need
+        rows[name]["saved"] = None if need is None else 1.0 - rows[name]["spent"] / need
+    draws = {name: [] for name in rules if rules[name][0] != "fixed"}
+    runs = len(next(iter(per_trial.values())))
+    rng = random.Random(1)
+    for _ in range(resamples):  # runs resampled with replacement, every rule on the same draw
+        pick = [rng.randrange(runs) for _ in range(runs)]
+        fx = [(b["spent"], b["detect"]) for b in (tally([per_trial[n][i] for i in pick]) for n in fixed_names)]
+        for name in draws:
+            b = tally([per_trial[name][i] for i in pick])
+            need = fixed_cost(fx, b["detect"])
+            if need:
+                draws[name].append(1.0 - b["spent"] / need)
+    for name, saved in draws.items():
+        if len(saved) >= 0.9 * resamples:  # else the interval would hide draws outside the fixed range
+            saved.sort()
+            rows[name]["saved_90"] = (saved[int(0.05 * len(saved))], saved[int(0.95 * len(saved)) - 1])
+    return rows
+
+
+def markdown(args, rules, rows, real, runs, cap):
+    md = [f"# Stopping rules replayed on recorded repetitions ({args.metric} time)\n",
+          f"`scripts/repetition_replay.py {args.dir} --precision {args.precision} --minimum {args.minimum} "
+          f"--futility {args.futility} --metric {args.metric}`: {runs} runs with {cap} repetitions of every case in "
+          "four arms (A/A: false alarms; two A/B with injected work: detections), each rule replayed on the same "
+          f"samples; `omnishadow compare`, alpha {args.alpha}, Holm over the cases. \"fixed would need\": the "
+          "repetitions a fixed count spends for the same detection (linear between fixed counts); \"saved\": 1 - "
+          "spent / that, with a 90% interval from resampling the runs.\n",
+          "| rule | repetitions per matrix | false alarms | detected | fixed would need | saved (90% interval) |",
+          "|---|---|---|---|---|---|"]
+    for name in rules:
+        r, adaptive = rows[name], rules[name][0] != "fixed"
+        saved = "" if r["saved"] is None or not adaptive else f"{100 * r['saved']:+.1f}%"
+        if "saved_90" in r:
+            saved += f" ({100 * r['saved_90'][0]:+.1f}% .. {100 * r['saved_90'][1]:+.1f}%)"
+        need = "" if r["fixed_cost"] is None or not adaptive else f"{r['fixed_cost']:.0f}"
+        md.append(f"| {name} | {r['spent']:.0f} | {100 * r['false_alarms']:.1f}% | {100 * r['detect']:.1f}% | "
+                  f"{need} | {saved} |")
+    if real:
+        md += ["\nThe real adaptive designs of the same trials (their own rounds), and whether this mirror of the "
+               "harness's rule stops where the harness stopped:\n",
+               "| design | runs | repetitions per matrix | false alarms | detected | replay = harness (case arms) |",
+               "|---|---|---|---|---|---|"]
+        for p, e in sorted(real.items()):
+            r = tally([trial_counts(o, args.alpha) for o in e["outcomes"]])
+            md.append(f"| precision{p:g} (min {e['minimum']}, cap {e['cap']}, judging {e['metric']}) | "
+                      f"{len(e['outcomes'])} | {r['spent']:.0f} | {100 * r['false_alarms']:.1f}% | "
+                      f"{100 * r['detect']:.1f}% | {e['agree']}/{e['total']} |")
+    return "\n".join(md) + "\n"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("dir")
@@ -140,116 +245,28 @@ def main():
     parser.add_argument("--alpha", type=float, default=0.05)
     parser.add_argument("--metric", choices=["wall", "cpu"], default="wall",
                         help="what the rules judge and compare tests: frame wall time or process CPU time per frame")
-    parser.add_argument("--bootstrap", type=int, default=2000, help="resamples of the trials for the saving's interval")
+    parser.add_argument("--bootstrap", type=int, default=2000, help="resamples of the runs for the saving's interval")
     args = parser.parse_args()
     sensitivity.BINARY = os.path.join(args.dir, "omnishadow")
     sensitivity.METRIC = args.metric
-    key = {"wall": "frame_ms", "cpu": "frame_cpu_ms"}[args.metric]
     fixed_runs = {}
     for path in glob.glob(os.path.join(args.dir, "t*-fixed*", "results.json")):
-        r = int(re.search(r"fixed(\d+)", path).group(1))
-        fixed_runs.setdefault(r, []).append(path)
+        fixed_runs.setdefault(int(re.search(r"fixed(\d+)", path).group(1)), []).append(path)
     if not fixed_runs:
         sys.exit(f"repetition_replay: no t*-fixed*/results.json in {args.dir}")
     cap = max(fixed_runs)
-    runs = sorted(fixed_runs[cap])
-    docs = [json.load(open(p)) for p in runs]
-    rules = {f"fixed{n}": ("fixed", n) for n in range(min(int(m) for m in args.minimum.split(",")), cap + 1)}
-    for p in args.precision.split(","):
-        for m in args.minimum.split(","):
-            for f in args.futility.split(","):
-                name = f"precision{p}/min{m}" + (f"/futility{f}" if float(f) > 0 else "")
-                rules[name] = ("precision", float(p), int(m), float(f))
-    outcomes = {name: [] for name in rules}
-    for t, doc in enumerate(docs):
-        seqs = sequences(doc, key)
-        for name, rule in rules.items():
-            if rule[0] == "fixed":
-                counts = {case: min(rule[1], len(s)) for case, s in seqs.items()}
-            else:
-                counts = {case: stop_count(s, rule[1], rule[2], cap, rule[3]) for case, s in seqs.items()}
-            work = os.path.join(args.dir, "replay", f"t{t:02d}", name.replace("/", "-"))
-            outcomes[name].append(judge(doc, counts, work))
-        print(f"replayed {os.path.dirname(runs[t])} ({len(rules)} rules)", flush=True)
-
-    # The real adaptive designs: the harness's stop counts against this mirror's, and their measured figures.
-    real = {}
-    for path in sorted(glob.glob(os.path.join(args.dir, "t*-precision*", "results.json"))):
-        p = float(re.search(r"precision([\d.]+)", path).group(1))
-        doc = json.load(open(path))
-        policy = doc["omnishadow"]["repetition_policy"]
-        minimum, real_cap = policy.get("minimum", max(6, policy["repetitions"])), policy["max_repetitions"]
-        judged = "frame_cpu_ms" if policy.get("precision_metric") == "cpu" else "frame_ms"
-        agree = total = 0
-        for c in doc["omnishadow"]["cases"]:
-            s = c.get("timing", {}).get("per_repetition", {}).get(judged)
-            if s:
-                total += 1
-                agree += stops(s, p, real_cap) and not any(stops(s[:n], p, real_cap) for n in range(minimum, len(s)))
-        work = os.path.join(args.dir, "replay", "real", os.path.basename(os.path.dirname(path)))
-        counts = {c["id"]: len(c["timing"]["per_repetition"]["frame_ms"]) for c in doc["omnishadow"]["cases"]
-                  if c.get("timing", {}).get("per_repetition")}
-        entry = real.setdefault(p, {"agree": 0, "total": 0, "outcomes": [], "minimum": minimum, "cap": real_cap,
-                                    "metric": policy.get("precision_metric", "wall")})
-        entry["agree"] += agree
-        entry["total"] += total
-        entry["outcomes"].append(judge(doc, counts, work))
-
+    fixed_docs = []
+    for path in sorted(fixed_runs[cap]):
+        with open(path) as f:
+            fixed_docs.append(json.load(f))
+    rules = make_rules(args, cap)
+    key = {"wall": "frame_ms", "cpu": "frame_cpu_ms"}[args.metric]
+    outcomes = replay(fixed_docs, rules, cap, key, os.path.join(args.dir, "replay"))
+    real = real_designs(glob.glob(os.path.join(args.dir, "t*-precision*", "results.json")),
+                        os.path.join(args.dir, "replay", "real"))
     per_trial = {name: [trial_counts(o, args.alpha) for o in outs] for name, outs in outcomes.items()}
-    rows = {name: tally(c) for name, c in per_trial.items()}
-    fixed_names = [n for n in rules if rules[n][0] == "fixed"]
-    fixed = [(rows[n]["spent"], rows[n]["detect"]) for n in fixed_names]
-    for name in rules:
-        need = fixed_cost(fixed, rows[name]["detect"])
-        rows[name]["fixed_cost"] = need
-        rows[name]["saved"] = None if need is None else 1.0 - rows[name]["spent"] / need
-    draws = {name: [] for name in rules}
-    rng = random.Random(1)
-    for _ in range(args.bootstrap):  # trials resampled with replacement, every rule on the same draw
-        pick = [rng.randrange(len(docs)) for _ in docs]
-        fx = []
-        for n in fixed_names:
-            b = tally([per_trial[n][i] for i in pick])
-            fx.append((b["spent"], b["detect"]))
-        for name in rules:
-            if rules[name][0] == "fixed":
-                continue
-            b = tally([per_trial[name][i] for i in pick])
-            need = fixed_cost(fx, b["detect"])
-            if need:
-                draws[name].append(1.0 - b["spent"] / need)
-    for name, saved in draws.items():
-        if len(saved) >= 0.9 * args.bootstrap:  # else the interval would hide draws outside the fixed range
-            saved.sort()
-            rows[name]["saved_90"] = (saved[int(0.05 * len(saved))], saved[int(0.95 * len(saved)) - 1])
-
-    md = [f"# Stopping rules replayed on recorded repetitions ({args.metric} time)\n",
-          f"`scripts/repetition_replay.py {args.dir} --precision {args.precision} --minimum {args.minimum} "
-          f"--futility {args.futility} --metric {args.metric}`: {len(docs)} runs of the CI matrix with {cap} repetitions of every case in four "
-          "arms (A/A: false alarms; two A/B with injected work: detections), each rule replayed on the same "
-          f"samples; `omnishadow compare`, alpha {args.alpha}, Holm over the cases. \"fixed would need\": the "
-          "repetitions a fixed count spends for the same detection (linear between fixed counts); \"saved\": 1 - "
-          "spent / that, with a 90% interval from resampling the runs.\n",
-          "| rule | repetitions per matrix | false alarms | detected | fixed would need | saved (90% interval) |",
-          "|---|---|---|---|---|---|"]
-    for name in rules:
-        r = rows[name]
-        saved = "" if r["saved"] is None else f"{100 * r['saved']:+.1f}%"
-        if "saved_90" in r:
-            saved += f" ({100 * r['saved_90'][0]:+.1f}% .. {100 * r['saved_90'][1]:+.1f}%)"
-        need = "" if r["fixed_cost"] is None or rules[name][0] == "fixed" else f"{r['fixed_cost']:.0f}"
-        md.append(f"| {name} | {r['spent']:.0f} | {100 * r['false_alarms']:.1f}% | {100 * r['detect']:.1f}% | "
-                  f"{need} | {saved if rules[name][0] != 'fixed' else ''} |")
-    if real:
-        md += ["\nThe real adaptive designs of the same trials (their own rounds), and whether this mirror of the "
-               "harness's rule stops where the harness stopped:\n",
-               "| design | runs | repetitions per matrix | false alarms | detected | replay = harness (case arms) |",
-               "|---|---|---|---|---|---|"]
-        for p, e in sorted(real.items()):
-            r = tally([trial_counts(o, args.alpha) for o in e["outcomes"]])
-            md.append(f"| precision{p:g} (min {e['minimum']}, cap {e['cap']}, judging {e['metric']}) | {len(e['outcomes'])} | {r['spent']:.0f} | "
-                      f"{100 * r['false_alarms']:.1f}% | {100 * r['detect']:.1f}% | {e['agree']}/{e['total']} |")
-    text = "\n".join(md) + "\n"
+    rows = savings(rules, per_trial, args.bootstrap)
+    text = markdown(args, rules, rows, real, len(fixed_docs), cap)
     print(text)
     with open(os.path.join(args.dir, "repetition_replay.json"), "w") as f:
         json.dump({"rules": {n: list(r) for n, r in rules.items()}, "rows": rows,
