@@ -22,6 +22,7 @@ Usage: scripts/sensitivity_same_run.py [--trials 10] [--repetitions 24] [--preci
 import argparse
 import json
 import os
+import shlex
 import shutil
 import statistics
 import subprocess
@@ -36,10 +37,19 @@ ALPHAS = [0.01, 0.05]
 EFFECTS = [0.0, 0.01, 0.02, 0.03, 0.04, 0.05]
 
 
+MATRIX = []  # --matrix: the axes of another matrix instead of the CI matrix's
+
+
 def run_matrix(out, injected, extra, replicas=2):
-    """The CI matrix with every case once per value in `injected` (and per replica), in the same rounds."""
-    cmd = ["bash", os.path.join(ROOT, "scripts", "ci_matrix.sh"), out, "--no-images", "--no-accuracy",
-           "--inject-fragment-work=" + ",".join(str(n) for n in injected), "--replicas", str(replicas), *extra]
+    """The CI matrix (or --matrix's) with every case once per value in `injected` (and per replica), in the same
+    rounds."""
+    if MATRIX:
+        head = [sensitivity.BINARY, "run", *MATRIX, "--frames", os.environ["CI_MATRIX_FRAMES"], "--warmup", "1",
+                "--light-radius", "0", "--benchmark_enable_random_interleaving=true", "--out", out]
+    else:
+        head = ["bash", os.path.join(ROOT, "scripts", "ci_matrix.sh"), out]
+    cmd = [*head, "--no-images", "--no-accuracy", "--inject-fragment-work=" + ",".join(str(n) for n in injected),
+           "--replicas", str(replicas), *extra]
     done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if done.returncode != 0:
         sys.exit(f"sensitivity_same_run: {' '.join(cmd)} failed:\n{done.stderr[-2000:]}")
@@ -123,6 +133,9 @@ def main():
     parser.add_argument("--metric", choices=["wall", "cpu"], default="wall",
                         help="what --precision judges (--precision-metric) and compare tests (--metric): frame wall "
                              "time or process CPU time per frame")
+    parser.add_argument("--matrix", default="",
+                        help="the matrix's axes instead of the CI matrix's, e.g. \"--backend gl --scene room --cube "
+                             "128,512 --frame 160x120,640x480\" (cases unlike in noise)")
     parser.add_argument("--out", default="/tmp/omnishadow-sensitivity-same-run")
     parser.add_argument("--docs", action="store_true")
     args = parser.parse_args()
@@ -134,6 +147,7 @@ def main():
     sensitivity.BINARY = shutil.copy2(sensitivity.BINARY, os.path.join(args.out, "omnishadow"))
     os.environ["OMNISHADOW_BIN"] = sensitivity.BINARY
     os.environ["CI_MATRIX_FRAMES"] = str(args.frames)
+    MATRIX[:] = shlex.split(args.matrix)
     sensitivity.METRIC = args.metric
     started = time.time()
     if args.inject:
@@ -171,12 +185,14 @@ def main():
                      ["false_alarms"] <= 0.01 for d in designs)]
     gate = min(common, key=lambda r: (r["min_effect"], -r["alpha"])) if common else None
     realized_change = statistics.median(c["change"] for t in outcomes[first] for pair in t["ab"] for c in pair)
+    cases = len(outcomes[first][0]["aa"])
     md = ["# Fixed against adaptive repetitions, in one run\n",
           f"`scripts/sensitivity_same_run.py --trials {args.trials} --repetitions {args.repetitions} --precision "
-          f"{args.precision} --min-repetitions {args.min_repetitions} --frames {args.frames} --metric {args.metric}`: the CI matrix (24 "
-          f"cases) four times in the same rounds (`--inject-fragment-work 0,{n5} --replicas 2`; {n5} iterations "
+          f"{args.precision} --min-repetitions {args.min_repetitions} --frames {args.frames} --metric {args.metric}"
+          + (f" --matrix \"{args.matrix}\"" if args.matrix else "") + f"`: the {'' if args.matrix else 'CI '}matrix "
+          f"({cases} cases) four times in the same rounds (`--inject-fragment-work 0,{n5} --replicas 2`; {n5} iterations "
           f"slowed the median case by {100 * realized_change:.1f}% in the {first} design's runs). Per trial and design "
-          "one A/A comparison (false alarms) and two A/B comparisons (detections) of 24 cases each; "
+          f"one A/A comparison (false alarms) and two A/B comparisons (detections) of {cases} cases each; "
           f"{time.time() - started:.0f} s.\n",
           "| design | repetitions per matrix (mean) | gate | false alarms (cases) | detect 5% (cases) |",
           "|---|---|---|---|---|"]
