@@ -237,7 +237,7 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
     images += !cc.image_changes.empty();
   }
   if (!c.clock_note().empty()) s << c.clock_note() << "\n";
-  if (!c.resolution_note(o).empty()) s << c.resolution_note(o) << "\n";
+  if (const std::string blind = c.resolution_note(o); !blind.empty()) s << blind << "\n";
   s << c.cases.size() << " cases compared: " << regressions << " timing regressions, " << improvements
     << " improvements, " << work << " work changes, " << images << " image changes (alpha " << o.alpha
     << " family-wise, minimum effect " << 100 * o.min_effect << "%)\n";
@@ -246,10 +246,11 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
 
 std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
   std::ostringstream s;
+  const std::string blind = c.resolution_note(o);
   s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << (o.metric == "cpu" ? "process CPU time" : "wall time") << " per frame, Holm-corrected (alpha " << o.alpha
     << "), minimum effect " << 100 * o.min_effect << "%. Work counters compared exactly; images by checksum, "
     << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".")
-    << (c.resolution_note(o).empty() ? "" : " **" + c.resolution_note(o) + ".**") << "\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
+    << (blind.empty() ? "" : " **" + blind + ".**") << "\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
     << "|---|---|---|---|---|---|---|\n";
   for (const auto& cc : c.cases) {
     std::string notes;

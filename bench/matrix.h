@@ -28,7 +28,7 @@ struct MatrixSpec {
   std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
   std::vector<float> pcf_scales{1.0f};                        // --pcf-scale 0,1,20
-  // Experiment axes (scripts/sensitivity.py --design same-run): extra fragment work per case, and copies of every
+  // Experiment axes (scripts/sensitivity_same_run.py): extra fragment work per case, and copies of every
   // case measured in the same rounds. Each is in the case id only when it has more than one value
   // (/inj<N>, /rep<k>), so a run with one value keeps the ids of a run without them.
   std::vector<int> injected_work{0};  // --inject-fragment-work 0,18

@@ -126,8 +126,8 @@ void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& res
        << p.cap() * static_cast<int>(std::count_if(results.begin(), results.end(),
                                                    [](const CaseResult& r) { return !r.repetition_frame_ms.empty(); }))
        << "); " << capped << " cases hit the cap of " << p.cap() << "; at least " << p.minimum()
-       << " each (the fewest at which `omnishadow compare` over " << p.compared_cases << " cases, alpha "
-       << kDefaultAlpha << ", can flag one)\n\n"
+       << " each (never fewer than `omnishadow compare` over " << p.compared_cases << " cases at alpha "
+       << kDefaultAlpha << " needs to flag one)\n\n"
        << "| case | repetitions | median ms | reached | ended by |\n|---|---|---|---|---|\n";
   }
   md << rows.str();

@@ -106,7 +106,7 @@ struct CaseConfig {
   // so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;
   // Id segments of the experiment axes that have more than one value (bench/matrix.h: "inj18", "rep1",
-  // "inj18/rep1"): the same-run A/A and A/B designs of scripts/sensitivity.py. Empty in every other run.
+  // "inj18/rep1"): the same-run A/A and A/B designs of scripts/sensitivity_same_run.py. Empty in every other run.
   std::string experiment;
   // The PCF kernels' radius as a multiple of the tutorials' (grid offset 0.1, disk radius, 2D maps' one texel); an
   // axis of the stability suite (0 collapses every kernel to one direction). In the id as /pcf<scale> unless 1.
