@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "bench/compare.h"
+#include "bench/results/compare.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::fuzz {

@@ -7,10 +7,10 @@
 #   multiview  GL and Vulkan multiview against six_pass with --check (issue 13.4)
 #   matrix     the issue's untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
 #              (issue 13.2: the untimed part at most a quarter of the run); clock samples recorded (13.6)
-#   tutorial   scripts/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering (14.1)
-#   precision  the adaptive design beside the fixed one (14.3): across runs (scripts/sensitivity.py, as CI compares
-#              builds) and inside one run (scripts/sensitivity_same_run.py), 6 trials each; every stopping rule
-#              replayed on the fixed design's samples (scripts/repetition_replay.py)
+#   tutorial   scripts/experiments/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering (14.1)
+#   precision  the adaptive design beside the fixed one (14.3): across runs (scripts/experiments/sensitivity.py, as CI compares
+#              builds) and inside one run (scripts/experiments/sensitivity_same_run.py), 6 trials each; every stopping rule
+#              replayed on the fixed design's samples (scripts/experiments/repetition_replay.py)
 # Exit 1 when a command it ran failed (a failed check included). On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview
 set -uo pipefail
 out="$1"; shift
@@ -77,7 +77,7 @@ step_matrix() {
 
 step_tutorial() {
   note "## tutorial"
-  /usr/bin/python3 "$here/scripts/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
+  /usr/bin/python3 "$here/scripts/experiments/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
     >"$out/tutorial/ab.log" 2>&1
   exit_note $? tutorial_ab.py
   grep "^|" "$out/tutorial/ab.log" | tee -a "$summary"
@@ -85,15 +85,15 @@ step_tutorial() {
 
 step_precision() {
   note "## precision"
-  /usr/bin/python3 "$here/scripts/sensitivity.py" --trials 6 --frames 12 --precision 2 --min-repetitions 6 \
+  /usr/bin/python3 "$here/scripts/experiments/sensitivity.py" --trials 6 --frames 12 --precision 2 --min-repetitions 6 \
     --max-repetitions 30 --out "$out/precision/sens" >"$out/precision/sens.log" 2>&1
   exit_note $? sensitivity.py
   sed -n '/Designs compared/,$p' "$out/precision/sens/sensitivity.md" 2>/dev/null | tee -a "$summary"
-  /usr/bin/python3 "$here/scripts/sensitivity_same_run.py" --trials 6 --repetitions 24 --precision 2 \
+  /usr/bin/python3 "$here/scripts/experiments/sensitivity_same_run.py" --trials 6 --repetitions 24 --precision 2 \
     --min-repetitions 7 --out "$out/precision/same_run" >"$out/precision/same_run.log" 2>&1
   exit_note $? sensitivity_same_run.py
   sed -n '/^| design/,/^$/p' "$out/precision/same_run/sensitivity_same_run.md" 2>/dev/null | tee -a "$summary"
-  /usr/bin/python3 "$here/scripts/repetition_replay.py" "$out/precision/same_run" --precision 1,1.5,2,2.5,3 \
+  /usr/bin/python3 "$here/scripts/experiments/repetition_replay.py" "$out/precision/same_run" --precision 1,1.5,2,2.5,3 \
     --minimum 7 >"$out/precision/replay.log" 2>&1
   exit_note $? repetition_replay.py
   sed -n '/^| rule/,$p' "$out/precision/replay.log" | tee -a "$summary"

@@ -12,7 +12,7 @@ packages=(
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
   python3-yaml                             # tests/workflows_test.py: the fleet workflow files parse
   chromium                                 # tests/report_test.sh: the HTML report rendered in a real browser
-  valgrind                                 # callgrind: deterministic instruction counts (scripts/instruction_counts.sh)
+  valgrind                                 # callgrind: deterministic instruction counts (scripts/ci/instruction_counts.sh)
 )
 [ "${1:-}" = "--fuzz" ] && packages+=(clang-14 libclang-rt-14-dev)
 

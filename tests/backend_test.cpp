@@ -15,8 +15,8 @@
 #include "backends/common/cube_summary.h"
 #include "backends/common/techniques.h"
 #include "backends/reference/ray_caster.h"
-#include "bench/accuracy.h"
-#include "bench/cube_truth.h"
+#include "bench/truth/accuracy.h"
+#include "bench/truth/cube_truth.h"
 #include "tests/optimization_checks.h"
 
 namespace omnishadow {
@@ -142,7 +142,7 @@ TEST_P(BackendTest, HardShadowsAgreeWithTheReference) {
   EXPECT_GT(truly_shadowed, truth.point_shadow.size() / 100) << "the test needs shadows to be meaningful";
 }
 
-// The cube itself against exact first-hit distances (bench/cube_truth.h), and the same check catching a cube whose
+// The cube itself against exact first-hit distances (bench/truth/cube_truth.h), and the same check catching a cube whose
 // faces were swapped or whose stored distances lost the far scale, as a broken backend would store them.
 TEST_P(BackendTest, CubeTexelsAgreeWithExactDistances) {
   Images img = render(room_case(Technique::six_pass, Filter::hard, 256), 90);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# scripts/bisect.sh finds an injected regression: a toy repository of six commits whose "build" fails at one
+# scripts/ci/bisect.sh finds an injected regression: a toy repository of six commits whose "build" fails at one
 # (skipped, exit 125) and whose "run" writes a real omnishadow run with its work counters scaled by work.txt; the
 # fifth commit doubles the work. `omnishadow compare --no-timing` is the verdict, as in a real bisection.
 set -euo pipefail
@@ -42,7 +42,7 @@ rm broken; commit 'fixes the build' >/dev/null
 echo 2 > work.txt; c4="$(commit 'doubles the work')"
 echo '# another' >> build.sh; c5="$(commit 'another comment')"
 cd "$here"
-bash scripts/bisect.sh "$c0" "$c5" --repo "$toy" --work "$tmp/work" --build 'bash build.sh' --run 'bash run.sh' \
+bash scripts/ci/bisect.sh "$c0" "$c5" --repo "$toy" --work "$tmp/work" --build 'bash build.sh' --run 'bash run.sh' \
   -- --no-timing > "$tmp/bisect.out" 2>&1 || { cat "$tmp/bisect.out"; cat "$tmp/work/.bisect-runs/bisect.log" || true; exit 1; }
 found="$(cat "$tmp/work/bisect.txt")"
 [ "$found" = "$c4" ] || { echo "bisect found $found, expected $c4"; cat "$tmp/bisect.out"; exit 1; }

@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "bench/file_io.h"
+#include "bench/results/file_io.h"
 
 namespace {
 
@@ -352,7 +352,7 @@ TEST_F(CliRun, CompareRefusesBadInput) {
   EXPECT_EQ(usage.exit_code, 2);
 }
 
-// The same-run experiment axes (scripts/sensitivity_same_run.py): every case once per injected value and replica,
+// The same-run experiment axes (scripts/experiments/sensitivity_same_run.py): every case once per injected value and replica,
 // measured in the same rounds, each copy with its own id and its injected work recorded.
 TEST_F(CliRun, ExperimentAxesRunEveryCopyInOneRun) {
   fs::path out = scratch("experiment");
@@ -374,7 +374,7 @@ TEST_F(CliRun, ExperimentAxesRunEveryCopyInOneRun) {
   EXPECT_NE(twice.err.find("--inject-fragment-work: a value is given twice"), std::string::npos) << twice.err;
 }
 
-// A gate file (scripts/sensitivity.py --write-gate) sets the test's metric, alpha and minimum effect; a bad one is a
+// A gate file (scripts/experiments/sensitivity.py --write-gate) sets the test's metric, alpha and minimum effect; a bad one is a
 // one-line error naming the file and the field.
 TEST_F(CliRun, CompareTakesItsGateFromAGateFile) {
   fs::path a = scratch("gate_a");

@@ -5,10 +5,10 @@
 
 #include <filesystem>
 
-#include "bench/compare.h"
-#include "bench/file_io.h"
-#include "bench/image_io.h"
-#include "bench/statistics.h"
+#include "bench/results/compare.h"
+#include "bench/results/file_io.h"
+#include "bench/results/image_io.h"
+#include "bench/results/statistics.h"
 
 namespace omnishadow::bench {
 namespace {

@@ -16,14 +16,14 @@ trap 'rm -rf "$work"' EXIT
 matrix=(--backend gl --scene room --cube 32 --frame 64x48 --technique six_pass,geometry_shader
         --filter hard,pcf_disk20 --frames 1 --warmup 0 --no-accuracy --images all --benchmark_repetitions=2)
 for i in 1 2 3; do
-  CI_NODE_INDEX=$i CI_NODE_TOTAL=3 bash "$here/scripts/fleet_shard.sh" "$work/shards/$i" "${matrix[@]}" \
+  CI_NODE_INDEX=$i CI_NODE_TOTAL=3 bash "$here/scripts/ci/fleet_shard.sh" "$work/shards/$i" "${matrix[@]}" \
     >"$work/shard$i.log" 2>&1 || { cat "$work/shard$i.log"; exit 1; }
   grep -q "GitLab CI_NODE_INDEX -> shard $((i - 1))/3" "$work/shard$i.log" || { echo "shard $i: no --shard auto line"; exit 1; }
 done
-bash "$here/scripts/fleet_merge.sh" "$work/merged" "$work"/shards/* >/dev/null
+bash "$here/scripts/ci/fleet_merge.sh" "$work/merged" "$work"/shards/* >/dev/null
 "$bin" run --out "$work/whole" "${matrix[@]}" >/dev/null 2>&1
 # GitHub numbering (0-based, exported by the workflow) gives the same slice as GitLab's shard 2.
-OMNISHADOW_SHARD_INDEX=1 OMNISHADOW_SHARD_COUNT=3 bash "$here/scripts/fleet_shard.sh" "$work/github1" "${matrix[@]}" \
+OMNISHADOW_SHARD_INDEX=1 OMNISHADOW_SHARD_COUNT=3 bash "$here/scripts/ci/fleet_shard.sh" "$work/github1" "${matrix[@]}" \
   >/dev/null 2>&1
 /usr/bin/python3 - "$work" <<'PY'
 import json, sys
@@ -35,11 +35,11 @@ assert ids("github1") == ids("shards/2"), "GitHub's shard 1 is GitLab's shard 2"
 bench = [b for b in json.load(open(f"{work}/merged/results.json"))["benchmarks"] if b.get("run_type") == "iteration"]
 assert len(bench) == 8, f"every shard's repetitions kept: {len(bench)} of 8"
 PY
-bash "$here/scripts/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare.log" 2>&1 || { cat "$work/compare.log"; exit 1; }
+bash "$here/scripts/ci/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare.log" 2>&1 || { cat "$work/compare.log"; exit 1; }
 test -s "$work/merged/compare/summary.md"
 # A baseline with a proven gate: compare takes metric, alpha and minimum effect from it.
 echo '{"metric": "cpu", "alpha": 0.01, "min_effect": 0.3}' >"$work/whole/gate.json"
-bash "$here/scripts/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare2.log" 2>&1 || { cat "$work/compare2.log"; exit 1; }
+bash "$here/scripts/ci/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare2.log" 2>&1 || { cat "$work/compare2.log"; exit 1; }
 /usr/bin/python3 -c 'import json, sys; c = json.load(open(sys.argv[1])); assert (c["metric"], c["alpha"], c["min_effect"]) == ("cpu", 0.01, 0.3), c' \
   "$work/merged/compare/comparison.json"
 echo "fleet play: 3 shards merged to the unsharded run's 4 cases; compare passed, with and without a gate file"

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <functional>
 
-#include "bench/file_io.h"
+#include "bench/results/file_io.h"
 #include "fuzz/fuzz_entries.h"
 
 namespace fs = std::filesystem;

@@ -7,12 +7,12 @@
 #include <filesystem>
 
 #include "backends/common/cube_summary.h"
-#include "bench/case_runner.h"
-#include "bench/file_io.h"
-#include "bench/gbench_glue.h"
-#include "bench/results_reader.h"
-#include "bench/results_writer.h"
-#include "bench/summary_table.h"
+#include "bench/run/case_runner.h"
+#include "bench/results/file_io.h"
+#include "bench/run/gbench_glue.h"
+#include "bench/results/results_reader.h"
+#include "bench/results/results_writer.h"
+#include "bench/results/summary_table.h"
 
 namespace omnishadow::bench {
 namespace {

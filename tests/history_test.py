@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""scripts/changepoints.py and scripts/history.py on histories written as run folders: PELT finds what it must,
+"""scripts/lib/changepoints.py and scripts/analysis/history.py on histories written as run folders: PELT finds what it must,
 a timing step is found at its commit, an exact counter change is a step, an accepted step stops alerting and a new
 one alerts again, and a malformed accepted file is named."""
 import json
@@ -11,10 +11,10 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "lib"))
 import changepoints  # noqa: E402
 
-HISTORY = os.path.join(ROOT, "scripts", "history.py")
+HISTORY = os.path.join(ROOT, "scripts", "analysis", "history.py")
 
 
 def write_run(folder, commit, day, frame_ms, draws, lit=b"lit pixels"):

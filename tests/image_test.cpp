@@ -6,9 +6,9 @@
 #include <cmath>
 #include <filesystem>
 
-#include "bench/file_io.h"
-#include "bench/image_compare.h"
-#include "bench/image_io.h"
+#include "bench/results/file_io.h"
+#include "bench/truth/image_compare.h"
+#include "bench/results/image_io.h"
 
 namespace omnishadow::bench {
 namespace {

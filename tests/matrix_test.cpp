@@ -5,7 +5,7 @@
 #include <map>
 #include <set>
 
-#include "bench/matrix.h"
+#include "bench/run/matrix.h"
 
 namespace omnishadow::bench {
 namespace {

@@ -10,8 +10,8 @@
 
 #include "backends/backend.h"
 #include "backends/reference/ray_caster.h"
-#include "bench/accuracy.h"
-#include "bench/map_truth.h"
+#include "bench/truth/accuracy.h"
+#include "bench/truth/map_truth.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::testing {
@@ -141,7 +141,7 @@ inline void check_map_lights(Backend& b, const std::string& backend, const std::
     EXPECT_LT(a.misclassified_percent, bound) << name;
     size_t shadowed = std::count(img.shadow_factor.begin(), img.shadow_factor.end(), 1.0f);
     EXPECT_GT(shadowed, img.shadow_factor.size() / 200) << name << ": the map light casts shadows";
-    // The maps themselves against exact depths (bench/map_truth.h), and the check catching a map upside down.
+    // The maps themselves against exact depths (bench/truth/map_truth.h), and the check catching a map upside down.
     ASSERT_EQ(img.map_depth.size(), s.map_lights.size()) << name;
     const cube::DepthRange range =
         img.map_depth_zero_to_one ? cube::DepthRange::zero_to_one : cube::DepthRange::minus_one_to_one;

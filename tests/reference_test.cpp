@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "backends/reference/ray_caster.h"
-#include "bench/accuracy.h"
+#include "bench/truth/accuracy.h"
 
 namespace omnishadow::reference {
 namespace {

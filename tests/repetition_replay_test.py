@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""scripts/repetition_replay.py on two small real runs: its mirror of the harness's --precision rule stops every
+"""scripts/experiments/repetition_replay.py on two small real runs: its mirror of the harness's --precision rule stops every
 case arm where the harness stopped it, and every fixed count up to the recorded one is replayed and compared."""
 import json
 import os
@@ -28,7 +28,7 @@ def main():
         # 3%: here some arms stop between the minimum and the cap, the others are held to "never met it sooner".
         run(os.path.join(work, "t00-precision3"), "--benchmark_repetitions=7", "--precision", "3",
             "--max-repetitions", "10")
-        done = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "repetition_replay.py"), work,
+        done = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "experiments", "repetition_replay.py"), work,
                                "--precision", "3,10", "--minimum", "7", "--bootstrap", "20"],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         assert done.returncode == 0, done.stderr[-2000:]

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "bench/device_state.h"
-#include "bench/repetition_policy.h"
-#include "bench/timing_stats.h"
+#include "bench/run/device_state.h"
+#include "bench/run/repetition_policy.h"
+#include "bench/run/timing_stats.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -113,7 +113,7 @@ TEST(DeviceState, ProbeNamesItsSource) {
 #include <atomic>
 #include <stdexcept>
 
-#include "bench/async_writer.h"
+#include "bench/run/async_writer.h"
 
 namespace omnishadow::bench {
 namespace {

@@ -11,8 +11,8 @@
 #include "backends/backend.h"
 #include "backends/reference/ray_caster.h"
 #include "backends/vulkan/vk_context.h"
-#include "bench/accuracy.h"
-#include "bench/case_runner.h"
+#include "bench/truth/accuracy.h"
+#include "bench/run/case_runner.h"
 #include "tests/optimization_checks.h"
 
 namespace omnishadow {

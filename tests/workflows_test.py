@@ -41,7 +41,7 @@ def main():
     assert set(jobs["merge"]["strategy"]["matrix"]["device"]) == set(matrix["device"])
     assert "fleet_shard.sh" in scripts_of(jobs["bench"])
     assert "fleet_merge.sh" in scripts_of(jobs["merge"]) and "fleet_compare.sh" in scripts_of(jobs["merge"])
-    for path in ("scripts/fleet_shard.sh", "scripts/fleet_merge.sh", "scripts/fleet_compare.sh"):
+    for path in ("scripts/ci/fleet_shard.sh", "scripts/ci/fleet_merge.sh", "scripts/ci/fleet_compare.sh"):
         assert os.access(os.path.join(ROOT, path), os.X_OK), f"{path} is not executable"
     print("workflows: .gitlab-ci.yml and .github/workflows/gpu-fleet.yml parse and call the fleet scripts")
 

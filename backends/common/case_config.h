@@ -60,7 +60,7 @@ struct Optimizations {
   bool any() const { return face_culling || fit_range || static_cache; }
   bool operator==(const Optimizations&) const = default;
 };
-// Remedies for numerical extremes (the stability suite, scripts/run_extremes.sh), measured on and off like the
+// Remedies for numerical extremes (the stability suite, scripts/experiments/run_extremes.sh), measured on and off like the
 // optimisations; each appends its word to the case id.
 //   rebase_origin: the scene is loaded relative to its light in double precision (scene::LoadOptions): the
 //                  remedy for far-from-origin cancellation.
@@ -105,8 +105,8 @@ struct CaseConfig {
   // Extra fragment work for sensitivity experiments (--inject-fragment-work). With one value it is not in the id,
   // so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;
-  // Id segments of the experiment axes that have more than one value (bench/matrix.h: "inj18", "rep1",
-  // "inj18/rep1"): the same-run A/A and A/B designs of scripts/sensitivity_same_run.py. Empty in every other run.
+  // Id segments of the experiment axes that have more than one value (bench/run/matrix.h: "inj18", "rep1",
+  // "inj18/rep1"): the same-run A/A and A/B designs of scripts/experiments/sensitivity_same_run.py. Empty in every other run.
   std::string experiment;
   // The PCF kernels' radius as a multiple of the tutorials' (grid offset 0.1, disk radius, 2D maps' one texel); an
   // axis of the stability suite (0 collapses every kernel to one direction). In the id as /pcf<scale> unless 1.

@@ -1,0 +1,279 @@
+#include "bench/cli/cli_options.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace omnishadow::bench {
+namespace {
+
+template <typename T, typename Name>
+std::string join(const std::vector<T>& values, Name name) {
+  std::string out;
+  for (const T& v : values) out += (out.empty() ? "" : ",") + std::string(name(v));
+  return out;
+}
+
+// A comma-list option parsed into `target` when given; its default shown is `target`'s initial value (the
+// defaults live in MatrixSpec alone).
+template <typename T, typename Parse, typename Name>
+void list_option(CLI::App& sub, const std::string& flag, std::vector<T>& target, Parse parse, Name name,
+                 const std::string& help) {
+  sub.add_option_function<std::string>(
+         flag, [&target, parse, flag](const std::string& text) { target = parse_list_with(text, flag, parse); },
+         help)
+      ->default_str(join(target, name));
+}
+
+float parse_pcf_scale(const std::string& t) {
+  size_t used = 0;
+  float v = -1.0f;
+  try {
+    v = std::stof(t, &used);
+  } catch (const std::exception&) {
+  }
+  if (used != t.size() || !(v >= 0.0f && v <= 100.0f))
+    throw std::invalid_argument("'" + t + "' is not a scale in [0, 100]");
+  return v;
+}
+
+void add_matrix_options(CLI::App& r, MatrixSpec& m) {
+  auto text = [](const std::string& s) { return s; };
+  auto same = [](const std::string& s) { return s; };
+  list_option(r, "--backend", m.backends, same, text, "comma list of backends: gl, vulkan");
+  list_option(r, "--scene", m.scenes, same, text, "comma list of scene names (scenes/<name>.json) or .json paths");
+  r.add_option_function<std::string>(
+       "--cube", [&m](const std::string& t) { m.cube_sizes = parse_int_list(t, "--cube"); },
+       "comma list of cube face sizes in texels")
+      ->default_str(join(m.cube_sizes, [](int v) { return std::to_string(v); }));
+  r.add_option_function<std::string>(
+      "--frame", [&m](const std::string& t) { m.frame_sizes = parse_size_list(t, "--frame"); },
+      "comma list of WIDTHxHEIGHT (default: each scene's camera size)");
+  auto named = [](auto v) { return std::string(to_string(v)); };
+  r.add_option_function<std::string>(
+       "--technique",
+       [&m](const std::string& t) {
+         m.techniques = parse_enum_list<Technique>(t, "--technique");
+         m.techniques_given = true;
+       },
+       "comma list: " + valid_values<Technique>() +
+           " (default: every technique the backend can do; one asked for by name is reported unsupported)")
+      ->default_str(join(m.techniques, named));
+  list_option(r, "--filter", m.filters, [](const std::string& s) { return parse_enum<Filter>(s); }, named,
+              "comma list: " + valid_values<Filter>());
+  list_option(r, "--storage", m.storages, [](const std::string& s) { return parse_enum<Storage>(s); }, named,
+              "comma list: " + valid_values<Storage>());
+  list_option(r, "--depth-format", m.depth_formats, [](const std::string& s) { return parse_enum<DepthFormat>(s); },
+              named, "comma list: " + valid_values<DepthFormat>());
+  list_option(r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
+              [](const Optimizations& o) { return to_string(o); },
+              "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "
+              "cleared only), fit (far plane fitted to the scene), cache (static cube not re-rendered): "
+              "--optimize none,cull measures culling on and off");
+  list_option(r, "--remedy", m.remedies, [](const std::string& s) { return parse_remedies(s); },
+              [](const Remedies& o) { return to_string(o); },
+              "comma list of numerical remedies, each none or a '+' join of rebase (scene loaded relative to its "
+              "light in double precision), bias0, slope_bias (max(0.05 (1 - n.l), 0.005), docs/glossary.md), "
+              "normal_offset (lookup 1.5 texels along the normal), two_sided (casters without back-face culling)");
+  list_option(r, "--pcf-scale", m.pcf_scales, parse_pcf_scale, [](float v) { return std::to_string(int(v)); },
+              "comma list of PCF radius scales (0 to 100; 1 = the reference kernels, 0 = one direction)");
+}
+
+void add_frame_options(CLI::App& r, RunOptions& o) {
+  r.add_option("--out", o.out_dir, "output folder (must not hold a run already); default results/run-<time>");
+  r.add_option("--frames", o.frames, "timed frames per repetition")->capture_default_str()->check(
+      CLI::Range(1, 1000000));
+  r.add_option("--warmup", o.warmup_frames, "untimed warm-up frames per repetition")->capture_default_str()->check(
+      CLI::Range(0, 1000000));
+  r.add_option("--check-frame", o.check_frame, "frame index whose images are written and compared")
+      ->capture_default_str()->check(CLI::Range(0, 100000000));
+  r.add_flag("--stability", o.stability,
+             "also render the check frame + 1 and report how much of the shadow factor changed (flicker)");
+}
+
+void add_check_options(CLI::App& r, RunOptions& o) {
+  r.add_option("--face-tolerance", o.face_tolerance, "allowed |difference| of cube texels, world units")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e30));
+  r.add_option("--lit-tolerance", o.lit_tolerance, "allowed |difference| of lit pixels, 8-bit levels")
+      ->capture_default_str()->check(CLI::Range(0.0, 255.0));
+  r.add_option("--cross-lit-tolerance", o.cross_lit_tolerance,
+               "across backends: allowed |difference| of lit pixels, 8-bit levels")
+      ->capture_default_str()->check(CLI::Range(0.0, 255.0));
+  r.add_option("--cross-shadow-tolerance", o.cross_shadow_tolerance,
+               "across backends: allowed |difference| of shadow factors")
+      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  r.add_option("--cross-max-percent", o.cross_max_percent, "across backends: % of values allowed beyond those tolerances")
+      ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+  r.add_option("--light-radius", o.truth.light_radius,
+               "radius of the spherical light of the soft reference, world units (0: point light only)")
+      ->capture_default_str()->check(CLI::Range(0.0f, 1e6f));
+  r.add_option("--light-samples", o.truth.samples_per_axis,
+               "stratified samples per axis on that light (8 = 64 rays per pixel)")
+      ->capture_default_str()->check(CLI::Range(1, 64));
+  r.add_option("--sphere-stride", o.truth.sphere_stride,
+               "cast the soft reference at every Nth pixel in x and y (0: every pixel up to 800x600 pixels, above "
+               "that the stride that brings it under; mae_sphere/psnr_sphere are means over those pixels)")
+      ->capture_default_str()->check(CLI::Range(0, 64));
+  r.add_option("--max-error", o.max_error_percent,
+               "fail a case (failed_quality, error in the reason) whose shadow disagrees with exact visibility on "
+               "more than this % of pixels")
+      ->check(CLI::Range(0.0, 100.0));
+}
+
+// Repetitions run in rounds (bench/run/repetition_policy.h); the fixed count stays Google Benchmark's flag
+// --benchmark_repetitions=N, read in finish_run_options.
+void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
+  r.add_option("--precision", p.precision_percent,
+               "repeat each case (in rounds, interleaved with the others) until the 95% confidence interval of its "
+               "median per-repetition frame time is within +-P% (at least 6 repetitions; at most "
+               "--max-repetitions)")
+      ->check(CLI::Range(0.01, 100.0));
+  r.add_option_function<std::string>(
+       "--precision-metric", [&p](const std::string& m) { p.cpu_metric = m == "cpu"; },
+       "what --precision judges: wall (frame wall time) or cpu (process CPU time per frame; compare --metric cpu)")
+      ->check(CLI::IsMember({"wall", "cpu"}))->default_str("wall");
+  r.add_option("--max-repetitions", p.max_repetitions, "the cap on repetitions per case under --precision")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  r.add_option("--sustain", p.sustain_seconds,
+               "loop the matrix in rounds for this many seconds and report each case's worst repetition against "
+               "its best (stability %; clocks recorded per repetition)")
+      ->check(CLI::Range(1.0, 7.0 * 24 * 3600));
+}
+
+}  // namespace
+
+std::map<std::string, std::string> CommonOptions::backend_options() const {
+  return {{"egl_platform", egl_platform}, {"gl_device", gl_device}, {"vk_device", vk_device},
+          {"api_checks", api_checks ? "1" : "0"}};
+}
+
+void add_common_options(CLI::App& sub, CommonOptions& o) {
+  sub.add_option("--scenes-dir", o.scenes_dir, "folder holding <scene>.json files")->capture_default_str();
+  sub.add_option("--egl-platform", o.egl_platform, "surfaceless (Mesa) or device (EGL_EXT_platform_device)")
+      ->capture_default_str();
+  sub.add_option("--gl-device", o.gl_device, "EGL device index with --egl-platform device")->capture_default_str();
+  sub.add_option("--vk-device", o.vk_device, "Vulkan device: index or part of its name (default: device 0)");
+  sub.add_flag("--api-checks", o.api_checks,
+               "checking mode: GL debug context / Vulkan validation layer; any API error or validation message "
+               "fails its case (slower: not for timing)");
+}
+
+void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
+  add_matrix_options(r, run.matrix);
+  add_frame_options(r, run.harness);
+  add_check_options(r, run.harness);
+  r.add_option_function<std::string>(
+       "--inject-fragment-work",
+       [&run](const std::string& t) {
+         run.matrix.injected_work = parse_list_with(t, "--inject-fragment-work", [](const std::string& item) {
+           size_t used = 0;
+           int v = -1;
+           try {
+             v = std::stoi(item, &used);
+           } catch (const std::exception&) {
+             used = 0;
+           }
+           if (used != item.size() || v < 0 || v > 1000000)
+             throw std::invalid_argument("'" + item + "' is not a whole number from 0 to 1000000");
+           return v;
+         });
+         std::vector<int> sorted = run.matrix.injected_work;
+         std::sort(sorted.begin(), sorted.end());
+         if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+           throw std::invalid_argument("--inject-fragment-work: a value is given twice");
+       },
+       "sensitivity experiments only: N extra dependent ALU steps per lighting fragment; a comma list makes it an "
+       "axis (case ids end in /inj<N>)")
+      ->default_str("0");
+  r.add_option("--replicas", run.matrix.replicas,
+               "sensitivity experiments only: measure K copies of every case in the same rounds (ids end in /rep<k>): "
+               "a same-run A/A test of the timing noise")
+      ->capture_default_str()->check(CLI::Range(1, 16));
+  r.add_flag("--no-accuracy", flags.no_accuracy, "skip the shadow error against the ray-cast reference");
+  r.add_flag("--no-memory-precheck", flags.no_memory_precheck,
+             "allocate even when a case is predicted not to fit (tests the driver's own out-of-memory path)");
+  r.add_option("--images", flags.images,
+               "image files: failed (every case's PNGs; float buffers and diffs of cases that failed a check), "
+               "all (every file for every case), none")
+      ->capture_default_str()->check(CLI::IsMember({"failed", "all", "none"}));
+  r.add_flag("--no-images", flags.no_images, "the same as --images none");
+  r.add_option("--cube-read-back", flags.cube_read_back,
+               "how much of each cube comes back to the host for the checks: auto (in full up to 1024 a face edge "
+               "or with --images all; above, the GPU's face hashes and check grid, in full only where hashes differ "
+               "from six_pass's), full, sampled")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "full", "sampled"}));
+  r.add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
+  r.add_option("--shard", flags.shard, "i/N: run the i-th of N deterministic slices of the matrix (0-based); auto: from the CI engine's "
+               "variables (GitLab parallel, Slurm arrays, Kubernetes indexed jobs, OMNISHADOW_SHARD_INDEX/COUNT)");
+  add_repetition_options(r, run.repetitions);
+}
+
+void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOptions& common) {
+  if (flags.shard == "auto") {
+    ShardFromEnvironment s = shard_from_environment([](const char* name) { return std::getenv(name); });
+    run.shard_index = s.index;
+    run.shard_count = s.count;
+    std::fprintf(stderr, "omnishadow: --shard auto: %s\n", s.source.c_str());
+  } else if (!flags.shard.empty()) {
+    int consumed = 0;
+    if (std::sscanf(flags.shard.c_str(), "%d/%d%n", &run.shard_index, &run.shard_count, &consumed) != 2 ||
+        consumed != static_cast<int>(flags.shard.size()) || run.shard_count < 1 || run.shard_index < 0 ||
+        run.shard_index >= run.shard_count)
+      throw std::invalid_argument("--shard: expected i/N with 0 <= i < N, got '" + flags.shard + "'");
+  }
+  for (const std::string& a : run.benchmark_args) {
+    if (a.rfind("--benchmark_out", 0) == 0)
+      throw std::invalid_argument(a + ": omnishadow writes results.json itself; choose the folder with --out");
+    if (a.rfind("--benchmark_repetitions=", 0) == 0) {
+      const std::string value = a.substr(24);
+      size_t used = 0;
+      int n = 0;
+      try {
+        n = std::stoi(value, &used);
+      } catch (const std::exception&) {
+      }
+      if (used != value.size() || n < 1 || n > 100000)
+        throw std::invalid_argument("--benchmark_repetitions: expected a count from 1 to 100000, got '" + value + "'");
+      run.repetitions.repetitions = n;
+    }
+  }
+  if (run.repetitions.precision_percent > 0.0 && run.repetitions.sustain_seconds > 0.0)
+    throw std::invalid_argument("--precision and --sustain: choose one (sustain loops for a time, precision until "
+                                "the interval is narrow enough)");
+  using Policy = RunOptions::ImagePolicy;
+  run.harness.images = flags.no_images || flags.images == "none" ? Policy::none
+                       : flags.images == "all"                   ? Policy::all
+                                                                 : Policy::failed;
+  using ReadBack = RunOptions::CubeReadBackPolicy;
+  run.harness.cube_read_back = flags.cube_read_back == "full"      ? ReadBack::full
+                               : flags.cube_read_back == "sampled" ? ReadBack::sampled
+                                                                   : ReadBack::automatic;
+  run.harness.accuracy = !flags.no_accuracy;
+  run.harness.memory_precheck = !flags.no_memory_precheck;
+  run.harness.scenes_dir = common.scenes_dir;
+  run.harness.backend_options = common.backend_options();
+}
+
+void add_compare_options(CLI::App& cmp, CompareOptions& compare, CompareFlags& flags) {
+  cmp.add_option("base", flags.base_run, "baseline run folder or results.json")->required();
+  cmp.add_option("new", flags.new_run, "new run folder or results.json")->required();
+  cmp.add_option("--alpha", compare.alpha, "family-wise significance level (Holm-corrected)")
+      ->capture_default_str()->check(CLI::Range(1e-9, 0.5));
+  cmp.add_option("--min-effect", compare.min_effect, "smallest relative time change reported (0.05 = 5%)")
+      ->capture_default_str()->check(CLI::Range(0.0, 10.0));
+  cmp.add_option("--metric", compare.metric,
+                 "time to test: wall (frame wall time) or cpu (process CPU time per frame, all threads: the work "
+                 "itself on CPU drivers, less disturbed by other load)")
+      ->capture_default_str()->check(CLI::IsMember({"wall", "cpu"}));
+  cmp.add_option("--gate", flags.gate,
+                 "take --metric, --alpha and --min-effect from this gate file (results/baselines/<key>/gate.json, "
+                 "written by scripts/experiments/sensitivity.py --write-gate); overrides those options");
+  cmp.add_option("--out", compare.out_dir, "folder for summary.md and diffs/ (default NEW/compare)");
+  cmp.add_flag("--no-timing", flags.no_timing, "compare work counters and images only");
+  cmp.add_flag("--timing-report-only", flags.timing_report_only,
+               "report timing verdicts but fail (exit 1) on work and image changes only");
+  cmp.add_flag("--allow-device-mismatch", compare.allow_device_mismatch, "compare runs from different devices anyway");
+}
+
+}  // namespace omnishadow::bench

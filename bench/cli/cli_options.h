@@ -1,0 +1,49 @@
+#pragma once
+// The command line, declared once: each option is bound straight to the structure that uses it (MatrixSpec,
+// RunOptions, RunCommand, CompareOptions), with that structure's default as its default. main() only dispatches.
+
+#include <CLI/CLI.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench/cli/commands.h"
+#include "bench/results/compare.h"
+
+namespace omnishadow::bench {
+
+// Options every subcommand that brings up a backend takes.
+struct CommonOptions {
+  std::string scenes_dir;
+  std::string egl_platform = "surfaceless";
+  std::string gl_device = "0";
+  std::string vk_device;
+  bool api_checks = false;
+  std::map<std::string, std::string> backend_options() const;  // create_backend's options
+};
+void add_common_options(CLI::App& sub, CommonOptions& o);
+
+// `run`: the matrix axes, the harness options and the command's own. Flags that are the negation of a default
+// (--no-accuracy, ...) land in RunFlags and are applied by finish_run_options.
+struct RunFlags {
+  std::string images = "failed";
+  std::string cube_read_back = "auto";
+  bool no_images = false;
+  bool no_accuracy = false;
+  bool no_memory_precheck = false;
+  std::string shard;
+};
+void add_run_options(CLI::App& sub, RunCommand& run, RunFlags& flags);
+// Applies the flags and checks what CLI11 cannot (shard syntax, --benchmark_out); throws std::invalid_argument.
+void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOptions& common);
+
+struct CompareFlags {
+  std::string base_run, new_run;
+  std::string gate;  // --gate FILE
+  bool no_timing = false;
+  bool timing_report_only = false;
+};
+void add_compare_options(CLI::App& sub, CompareOptions& compare, CompareFlags& flags);
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,396 @@
+#include "bench/cli/commands.h"
+
+#include <benchmark/benchmark.h>
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <regex>
+
+#include "backends/vulkan/vk_context.h"
+#include "bench/run/case_runner.h"
+#include "bench/results/file_io.h"
+#include "bench/run/gbench_glue.h"
+#include "bench/results/results_reader.h"
+#include "bench/results/results_writer.h"
+#include "bench/results/summary_table.h"
+
+namespace omnishadow::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Set by SIGINT/SIGTERM: the run finishes the case in hand, saves what finished and exits 128 + signal.
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void request_stop(int signal_number) { g_stop_signal = signal_number; }
+
+std::string default_out_dir() {
+  std::time_t now = std::time(nullptr);
+  char buf[64];
+  std::strftime(buf, sizeof buf, "results/run-%Y%m%d-%H%M%S", std::gmtime(&now));
+  return buf;
+}
+
+// --benchmark_filter semantics of Google Benchmark 1.7: an extended regex searched in the name, negated by
+// a leading '-'. Applied to the untimed part too, so that both parts run the same cases.
+std::vector<CaseConfig> apply_benchmark_filter(const std::vector<CaseConfig>& cases,
+                                               const std::vector<std::string>& benchmark_args) {
+  std::string filter;
+  for (const std::string& a : benchmark_args)
+    if (a.rfind("--benchmark_filter=", 0) == 0) filter = a.substr(19);
+  if (filter.empty() || filter == "all" || filter == ".") return cases;
+  bool negate = filter[0] == '-';
+  std::regex re;
+  try {
+    re = std::regex(negate ? filter.substr(1) : filter, std::regex::extended);
+  } catch (const std::regex_error& e) {
+    throw std::invalid_argument("--benchmark_filter: invalid regular expression '" + filter + "'");
+  }
+  std::vector<CaseConfig> out;
+  for (const CaseConfig& c : cases)
+    if (std::regex_search(c.id(), re) != negate) out.push_back(c);
+  return out;
+}
+
+// Refuses to clobber an earlier run; creates the folder and proves it is writable.
+void prepare_out_dir(const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw std::invalid_argument("--out " + dir + " exists and is not a folder");
+  if (fs::exists(fs::path(dir) / "results.json", ec))
+    throw std::invalid_argument("--out " + dir + " already holds a run (results.json); choose a new folder");
+  fs::create_directories(dir, ec);
+  if (ec) throw std::invalid_argument("--out " + dir + ": cannot create folder: " + ec.message());
+  try {
+    write_file_atomic((fs::path(dir) / ".write_test").string(), "ok");
+    fs::remove(fs::path(dir) / ".write_test", ec);
+  } catch (const std::exception&) {
+    throw std::invalid_argument("--out " + dir + ": folder is not writable");
+  }
+}
+
+}  // namespace
+
+void print_error(const std::string& message) {
+  std::string line = message.substr(0, message.find('\n'));
+  std::fprintf(stderr, "omnishadow: error: %s\n", line.c_str());
+}
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The default matrix asks every backend for every technique; one that a backend cannot do at all (GL and
+// multiview here) is left out of that backend's cases, with one line saying so, instead of a line per case.
+std::vector<CaseConfig> drop_techniques_a_backend_cannot_do(const std::vector<CaseConfig>& cases, Harness& harness) {
+  std::map<std::pair<std::string, Technique>, Support> verdicts;
+  std::vector<CaseConfig> kept;
+  for (const CaseConfig& c : cases) {
+    auto key = std::make_pair(c.backend, c.technique);
+    if (!verdicts.count(key)) {
+      CaseConfig probe;  // the technique alone: default storage, filter and sizes
+      probe.backend = c.backend;
+      probe.technique = c.technique;
+      probe.cube_size = 64;
+      Support s = harness.backend(c.backend).supports(probe);
+      if (!s.ok)
+        std::fprintf(stderr, "omnishadow: %s left out on %s (not asked for by name): %s\n",
+                     std::string(to_string(c.technique)).c_str(), c.backend.c_str(), s.reason.c_str());
+      verdicts[key] = s;
+    }
+    if (verdicts[key].ok) kept.push_back(c);
+  }
+  return kept;
+}
+
+// Everything that can be wrong with the request, found before anything runs: scenes load, backends come up,
+// sizes fit the devices, the matrix is not empty. Throws std::invalid_argument (or the loaders' errors).
+std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness, RunInfo& info) {
+  std::map<std::string, std::pair<int, int>> scene_sizes;
+  for (const std::string& name : cmd.matrix.scenes) {
+    const scene::Scene& s = harness.scene(name);
+    scene_sizes[name] = {s.camera.width, s.camera.height};
+  }
+  for (const std::string& name : cmd.matrix.backends) {
+    Backend& b = harness.backend(name);
+    info.devices[name] = b.device();
+    for (int size : cmd.matrix.cube_sizes)
+      if (size > b.device().max_cube_size)
+        throw std::invalid_argument("--cube " + std::to_string(size) + " is above the largest cube map " +
+                                    b.device().renderer + " supports (" + std::to_string(b.device().max_cube_size) +
+                                    ")");
+    int max_2d = std::stoi(b.device().extra.count("max_2d_size") ? b.device().extra.at("max_2d_size") : "16384");
+    for (const auto& [w, h] : cmd.matrix.frame_sizes)
+      if (w > max_2d || h > max_2d)
+        throw std::invalid_argument("--frame " + std::to_string(w) + "x" + std::to_string(h) +
+                                    " is above the largest render target " + b.device().renderer + " supports (" +
+                                    std::to_string(max_2d) + ")");
+  }
+  std::vector<CaseConfig> cases = expand(cmd.matrix, scene_sizes);
+  if (!cmd.matrix.techniques_given) cases = drop_techniques_a_backend_cannot_do(cases, harness);
+  cases = shard(cases, cmd.shard_index, cmd.shard_count);
+  cases = apply_benchmark_filter(cases, cmd.benchmark_args);
+  if (cases.empty()) throw std::invalid_argument("the matrix (after --shard and --benchmark_filter) is empty");
+  prepare_out_dir(harness.options().out_dir);
+  return cases;
+}
+
+// One run in progress: its results so far, saved atomically after every step so that nothing measured is lost.
+struct RunState {
+  RunInfo info;
+  std::vector<CaseResult> results;
+  size_t prepared = 0;  // results[0, prepared) hold finished cases; the rest are not written
+  std::string results_path;
+  std::vector<std::string> benchmark_argv;  // Google Benchmark's argv: it keeps pointers into it
+
+  void save(const nlohmann::json& gbench, bool complete) {
+    try {
+      std::vector<CaseResult> finished(results.begin(), results.begin() + static_cast<ptrdiff_t>(prepared));
+      write_results(results_path, info, finished, gbench, complete);
+    } catch (const std::exception& e) {
+      print_error(std::string("saving results: ") + e.what());
+    }
+  }
+  bool stopped() {
+    if (!g_stop_signal) return false;
+    info.stopped_by = g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM";
+    return true;
+  }
+};
+
+// The untimed part: check frames, read-backs, checks, work counters and images, in matrix order.
+void run_untimed(Harness& harness, const std::vector<CaseConfig>& cases, RunState& run) {
+  auto start = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < cases.size() && !run.stopped(); ++i) {
+    CaseResult& r = run.results[i];
+    r.config = cases[i];
+    harness.prepare(r);
+    run.prepared = i + 1;
+    double elapsed = seconds_since(start);
+    std::string error;
+    if (r.accuracy) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, " [misclassified %.3f%%, mae %.4f]", r.accuracy->misclassified_percent,
+                    r.accuracy->mae_point);
+      error = buf;
+    }
+    std::fprintf(stderr, "[check %zu/%zu] %s: %s%s%s%s  (elapsed %.0fs, eta %.0fs)\n", i + 1, cases.size(),
+                 cases[i].id().c_str(), std::string(to_string(r.status)).c_str(), error.c_str(),
+                 r.reason.empty() ? "" : " - ", r.reason.c_str(), elapsed,
+                 elapsed / static_cast<double>(i + 1) * static_cast<double>(cases.size() - i - 1));
+    run.save(nullptr, false);
+  }
+  // Every image file is written before anything is timed; a file that could not be written fails its case.
+  for (const auto& [id, message] : harness.drain_writes())
+    for (CaseResult& r : run.results)
+      if (r.config.id() == id) r.add({Status::failed, "images", "writing images: " + message, {}});
+  run.info.phases.untimed_seconds = seconds_since(start);
+  run.save(nullptr, false);
+}
+
+// Google Benchmark takes its own flags; ours are gone by now. Returns false (after the error line) on a flag it
+// does not know. It keeps pointers into its argv (the executable's name in the JSON context): `gb_args` must
+// outlive the run.
+bool init_benchmark(const RunCommand& cmd, const RunInfo& info,
+                    std::vector<std::string>& gb_args) {
+  gb_args = {"omnishadow"};
+  // The repetitions are the policy's (rounds), not Google Benchmark's; its JSON is written from the rounds' runs.
+  for (const std::string& a : cmd.benchmark_args)
+    if (a.rfind("--benchmark_repetitions=", 0) != 0) gb_args.push_back(a);
+  std::vector<char*> gb_argv;
+  for (std::string& a : gb_args) gb_argv.push_back(a.data());
+  int gb_argc = static_cast<int>(gb_argv.size());
+  benchmark::Initialize(&gb_argc, gb_argv.data());
+  if (gb_argc > 1) {
+    print_error(std::string("unknown Google Benchmark flag ") + gb_argv[1]);
+    return false;
+  }
+  for (const auto& [name, d] : info.devices) {
+    benchmark::AddCustomContext(name + "_renderer", d.renderer);
+    benchmark::AddCustomContext(name + "_version", d.version);
+    benchmark::AddCustomContext(name + "_platform", d.platform);
+  }
+  benchmark::AddCustomContext("omnishadow_commit", OMNISHADOW_COMMIT);
+  const char* threads = std::getenv("LP_NUM_THREADS");
+  benchmark::AddCustomContext("LP_NUM_THREADS", threads ? threads : "unset");
+  return true;
+}
+
+// results.json with Google Benchmark's figures, summary.md, and the summary on stdout.
+void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
+  nlohmann::json gbench;
+  try {
+    gbench = parse_gbench_json(read_file(raw_path));
+    fs::remove(raw_path);
+  } catch (const std::exception& e) {
+    print_error(std::string("reading Google Benchmark's output: ") + e.what());
+  }
+  run.save(gbench, complete);
+  std::string summary = summary_markdown(run.results, run.info.phases, run.info.repetitions);
+  try {
+    write_file_atomic((fs::path(run.info.options.out_dir) / "summary.md").string(), summary);
+  } catch (const std::exception& e) {
+    print_error(e.what());
+  }
+  std::cout << "\n" << summary << "\nresults: " << run.results_path << "\n";
+}
+
+}  // namespace
+
+int run_command(const RunCommand& cmd) {
+  RunOptions options = cmd.harness;
+  if (options.out_dir.empty()) options.out_dir = default_out_dir();
+  options.async_images = true;  // drained at the end of the untimed part
+  Harness harness(options);
+  RunState run;
+  run.info.command_line = cmd.command_line;
+  run.info.options = options;
+  run.info.repetitions = cmd.repetitions;
+  run.results_path = (fs::path(options.out_dir) / "results.json").string();
+  std::vector<CaseConfig> cases;
+  try {
+    cases = validate_request(cmd, harness, run.info);
+  } catch (const std::exception& e) {
+    print_error(e.what());
+    return 2;
+  }
+  run.results.resize(cases.size());
+  g_stop_signal = 0;
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+
+  run_untimed(harness, cases, run);
+  if (run.stopped()) {
+    run.results.resize(run.prepared);
+    run.save(nullptr, false);
+    std::fprintf(stderr, "omnishadow: stopped by %s after %zu of %zu cases; %s holds them\n",
+                 run.info.stopped_by.c_str(), run.prepared, cases.size(), run.results_path.c_str());
+    return 128 + static_cast<int>(g_stop_signal);
+  }
+
+  const std::string raw_path = (fs::path(options.out_dir) / ".gbench_raw.json").string();
+  if (!init_benchmark(cmd, run.info, run.benchmark_argv)) return 2;
+  auto timed_start = std::chrono::steady_clock::now();
+  try {
+    run.info.repetitions.compared_cases = compared_cases(run.results);
+    run_timed(harness, run.results, run.info.repetitions, raw_path, [&] { run.save(nullptr, false); },
+              [&] { return run.stopped(); });
+  } catch (const std::exception& e) {
+    print_error(std::string("writing Google Benchmark's output: ") + e.what());
+  }
+  run.info.phases.timed_seconds = seconds_since(timed_start);
+
+  const bool interrupted = run.stopped();
+  write_outputs(run, raw_path, !interrupted);
+  if (interrupted) {
+    std::fprintf(stderr, "omnishadow: stopped by %s; cases not timed are marked interrupted in %s\n",
+                 run.info.stopped_by.c_str(), run.results_path.c_str());
+    return 128 + static_cast<int>(g_stop_signal);
+  }
+  if (cmd.check)
+    for (const CaseResult& r : run.results)
+      if (fails_run(r.status)) return 1;
+  return 0;
+}
+
+int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out) {
+  const std::string python = "/usr/bin/python3";
+  const std::string script = std::string(OMNISHADOW_SOURCE_DIR) + "/scripts/analysis/report.py";
+  std::error_code ec;
+  if (!fs::exists(python, ec) || !fs::exists(script, ec)) {
+    print_error("report needs " + python + " and " + script + " (scripts/setup.sh installs Python's packages)");
+    return 2;
+  }
+  std::vector<std::string> args = {python, script, run};
+  if (!history.empty()) {
+    args.push_back("--history");
+    args.insert(args.end(), history.begin(), history.end());
+  }
+  if (!out.empty()) args.insert(args.end(), {"--out", out});
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::fflush(stdout);
+  execv(python.c_str(), argv.data());
+  print_error("report: cannot run " + python + ": " + std::strerror(errno));
+  return 2;
+}
+
+int list_command(const std::string& scenes_dir, const std::map<std::string, std::string>& backend_options) {
+  std::cout << "backends:\n";
+  RunOptions options;
+  options.scenes_dir = scenes_dir;
+  options.backend_options = backend_options;
+  Harness harness(options);
+  std::vector<std::string> available;
+  for (const std::string& name : backend_names()) {
+    try {
+      const DeviceInfo& d = harness.backend(name).device();
+      std::cout << "  " << name << ": " << d.renderer << " | " << d.version << " | " << d.platform
+                << " | max cube " << d.max_cube_size << "\n";
+      available.push_back(name);
+    } catch (const std::exception& e) {
+      std::cout << "  " << name << ": unavailable: " << e.what() << "\n";
+    }
+  }
+  try {
+    std::cout << "vulkan devices (--vk-device):\n";
+    for (const auto& d : vk::VkContext::list_devices())
+      std::cout << "  " << d.index << ": " << d.name << " | " << d.type << " | Vulkan " << d.api_version << " | "
+                << d.driver << "\n";
+  } catch (const std::exception& e) {
+    std::cout << "  none: " << e.what() << "\n";
+  }
+  std::cout << "scenes (" << scenes_dir << "):\n";
+  std::error_code ec;
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(scenes_dir, ec))
+    if (entry.path().extension() == ".json") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& f : files) {
+    try {
+      const scene::Scene& s = harness.scene(f.stem().string());
+      std::cout << "  " << f.stem().string() << ": " << s.triangle_count() << " triangles, " << s.objects.size()
+                << " objects, frame " << s.camera.width << "x" << s.camera.height << "\n";
+    } catch (const std::exception& e) {
+      std::cout << "  " << f.stem().string() << ": invalid: " << e.what() << "\n";
+    }
+  }
+  std::cout << "techniques: " << valid_values<Technique>() << "\n";
+  std::cout << "filters: " << valid_values<Filter>() << "\n";
+  std::cout << "storages: " << valid_values<Storage>() << "\n";
+  std::cout << "depth formats: " << valid_values<DepthFormat>() << "\n";
+  for (const std::string& name : available) {
+    std::cout << "unsupported on " << name << ":";
+    Backend& b = harness.backend(name);
+    int count = 0;
+    for (Technique t : all_values<Technique>())
+      for (Storage s : all_values<Storage>())
+        for (Filter f : all_values<Filter>()) {
+          CaseConfig c;
+          c.backend = name;
+          c.technique = t;
+          c.storage = s;
+          c.filter = f;
+          Support support = b.supports(c);
+          if (!support.ok) {
+            std::cout << "\n  " << to_string(t) << " + " << to_string(s) << " + " << to_string(f) << ": "
+                      << support.reason;
+            ++count;
+          }
+        }
+    std::cout << (count ? "\n" : " nothing\n");
+  }
+  return 0;
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,38 @@
+#pragma once
+// The subcommands of the omnishadow CLI. Each returns the process exit code:
+// 0 success, 1 a check failed (run --check), 2 usage or input error.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench/run/case_runner.h"
+#include "bench/run/matrix.h"
+#include "bench/run/repetition_policy.h"
+
+namespace omnishadow::bench {
+
+// A `run` request: the matrix, the harness's own options (bound by the CLI straight to RunOptions), and what
+// only the command uses.
+struct RunCommand {
+  MatrixSpec matrix;
+  RunOptions harness;          // out_dir empty: results/run-<time>
+  bool check = false;          // exit 1 if any case failed or failed its checks
+  int shard_index = 0;
+  int shard_count = 1;
+  RepetitionPolicy repetitions;  // --benchmark_repetitions, --precision, --max-repetitions, --sustain
+  std::vector<std::string> benchmark_args;  // --benchmark_* flags, passed to Google Benchmark
+  std::string command_line;
+};
+
+int run_command(const RunCommand& cmd);
+int list_command(const std::string& scenes_dir, const std::map<std::string, std::string>& backend_options);
+
+// `report RUN [--history ...] [--out FILE]`: scripts/analysis/report.py (the HTML page is written with matplotlib, in Python),
+// run with Debian's /usr/bin/python3 in place of this process. Exit 2 when either is missing.
+int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out);
+
+// One line on stderr, "omnishadow: error: ...".
+void print_error(const std::string& message);
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,109 @@
+// omnishadow: benchmark and profiling harness for omnidirectional (cube-map) shadow mapping.
+// `omnishadow list` shows what this machine can run; `omnishadow run ...` runs a matrix. See README.md.
+// The options are declared in bench/cli/cli_options.cpp; this file only splits the arguments and dispatches.
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bench/cli/cli_options.h"
+#include "bench/cli/commands.h"
+#include "bench/results/compare.h"
+#include "bench/results/merge.h"
+
+using namespace omnishadow;
+using namespace omnishadow::bench;
+
+namespace {
+
+// compare, merge and device-key read results files only.
+int run_file_command(CLI::App* cmp, CLI::App* mrg, const CompareFlags& cf, CompareOptions compare,
+                     const std::string& merge_out, const std::vector<std::string>& merge_inputs,
+                     const std::string& key_run) {
+  try {
+    if (cmp->parsed()) {
+      if (!cf.gate.empty()) apply_gate_file(cf.gate, compare);
+      compare.timing = !cf.no_timing;
+      compare.timing_fails = !cf.timing_report_only;
+      return compare_command(cf.base_run, cf.new_run, compare);
+    }
+    if (mrg->parsed()) {
+      merge_runs(merge_out, merge_inputs);
+      std::cout << "merged " << merge_inputs.size() << " runs into " << merge_out << "/results.json\n";
+      return 0;
+    }
+    for (const auto& [backend, device] : device_keys(load_run(key_run))) std::cout << device << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    print_error(e.what());
+    return 2;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Google Benchmark's flags go to Google Benchmark; everything else is ours.
+  RunCommand run;
+  std::vector<std::string> ours;
+  run.command_line = argv[0];
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    run.command_line += " " + a;
+    (a.rfind("--benchmark_", 0) == 0 ? run.benchmark_args : ours).push_back(a);
+  }
+
+  CLI::App app{"omnishadow: benchmark harness for point-light (cube-map) shadow mapping"};
+  app.require_subcommand(1);
+  CommonOptions common;
+  common.scenes_dir = OMNISHADOW_SCENES_DIR;
+  CLI::App* list = app.add_subcommand("list", "backends, scenes, techniques, filters and what this machine supports");
+  add_common_options(*list, common);
+  RunFlags run_flags;
+  CLI::App* r = app.add_subcommand("run", "run a benchmark matrix (Google Benchmark --benchmark_* flags apply)");
+  add_common_options(*r, common);
+  add_run_options(*r, run, run_flags);
+  CompareOptions compare;
+  CompareFlags compare_flags;
+  add_compare_options(*app.add_subcommand("compare", "compare two runs: timing (U-test), work counters, images"),
+                      compare, compare_flags);
+  std::string merge_out, key_run;
+  std::vector<std::string> merge_inputs;
+  CLI::App* mrg = app.add_subcommand("merge", "join the results of --shard runs into one run");
+  mrg->add_option("out", merge_out, "folder for the merged results.json")->required();
+  mrg->add_option("runs", merge_inputs, "run folders or results.json files")->required();
+  std::string report_run, report_out;
+  std::vector<std::string> report_history;
+  CLI::App* rep = app.add_subcommand("report", "one self-contained HTML page of a run (and its history)");
+  rep->add_option("run", report_run, "run folder")->required();
+  rep->add_option("--history", report_history, "run folders (or folders of runs) of the same device, any order");
+  rep->add_option("--out", report_out, "the HTML file (default RUN/report.html)");
+  CLI::App* key = app.add_subcommand("device-key", "print the device key of each backend of a run (baselines/)");
+  key->add_option("run", key_run, "run folder or results.json")->required();
+
+  try {
+    std::vector<std::string> reversed(ours.rbegin(), ours.rend());  // CLI11 parses a reversed vector
+    app.parse(reversed);
+    if (!r->parsed() && !run.benchmark_args.empty())
+      throw std::invalid_argument(run.benchmark_args.front() + " applies to 'run' only");
+    if (r->parsed()) finish_run_options(run, run_flags, common);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    print_error(e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {  // a list option's parser, or finish_run_options
+    print_error(e.what());
+    return 2;
+  }
+  if (list->parsed()) return list_command(common.scenes_dir, common.backend_options());
+  if (r->parsed()) return run_command(run);
+  if (rep->parsed()) return report_command(report_run, report_history, report_out);
+  return run_file_command(app.get_subcommand("compare"), mrg, compare_flags, compare, merge_out, merge_inputs,
+                          key_run);
+}

@@ -1,0 +1,339 @@
+#include "bench/results/compare.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "bench/results/file_io.h"
+#include "bench/truth/image_compare.h"
+#include "bench/results/image_io.h"
+#include "bench/results/results_writer.h"
+#include "bench/results/statistics.h"
+
+namespace omnishadow::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string slug(std::string s) {
+  std::string out;
+  for (char c : s) {
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.') out += c;
+    else if (!out.empty() && out.back() != '-') out += '-';
+  }
+  while (!out.empty() && out.back() == '-') out.pop_back();
+  return out;
+}
+
+void compare_counters(const json& base, const json& fresh, CaseComparison& out) {
+  for (const char* pass : {"shadow", "lighting"}) {
+    if (!base.contains(pass) || !fresh.contains(pass)) continue;
+    const json &b = base[pass], &n = fresh[pass];
+    if (!b.value("valid", false) || !n.value("valid", false)) continue;
+    for (const auto& [field, value] : b.items()) {
+      if (field == "valid" || !n.contains(field) || n[field] == value) continue;
+      out.work_changes.push_back(std::string(pass) + " " + field + " " + value.dump() + " -> " + n[field].dump());
+    }
+  }
+}
+
+std::string file_digest(const std::string& path) {
+  std::string bytes = read_file(path);
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  return std::to_string(h) + ":" + std::to_string(bytes.size());
+}
+
+// One image role of a case: identical bytes pass at once; otherwise decode, measure and draw a diff.
+void compare_image(const RunData& base, const RunData& fresh, const json& bc, const json& nc, const std::string& role,
+                   const fs::path& diff_dir, CaseComparison& out) {
+  if (!bc.contains("images") || !nc.contains("images") || !bc["images"].contains(role) ||
+      !nc["images"].contains(role))
+    return;
+  std::string bp = (fs::path(base.dir) / bc["images"][role].get<std::string>()).string();
+  std::string np = (fs::path(fresh.dir) / nc["images"][role].get<std::string>()).string();
+  if (!fs::exists(bp) || !fs::exists(np)) {
+    out.image_changes.push_back(role + ": image missing (" + (fs::exists(bp) ? np : bp) + ")");
+    return;
+  }
+  if (file_digest(bp) == file_digest(np)) return;
+  std::vector<float> a, b, grey;
+  int w = 0, h = 0;
+  bool flip = false;
+  if (bp.ends_with(".pfm")) {
+    FloatImage x = read_pfm(bp), y = read_pfm(np);
+    if (x.width != y.width || x.height != y.height || x.channels != y.channels) {
+      out.image_changes.push_back(role + ": size changed");
+      return;
+    }
+    a = x.values;
+    b = y.values;
+    grey = x.values;
+    w = x.width;
+    h = x.height * x.channels;
+    flip = true;  // PFM rows are bottom-up
+  } else {
+    ByteImage x = read_png(bp), y = read_png(np);
+    if (x.width != y.width || x.height != y.height || x.channels != y.channels) {
+      out.image_changes.push_back(role + ": size changed");
+      return;
+    }
+    // Per pixel, the largest channel difference.
+    size_t pixels = static_cast<size_t>(x.width) * x.height;
+    a.assign(pixels, 0.0f);
+    b.assign(pixels, 0.0f);
+    grey.assign(pixels, 0.0f);
+    for (size_t i = 0; i < pixels; ++i) {
+      int d = 0;
+      for (int c = 0; c < x.channels; ++c) {
+        size_t k = i * static_cast<size_t>(x.channels) + static_cast<size_t>(c);
+        d = std::max(d, std::abs(int(x.pixels[k]) - int(y.pixels[k])));
+      }
+      a[i] = static_cast<float>(d);
+      grey[i] = x.pixels[i * static_cast<size_t>(x.channels)] / 255.0f;
+    }
+    w = x.width;
+    h = x.height;
+  }
+  Difference d = compare_values(a, b, 0.0);
+  if (d.differing == 0) return;  // encodings differ, pixels do not
+  fs::create_directories(diff_dir);
+  std::string diff = (diff_dir / ("diff_" + role + ".png")).string();
+  write_png_rgb_top_down(diff, w, h, diff_image_rgb(a, b, grey, w, h, 0.0, bp.ends_with(".pfm") ? 1.0 : 64.0, flip));
+  out.image_changes.push_back(role + ": " + fmt("%.4g", d.percent_differing()) + "% of values differ (max " +
+                              fmt("%.4g", d.max_abs) + "), diff " + diff);
+}
+
+}  // namespace
+
+std::map<std::string, std::string> device_keys(const RunData& run) {
+  std::map<std::string, std::string> keys;
+  const json& o = run.doc["omnishadow"];
+  std::string threads = o.contains("system") ? o["system"].value("LP_NUM_THREADS", "unset") : "unset";
+  if (threads.rfind("unset", 0) == 0) threads = "unset";
+  if (o.contains("devices") && o["devices"].is_object())
+    for (const auto& [backend, d] : o["devices"].items())
+      keys[backend] = slug(backend + "-" + d.value("renderer", "") + "-" + d.value("version", "") + "-lp-" + threads);
+  return keys;
+}
+
+static double median_clock(const RunData& run) {
+  std::vector<double> clocks;
+  for (const auto& [id, c] : run.cases) {
+    const json* state = c->contains("device_state") ? &(*c)["device_state"] : nullptr;
+    if (!state || !state->is_object() || !state->contains("samples") || !(*state)["samples"].is_array()) continue;
+    for (const json& s : (*state)["samples"])
+      if (s.is_object() && s.contains("clock_mhz") && s["clock_mhz"].is_number())
+        clocks.push_back(s["clock_mhz"].get<double>());
+  }
+  return clocks.empty() ? -1.0 : median(clocks);
+}
+
+std::string Comparison::clock_note() const {
+  if (base_clock_mhz <= 0 || new_clock_mhz <= 0) return "";
+  return fmt("clocks (median of every device-state sample): base %.0f MHz, ", base_clock_mhz) +
+         fmt("new %.0f MHz ", new_clock_mhz) + fmt("(%+.1f%%)", 100 * (new_clock_mhz / base_clock_mhz - 1));
+}
+
+Comparison compare_runs(const RunData& base, const RunData& fresh, const CompareOptions& options) {
+  Comparison c;
+  c.base_clock_mhz = median_clock(base);
+  c.new_clock_mhz = median_clock(fresh);
+  c.base_devices = device_keys(base);
+  c.new_devices = device_keys(fresh);
+  for (const auto& [id, _] : base.cases)
+    if (!fresh.cases.count(id)) c.only_in_base.push_back(id);
+  for (const auto& [id, _] : fresh.cases)
+    if (!base.cases.count(id)) c.only_in_new.push_back(id);
+
+  const fs::path out_dir = options.out_dir.empty() ? fs::path(fresh.dir) / "compare" : fs::path(options.out_dir);
+  std::vector<double> p_values;
+  for (const auto& [id, bc] : base.cases) {
+    auto it = fresh.cases.find(id);
+    if (it == fresh.cases.end()) continue;
+    const json& nc = *it->second;
+    CaseComparison cc;
+    cc.id = id;
+    cc.verdict = "not timed";
+    const auto& base_samples = options.metric == "cpu" ? base.cpu_samples : base.samples;
+    const auto& new_samples = options.metric == "cpu" ? fresh.cpu_samples : fresh.samples;
+    auto bs = base_samples.find(id), ns = new_samples.find(id);
+    if (options.timing && bs != base_samples.end() && ns != new_samples.end()) {
+      cc.base_n = bs->second.size();
+      cc.new_n = ns->second.size();
+      cc.base_ms = median(bs->second);
+      cc.new_ms = median(ns->second);
+      cc.change = cc.base_ms > 0 ? cc.new_ms / cc.base_ms - 1.0 : 0.0;
+      cc.p = mann_whitney_p(bs->second, ns->second);
+    }
+    if (bc->contains("counters") && nc.contains("counters")) compare_counters((*bc)["counters"], nc["counters"], cc);
+    for (const char* role : {"lit", "shadow_factor", "cube_faces"})
+      compare_image(base, fresh, *bc, nc, role, out_dir / "diffs" / id, cc);
+    c.cases.push_back(cc);
+  }
+  for (const CaseComparison& cc : c.cases)
+    if (cc.base_n > 0 && cc.new_n > 0) p_values.push_back(cc.p);
+  std::vector<double> adjusted = holm_adjust(p_values);
+  size_t k = 0;
+  for (CaseComparison& cc : c.cases) {
+    if (cc.base_n == 0 || cc.new_n == 0) continue;
+    cc.p_adjusted = adjusted[k++];
+    cc.resolvable = can_resolve(cc.base_n, cc.new_n, p_values.size(), options.alpha);
+    bool significant = cc.p_adjusted < options.alpha;
+    if (significant && cc.change > options.min_effect) cc.verdict = "regression";
+    else if (significant && cc.change < -options.min_effect) cc.verdict = "improvement";
+    else cc.verdict = "no change";
+  }
+  return c;
+}
+
+std::string Comparison::resolution_note(const CompareOptions& options) const {
+  size_t timed = 0, blind = 0;
+  for (const CaseComparison& cc : cases) {
+    if (cc.base_n == 0 || cc.new_n == 0) continue;
+    ++timed;
+    blind += !cc.resolvable;
+  }
+  if (blind == 0) return "";
+  return std::to_string(blind) + " of " + std::to_string(timed) + " timed cases cannot be flagged at alpha " +
+         fmt("%g", options.alpha) + " whatever their change: too few repetitions (over " + std::to_string(timed) +
+         " cases the U test needs " + std::to_string(fewest_resolving_repetitions(timed, options.alpha)) +
+         " a side; run more, or --precision, whose minimum allows for this)";
+}
+
+std::string comparison_table(const Comparison& c, const CompareOptions& o) {
+  std::ostringstream s;
+  size_t width = 10;
+  for (const auto& cc : c.cases) width = std::max(width, cc.id.size());
+  s << std::string(width, ' ').replace(0, 4, "case") << "   base ms    new ms   change   p (Holm)  n     verdict\n";
+  for (const auto& cc : c.cases) {
+    std::string id = cc.id + std::string(width - cc.id.size(), ' ');
+    if (cc.base_n && cc.new_n)
+      s << id << fmt("%10.3f", cc.base_ms) << fmt("%10.3f", cc.new_ms) << fmt("%+8.1f%%", 100 * cc.change)
+        << fmt("%11.4f", cc.p_adjusted) << "  " << cc.base_n << "/" << cc.new_n << "  " << cc.verdict << "\n";
+    else
+      s << id << "         -         -        -          -  -     " << cc.verdict << "\n";
+    for (const auto& w : cc.work_changes) s << "    work change: " << w << "\n";
+    for (const auto& i : cc.image_changes) s << "    image change: " << i << "\n";
+  }
+  for (const auto& id : c.only_in_base) s << "only in base: " << id << "\n";
+  for (const auto& id : c.only_in_new) s << "only in new: " << id << "\n";
+  int regressions = 0, improvements = 0, work = 0, images = 0;
+  for (const auto& cc : c.cases) {
+    regressions += cc.verdict == "regression";
+    improvements += cc.verdict == "improvement";
+    work += !cc.work_changes.empty();
+    images += !cc.image_changes.empty();
+  }
+  if (!c.clock_note().empty()) s << c.clock_note() << "\n";
+  if (const std::string blind = c.resolution_note(o); !blind.empty()) s << blind << "\n";
+  s << c.cases.size() << " cases compared: " << regressions << " timing regressions, " << improvements
+    << " improvements, " << work << " work changes, " << images << " image changes (alpha " << o.alpha
+    << " family-wise, minimum effect " << 100 * o.min_effect << "%)\n";
+  return s.str();
+}
+
+std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
+  std::ostringstream s;
+  const std::string blind = c.resolution_note(o);
+  s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << (o.metric == "cpu" ? "process CPU time" : "wall time") << " per frame, Holm-corrected (alpha " << o.alpha
+    << "), minimum effect " << 100 * o.min_effect << "%. Work counters compared exactly; images by checksum, "
+    << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".")
+    << (blind.empty() ? "" : " **" + blind + ".**") << "\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
+    << "|---|---|---|---|---|---|---|\n";
+  for (const auto& cc : c.cases) {
+    std::string notes;
+    for (const auto& w : cc.work_changes) notes += (notes.empty() ? "" : "<br>") + w;
+    for (const auto& i : cc.image_changes) notes += (notes.empty() ? "" : "<br>") + i;
+    bool timed = cc.base_n && cc.new_n;
+    s << "| `" << cc.id << "` | " << (timed ? fmt("%.3f", cc.base_ms) : "-") << " | "
+      << (timed ? fmt("%.3f", cc.new_ms) : "-") << " | " << (timed ? fmt("%+.1f%%", 100 * cc.change) : "-")
+      << " | " << (timed ? fmt("%.4f", cc.p_adjusted) : "-") << " | "
+      << (cc.regressed() ? "**" + cc.verdict + "**" : cc.verdict) << " | " << notes << " |\n";
+  }
+  if (!c.only_in_base.empty() || !c.only_in_new.empty()) {
+    s << "\nCases in one run only:\n\n";
+    for (const auto& id : c.only_in_base) s << "- base only: `" << id << "`\n";
+    for (const auto& id : c.only_in_new) s << "- new only: `" << id << "`\n";
+  }
+  return s.str();
+}
+
+nlohmann::json comparison_json(const Comparison& c, const CompareOptions& o) {
+  json cases = json::array();
+  for (const auto& cc : c.cases)
+    cases.push_back({{"id", cc.id},
+                     {"verdict", cc.verdict},
+                     {"regressed", cc.regressed()},
+                     {"base_ms", cc.base_ms},
+                     {"new_ms", cc.new_ms},
+                     {"change", cc.change},
+                     {"p", cc.p},
+                     {"p_adjusted", cc.p_adjusted},
+                     {"base_n", cc.base_n},
+                     {"new_n", cc.new_n},
+                     {"resolvable", cc.resolvable},
+                     {"work_changes", cc.work_changes},
+                     {"image_changes", cc.image_changes}});
+  return {{"alpha", o.alpha},           {"min_effect", o.min_effect},       {"cases", cases},
+          {"metric", o.metric},
+          {"only_in_base", c.only_in_base}, {"only_in_new", c.only_in_new},
+          {"base_devices", c.base_devices}, {"new_devices", c.new_devices}};
+}
+
+void apply_gate_file(const std::string& path, CompareOptions& options) {
+  nlohmann::json gate;
+  try {
+    gate = nlohmann::json::parse(read_file(path));
+  } catch (const std::exception& e) {
+    throw CompareError("gate file " + path + ": cannot read it as JSON (" + std::string(e.what()) + ")");
+  }
+  auto number = [&](const char* field, double low, double high) {
+    if (!gate.contains(field) || !gate[field].is_number())
+      throw CompareError("gate file " + path + ": field '" + field + "' missing or not a number");
+    const double v = gate[field].get<double>();
+    if (v < low || v > high)
+      throw CompareError("gate file " + path + ": field '" + field + "' out of range [" + std::to_string(low) + ", " +
+                         std::to_string(high) + "]");
+    return v;
+  };
+  options.alpha = number("alpha", 1e-9, 0.5);
+  options.min_effect = number("min_effect", 0.0, 10.0);
+  options.metric = gate.contains("metric") && gate["metric"].is_string() ? gate["metric"].get<std::string>() : "wall";
+  if (options.metric != "wall" && options.metric != "cpu")
+    throw CompareError("gate file " + path + ": field 'metric' must be wall or cpu");
+}
+
+int compare_command(const std::string& base_path, const std::string& new_path, const CompareOptions& options) {
+  RunData base = load_run(base_path), fresh = load_run(new_path);
+  Comparison c = compare_runs(base, fresh, options);
+  if (c.base_devices != c.new_devices && !options.allow_device_mismatch) {
+    std::string b, n;
+    for (const auto& [k, v] : c.base_devices) b += (b.empty() ? "" : ", ") + v;
+    for (const auto& [k, v] : c.new_devices) n += (n.empty() ? "" : ", ") + v;
+    throw CompareError("different devices: base " + b + " vs new " + n +
+                       " (timings are not comparable; --allow-device-mismatch compares anyway)");
+  }
+  std::cout << comparison_table(c, options);
+  fs::path out_dir = options.out_dir.empty() ? fs::path(fresh.dir) / "compare" : fs::path(options.out_dir);
+  fs::create_directories(out_dir);
+  write_file_atomic((out_dir / "summary.md").string(), comparison_markdown(c, options));
+  write_file_atomic((out_dir / "comparison.json").string(), comparison_json(c, options).dump(2) + "\n");
+  std::cout << "summary: " << (out_dir / "summary.md").string() << "\n";
+  for (const auto& cc : c.cases)
+    if (cc.regressed(options.timing_fails)) return 1;
+  return 0;
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,312 @@
+#include "bench/results/results_writer.h"
+
+#include <cmath>
+#include <set>
+
+#include "bench/results/file_io.h"
+#include "bench/run/repetition_policy.h"
+#include "bench/run/system_info.h"
+
+namespace omnishadow::bench {
+namespace {
+
+using nlohmann::json;
+
+json counters_to_json(const PassCounters& c) {
+  json j{{"valid", c.valid}, {"draw_calls", c.draw_calls}};
+  if (c.valid)
+    for (const PipelineStatistic& s : kPipelineStatistics) j[s.name] = c.*s.member;
+  return j;
+}
+
+json summary_to_json(const std::vector<double>& values) {
+  Summary s = summarize(values);
+  if (s.count == 0) return nullptr;
+  return json{{"median", s.median}, {"mean", s.mean}, {"min", s.min},  {"max", s.max},
+              {"p90", s.p90},       {"p99", s.p99},   {"stddev", s.stddev}, {"count", s.count}};
+}
+
+json pass_timing_to_json(const std::vector<FrameTiming>& frames, PassTiming FrameTiming::*pass, bool gpu_reliable) {
+  std::vector<double> wall, submit, gpu;
+  for (const FrameTiming& f : frames) {
+    wall.push_back((f.*pass).cpu_wall_ms);
+    submit.push_back((f.*pass).cpu_submit_ms);
+    gpu.push_back((f.*pass).gpu_ms);
+  }
+  return json{{"cpu_wall_ms", summary_to_json(wall)},
+              {"cpu_submit_ms", summary_to_json(submit)},
+              // Unreliable GPU figures are kept for inspection under another name, never as "gpu_ms".
+              {gpu_reliable ? "gpu_ms" : "gpu_ms_unreliable", summary_to_json(gpu)}};
+}
+
+}  // namespace
+
+json device_to_json(const DeviceInfo& d) {
+  json j{{"api", d.api},          {"vendor", d.vendor},     {"renderer", d.renderer},
+         {"version", d.version},  {"platform", d.platform}, {"max_cube_size", d.max_cube_size},
+         {"device_memory_bytes", d.device_memory_bytes}, {"shares_host_memory", d.shares_host_memory}};
+  for (const auto& [k, v] : d.extra) j["extra"][k] = v;
+  return j;
+}
+
+namespace {
+
+json axes_to_json(const CaseConfig& c) {
+  json axes = {{"backend", c.backend},
+          {"scene", c.scene},
+          {"cube_size", c.cube_size},
+          {"width", c.width},
+          {"height", c.height},
+          {"technique", to_string(c.technique)},
+          {"filter", to_string(c.filter)},
+          {"storage", to_string(c.storage)},
+          {"depth_format", to_string(c.depth_format)},
+          {"optimizations", to_string(c.optimizations)},
+          {"remedies", to_string(c.remedies)},
+          {"pcf_scale", c.pcf_scale}};
+  if (!c.experiment.empty()) {  // only in sensitivity experiments (bench/run/matrix.h experiment axes)
+    axes["experiment"] = c.experiment;
+    axes["injected_fragment_work"] = c.injected_work;
+  }
+  return axes;
+}
+
+// The run's injected fragment work: one number, or the sorted values when it was an experiment axis.
+json injected_work_values(const std::vector<CaseResult>& results) {
+  std::set<int> values;
+  for (const CaseResult& r : results) values.insert(r.config.injected_work);
+  if (values.size() <= 1) return values.empty() ? 0 : *values.begin();
+  return json(std::vector<int>(values.begin(), values.end()));
+}
+
+json checks_to_json(const std::vector<CheckResult>& checks) {
+  json out = json::array();
+  for (const CheckResult& k : checks)
+    out.push_back({{"name", k.name},
+                   {"against", k.against},
+                   {"passed", k.passed},
+                   {"tolerance", k.tolerance},
+                   {"max_percent_differing", k.max_percent},
+                   {"max_abs_difference", k.difference.max_abs},
+                   {"values_differing", k.difference.differing},
+                   {"values_compared", k.difference.total},
+                   {"percent_differing", k.difference.percent_differing()},
+                   {"method", k.method},
+                   {"diff_image", k.diff_image.empty() ? json(nullptr) : json(k.diff_image)}});
+  return out;
+}
+
+// What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
+json plan_to_json(const CaseResult& r) {
+  json j = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces}, {"light_far", r.light_far}};
+  if (r.config.storage == Storage::linear_depth) {
+    // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
+    const int bits = r.config.depth_format == DepthFormat::d16 ? 16 : 24;
+    j["depth_step_world"] = r.light_far / double(1u << bits);
+  }
+  return j;
+}
+
+json accuracy_to_json(const Accuracy& a) {
+  auto db = [](double v) { return v < 0 ? json(nullptr) : json(v); };  // null: identical to the reference
+  json j = {{"reference", "exact visibility by ray casting the scene's triangles (BVH) from the GPU's world positions"},
+            {"pixels", a.pixels},
+            {"misclassified_percent", a.misclassified_percent},
+            {"false_shadow_percent", a.false_shadow_percent},
+            {"missed_shadow_percent", a.missed_shadow_percent},
+            {"mae_point", a.mae_point},
+            {"psnr_point_db", db(a.psnr_point_db)}};
+  if (a.mae_sphere >= 0) {
+    j["mae_sphere"] = a.mae_sphere;
+    j["psnr_sphere_db"] = db(a.psnr_sphere_db);
+    j["sphere_stride"] = a.sphere_stride;  // every sphere_stride-th pixel in x and y (bench/truth/accuracy.h)
+    j["sphere_pixels"] = a.sphere_pixels;
+  }
+  // Radii are short decimals held as floats: written rounded, not as 0.20000000298.
+  auto radius = [](double r) { return std::round(r * 1e4) / 1e4; };
+  std::vector<double> radii;
+  for (float r : kFitRadii) radii.push_back(radius(r));
+  if (a.fit_radius >= 0)
+    j["radius_fit"] = {{"radii", radii},
+                       {"mae", a.fit_mae},
+                       {"best_radius", radius(a.fit_radius)},
+                       {"best_mae", a.fit_mae_best},
+                       {"sampling", "every " + std::to_string(fit_stride_for(a.sphere_stride)) + "th pixel in x and y, " +
+                                        std::to_string(kFitSamplesPerAxis * kFitSamplesPerAxis) + " rays per radius"}};
+  return j;
+}
+
+// The floor, and each pass's median over it (wall time; GPU time where both are reliable).
+json floor_to_json(const CaseResult& r) {
+  const FrameTiming& f = *r.floor;
+  auto gpu = [&](double v) { return r.gpu_timer.reliable && v > 0 ? json(v) : json(nullptr); };
+  json j = {{"frames", kFloorFrames},
+            {"shadow_wall_ms", f.shadow.cpu_wall_ms},
+            {"lighting_wall_ms", f.lighting.cpu_wall_ms},
+            {"shadow_gpu_ms", gpu(f.shadow.gpu_ms)},
+            {"lighting_gpu_ms", gpu(f.lighting.gpu_ms)}};
+  if (r.frames.empty()) return j;
+  std::vector<double> shadow, lighting;
+  for (const FrameTiming& t : r.frames) {
+    shadow.push_back(t.shadow.cpu_wall_ms);
+    lighting.push_back(t.lighting.cpu_wall_ms);
+  }
+  auto over = [](double v, double floor) { return floor > 0 ? json(v / floor) : json(nullptr); };
+  j["shadow_over_floor"] = over(summarize(shadow).median, f.shadow.cpu_wall_ms);
+  j["lighting_over_floor"] = over(summarize(lighting).median, f.lighting.cpu_wall_ms);
+  return j;
+}
+
+// The per-repetition frame times, how sure their median is, and how stable they were (bench/run/repetition_policy.h).
+json repetitions_to_json(const CaseResult& r) {
+  MedianInterval ci = median_interval(r.precision_samples());
+  json interval = nullptr;
+  if (ci.defined)
+    interval = {{"metric", r.precision_on_cpu ? "frame_cpu_ms" : "frame_ms"},
+                {"median_ms", ci.median},     {"low_ms", ci.low},
+                {"high_ms", ci.high},         {"coverage", ci.coverage},
+                {"half_width_percent", ci.half_width_percent}};
+  return {{"frame_ms", r.repetition_frame_ms},
+          {"frame_cpu_ms", r.repetition_cpu_ms},
+          {"ended_by", r.repetitions_ended_by},
+          {"precision_target_percent", r.precision_target_percent > 0 ? json(r.precision_target_percent) : json(nullptr)},
+          {"median_interval_95", interval},
+          {"stability_percent", stability_percent(r.repetition_frame_ms)}};
+}
+
+// A cube or map texel report (bench/truth/cube_truth.h, bench/truth/map_truth.h): the fields both have.
+template <typename Report>
+json texels_to_json(const Report& k, const char* reference, double limit_percent) {
+  return {{"reference", reference},     {"stride", k.stride},       {"texels", k.texels},
+          {"bad_percent", k.bad_percent()}, {"wrong", k.wrong},      {"spurious", k.spurious},
+          {"missing", k.missing},       {"max_error", k.max_error}, {"limit_percent", limit_percent}};
+}
+
+json timing_to_json(const CaseResult& r) {
+  std::vector<double> frame_wall;
+  for (const FrameTiming& f : r.frames) frame_wall.push_back(f.frame_wall_ms);
+  return {{"repetitions", r.repetitions},
+          {"timed_frames", r.frames.size()},
+          {"warmup_frames", r.warmup.size()},
+          {"frame_wall_ms", summary_to_json(frame_wall)},
+          {"per_repetition", repetitions_to_json(r)},
+          {"shadow", pass_timing_to_json(r.frames, &FrameTiming::shadow, r.gpu_timer.reliable)},
+          {"lighting", pass_timing_to_json(r.frames, &FrameTiming::lighting, r.gpu_timer.reliable)}};
+}
+
+}  // namespace
+
+json case_to_json(const CaseResult& r) {
+  json j{{"id", r.config.id()},
+         {"axes", axes_to_json(r.config)},
+         {"status", to_string(r.status)},
+         {"reason", r.reason},
+         {"findings", json::array()}};
+  for (const Finding& f : r.findings)
+    j["findings"].push_back(
+        {{"status", to_string(f.status)}, {"check", f.check}, {"message", f.message}, {"figures", f.figures}});
+  if (r.status == Status::unsupported) return j;
+  j["counters"] = {{"shadow", counters_to_json(r.counters.shadow)},
+                   {"lighting", counters_to_json(r.counters.lighting)}};
+  j["checks"] = checks_to_json(r.checks);
+  j["images"] = r.images;
+  j["shadow_plan"] = plan_to_json(r);
+  j["non_finite"] = {{"cube", r.non_finite_cube}, {"shadow_factor", r.non_finite_shadow},
+                     {"world_position", r.non_finite_position}};
+  if (r.flicker_percent)
+    j["stability"] = {{"next_frame", "check_frame + 1"},
+                      {"flicker_percent", *r.flicker_percent},
+                      {"mean_abs_change", *r.flicker_mean_abs}};
+  if (r.first_frame)
+    j["first_frame"] = {{"shadow_wall_ms", r.first_frame->shadow.cpu_wall_ms},
+                        {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
+                        {"frame_wall_ms", r.first_frame->frame_wall_ms}};
+  if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
+  if (!r.untimed_ms.empty()) j["untimed_ms"] = r.untimed_ms;
+  if (!r.cube_read_back.empty()) j["cube_read_back"] = r.cube_read_back;
+  if (r.floor) j["floor"] = floor_to_json(r);
+  if (r.cube_texels) {
+    j["cube_texels"] = texels_to_json(*r.cube_texels, "exact first-hit distance along each checked texel centre's "
+                                      "direction", kCubeTexelLimitPercent);
+    j["cube_texels"]["bad_per_face"] = r.cube_texels->bad_per_face;
+  }
+  if (r.map_texels) {
+    j["map_texels"] = texels_to_json(*r.map_texels, "exact window depth of the first kept surface along each "
+                                     "checked texel's ray", kMapTexelLimitPercent);
+    j["map_texels"]["bad_per_map"] = r.map_texels->bad_per_map;
+  }
+  if (!r.device_states.empty()) {
+    j["device_state"] = {{"source", r.device_state_source}, {"samples", json::array()},
+                         {"warning", clock_warning(r.device_states)}};
+    for (const DeviceState& d : r.device_states) j["device_state"]["samples"].push_back(to_json(d));
+  }
+  if (r.repetitions > 0) {
+    j["timing"] = timing_to_json(r);
+    j["gpu_timer"] = {{"available", r.gpu_timer.available},
+                      {"reliable", r.gpu_timer.reliable},
+                      {"frames_checked", r.gpu_timer.frames_checked},
+                      {"frames_failing", r.gpu_timer.frames_failing},
+                      {"note", r.gpu_timer.note}};
+  }
+  return j;
+}
+
+void write_results(const std::string& path, const RunInfo& run, const std::vector<CaseResult>& results,
+                   const json& gbench, bool complete) {
+  json out = gbench.is_object() ? gbench : json{{"context", json::object()}, {"benchmarks", json::array()}};
+  std::map<std::string, const CaseResult*> by_id;
+  for (const CaseResult& r : results) by_id[r.config.id()] = &r;
+  // Each Google Benchmark entry points at its case and status; aggregates (_mean, ...) share run_name.
+  for (json& b : out["benchmarks"]) {
+    // Google Benchmark appends "/iterations:N/manual_time" (and "_mean" etc. to aggregate names).
+    std::string run_name = b.value("run_name", b.value("name", ""));
+    run_name = run_name.substr(0, run_name.find("/iterations:"));
+    auto it = by_id.find(run_name);
+    if (it != by_id.end()) {
+      b["omnishadow_case"] = run_name;
+      b["omnishadow_status"] = to_string(it->second->status);
+    }
+  }
+  json cases = json::array();
+  for (const CaseResult& r : results) cases.push_back(case_to_json(r));
+  json devices = json::object();
+  for (const auto& [name, d] : run.devices) devices[name] = device_to_json(d);
+  const RunOptions& o = run.options;
+  out["omnishadow"] = {{"format", "omnishadow-results/1"},
+                       {"complete", complete},
+                       {"stopped_by", run.stopped_by.empty() ? json(nullptr) : json(run.stopped_by)},
+                       {"commit", build_commit()},
+                       {"commit_date", build_commit_date()},
+                       {"command_line", run.command_line},
+                       {"phases",
+                        {{"untimed_seconds", run.phases.untimed_seconds < 0 ? json(nullptr) : json(run.phases.untimed_seconds)},
+                         {"timed_seconds", run.phases.timed_seconds < 0 ? json(nullptr) : json(run.phases.timed_seconds)}}},
+                       {"repetition_policy",
+                        {{"repetitions", run.repetitions.repetitions},
+                         {"precision_percent", run.repetitions.precision_percent},
+                         {"max_repetitions", run.repetitions.max_repetitions},
+                         {"minimum", run.repetitions.minimum()},
+                         {"compared_cases", run.repetitions.compared_cases},
+                         {"sustain_seconds", run.repetitions.sustain_seconds},
+                         {"precision_metric", run.repetitions.cpu_metric ? "cpu" : "wall"},
+                         {"order", "rounds: one repetition of every unfinished case per round"}}},
+                       {"options",
+                        {{"warmup_frames", o.warmup_frames},
+                         {"injected_fragment_work", injected_work_values(results)},
+                         {"frames", o.frames},
+                         {"check_frame", o.check_frame},
+                         {"face_tolerance", o.face_tolerance},
+                         {"lit_tolerance", o.lit_tolerance},
+                         {"cross_lit_tolerance", o.cross_lit_tolerance},
+                         {"cross_shadow_tolerance", o.cross_shadow_tolerance},
+                         {"cross_max_percent", o.cross_max_percent},
+                         {"accuracy", o.accuracy},
+                         {"light_radius", o.truth.light_radius},
+                         {"light_samples", o.truth.samples_per_axis * o.truth.samples_per_axis}}},
+                       {"system", system_info()},
+                       {"devices", devices},
+                       {"cases", cases}};
+  write_file_atomic(path, out.dump(2) + "\n");
+}
+
+}  // namespace omnishadow::bench

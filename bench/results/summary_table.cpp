@@ -1,0 +1,188 @@
+#include "bench/results/summary_table.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "bench/results/statistics.h"
+#include "bench/run/timing_stats.h"
+
+namespace omnishadow::bench {
+namespace {
+
+Summary summary_of(const std::vector<FrameTiming>& frames, double (*get)(const FrameTiming&)) {
+  std::vector<double> v;
+  for (const FrameTiming& f : frames) v.push_back(get(f));
+  return summarize(v);
+}
+
+double shadow_wall(const FrameTiming& f) { return f.shadow.cpu_wall_ms; }
+double lighting_wall(const FrameTiming& f) { return f.lighting.cpu_wall_ms; }
+
+// "7.51 ms (1.00x) p99 1.3": the median, its ratio to the base column, and p99 / median of the same frames (a
+// technique faster on median that stutters shows a large p99 figure).
+std::string cell(const Summary& s, double base) {
+  char buf[64];
+  if (s.median <= 0 || base <= 0) return "-";
+  std::snprintf(buf, sizeof buf, "%.2f ms (%.2fx) p99 %.1f", s.median, s.median / base, s.p99 / s.median);
+  return buf;
+}
+
+// The axes a pass's cost depends on, as a row key: the shadow pass does not depend on the filter and the
+// lighting pass not on the technique, so each row pools every case of its group over the other axis.
+std::string pass_group(const CaseConfig& c) {
+  return c.backend + "/" + c.scene + "/c" + std::to_string(c.cube_size) + "/f" + std::to_string(c.width) + "x" +
+         std::to_string(c.height) + "/" + std::string(to_string(c.storage)) + "/" +
+         std::string(to_string(c.depth_format));
+}
+
+// One row per pass group, one column per value of `axis`: the median of `metric` over all timed frames of the
+// group's cases with that value, its ratio to the `base` column, and p99 / median.
+template <typename E>
+void ratio_table(std::ostringstream& md, const std::vector<CaseResult>& results, const std::string& title,
+                 E CaseConfig::*axis, E base, double (*metric)(const FrameTiming&)) {
+  const std::vector<E> values = all_values<E>();
+  md << "\n## " << title << "\n\n| backend/scene/cube/frame/storage/depth |";
+  for (E v : values) md << " " << to_string(v) << " |";
+  md << "\n|---|";
+  for (size_t i = 0; i < values.size(); ++i) md << "---|";
+  md << "\n";
+  std::map<std::string, std::map<E, std::vector<FrameTiming>>> by_group;
+  std::vector<std::string> group_order;
+  for (const CaseResult& r : results) {
+    if (r.frames.empty()) continue;
+    std::string key = pass_group(r.config);
+    if (!by_group.count(key)) group_order.push_back(key);
+    auto& frames = by_group[key][r.config.*axis];
+    frames.insert(frames.end(), r.frames.begin(), r.frames.end());
+  }
+  for (const std::string& key : group_order) {
+    auto& row = by_group[key];
+    double base_value = row.count(base) ? summary_of(row[base], metric).median : 0.0;
+    md << "| `" << key << "` |";
+    for (E v : values) md << " " << (row.count(v) ? cell(summary_of(row[v], metric), base_value) : "-") << " |";
+    md << "\n";
+  }
+}
+
+// Every timed case's passes as multiples of their floor (the same render passes with nothing drawn; the frame
+// shaded with a constant): how far a technique or filter is from what the device does at all.
+void floor_table(std::ostringstream& md, const std::vector<CaseResult>& results) {
+  std::ostringstream rows;
+  for (const CaseResult& r : results) {
+    if (!r.floor || r.frames.empty()) continue;
+    const double shadow = summary_of(r.frames, shadow_wall).median, lighting = summary_of(r.frames, lighting_wall).median;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "| `%s` | %.2f ms = %.1fx %.2f | %.2f ms = %.1fx %.2f |\n", r.config.id().c_str(),
+                  shadow, r.floor->shadow.cpu_wall_ms > 0 ? shadow / r.floor->shadow.cpu_wall_ms : 0.0,
+                  r.floor->shadow.cpu_wall_ms, lighting,
+                  r.floor->lighting.cpu_wall_ms > 0 ? lighting / r.floor->lighting.cpu_wall_ms : 0.0,
+                  r.floor->lighting.cpu_wall_ms);
+    rows << buf;
+  }
+  if (rows.str().empty()) return;
+  md << "\n## Passes against their floor (median wall time = multiple x floor)\n\n"
+     << "Floor: the case's shadow render passes cleared with nothing drawn; the frame shaded with a constant.\n\n"
+     << "| case | shadow pass | lighting pass |\n|---|---|---|\n"
+     << rows.str();
+}
+
+// Under --precision: the interval each case reached and the cases that hit the cap. Under --sustain: each case's
+// worst repetition against its best, the clocks it ran at, and the cases below kStabilityPassPercent.
+void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& results, const RepetitionPolicy& p) {
+  if (p.precision_percent <= 0.0 && p.sustain_seconds <= 0.0) return;
+  int total = 0, capped = 0, unstable = 0;
+  std::ostringstream rows;
+  for (const CaseResult& r : results) {
+    if (r.repetition_frame_ms.empty()) continue;
+    total += static_cast<int>(r.repetition_frame_ms.size());
+    MedianInterval ci = median_interval(r.precision_samples());
+    const double stability = stability_percent(r.repetition_frame_ms);
+    auto [best, worst] = std::minmax_element(r.repetition_frame_ms.begin(), r.repetition_frame_ms.end());
+    capped += r.repetitions_ended_by == "cap";
+    unstable += stability < kStabilityPassPercent;
+    char buf[320];
+    if (p.sustain_seconds > 0.0)
+      std::snprintf(buf, sizeof buf, "| `%s` | %zu | %.3f | %.3f | %.1f%%%s | %s |\n", r.config.id().c_str(),
+                    r.repetition_frame_ms.size(), *best, *worst, stability,
+                    stability < kStabilityPassPercent ? " **below 97%**" : "", clock_range(r.device_states).c_str());
+    else
+      std::snprintf(buf, sizeof buf, "| `%s` | %zu | %.3f | %s | %s |\n", r.config.id().c_str(),
+                    r.repetition_frame_ms.size(), ci.median,
+                    ci.defined ? ("+-" + std::to_string(ci.half_width_percent).substr(0, 5) + "%").c_str() : "-",
+                    r.repetitions_ended_by.c_str());
+    rows << buf;
+  }
+  if (p.sustain_seconds > 0.0) {
+    md << "\n## Sustained run (" << p.sustain_seconds << " s of rounds): best repetition / worst\n\n"
+       << total << " repetitions; " << unstable << " cases below " << kStabilityPassPercent
+       << "% (per-repetition mean frame time, shortest over longest)\n\n"
+       << "| case | repetitions | best ms | worst ms | stability | clocks |\n|---|---|---|---|---|---|\n";
+  } else {
+    md << "\n## Repetitions to +-" << p.precision_percent
+       << "% (95% interval of the median per-repetition frame " << (p.cpu_metric ? "CPU" : "wall") << " time)\n\n"
+       << total << " repetitions in all (a fixed count of " << p.cap() << " would take "
+       << p.cap() * static_cast<int>(std::count_if(results.begin(), results.end(),
+                                                   [](const CaseResult& r) { return !r.repetition_frame_ms.empty(); }))
+       << "); " << capped << " cases hit the cap of " << p.cap() << "; at least " << p.minimum()
+       << " each (never fewer than `omnishadow compare` over " << p.compared_cases << " cases at alpha "
+       << kDefaultAlpha << " needs to flag one)\n\n"
+       << "| case | repetitions | median ms | reached | ended by |\n|---|---|---|---|---|\n";
+  }
+  md << rows.str();
+}
+
+}  // namespace
+
+std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases,
+                             const RepetitionPolicy& policy) {
+  std::ostringstream md;
+  std::map<std::string, int> status_counts;
+  for (const CaseResult& r : results) ++status_counts[std::string(to_string(r.status))];
+  md << "## Cases\n\n";
+  if (phases.untimed_seconds >= 0 && phases.timed_seconds >= 0) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "Run: %.1f s untimed (checks, read-backs, reference, images) + %.1f s timed "
+                  "(%.2fx the timed part)\n\n", phases.untimed_seconds, phases.timed_seconds,
+                  phases.timed_seconds > 0 ? phases.untimed_seconds / phases.timed_seconds : 0.0);
+    md << buf;
+  }
+  std::map<std::string, double> steps;  // the untimed part's seconds per step, all cases
+  for (const CaseResult& r : results)
+    for (const auto& [name, ms] : r.untimed_ms) steps[name] += ms / 1000.0;
+  if (!steps.empty()) {
+    md << "Untimed part by step:";
+    for (const auto& [name, seconds] : steps) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " %s %.1f s", name.c_str(), seconds);
+      md << buf << (name == steps.rbegin()->first ? "" : ",");
+    }
+    md << "\n\n";
+  }
+  for (const auto& [status, count] : status_counts) md << "- " << status << ": " << count << "\n";
+  // Unsupported cases once per reason (a GL run asking for multiview gave one line per case before).
+  std::map<std::string, std::vector<std::string>> unsupported;
+  for (const CaseResult& r : results)
+    if (r.status == Status::unsupported) unsupported[r.reason].push_back(r.config.id());
+  for (const auto& [reason, ids] : unsupported)
+    md << "  - unsupported, " << ids.size() << (ids.size() == 1 ? " case" : " cases") << " (e.g. `" << ids.front()
+       << "`): " << reason << "\n";
+  for (const CaseResult& r : results)
+    if (r.status != Status::ok && r.status != Status::unsupported)
+      md << "  - `" << r.config.id() << "` " << to_string(r.status) << ": " << r.reason << "\n";
+  // A figure measured while the clock moved is not the device's figure: say so next to the statuses.
+  for (const CaseResult& r : results)
+    if (std::string w = clock_warning(r.device_states); !w.empty())
+      md << "- **warning** `" << r.config.id() << "`: " << w << " (" << r.device_state_source << ")\n";
+
+  repetition_table(md, results, policy);
+  floor_table(md, results);
+  ratio_table<Technique>(md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
+                         &CaseConfig::technique, Technique::six_pass, shadow_wall);
+  ratio_table<Filter>(md, results, "Lighting pass: median wall time per filter, all techniques pooled (ratio to hard)", &CaseConfig::filter,
+                      Filter::hard, lighting_wall);
+  return md.str();
+}
+
+}  // namespace omnishadow::bench

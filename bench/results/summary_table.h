@@ -1,0 +1,24 @@
+#pragma once
+// The human summary of a run (summary.md and the end of stdout): statuses, technique ratios to six_pass for
+// the shadow pass, filter ratios to hard for the lighting pass. Ratios come from one run on one machine,
+// which is the only comparison a noisy or software-rendered machine supports.
+
+#include <string>
+#include <vector>
+
+#include "bench/run/case_runner.h"
+#include "bench/run/repetition_policy.h"
+
+namespace omnishadow::bench {
+
+// Wall seconds of a run's two parts: the untimed part (check frames, read-backs, checks, the reference, image
+// files) and the timed part (warm-up and timed frames of every repetition). Negative: not reached.
+struct RunPhases {
+  double untimed_seconds = -1.0;
+  double timed_seconds = -1.0;
+};
+
+std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases = {},
+                             const RepetitionPolicy& policy = {});
+
+}  // namespace omnishadow::bench

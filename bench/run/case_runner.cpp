@@ -1,0 +1,384 @@
+#include "bench/run/case_runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "backends/common/cube_faces.h"
+#include "backends/common/shadow_plan.h"
+#include "bench/results/image_io.h"
+#include "bench/run/memory_budget.h"
+#include "bench/run/timing_stats.h"
+
+namespace omnishadow::bench {
+
+namespace fs = std::filesystem;
+
+// The case every other case of its group is checked against: six_pass without culling or caching (which must
+// not change a single value). fit_range stays: it changes the stored depth's scale, so it has its own reference.
+CaseConfig reference_config(const CaseConfig& c) {
+  CaseConfig k = c;
+  k.technique = Technique::six_pass;
+  k.optimizations.face_culling = false;
+  k.optimizations.static_cache = false;
+  return k;
+}
+
+std::string group_key(const CaseConfig& c) { return reference_config(c).id(); }
+
+int face_edge(const Images& img) {
+  return img.has_full_cube() ? img.cube_size : img.cube_size / std::max(img.cube_sample_stride, 1);
+}
+
+std::vector<float> concat_faces(const Images& img) {
+  // Faces side by side, face order left to right, so one PNG shows the whole cube (the check grid when only that
+  // came back: every stride-th texel).
+  const int n = face_edge(img);
+  const auto& faces = img.has_full_cube() ? img.cube_distance : img.cube_sample;
+  std::vector<float> strip(static_cast<size_t>(n) * static_cast<size_t>(n) * 6);
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < n && faces[size_t(f)].size() >= size_t(n) * size_t(n); ++y)
+      std::copy_n(faces[static_cast<size_t>(f)].begin() + static_cast<ptrdiff_t>(y) * n, n,
+                  strip.begin() + (static_cast<ptrdiff_t>(y) * 6 + f) * n);
+  return strip;
+}
+
+CubeReadBack Harness::cube_read_back_for(const CaseConfig& c) const {
+  using P = RunOptions::CubeReadBackPolicy;
+  switch (options_.cube_read_back) {
+    case P::full: return CubeReadBack::full;
+    case P::sampled: return CubeReadBack::sampled;
+    case P::automatic: break;
+  }
+  const bool small = c.cube_size <= RunOptions::kFullCubeReadBackMax;
+  return small || options_.images == RunOptions::ImagePolicy::all ? CubeReadBack::full : CubeReadBack::sampled;
+}
+
+// The case's check frame again, its cube read in full into `images` (for a value-by-value comparison once hashes
+// differed). Rendering is deterministic, so it is the frame already checked; the floor frame cleared the cube since.
+void Harness::read_full_cube(const CaseConfig& c, Images& images) {
+  Backend& b = activate(c);
+  b.render(options_.check_frame, FrameKind::check);
+  images.cube_distance = b.read_back(CubeReadBack::full).cube_distance;
+}
+
+std::string_view to_string(Status s) {
+  switch (s) {
+    case Status::ok: return "ok";
+    case Status::failed_quality: return "failed_quality";
+    case Status::failed_check: return "failed_check";
+    case Status::interrupted: return "interrupted";
+    case Status::resource_error: return "resource_error";
+    case Status::failed: return "failed";
+    case Status::unsupported: return "unsupported";
+  }
+  return "?";
+}
+
+bool fails_run(Status s) {
+  return s == Status::failed_quality || s == Status::failed_check || s == Status::resource_error ||
+         s == Status::failed;
+}
+
+void CaseResult::add(Finding finding) {
+  if (static_cast<int>(finding.status) > static_cast<int>(status)) status = finding.status;
+  reason += (reason.empty() ? "" : "; ") + finding.message;
+  findings.push_back(std::move(finding));
+}
+
+Harness::Harness(RunOptions options) : options_(std::move(options)) {
+  if (options_.async_images) writer_ = std::make_unique<AsyncWriter>();
+}
+
+void Harness::write_later(const CaseResult& r, std::function<void()> write) {
+  if (writer_)
+    writer_->submit(r.config.id(), std::move(write));
+  else
+    write();
+}
+
+std::vector<std::pair<std::string, std::string>> Harness::drain_writes() {
+  return writer_ ? writer_->drain() : std::vector<std::pair<std::string, std::string>>{};
+}
+// Backends go in the reverse order of their creation (a map would destroy them by name): each API's teardown
+// then runs while what it was created after still stands.
+Harness::~Harness() {
+  for (auto it = creation_order_.rbegin(); it != creation_order_.rend(); ++it) backends_.erase(*it);
+}
+
+Backend& Harness::backend(const std::string& name) {
+  auto it = backends_.find(name);
+  if (it != backends_.end()) return *it->second;
+  auto created = create_backend(name, options_.backend_options);
+  Backend& ref = *created;
+  backends_[name] = std::move(created);
+  creation_order_.push_back(name);
+  return ref;
+}
+
+DeviceStateProbe& Harness::probe(const std::string& name) {
+  auto it = probes_.find(name);
+  if (it == probes_.end()) it = probes_.emplace(name, make_device_state_probe(backend(name).device())).first;
+  return *it->second;
+}
+
+DeviceState Harness::sample_device(const std::string& name) { return probe(name).sample(); }
+std::string Harness::device_state_source(const std::string& name) { return probe(name).source(); }
+
+void Harness::add_backend(const std::string& name, std::unique_ptr<Backend> backend) {
+  probes_.erase(name);
+  backends_[name] = std::move(backend);
+  std::erase(creation_order_, name);
+  creation_order_.push_back(name);
+  loaded_scene_.erase(name);
+}
+
+std::string Harness::scene_path(const std::string& name) const {
+  if (name.find('/') != std::string::npos || name.ends_with(".json")) return name;
+  return (fs::path(options_.scenes_dir) / (name + ".json")).string();
+}
+
+// Scenes are cached per name and load option: the rebased room is another scene.
+std::string scene_key(const std::string& name, bool rebase_origin) { return name + (rebase_origin ? "#rebase" : ""); }
+
+const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin) {
+  const std::string key = scene_key(name, rebase_origin);
+  auto it = scenes_.find(key);
+  if (it != scenes_.end()) return it->second;
+  scene::LoadOptions load;
+  load.rebase_origin = rebase_origin;
+  scene::Scene s = scene::load_scene_file(scene_path(name), load);
+  s.name = name;
+  return scenes_.emplace(key, std::move(s)).first->second;
+}
+
+Backend& Harness::activate(const CaseConfig& config) {
+  Backend& b = backend(config.backend);
+  const std::string key = scene_key(config.scene, config.remedies.rebase_origin);
+  if (loaded_scene_[config.backend] != key) {
+    loaded_scene_[config.backend].clear();
+    b.load(scene_of(config));
+    loaded_scene_[config.backend] = key;
+  }
+  b.configure(config);
+  return b;
+}
+
+// Whether the case can run here at all: supported by the backend and the scene, and (unless told not to check)
+// fitting in memory. Adds the finding that says why not.
+bool Harness::admit(CaseResult& r, Backend& b) {
+  Support s = b.supports(r.config);
+  if (s.ok && r.config.technique != Technique::six_pass && !scene_of(r.config).has_point_light)
+    s = {false, "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
+                "(measured by six_pass); the single-pass techniques apply to cube maps"};
+  if (!s.ok) {
+    r.add({Status::unsupported, "support", s.reason, {}});
+    return false;
+  }
+  if (!options_.memory_precheck) return true;
+  const MemoryNeed need = estimate_case_memory(r.config, cube_read_back_for(r.config));
+  std::string shortfall = memory_shortfall(need, host_memory_available(), b.device());
+  if (shortfall.empty()) return true;
+  r.add({Status::resource_error, "memory", shortfall,
+         {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});
+  return false;
+}
+
+// The shadow plan's figures at the check frame (faces with no caster, object x face draws) and the work counters.
+void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
+  const scene::Scene& sc = scene_of(r.config);
+  cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, sc.light.path.at(options_.check_frame), sc.light.near_plane,
+                                                      light_far, r.config.optimizations.face_culling);
+  r.empty_faces = plan.empty_faces;
+  for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
+  // With static caching the work of a frame depends on the one before: count the frame after the check frame,
+  // rendered right after it (the steady state: zero shadow work while the light stands still).
+  r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
+}
+
+// The cube against exact first-hit distances, whatever the camera sees. Cases of one scene, light, range and size
+// share the truth; a scene without a point light has no cube to check.
+// Not the filter, remedies or PCF scale (the floor's lighting has no lookup), nor the optimisations (no draws).
+static std::string floor_key(const CaseConfig& c) {
+  return c.backend + "/" + c.scene + (c.remedies.rebase_origin ? "#rebase" : "") + "/c" + std::to_string(c.cube_size) +
+         "/f" + std::to_string(c.width) + "x" + std::to_string(c.height) + "/" + std::string(to_string(c.technique)) +
+         "/" + std::string(to_string(c.storage)) + "/" + std::string(to_string(c.depth_format));
+}
+
+void Harness::measure_floor(CaseResult& r, Backend& b) {
+  const std::string key = floor_key(r.config);
+  auto it = floors_.find(key);
+  if (it == floors_.end()) {
+    std::vector<FrameTiming> frames;
+    for (int i = 0; i < 2 + kFloorFrames; ++i) {  // two warm-up frames first
+      FrameTiming t = b.render(options_.check_frame, FrameKind::floor);
+      if (i >= 2) frames.push_back(t);
+    }
+    auto median_of = [&](auto get) {
+      std::vector<double> v;
+      for (const FrameTiming& f : frames) v.push_back(get(f));
+      return summarize(v).median;
+    };
+    FrameTiming floor;
+    floor.shadow.cpu_wall_ms = median_of([](const FrameTiming& f) { return f.shadow.cpu_wall_ms; });
+    floor.lighting.cpu_wall_ms = median_of([](const FrameTiming& f) { return f.lighting.cpu_wall_ms; });
+    floor.shadow.gpu_ms = median_of([](const FrameTiming& f) { return f.shadow.gpu_ms; });
+    floor.lighting.gpu_ms = median_of([](const FrameTiming& f) { return f.lighting.gpu_ms; });
+    floor.frame_wall_ms = median_of([](const FrameTiming& f) { return f.frame_wall_ms; });
+    it = floors_.emplace(key, floor).first;
+  }
+  r.floor = it->second;
+}
+
+void Harness::prepare(CaseResult& r) {
+  // Where the untimed part's time goes, per step (results.json "untimed_ms", the summary's totals).
+  auto step = [&r](const char* name, auto&& body) {
+    const auto start = std::chrono::steady_clock::now();
+    body();
+    r.untimed_ms[name] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  try {
+    Backend& b = backend(r.config.backend);
+    if (!admit(r, b)) return;
+    step("configure", [&] { activate(r.config); });
+    // Cold: right after configure, nothing cached; the timed kind, what the timed frames render.
+    step("first_frame", [&] { r.first_frame = b.render(options_.check_frame, FrameKind::timed); });
+    // The check frame renders every buffer the checks read, and the timed variant's colour beside them. With
+    // static caching it is served from the cube the cold frame rendered, so the cache is what gets checked.
+    step("check_frame", [&] { b.render(options_.check_frame, FrameKind::check); });
+    Images images;
+    step("read_back", [&] { images = b.read_back(cube_read_back_for(r.config)); });
+    r.cube_read_back = images.has_full_cube() ? "full" : "sampled";
+    r.light_far = images.light_far;
+    count_non_finite(r, images);
+    check_timed_variant(r, images);
+    if (options_.stability) measure_flicker(r, b, images);
+    step("work_counters", [&] { count_work(r, b, images.light_far); });
+    if (std::vector<std::string> errors = b.drain_api_errors(); !errors.empty()) {
+      r.add({Status::failed, "api",
+             "API error (checking mode): " + errors.front() +
+                 (errors.size() > 1 ? " (+" + std::to_string(errors.size() - 1) + " more)" : ""),
+             {{"api_errors", double(errors.size())}}});
+      return;
+    }
+    if (options_.accuracy) {
+      step("cube_and_map_truth", [&] {
+        check_cube(r, images);
+        check_maps(r, images);
+      });
+      step("accuracy", [&] { check_accuracy(r, images); });
+    }
+    step("floor", [&] { measure_floor(r, b); });
+    const bool is_reference = r.config == reference_config(r.config);
+    step("comparisons", [&] {
+      if (!is_reference) check_against_six_pass(r, images);
+      check_against_other_backend(r, images);
+    });
+    // Last, when the case's status is known: a failed check also keeps every float buffer.
+    if (options_.write_images()) step("images", [&] { write_images(r, images); });
+    if (is_reference) {
+      reference_key_ = group_key(r.config);
+      reference_ = std::move(images);
+    }
+  } catch (const std::bad_alloc&) {
+    // Host allocation failed (a read-back copy, or a CPU driver's texture): the case fails, the run goes on.
+    reference_key_.clear();
+    reference_ = Images{};
+    MemoryNeed need = estimate_case_memory(r.config, cube_read_back_for(r.config));
+    r.add({Status::resource_error, "memory",
+           "out of host memory (std::bad_alloc): the case needs about " + format_bytes(need.device_bytes) +
+               " of targets and " + format_bytes(need.host_bytes) + " of read-back copies",
+           {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});
+  } catch (const std::exception& e) {
+    // Out of device memory is reported by the backends as an error naming it (GL_OUT_OF_MEMORY,
+    // VK_ERROR_OUT_OF_DEVICE_MEMORY): a resource error, not a failure of the technique.
+    const std::string what = e.what();
+    const bool memory = what.find("OUT_OF_MEMORY") != std::string::npos ||
+                        what.find("OUT_OF_DEVICE_MEMORY") != std::string::npos ||
+                        what.find("OUT_OF_HOST_MEMORY") != std::string::npos;
+    r.add({memory ? Status::resource_error : Status::failed, memory ? "memory" : "error", what, {}});
+  }
+}
+
+void Harness::count_non_finite(CaseResult& r, const Images& images) {
+  auto count = [](const std::vector<float>& v) {
+    return static_cast<uint64_t>(std::count_if(v.begin(), v.end(), [](float x) { return !std::isfinite(x); }));
+  };
+  for (const CubeFaceSummary& face : images.cube_summary) r.non_finite_cube += face.non_finite;
+  r.non_finite_shadow = count(images.shadow_factor);
+  r.non_finite_position = count(images.world_position);
+  if (r.non_finite_cube + r.non_finite_shadow + r.non_finite_position > 0) {
+    r.add({Status::failed_check, "non_finite",
+           "non-finite values read back: " + std::to_string(r.non_finite_cube) + " in the cube, " +
+               std::to_string(r.non_finite_shadow) + " in the shadow factor, " +
+               std::to_string(r.non_finite_position) + " in world positions",
+           {{"cube", double(r.non_finite_cube)},
+            {"shadow_factor", double(r.non_finite_shadow)},
+            {"world_position", double(r.non_finite_position)}}});
+  }
+}
+
+// The next frame, compared with this one: on a light that moves by tiny steps, the shadow should barely move.
+// Leaves the backend on the case (the next read_back is check_frame + 1's; the caller holds its images).
+void Harness::measure_flicker(CaseResult& r, Backend& b, const Images& images) {
+  b.render(options_.check_frame + 1, FrameKind::check);
+  Images next = b.read_back(CubeReadBack::sampled);
+  uint64_t flipped = 0, covered = 0;
+  double sum = 0.0;
+  for (size_t i = 0; i < images.shadow_factor.size() && i < next.shadow_factor.size(); ++i) {
+    if (images.world_position[4 * i + 3] != 1.0f) continue;
+    ++covered;
+    double d = std::fabs(double(next.shadow_factor[i]) - double(images.shadow_factor[i]));
+    sum += d;
+    flipped += d > 0.5;
+  }
+  r.flicker_percent = covered ? 100.0 * double(flipped) / double(covered) : 0.0;
+  r.flicker_mean_abs = covered ? sum / double(covered) : 0.0;
+}
+
+// What was timed is what was checked: the timed lighting variant's colour must equal the check variant's, bit for
+// bit (they share every line that computes it; only the check variant's extra outputs differ).
+void Harness::write_images(CaseResult& r, const Images& img) {
+  fs::path rel = fs::path("images") / r.config.id();
+  fs::path dir = fs::path(options_.out_dir) / rel;
+  fs::create_directories(dir);
+  auto out = [&](const std::string& role, const std::string& file) {
+    r.images[role] = (rel / file).string();
+    return (dir / file).string();
+  };
+  const bool failed = r.status == Status::failed_check || r.status == Status::failed_quality;
+  // The float buffers (24 bytes a pixel, 1.9 MB per 800x600 buffer) are what a failed check needs to be examined.
+  const bool floats = options_.images == RunOptions::ImagePolicy::all || failed;
+  struct Files {
+    std::string lit, shadow_png, cube, shadow_pfm, position, coverage;
+  } files{out("lit", "lit.png"), out("shadow_factor_png", "shadow_factor.png"), out("cube_faces", "cube_faces.png")};
+  if (floats) {
+    files.shadow_pfm = out("shadow_factor", "shadow_factor.pfm");
+    files.position = out("world_position", "world_position.pfm");
+    files.coverage = out("coverage", "coverage.pfm");
+  }
+  // The writer gets its own copies: `img` may be reused (the six_pass reference) before the files are written.
+  write_later(r, [files, w = img.width, h = img.height, n = face_edge(img), far_plane = img.light_far,
+                  lit = img.lit_rgba8, shadow = img.shadow_factor, cube = concat_faces(img),
+                  position = floats ? img.world_position : std::vector<float>{}] {
+    write_png_rgba_bottom_up(files.lit, w, h, lit);
+    write_png_gray(files.shadow_png, w, h, shadow, 0.0f, 1.0f, true);
+    write_png_gray(files.cube, n * 6, n, cube, 0.0f, far_plane, false);
+    if (files.shadow_pfm.empty()) return;
+    write_pfm(files.shadow_pfm, w, h, 1, shadow);
+    std::vector<float> xyz, coverage;
+    xyz.reserve(position.size() / 4 * 3);
+    coverage.reserve(position.size() / 4);
+    for (size_t i = 0; i < position.size(); i += 4) {
+      xyz.insert(xyz.end(), position.begin() + static_cast<ptrdiff_t>(i), position.begin() + static_cast<ptrdiff_t>(i) + 3);
+      coverage.push_back(position[i + 3]);
+    }
+    write_pfm(files.position, w, h, 3, xyz);
+    write_pfm(files.coverage, w, h, 1, coverage);
+  });
+}
+
+}  // namespace omnishadow::bench

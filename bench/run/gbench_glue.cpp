@@ -1,0 +1,201 @@
+#include "bench/run/gbench_glue.h"
+
+#include "bench/run/gbench_report.h"
+
+#include <benchmark/benchmark.h>
+#include <valgrind/callgrind.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <set>
+
+namespace omnishadow::bench {
+namespace {
+
+using benchmark::Counter;
+
+double process_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+// One frame with the process's CPU time around it (every thread: the driver's workers included).
+FrameTiming render_measured(Backend& b, int frame) {
+  double before = process_cpu_ms();
+  FrameTiming t = b.render(frame, FrameKind::timed);
+  t.process_cpu_ms = process_cpu_ms() - before;
+  return t;
+}
+
+void set_pass_counters(benchmark::State& state, const std::string& pass, const PassCounters& c) {
+  if (!c.valid) return;
+  // Work counters are per frame and identical every frame; kDefaults keeps them as-is. Named as in results.json's
+  // "counters" section (the shared table), after the pass.
+  state.counters[pass + "_draw_calls"] = Counter(static_cast<double>(c.draw_calls));
+  for (const PipelineStatistic& s : kPipelineStatistics)
+    state.counters[pass + "_" + s.name] = Counter(static_cast<double>(c.*s.member));
+}
+
+// One line per repetition on stderr: which round, which case, how far along.
+struct Progress {
+  const RepetitionPolicy& policy;
+  int round = 0;
+  int done = 0;  // repetitions so far, all cases
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  void step(const std::string& id, int in_round, int round_size) {
+    ++done;
+    std::string of = policy.cap() > 0 ? "/" + std::to_string(policy.cap()) : "";
+    std::fprintf(stderr, "[time round %d%s, %d/%d] %s  (elapsed %.0fs)\n", round, of.c_str(), in_round, round_size,
+                 id.c_str(), elapsed());
+  }
+};
+
+// Cases whose checks ran (passed or not) are timed; cases that could not be prepared are not.
+bool is_timed(Status s) { return s == Status::ok || s == Status::failed_check || s == Status::failed_quality; }
+
+// One repetition of one case: warm-up frames, then the timed frames Google Benchmark iterates over.
+void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
+  const RunOptions& o = harness.options();
+  std::vector<FrameTiming> frames;
+  try {
+    Backend& b = harness.activate(r.config);
+    if (r.device_state_source.empty()) r.device_state_source = harness.device_state_source(r.config.backend);
+    r.device_states.push_back(harness.sample_device(r.config.backend));  // before this repetition's frames
+    // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings.
+    for (int i = 0; i < o.warmup_frames; ++i) r.warmup.push_back(render_measured(b, i));
+    int frame = o.warmup_frames;
+    double sums[7] = {0, 0, 0, 0, 0, 0, 0};
+    // Under `valgrind --tool=callgrind --collect-atstart=no` (scripts/ci/instruction_counts.sh) exactly the timed
+    // frames are counted, and each case's count is dumped under its id: instructions are a deterministic measure
+    // of work on CPU drivers. Outside valgrind these requests are a few no-op instructions.
+    CALLGRIND_TOGGLE_COLLECT;
+    for (auto _ : state) {
+      FrameTiming t = render_measured(b, frame++);
+      state.SetIterationTime(t.frame_wall_ms * 1e-3);
+      sums[6] += t.process_cpu_ms;
+      frames.push_back(t);
+      sums[0] += t.shadow.cpu_wall_ms;
+      sums[1] += t.shadow.cpu_submit_ms;
+      sums[2] += t.lighting.cpu_wall_ms;
+      sums[3] += t.lighting.cpu_submit_ms;
+      sums[4] += t.shadow.gpu_ms;
+      sums[5] += t.lighting.gpu_ms;
+    }
+    CALLGRIND_TOGGLE_COLLECT;
+    // Named: the macro stores the pointer in one statement and issues the request in the next.
+    const std::string dump_label = r.config.id() + " frames=" + std::to_string(frame - o.warmup_frames);
+    CALLGRIND_DUMP_STATS_AT(dump_label.c_str());
+    r.device_states.push_back(harness.sample_device(r.config.backend));  // after them
+    std::vector<std::string> api_errors = b.drain_api_errors();  // outside the timed loop
+    if (!api_errors.empty()) throw std::runtime_error("API error (checking mode): " + api_errors.front());
+    state.counters["shadow_wall_ms"] = Counter(sums[0], Counter::kAvgIterations);
+    state.counters["shadow_submit_ms"] = Counter(sums[1], Counter::kAvgIterations);
+    state.counters["lighting_wall_ms"] = Counter(sums[2], Counter::kAvgIterations);
+    state.counters["lighting_submit_ms"] = Counter(sums[3], Counter::kAvgIterations);
+    state.counters["frame_cpu_ms"] = Counter(sums[6], Counter::kAvgIterations);  // compare --metric cpu
+    std::vector<FrameTiming> checked = r.warmup;
+    checked.insert(checked.end(), frames.begin(), frames.end());
+    GpuTimerCheck gpu = check_gpu_timer(checked);
+    state.counters["gpu_timer_reliable"] = Counter(gpu.reliable ? 1.0 : 0.0);
+    if (gpu.reliable) {
+      state.counters["shadow_gpu_ms"] = Counter(sums[4], Counter::kAvgIterations);
+      state.counters["lighting_gpu_ms"] = Counter(sums[5], Counter::kAvgIterations);
+    }
+    set_pass_counters(state, "shadow", r.counters.shadow);
+    set_pass_counters(state, "lighting", r.counters.lighting);
+    state.SetLabel(std::string(to_string(r.status)));
+  } catch (const std::exception& e) {
+    r.add({Status::failed, "timing", std::string("while timing: ") + e.what(), {}});
+    state.SkipWithError(("failed: " + r.reason).c_str());
+  }
+  r.frames.insert(r.frames.end(), frames.begin(), frames.end());
+  if (!frames.empty()) {
+    double wall = 0.0, cpu = 0.0;
+    for (const FrameTiming& t : frames) wall += t.frame_wall_ms, cpu += t.process_cpu_ms;
+    r.repetition_frame_ms.push_back(wall / static_cast<double>(frames.size()));
+    r.repetition_cpu_ms.push_back(cpu / static_cast<double>(frames.size()));
+  }
+  ++r.repetitions;
+  std::vector<FrameTiming> all = r.warmup;
+  all.insert(all.end(), r.frames.begin(), r.frames.end());
+  r.gpu_timer = check_gpu_timer(all);
+}
+
+// The cases that get another repetition this round (matrix order; Google Benchmark may shuffle it).
+std::vector<CaseResult*> next_round(std::vector<CaseResult>& results, const RepetitionPolicy& policy,
+                                    double elapsed) {
+  std::vector<CaseResult*> out;
+  for (CaseResult& r : results)
+    if (is_timed(r.status) && needs_repetition(policy, r.precision_samples(), elapsed)) out.push_back(&r);
+  return out;
+}
+
+std::string ended_by(const RepetitionPolicy& policy, const CaseResult& r, bool stopped, double elapsed) {
+  if (!needs_repetition(policy, r.precision_samples(), elapsed)) {
+    if (policy.sustain_seconds > 0.0) return "sustain";
+    if (policy.precision_percent <= 0.0) return "count";
+    return r.repetitions >= policy.cap() && median_interval(r.precision_samples()).half_width_percent >
+                                                policy.precision_percent
+               ? "cap"
+               : "precision";
+  }
+  return stopped ? "stopped" : "count";
+}
+
+}  // namespace
+
+size_t compared_cases(const std::vector<CaseResult>& results) {
+  std::set<std::string> ids;
+  for (const CaseResult& r : results) {
+    if (!is_timed(r.status)) continue;
+    CaseConfig c = r.config;
+    c.experiment.clear();
+    ids.insert(c.id());
+  }
+  return ids.size();
+}
+
+void run_timed(Harness& harness, std::vector<CaseResult>& results, const RepetitionPolicy& policy,
+               const std::string& gbench_json_path, const std::function<void()>& after_case,
+               const std::function<bool()>& stop_requested) {
+  Progress progress{policy};
+  RoundReporter reporter;
+  for (CaseResult& r : results) r.precision_on_cpu = policy.cpu_metric;
+  const int frames = harness.options().frames;
+  for (;;) {
+    std::vector<CaseResult*> round = next_round(results, policy, progress.elapsed());
+    if (round.empty() || stop_requested()) break;
+    ++progress.round;
+    int in_round = 0;
+    for (CaseResult* r : round)
+      benchmark::RegisterBenchmark(r->config.id().c_str(),
+                                   [&, r, size = static_cast<int>(round.size())](benchmark::State& state) {
+                                     progress.step(r->config.id(), ++in_round, size);
+                                     time_case(harness, *r, state);
+                                     after_case();
+                                   })
+          ->UseManualTime()
+          ->Iterations(frames)
+          ->Unit(benchmark::kMillisecond);
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    benchmark::ClearRegisteredBenchmarks();
+  }
+  const bool stopped = stop_requested();
+  for (CaseResult& r : results) {
+    if (r.repetitions == 0) {
+      if (is_timed(r.status) && stopped)
+        r.add({Status::interrupted, "timing", "interrupted: the run was stopped before this case was timed", {}});
+      continue;
+    }
+    r.precision_target_percent = policy.precision_percent;
+    r.repetitions_ended_by = ended_by(policy, r, stopped, progress.elapsed());
+  }
+  write_gbench_json(gbench_json_path, reporter.all_runs());
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,95 @@
+#pragma once
+// The benchmark matrix: lists per axis, expanded into cases in a fixed order (backend, scene, cube size,
+// frame size, storage, depth format, filter, optimisations, technique). Technique is innermost so that each
+// single-pass case runs right after the six_pass case it is checked against.
+
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "backends/common/case_config.h"
+
+namespace omnishadow::bench {
+
+struct MatrixSpec {
+  std::vector<std::string> backends{"gl"};
+  std::vector<std::string> scenes{"room", "heavy"};
+  std::vector<int> cube_sizes{512, 1024};
+  std::vector<std::pair<int, int>> frame_sizes;  // empty: each scene's own camera size
+  std::vector<Technique> techniques{Technique::six_pass, Technique::geometry_shader,
+                                    Technique::geometry_shader_instanced, Technique::vs_layer,
+                                    Technique::multiview};
+  std::vector<Filter> filters{Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20};
+  std::vector<Storage> storages{Storage::linear_depth};
+  std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
+  std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
+  std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
+  std::vector<float> pcf_scales{1.0f};                        // --pcf-scale 0,1,20
+  // Experiment axes (scripts/experiments/sensitivity_same_run.py): extra fragment work per case, and copies of every
+  // case measured in the same rounds. Each is in the case id only when it has more than one value
+  // (/inj<N>, /rep<k>), so a run with one value keeps the ids of a run without them.
+  std::vector<int> injected_work{0};  // --inject-fragment-work 0,18
+  int replicas = 1;                   // --replicas 2
+  // --technique not given: techniques a backend cannot do at all are left out of its cases (said once on stderr)
+  // rather than reported unsupported case by case; a technique asked for by name is always reported.
+  bool techniques_given = false;
+};
+
+// scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.
+std::vector<CaseConfig> expand(const MatrixSpec& spec, const std::map<std::string, std::pair<int, int>>& scene_sizes);
+
+// Deterministic sharding: shard `index` of `count` keeps cases whose position modulo count equals index.
+std::vector<CaseConfig> shard(const std::vector<CaseConfig>& cases, int index, int count);
+
+// `--shard auto`: the shard (0-based index, count) from the variables a CI engine or batch system sets, first
+// found wins: OMNISHADOW_SHARD_INDEX / OMNISHADOW_SHARD_COUNT (0-based; what our GitHub Actions workflow exports
+// from its matrix, GitHub itself numbers nothing), GitLab's CI_NODE_INDEX / CI_NODE_TOTAL (`parallel:`, 1-based),
+// Slurm's SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN / SLURM_ARRAY_TASK_COUNT, Kubernetes indexed jobs'
+// JOB_COMPLETION_INDEX with OMNISHADOW_SHARD_COUNT (Kubernetes does not export the completions). No variables:
+// the whole matrix (0, 1), and `source` says so. Throws std::invalid_argument naming a variable that is malformed.
+struct ShardFromEnvironment {
+  int index = 0;
+  int count = 1;
+  std::string source;  // "GitLab CI_NODE_INDEX=2 CI_NODE_TOTAL=4", ..., or "none"
+};
+ShardFromEnvironment shard_from_environment(const std::function<const char*(const char*)>& getenv);
+
+// "256,512" -> {256, 512}; throws std::invalid_argument naming `option` on anything but positive integers.
+std::vector<int> parse_int_list(const std::string& text, const std::string& option);
+// "800x600,1920x1080"
+std::vector<std::pair<int, int>> parse_size_list(const std::string& text, const std::string& option);
+std::vector<std::string> split_list(const std::string& text);
+
+// "a,b+c" with `parse` applied to each item; errors are prefixed with the option's name.
+template <typename Parse>
+auto parse_list_with(const std::string& text, const std::string& option, Parse parse) {
+  std::vector<decltype(parse(std::string()))> out;
+  for (const std::string& item : split_list(text)) {
+    try {
+      out.push_back(parse(item));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(option + ": " + e.what());
+    }
+  }
+  if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  return out;
+}
+
+template <typename E>
+std::vector<E> parse_enum_list(const std::string& text, const std::string& option) {
+  std::vector<E> out;
+  for (const std::string& item : split_list(text)) {
+    try {
+      out.push_back(parse_enum<E>(item));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(option + ": " + e.what());
+    }
+  }
+  if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  return out;
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,111 @@
+#include "bench/run/memory_budget.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace omnishadow::bench {
+namespace {
+
+uint64_t depth_bytes(DepthFormat f) { return f == DepthFormat::d16 ? 2 : 4; }  // D24 is stored as X8_D24
+
+// "MemAvailable:   123 kB" style lines of /proc files; 0 when absent.
+uint64_t proc_kib(const char* file, const char* key) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) {
+      std::istringstream s(line.substr(std::char_traits<char>::length(key)));
+      uint64_t kib = 0;
+      s >> kib;
+      return kib * 1024;
+    }
+  return 0;
+}
+
+uint64_t read_number(const char* file) {
+  std::ifstream in(file);
+  std::string word;
+  in >> word;
+  if (word.empty() || word == "max") return 0;
+  try {
+    return std::stoull(word);
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+}  // namespace
+
+std::string format_bytes(uint64_t bytes) {
+  char buf[32];
+  double b = static_cast<double>(bytes);
+  if (b >= 1024.0 * 1024 * 1024) std::snprintf(buf, sizeof buf, "%.1f GiB", b / (1024.0 * 1024 * 1024));
+  else std::snprintf(buf, sizeof buf, "%.0f MiB", b / (1024.0 * 1024));
+  return buf;
+}
+
+MemoryNeed estimate_case_memory(const CaseConfig& c, CubeReadBack cube) {
+  const uint64_t texels = 6ull * uint64_t(c.cube_size) * uint64_t(c.cube_size);
+  const uint64_t pixels = uint64_t(c.width) * uint64_t(c.height);
+  MemoryNeed need;
+  need.device_bytes = texels * depth_bytes(c.depth_format) + (c.storage == Storage::r32f_distance ? texels * 4 : 0);
+  // Check variant: RGBA8 lit, R32F shadow factor, RGBA32F position, D32F depth; timed variant: RGBA8 + D32F.
+  need.device_bytes += pixels * (4 + 4 + 16 + 4) + pixels * (4 + 4);
+  // Host: the read-back cube as floats, held twice (this case and the six_pass reference kept for checks), plus
+  // the face strip written as an image (one more float copy and bytes), and the per-pixel buffers four times over.
+  // A sampled read-back brings only the check grid (a cube read in full after all is a failing case's path).
+  const int grid = c.cube_size / cube_sample_stride(c.cube_size);
+  const uint64_t host_texels = cube == CubeReadBack::full ? texels : 6ull * uint64_t(grid) * uint64_t(grid);
+  need.host_bytes = host_texels * 4 * 3 + host_texels + pixels * (4 + 4 + 4 + 16) * 4;
+  return need;
+}
+
+MemoryAvailable host_memory_available() {
+  MemoryAvailable a;
+  a.host_bytes = proc_kib("/proc/meminfo", "MemAvailable:");
+  a.host_limit = "MemAvailable";
+  // A container's cgroup (v2) may allow far less than the machine has free.
+  uint64_t cg_max = read_number("/sys/fs/cgroup/memory.max");
+  if (cg_max > 0) {
+    uint64_t used = read_number("/sys/fs/cgroup/memory.current");
+    uint64_t left = cg_max > used ? cg_max - used : 0;
+    if (left < a.host_bytes) {
+      a.host_bytes = left;
+      a.host_limit = "cgroup memory.max";
+    }
+  }
+  // ulimit -v: address space, which mappings count against whether touched or not.
+  rlimit as{};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
+    uint64_t used = proc_kib("/proc/self/status", "VmSize:");
+    uint64_t left = as.rlim_cur > used ? as.rlim_cur - used : 0;
+    if (left < a.host_bytes) {
+      a.host_bytes = left;
+      a.host_limit = "RLIMIT_AS (ulimit -v)";
+    }
+  }
+  return a;
+}
+
+std::string memory_shortfall(const MemoryNeed& need, const MemoryAvailable& host, const DeviceInfo& device) {
+  // Leave a fifth of what is available to the driver's own allocations (staging, JIT code, command memory).
+  auto usable = [](uint64_t bytes) { return bytes / 5 * 4; };
+  if (host.host_bytes == 0) return "";  // nothing known (no /proc): let the allocations speak
+  uint64_t host_need = need.host_bytes + (device.shares_host_memory ? need.device_bytes : 0);
+  if (host_need > usable(host.host_bytes))
+    return "out of memory (predicted): needs " + format_bytes(host_need) + " of host memory (" +
+           format_bytes(need.device_bytes) + " of targets" + (device.shares_host_memory ? ", which this driver keeps in host memory" : "") +
+           ", " + format_bytes(need.host_bytes) + " of read-back copies), " + format_bytes(host.host_bytes) +
+           " available (" + host.host_limit + ")";
+  if (!device.shares_host_memory && device.device_memory_bytes > 0 &&
+      need.device_bytes > usable(device.device_memory_bytes))
+    return "out of memory (predicted): needs " + format_bytes(need.device_bytes) + " of device memory, the device has " +
+           format_bytes(device.device_memory_bytes);
+  return "";
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,268 @@
+#include "bench/truth/accuracy.h"
+
+#include "backends/common/map_lights.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <thread>
+
+namespace omnishadow::bench {
+namespace {
+
+// Deterministic jitter in [0, 1): a hash of the pixel and the stratum, never a random generator.
+float jitter(uint32_t a, uint32_t b) {
+  uint32_t h = a * 0x9E3779B1u ^ (b + 0x7F4A7C15u + (a << 6) + (a >> 2));
+  h ^= h >> 16;
+  h *= 0x85EBCA6Bu;
+  h ^= h >> 13;
+  h *= 0xC2B2AE35u;
+  h ^= h >> 16;
+  return static_cast<float>(h >> 8) / 16777216.0f;
+}
+
+// Shirley's concentric map: stratified samples on the unit square stay stratified on the disk.
+glm::vec2 concentric(float u, float v) {
+  float a = 2.0f * u - 1.0f, b = 2.0f * v - 1.0f;
+  if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
+  const float quarter_pi = std::numbers::pi_v<float> / 4.0f;
+  float r, phi;
+  if (std::fabs(a) > std::fabs(b)) {
+    r = a;
+    phi = quarter_pi * (b / a);
+  } else {
+    r = b;
+    phi = 2.0f * quarter_pi - quarter_pi * (a / b);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+template <typename Body>
+void parallel_rows(int height, Body body) {
+  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      for (int y = static_cast<int>(t); y < height; y += static_cast<int>(threads)) body(y);
+    });
+  for (auto& th : pool) th.join();
+}
+
+double psnr(double squared_error_sum, uint64_t values) {
+  if (values == 0 || squared_error_sum == 0.0) return -1.0;
+  return 10.0 * std::log10(static_cast<double>(values) / squared_error_sum);  // peak 1.0
+}
+
+// The hidden fraction of a spherical light of radius r centred at `light`, seen from p: the sphere seen from p is a
+// disk facing p, sampled on k x k strata jittered per pixel (deterministic).
+float hidden_fraction(const reference::RayCaster& caster, const glm::vec3& light, const glm::vec3& p, float r, int k,
+                      uint32_t pixel, float eps) {
+  glm::vec3 w = glm::normalize(light - p);
+  glm::vec3 helper = std::fabs(w.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  glm::vec3 u = glm::normalize(glm::cross(helper, w)), v = glm::cross(w, u);
+  int hidden = 0;
+  for (int a = 0; a < k; ++a)
+    for (int b = 0; b < k; ++b) {
+      uint32_t stratum = static_cast<uint32_t>(a * k + b);
+      glm::vec2 d = concentric((static_cast<float>(a) + jitter(pixel, 2 * stratum)) / k,
+                               (static_cast<float>(b) + jitter(pixel, 2 * stratum + 1)) / k);
+      hidden += caster.blocked(light + r * (d.x * u + d.y * v), p, eps);
+    }
+  return static_cast<float>(hidden) / static_cast<float>(k * k);
+}
+
+}  // namespace
+
+int sphere_stride_for(const TruthOptions& options, int width, int height) {
+  if (options.sphere_stride > 0) return options.sphere_stride;
+  int stride = 1;
+  auto cast = [&](int s) { return int64_t((width + s - 1) / s) * int64_t((height + s - 1) / s); };
+  while (cast(stride) > kSphereFullPixels) ++stride;
+  return stride;
+}
+
+namespace {
+
+// Every per-pixel buffer sized for the image, nothing covered yet.
+Truth blank_truth(const Images& img, const TruthOptions& options) {
+  Truth t;
+  t.width = img.width;
+  t.height = img.height;
+  t.options = options;
+  const size_t n = static_cast<size_t>(img.width) * static_cast<size_t>(img.height);
+  t.covered.assign(n, 0);
+  t.point_shadow.assign(n, 0.0f);
+  if (options.light_radius > 0) t.sphere_shadow.assign(n, 0.0f);
+  t.sphere_stride = sphere_stride_for(options, img.width, img.height);
+  t.direct.assign(n, glm::vec3(0.0f));
+  t.has_direct.assign(n, 0);
+  return t;
+}
+
+// The radius fit's slots hold every fit_stride-th pixel (-1 where nothing was drawn): keep the covered ones only,
+// in image order.
+void keep_covered_fit_slots(Truth& t, const std::vector<int64_t>& slot_pixel) {
+  for (size_t slot = 0; slot < slot_pixel.size(); ++slot) {
+    if (slot_pixel[slot] < 0) continue;
+    const size_t kept = t.fit_pixels.size();
+    t.fit_pixels.push_back(static_cast<uint32_t>(slot_pixel[slot]));
+    for (std::vector<float>& shadow : t.fit_shadow) shadow[kept] = shadow[slot];
+  }
+  for (std::vector<float>& shadow : t.fit_shadow) shadow.resize(t.fit_pixels.size());
+}
+
+}  // namespace
+
+Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& img,
+                    const TruthOptions& options) {
+  Truth t = blank_truth(img, options);
+  // The light whose shadow the images report (lighting.frag): the point light, else the first spot/directional
+  // light. A directional light is a point far along its reverse direction; a spot light reaches only its map.
+  const scene::MapLight* map = scene.has_point_light || scene.map_lights.empty() ? nullptr : &scene.map_lights[0];
+  const bool directional = map && map->type == scene::MapLightType::directional;
+  const glm::vec3 light_color = map ? map->color : scene.light.color;
+  float scene_size = 1.0f;
+  for (const scene::Object& o : scene.objects) scene_size = std::max(scene_size, glm::length(o.bounds_max - o.bounds_min));
+  const glm::mat4 spot_view_proj = map && !directional
+                                       ? gpu::map_view_projection(scene, *map, frame, cube::DepthRange::minus_one_to_one)
+                                       : glm::mat4(1.0f);
+  const glm::vec3 fixed_light = map ? (directional ? glm::vec3(0.0f) : map->path.at(frame)) : scene.light.path.at(frame);
+  auto light_for = [&](const glm::vec3& p) {
+    return directional ? p - map->direction * (4.0f * scene_size) : fixed_light;
+  };
+  auto spot_reaches = [&](const glm::vec3& p) {
+    glm::vec4 c = spot_view_proj * glm::vec4(p, 1.0f);
+    return c.w > 0.0f && std::fabs(c.x) <= c.w && std::fabs(c.y) <= c.w && c.z <= c.w;
+  };
+  const glm::vec3 camera = scene.camera.position;
+  const int k = std::max(1, options.samples_per_axis);
+  // Radius-fit slots: one per fit_stride-th pixel of every fit_stride-th row, filled where covered; large frames
+  // thin the fit as they thin the soft reference.
+  const bool fit = options.light_radius > 0 && map == nullptr;
+  const int fit_stride = fit_stride_for(t.sphere_stride);
+  const int fit_w = (img.width + fit_stride - 1) / fit_stride, fit_h = (img.height + fit_stride - 1) / fit_stride;
+  std::vector<int64_t> fit_slot_pixel(fit ? static_cast<size_t>(fit_w) * fit_h : 0, -1);
+  if (fit) t.fit_shadow.assign(kFitRadii.size(), std::vector<float>(fit_slot_pixel.size(), 0.0f));
+
+  parallel_rows(img.height, [&](int y) {
+    for (int x = 0; x < img.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x);
+      if (img.world_position[4 * i + 3] != 1.0f) continue;
+      t.covered[i] = 1;
+      const glm::vec3 p(img.world_position[4 * i], img.world_position[4 * i + 1], img.world_position[4 * i + 2]);
+      const glm::vec3 light = light_for(p);
+      const bool reached = !map || directional || spot_reaches(p);
+      // End tolerance: relative to the distance, so that a point does not hide behind its own surface.
+      const float eps = 1e-4f * (1.0f + glm::length(p - light));
+      t.point_shadow[i] = reached && caster.blocked(light, p, eps) ? 1.0f : 0.0f;
+
+      if (options.light_radius > 0 && (map != nullptr)) {
+        t.sphere_shadow[i] = t.point_shadow[i];  // the soft reference models the point light only
+      } else if (options.light_radius > 0 && x % t.sphere_stride == 0 && y % t.sphere_stride == 0) {
+        t.sphere_shadow[i] = hidden_fraction(caster, light, p, options.light_radius, k, static_cast<uint32_t>(i), eps);
+      }
+      if (fit && x % fit_stride == 0 && y % fit_stride == 0) {
+        const size_t slot = static_cast<size_t>(y / fit_stride) * fit_w + static_cast<size_t>(x / fit_stride);
+        fit_slot_pixel[slot] = static_cast<int64_t>(i);
+        for (size_t r = 0; r < kFitRadii.size(); ++r)
+          t.fit_shadow[r][slot] = kFitRadii[r] == 0.0f ? t.point_shadow[i]
+                                                        : hidden_fraction(caster, light, p, kFitRadii[r],
+                                                                          kFitSamplesPerAxis, static_cast<uint32_t>(i), eps);
+      }
+
+      // The exact surface under the pixel, for the unshadowed lighting terms (same Blinn-Phong as the shader).
+      glm::vec3 to_p = p - camera;
+      float distance = glm::length(to_p);
+      reference::Hit hit = caster.closest(camera, to_p / distance, distance * 1.001 + 1e-3);
+      if (hit.hit && std::fabs(hit.distance - distance) < 1e-3 * (1.0 + distance)) {
+        glm::vec3 n = caster.normal_at(hit), albedo = caster.color_at(hit);
+        glm::vec3 l = directional ? -map->direction : glm::normalize(light - p), view = glm::normalize(camera - p);
+        float diff = std::max(glm::dot(l, n), 0.0f);
+        float spec = std::pow(std::max(glm::dot(n, glm::normalize(l + view)), 0.0f), 64.0f);
+        t.direct[i] = reached ? (diff + spec) * light_color * albedo : glm::vec3(0.0f);
+        t.has_direct[i] = 1;
+      }
+    }
+  });
+  keep_covered_fit_slots(t, fit_slot_pixel);
+  return t;
+}
+
+Accuracy measure_accuracy(const Truth& t, const Images& img) {
+  Accuracy a;
+  a.sphere_stride = t.sphere_stride;
+  uint64_t wrong = 0, false_shadow = 0, missed = 0, lit_values = 0, sphere_lit_values = 0;
+  double abs_point = 0, abs_sphere = 0, sq_point = 0, sq_sphere = 0;
+  const size_t width = size_t(std::max(t.width, 1)), stride = size_t(t.sphere_stride);
+  for (size_t i = 0; i < t.covered.size(); ++i) {
+    if (!t.covered[i]) continue;
+    ++a.pixels;
+    const bool sphere = !t.sphere_shadow.empty() && (i % width) % stride == 0 && (i / width) % stride == 0;
+    a.sphere_pixels += sphere;
+    const float gpu = img.shadow_factor[i];
+    const bool gpu_shadowed = gpu > 0.5f, truth_shadowed = t.point_shadow[i] > 0.5f;
+    wrong += gpu_shadowed != truth_shadowed;
+    false_shadow += gpu_shadowed && !truth_shadowed;
+    missed += !gpu_shadowed && truth_shadowed;
+    abs_point += std::fabs(gpu - t.point_shadow[i]);
+    if (sphere) abs_sphere += std::fabs(gpu - t.sphere_shadow[i]);
+    if (t.has_direct[i]) {
+      // lit(s) = base + (1 - s) * direct, so two shadow factors change the lit colour by (s1 - s2) * direct.
+      for (int c = 0; c < 3; ++c) {
+        double dp = (gpu - t.point_shadow[i]) * t.direct[i][c];
+        sq_point += dp * dp;
+        if (sphere) {
+          double ds = (gpu - t.sphere_shadow[i]) * t.direct[i][c];
+          sq_sphere += ds * ds;
+        }
+      }
+      lit_values += 3;
+      sphere_lit_values += sphere ? 3 : 0;
+    }
+  }
+  if (a.pixels == 0) return a;
+  const double n = static_cast<double>(a.pixels);
+  a.misclassified_percent = 100.0 * static_cast<double>(wrong) / n;
+  a.false_shadow_percent = 100.0 * static_cast<double>(false_shadow) / n;
+  a.missed_shadow_percent = 100.0 * static_cast<double>(missed) / n;
+  a.mae_point = abs_point / n;
+  if (a.sphere_pixels) a.mae_sphere = abs_sphere / static_cast<double>(a.sphere_pixels);
+  a.psnr_point_db = psnr(sq_point, lit_values);
+  if (a.sphere_pixels) a.psnr_sphere_db = psnr(sq_sphere, sphere_lit_values);
+  if (!t.fit_pixels.empty()) {
+    for (const std::vector<float>& shadow : t.fit_shadow) {
+      double sum = 0;
+      for (size_t j = 0; j < t.fit_pixels.size(); ++j) sum += std::fabs(img.shadow_factor[t.fit_pixels[j]] - shadow[j]);
+      a.fit_mae.push_back(sum / static_cast<double>(t.fit_pixels.size()));
+    }
+    const size_t best = static_cast<size_t>(std::min_element(a.fit_mae.begin(), a.fit_mae.end()) - a.fit_mae.begin());
+    a.fit_radius = kFitRadii[best];
+    a.fit_mae_best = a.fit_mae[best];
+  }
+  return a;
+}
+
+std::vector<uint8_t> error_heatmap(const Truth& t, const Images& img) {
+  std::vector<uint8_t> rgb(static_cast<size_t>(t.width) * static_cast<size_t>(t.height) * 3, 0);
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x) {
+      size_t src = static_cast<size_t>(t.height - 1 - y) * static_cast<size_t>(t.width) + static_cast<size_t>(x);
+      size_t o = (static_cast<size_t>(y) * static_cast<size_t>(t.width) + static_cast<size_t>(x)) * 3;
+      if (!t.covered[src]) continue;
+      float d = img.shadow_factor[src] - t.point_shadow[src];
+      auto level = static_cast<uint8_t>(std::clamp(80.0f + 175.0f * std::fabs(d), 0.0f, 255.0f));
+      if (d > 0.01f) rgb[o] = level;            // false shadow
+      else if (d < -0.01f) rgb[o + 2] = level;  // missed shadow
+      else rgb[o] = rgb[o + 1] = rgb[o + 2] = t.point_shadow[src] > 0.5f ? 60 : 150;
+    }
+  return rgb;
+}
+
+uint64_t positions_fingerprint(const Images& img) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a over the raw float bytes
+  const auto* bytes = reinterpret_cast<const uint8_t*>(img.world_position.data());
+  for (size_t i = 0; i < img.world_position.size() * sizeof(float); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+  return h ^ (static_cast<uint64_t>(img.width) << 32) ^ static_cast<uint64_t>(img.height);
+}
+
+}  // namespace omnishadow::bench

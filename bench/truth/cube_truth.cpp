@@ -1,0 +1,151 @@
+#include "bench/truth/cube_truth.h"
+
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <future>
+
+#include "backends/common/cube_faces.h"
+
+namespace omnishadow::bench {
+
+std::vector<uint8_t> culled_triangles(const scene::Scene& scene, CulledFaces closed_objects) {
+  std::vector<uint8_t> culled(scene.vertices.size() / 3, uint8_t(CulledFaces::none));
+  for (const scene::Object& o : scene.objects)
+    if (o.cull_back_faces)
+      for (uint32_t v = o.first_vertex; v < o.first_vertex + o.vertex_count; v += 3)
+        culled[v / 3] = uint8_t(closed_objects);
+  return culled;
+}
+
+double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& scene,
+                      const std::vector<uint8_t>& culled, glm::vec3 origin, const glm::vec3& unit, double length) {
+  double travelled = 0.0;
+  for (int guard = 0; guard < 64; ++guard) {
+    reference::Hit hit = caster.closest(origin, unit, length - travelled);
+    if (!hit.hit) return -1.0;
+    const size_t tri = hit.triangle;
+    if (culled[tri] == uint8_t(CulledFaces::none)) return travelled + hit.distance;
+    const glm::vec3 a = scene.vertices[3 * tri].position, b = scene.vertices[3 * tri + 1].position,
+                    c = scene.vertices[3 * tri + 2].position;
+    const bool front = glm::dot(glm::cross(b - a, c - a), unit) < 0.0f;  // counter-clockwise towards the ray
+    if (front != (culled[tri] == uint8_t(CulledFaces::front))) return travelled + hit.distance;  // kept
+    const double step = hit.distance + 1e-4;  // past the culled face
+    travelled += step;
+    origin += unit * float(step);
+  }
+  return -1.0;
+}
+
+CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene, const glm::vec3& light,
+                             float near_plane, float far_plane, int cube_size, bool two_sided) {
+  const std::vector<uint8_t> culled = culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back);
+  CubeTruth t;
+  t.size = cube_size;
+  t.stride = cube_sample_stride(cube_size);
+  t.far_plane = far_plane;
+  const int n = cube_size / t.stride;
+  auto face_truth = [&](int face) {
+    std::vector<float> out(size_t(n) * size_t(n), -1.0f);
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const int s = x * t.stride + t.stride / 2, tt = y * t.stride + t.stride / 2;
+        const glm::vec3 d = cube::texel_direction(face, s, tt, cube_size);
+        const float len = glm::length(d);  // the face axis component is 1: axis distance = distance / len
+        const glm::vec3 unit = d / len;
+        // The face frustum clips at the axis distances near and far. A surface lying exactly on the near plane is
+        // kept by the rasteriser (the room's cube face at x = -1 with the light at the origin and near 1), so the
+        // ray starts a hair before it.
+        const double start = double(near_plane) * len * (1.0 - 1e-5), end = double(far_plane) * len;
+        const double hit = first_kept_hit(caster, scene, culled, light + unit * float(start), unit, end - start);
+        if (hit >= 0.0) out[size_t(y) * size_t(n) + size_t(x)] = float(start + hit);
+      }
+    return out;
+  };
+  std::array<std::future<std::vector<float>>, 6> faces;
+  for (int f = 0; f < 6; ++f) faces[size_t(f)] = std::async(std::launch::async, face_truth, f);
+  for (int f = 0; f < 6; ++f) t.distance[size_t(f)] = faces[size_t(f)].get();
+  return t;
+}
+
+namespace {
+
+double storage_step(Storage storage, DepthFormat format, double distance, double axis, double near_plane,
+                    double far_plane) {
+  const double q = format == DepthFormat::d16 ? 1.0 / 65535.0 : format == DepthFormat::d24 ? 1.0 / 16777215.0
+                                                                                           : std::ldexp(1.0, -23);
+  switch (storage) {
+    case Storage::linear_depth: return far_plane * q;
+    case Storage::r32f_distance: return distance * std::ldexp(1.0, -23);
+    case Storage::hardware_depth:
+      // d(axis)/d(window depth) = axis^2 (f - n) / (n f), along the texel's direction; GL's [-1, 1] range
+      // doubles the window-depth step.
+      return 2.0 * axis * axis * (far_plane - near_plane) / (near_plane * far_plane) * q * (distance / axis);
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
+                                  DepthFormat format, float near_plane) {
+  CubeTexelReport r;
+  r.stride = truth.stride;
+  const int n = truth.size / truth.stride;
+  if (images.cube_size != truth.size) return r;
+  if (!images.has_full_cube() && (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
+    return r;
+  const double far_plane = images.light_far;
+  for (int f = 0; f < 6; ++f) {
+    // The check grid is the truth's grid: read from the device's sample, or from the full cube where it came back.
+    const bool full = images.has_full_cube();
+    const auto& stored = full ? images.cube_distance[size_t(f)] : images.cube_sample[size_t(f)];
+    const auto& exact = truth.distance[size_t(f)];
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const int s = x * truth.stride + truth.stride / 2, t = y * truth.stride + truth.stride / 2;
+        const double got = full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
+        const double want = exact[size_t(y) * size_t(n) + size_t(x)];
+        // "Nothing here": the clear value, far (depth storages) or FLT_MAX (r32f).
+        const bool got_surface = got < far_plane * (1.0 - 1e-6) && got != double(FLT_MAX);
+        const bool want_surface = want >= 0.0;
+        ++r.texels;
+        bool bad = false;
+        if (got_surface && !want_surface) {
+          ++r.spurious, bad = true;
+        } else if (!got_surface && want_surface) {
+          ++r.missing, bad = true;
+        } else if (got_surface) {
+          const double error = std::fabs(got - want);
+          r.max_error = std::max(r.max_error, error);
+          const double len = glm::length(cube::texel_direction(f, s, t, truth.size));
+          const double bound = 2.0 * storage_step(storage, format, want, want / len, near_plane, far_plane) + 1e-4 * want;
+          if (error > bound) ++r.wrong, bad = true;
+        }
+        r.bad_per_face[size_t(f)] += bad;
+      }
+  }
+  return r;
+}
+
+std::string describe(const CubeTexelReport& r) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "cube_texels: %.3g%% of %llu texels (every %d%s) wrong", r.bad_percent(),
+                static_cast<unsigned long long>(r.texels), r.stride, r.stride == 1 ? "" : "th in s and t");
+  std::string out = buf;
+  std::string faces;
+  const uint64_t per_face = r.texels / 6;
+  for (int f = 0; f < 6; ++f)
+    if (r.bad_per_face[size_t(f)] && per_face) {
+      std::snprintf(buf, sizeof buf, "%s %.3g%%", cube::kFaceNames[size_t(f)],
+                    100.0 * double(r.bad_per_face[size_t(f)]) / double(per_face));
+      faces += (faces.empty() ? "" : ", ") + std::string(buf);
+    }
+  if (!faces.empty()) out += " (" + faces + ")";
+  std::snprintf(buf, sizeof buf, ": %llu beyond the depth step, %llu spurious, %llu missing, max error %.4g units",
+                static_cast<unsigned long long>(r.wrong), static_cast<unsigned long long>(r.spurious),
+                static_cast<unsigned long long>(r.missing), r.max_error);
+  return out + buf;
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,220 @@
+// The Harness's image checks: the timed variant against the check variant, every technique against the six_pass
+// rendering of its group (cube faces, shadow factor, lit frame, with the driver's evidence when the images point
+// at it), and each case against the same case on the other API. A failing check writes its diff image.
+
+#include <algorithm>
+#include <cfloat>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "backends/common/cube_faces.h"
+#include "bench/run/case_runner.h"
+#include "bench/results/image_io.h"
+
+namespace omnishadow::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<float> scaled(std::vector<float> v, float scale) {
+  for (float& x : v) x = x * scale;
+  return v;
+}
+
+std::vector<float> luminance(const std::vector<uint8_t>& rgba) {
+  std::vector<float> out(rgba.size() / 4);
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = (static_cast<float>(rgba[4 * i]) + rgba[4 * i + 1] + rgba[4 * i + 2]) / (3.0f * 255.0f);
+  return out;
+}
+
+// Per pixel, the largest channel difference: a single float image that diff_image_rgb can colour.
+std::vector<float> max_channel_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  std::vector<float> out(a.size() / 4);
+  for (size_t i = 0; i < out.size(); ++i) {
+    int d = 0;
+    for (size_t k = 0; k < 4; ++k) d = std::max(d, std::abs(int(a[4 * i + k]) - int(b[4 * i + k])));
+    out[i] = static_cast<float>(d);
+  }
+  return out;
+}
+
+bool all_faces_identical(const Images& img) {
+  for (int f = 1; f < 6; ++f)
+    if (img.cube_distance[static_cast<size_t>(f)] != img.cube_distance[0]) return false;
+  return true;
+}
+
+// A face nothing was drawn to still holds the clear value everywhere: far (linear storage) or FLT_MAX (r32f).
+std::vector<int> untouched_faces(const Images& img, float far_plane) {
+  std::vector<int> out;
+  for (int f = 0; f < 6; ++f) {
+    const auto& face = img.cube_distance[static_cast<size_t>(f)];
+    float first = face.empty() ? 0.0f : face.front();
+    bool clear = (first == far_plane || first == FLT_MAX) &&
+                 std::all_of(face.begin(), face.end(), [&](float v) { return v == first; });
+    if (clear) out.push_back(f);
+  }
+  return out;
+}
+
+// Evidence from the images that the driver, not the technique, went wrong; empty when there is none.
+std::string driver_evidence(const Images& img, const Images& ref, float far_plane) {
+  if (all_faces_identical(img) && !all_faces_identical(ref))
+    return "all six faces hold the same image while six_pass's differ: the driver rendered every layer/view "
+           "into one face";
+  std::vector<int> mine = untouched_faces(img, far_plane), theirs = untouched_faces(ref, far_plane);
+  std::vector<int> lost;
+  for (int f : mine)
+    if (std::find(theirs.begin(), theirs.end(), f) == theirs.end()) lost.push_back(f);
+  if (lost.empty()) return "";
+  std::string names;
+  for (int f : lost) names += (names.empty() ? "" : " ") + std::string(cube::kFaceNames[static_cast<size_t>(f)]);
+  return std::to_string(lost.size()) + " of 6 faces (" + names +
+         ") were never written while six_pass wrote them: the driver did not route every layer/view to its face";
+}
+
+std::map<std::string, double> check_figures(const CheckResult& c) {
+  return {{"percent_differing", c.difference.percent_differing()},
+          {"max_abs", c.difference.max_abs},
+          {"differing", double(c.difference.differing)}};
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+}  // namespace
+
+void Harness::check_timed_variant(CaseResult& r, const Images& images) {
+  CheckResult check{"timed_lit", r.config.id() + " (check variant)"};
+  check.difference = compare_values(images.timed_lit_rgba8, images.lit_rgba8, 0.0);
+  std::vector<float> diff = max_channel_difference(images.timed_lit_rgba8, images.lit_rgba8);
+  record_check(r, check, diff, std::vector<float>(diff.size(), 0.0f), luminance(images.lit_rgba8), images.width,
+               images.height, 64.0, true);
+  if (!r.checks.back().passed)
+    r.add({Status::failed_check, "timed_lit",
+           "timed_lit: the timed lighting variant's colour differs from the check variant's in " +
+               fmt(check.difference.percent_differing()) + "% of values (max abs " + fmt(check.difference.max_abs) +
+               "): the timed frame does not render what was checked",
+           check_figures(check)});
+}
+
+void Harness::check_against_six_pass(CaseResult& r, Images& images) {
+  CaseConfig ref_config = reference_config(r.config);
+  if (reference_key_ != group_key(r.config)) {
+    // six_pass is not in the matrix (or ran in another shard): render it now, untimed.
+    Backend& b = activate(ref_config);
+    b.render(options_.check_frame, FrameKind::check);
+    reference_ = b.read_back(cube_read_back_for(ref_config));
+    reference_key_ = group_key(r.config);
+    activate(r.config);  // leave the backend on the case being measured
+  }
+  const float far_plane = reference_->light_far;
+
+  // Cube faces, in world units: the technique must store what six_pass stores. Equal face hashes (the device's, or
+  // the host's for full read-backs) settle it without the values; otherwise both cubes are compared value by
+  // value, read in full if they were not (the case's own, and six_pass's, rendered again: frames are deterministic).
+  CheckResult faces_check{"cube_faces", ref_config.id()};
+  faces_check.tolerance = options_.face_tolerance;
+  if (images.cube_summary_on_device == reference_->cube_summary_on_device &&
+      images.cube_summary == reference_->cube_summary && reference_->light_far == images.light_far) {
+    const uint64_t texels = 6ull * uint64_t(images.cube_size) * uint64_t(images.cube_size);
+    faces_check.difference = {texels, 0, 0.0};
+    faces_check.method = "hash";
+    faces_check.passed = true;
+    r.checks.push_back(faces_check);
+  } else {
+    if (!images.has_full_cube()) {
+      read_full_cube(r.config, images);
+      r.cube_read_back = "sampled+full";
+    }
+    if (!reference_->has_full_cube()) {
+      read_full_cube(ref_config, *reference_);
+      activate(r.config);
+    }
+    std::vector<float> faces = concat_faces(images), ref_faces = concat_faces(*reference_);
+    faces_check.difference = compare_values(faces, ref_faces, options_.face_tolerance);
+    record_check(r, faces_check, faces, ref_faces, scaled(ref_faces, 1.0f / far_plane), images.cube_size * 6,
+                 images.cube_size, far_plane * 0.05, false);
+  }
+  const Images& ref = *reference_;
+
+  CheckResult shadow_check{"shadow_factor", ref_config.id()};
+  shadow_check.tolerance = 0.0;
+  shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, 0.0);
+  record_check(r, shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height, 1.0,
+         true);
+
+  CheckResult lit_check{"lit", ref_config.id()};
+  lit_check.tolerance = options_.lit_tolerance;
+  lit_check.difference = compare_values(images.lit_rgba8, ref.lit_rgba8, options_.lit_tolerance);
+  std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit_rgba8);
+  record_check(r, lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8), images.width,
+         images.height, 64.0, true);
+
+  bool failed = false;
+  for (const CheckResult& c : r.checks)
+    if (!c.passed && (c.name == "cube_faces" || c.name == "shadow_factor" || c.name == "lit")) {
+      failed = true;
+      r.add({Status::failed_check, c.name,
+             c.name + " differ from " + c.against + " in " + fmt(c.difference.percent_differing()) +
+                 "% of values (max abs " + fmt(c.difference.max_abs) + ")",
+             check_figures(c)});
+    }
+  if (failed)
+    if (std::string evidence = driver_evidence(images, ref, far_plane); !evidence.empty())
+      r.add({Status::failed_check, "driver_evidence", evidence, {}});
+}
+
+void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float>& a, const std::vector<float>& b,
+                           const std::vector<float>& grey, int width, int height, double scale, bool flip) {
+  c.passed = c.max_percent > 0 ? c.difference.percent_differing() <= c.max_percent : c.difference.differing == 0;
+  if (!c.passed && options_.write_images()) {
+    fs::path dir = fs::path("images") / r.config.id();
+    c.diff_image = (dir / ("diff_" + c.name + ".png")).string();
+    fs::create_directories(fs::path(options_.out_dir) / dir);
+    write_later(r, [path = (fs::path(options_.out_dir) / c.diff_image).string(), width, height,
+                    rgb = diff_image_rgb(a, b, grey, width, height, c.tolerance, scale, flip)] {
+      write_png_rgb_top_down(path, width, height, rgb);
+    });
+  }
+  r.checks.push_back(c);
+}
+
+void Harness::check_against_other_backend(CaseResult& r, const Images& images) {
+  std::string id = r.config.id();
+  std::string key = id.substr(id.find('/'));
+  auto it = cross_.find(key);
+  if (it == cross_.end()) {
+    cross_[key] = {id, images.lit_rgba8, images.shadow_factor};
+    return;
+  }
+  const CrossReference& ref = it->second;
+  if (ref.case_id.substr(0, ref.case_id.find('/')) == r.config.backend) return;
+
+  CheckResult shadow{"cross_backend_shadow_factor", ref.case_id};
+  shadow.tolerance = options_.cross_shadow_tolerance;
+  shadow.max_percent = options_.cross_max_percent;
+  shadow.difference = compare_values(images.shadow_factor, ref.shadow_factor, options_.cross_shadow_tolerance);
+  record_check(r, shadow, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height,
+               1.0, true);
+  CheckResult lit{"cross_backend_lit", ref.case_id};
+  lit.tolerance = options_.cross_lit_tolerance;
+  lit.max_percent = options_.cross_max_percent;
+  lit.difference = compare_values(images.lit_rgba8, ref.lit, options_.cross_lit_tolerance);
+  std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit);
+  record_check(r, lit, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit), images.width,
+               images.height, 64.0, true);
+  for (const CheckResult* c : {&r.checks[r.checks.size() - 2], &r.checks.back()})
+    if (!c->passed)
+      r.add({Status::failed_check, c->name,
+             c->name + ": " + fmt(c->difference.percent_differing()) + "% of values differ from " + c->against +
+                 " (allowed " + fmt(c->max_percent) + "%)",
+             check_figures(*c)});
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,273 @@
+#!/usr/bin/python3
+"""What changed over the last N commits, and when: change points in the history of many runs of one device.
+
+Reads run folders (or folders holding run folders), keeps one device key (the most common, or --device-key),
+orders the runs by commit date (results.json's commit_date; else `git log` in --repo; else the run's date), takes
+the median per commit where a commit ran more than once, and for every case and metric finds the steps:
+  timings (frame time, per-pass wall and GPU time):  scripts/lib/changepoints.py (PELT + Mann-Whitney U + minimum step),
+                                                     kept when the history without its newest commit has it too
+  work counters, misclassified %, cube-texel errors and images (SHA-256 of the lit frame, cube faces and shadow
+  factor PNGs the run wrote): exact; any change of value is a step
+Steps recorded in the accepted file (results/accepted_steps.json: case and metric patterns, commit, reason) stop
+alerting: a series is analysed from its latest accepted step on, and an alert placed within ACCEPT_WINDOW commits
+of an accepted step is silent, so only a new step raises a new alert.
+Writes OUT/history.json and OUT/history.md (regressions first); exit 1 when there is an alert.
+
+Usage: scripts/analysis/history.py RUN_OR_FOLDER... [--out DIR] [--accepted FILE] [--repo DIR] [--device-key KEY]
+"""
+import argparse
+import hashlib
+import json
+import os
+import re
+import subprocess
+import sys
+from collections import Counter
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "lib"))
+import changepoints  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+# The timing gate; scripts/analysis/history_benchmark.py measures what it finds and what it raises falsely.
+TIMING_GATE = {"penalty": 3.0, "alpha": 0.01, "min_effect": 0.02, "min_size": 3}
+
+
+def load(path):
+    file = os.path.join(path, "results.json") if os.path.isdir(path) else path
+    try:
+        with open(file) as f:
+            doc = json.load(f)
+    except (OSError, ValueError) as e:
+        sys.exit(f"history: cannot read {file}: {e}")
+    if not isinstance(doc, dict) or not isinstance(doc.get("omnishadow"), dict):
+        sys.exit(f"history: {file} is not an omnishadow results file")
+    doc["_path"] = path
+    return doc
+
+
+def find_runs(paths):
+    runs = []
+    for p in paths:
+        if os.path.isfile(os.path.join(p, "results.json")) or os.path.isfile(p):
+            runs.append(p)
+        elif os.path.isdir(p):
+            runs += sorted(os.path.join(p, d) for d in os.listdir(p)
+                           if os.path.isfile(os.path.join(p, d, "results.json")))
+        else:
+            sys.exit(f"history: {p}: no such run or folder")
+    return runs
+
+
+def device_key(doc):
+    o = doc["omnishadow"]
+    return "; ".join(f"{b}: {d.get('renderer', '')} {d.get('version', '')}"
+                     for b, d in sorted(o.get("devices", {}).items()))
+
+
+def frame_ms(case):
+    """The median per-repetition frame time (ms), the figure compare tests; runs before the rounds give the median
+    frame; None for a case never timed."""
+    t = case.get("timing", {})
+    per = t.get("per_repetition", {}).get("frame_ms") or []
+    if per:
+        return float(np.median(per))
+    return t["frame_wall_ms"]["median"] if "frame_wall_ms" in t else None
+
+
+def case_times(doc):
+    """Per case id: frame_ms of every timed case."""
+    return {c["id"]: frame_ms(c) for c in doc["omnishadow"].get("cases", []) if frame_ms(c) is not None}
+
+
+# Images compared exactly, by the SHA-256 of the file the run wrote (same pixels, same encoder, same bytes).
+IMAGE_ROLES = ("lit", "cube_faces", "shadow_factor_png")
+
+
+def image_digest(run_dir, relative):
+    try:
+        with open(os.path.join(run_dir, relative), "rb") as f:
+            return hashlib.sha256(f.read()).hexdigest()[:16]
+    except OSError:
+        return None
+
+
+def metrics(case, run_dir="."):
+    """(metric, value, exact) of one case in one run."""
+    t = case.get("timing", {})
+    if frame_ms(case) is not None:
+        yield "frame_ms", frame_ms(case), False
+    for p in ("shadow", "lighting"):
+        for kind in ("cpu_wall_ms", "gpu_ms"):
+            if kind in t.get(p, {}):
+                yield f"{p}_{kind}", t[p][kind]["median"], False
+        for name, value in case.get("counters", {}).get(p, {}).items():
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                yield f"{p}_{name}", value, True
+    if "accuracy" in case:
+        yield "misclassified_percent", case["accuracy"].get("misclassified_percent"), True
+    if "cube_texels" in case:
+        yield "cube_texel_bad_percent", case["cube_texels"].get("bad_percent"), True
+    for role in IMAGE_ROLES:
+        if role in case.get("images", {}):
+            yield f"image_{role}", image_digest(run_dir, case["images"][role]), True
+
+
+def commit_order(docs, repo):
+    """(date, commit) per run: the recorded commit date, else git's, else the run's own date."""
+    keys = []
+    for doc in docs:
+        o = doc["omnishadow"]
+        commit = o.get("commit", "unknown")
+        date = o.get("commit_date")
+        if not date and repo:
+            done = subprocess.run(["git", "-C", repo, "log", "-1", "--format=%cI", commit.replace("-dirty", "")],
+                                  capture_output=True, text=True)
+            date = done.stdout.strip() if done.returncode == 0 else None
+        keys.append((date or doc.get("context", {}).get("date", ""), commit))
+    return keys
+
+
+def load_accepted(path):
+    if not path or not os.path.exists(path):
+        return []
+    with open(path) as f:
+        doc = json.load(f)
+    steps = doc.get("steps", [])
+    for i, s in enumerate(steps):
+        for field in ("case", "metric", "commit", "reason"):
+            if not isinstance(s.get(field), str) or not s[field]:
+                sys.exit(f"history: {path}: /steps/{i}/{field}: a non-empty string is required")
+    return steps
+
+
+# An accepted step silences alerts placed within this many commits of it: the estimated position of a step moves
+# by a commit or two as runs arrive after it.
+ACCEPT_WINDOW = 3
+
+
+def accepted_indices(commits, case_id, metric, accepted):
+    """Positions in this series of the accepted steps that match its case and metric."""
+    out = []
+    for s in accepted:
+        if re.search(s["case"], case_id) and re.search(s["metric"], metric):
+            out += [i for i, c in enumerate(commits)
+                    if c.startswith(s["commit"]) or s["commit"].startswith(c.replace("-dirty", ""))]
+    return out
+
+
+def persistent(series, accepted_at, find):
+    """Steps found both with and without the newest commit (within a commit of each other): a split that one new
+    run creates and the next one dissolves is noise, and waiting one commit removes most of those."""
+    now = steps_after_accepted(series, accepted_at, find)
+    if len(series) < 2:
+        return now
+    before = steps_after_accepted(series[:-1], accepted_at, find)
+    return [s for s in now if any(abs(s["index"] - b["index"]) <= 1 for b in before)]
+
+
+def steps_after_accepted(series, accepted_at, find):
+    """The steps `find` gives on the series from its latest accepted step on (what came before was judged), less
+    those placed within ACCEPT_WINDOW commits of an accepted step; indices into the whole series."""
+    start = max(accepted_at, default=0)
+    steps = []
+    for s in find(series[start:], history=series):
+        s = dict(s, index=start + s["index"])
+        if all(abs(s["index"] - a) > ACCEPT_WINDOW for a in accepted_at):
+            steps.append(s)
+    return steps
+
+
+def timing_find(values, history):
+    return changepoints.timing_steps(values, history=history, **TIMING_GATE)
+
+
+def analyse(runs, accepted, repo, key=None):
+    docs = [load(r) for r in runs]
+    keys = Counter(device_key(d) for d in docs)
+    key = key or keys.most_common(1)[0][0]
+    docs = [d for d in docs if device_key(d) == key]
+    if not docs:
+        sys.exit(f"history: no run of device key {key!r}; keys found: {', '.join(keys)}")
+    order = sorted(zip(commit_order(docs, repo), docs), key=lambda kv: kv[0][0])
+    commits = []
+    values = {}  # (case, metric) -> {commit: [values]}
+    exact = {}
+    for (date, commit), doc in order:
+        if commit not in commits:
+            commits.append(commit)
+        for case in doc["omnishadow"].get("cases", []):
+            run_dir = doc["_path"] if os.path.isdir(doc["_path"]) else os.path.dirname(doc["_path"])
+            for metric, value, is_exact in metrics(case, run_dir):
+                if value is None:
+                    continue
+                values.setdefault((case["id"], metric), {}).setdefault(commit, []).append(value)
+                exact[(case["id"], metric)] = is_exact
+    alerts = []
+    for (case_id, metric), by_commit in sorted(values.items()):
+        series_commits = [c for c in commits if c in by_commit]
+        # Timings: the median of a commit's runs. Exact figures: the first run's (they agree unless the driver does not).
+        series = [by_commit[c][0] if exact[(case_id, metric)] else float(np.median(by_commit[c]))
+                  for c in series_commits]
+        accepted_at = accepted_indices(series_commits, case_id, metric, accepted)
+        if exact[(case_id, metric)]:
+            steps = steps_after_accepted(series, accepted_at, changepoints.exact_steps)
+        else:
+            steps = persistent(series, accepted_at, timing_find)
+        for s in steps:
+            i = s["index"]
+            numeric = not isinstance(s["before"], str)
+            change = (s["after"] / s["before"] - 1.0 if s["before"] else 1.0) if numeric else 1.0
+            alerts.append({"case": case_id, "metric": metric, "commit": series_commits[i],
+                           "before": s["before"], "after": s["after"], "step": change, "exact": exact[(case_id, metric)],
+                           "confidence": s.get("confidence", 1.0), "regression": change > 0,
+                           "series": series, "commits": series_commits, "index": i})
+    alerts.sort(key=lambda a: (not a["regression"], -abs(a["step"])))
+    return {"device_key": key, "runs": len(docs), "commits": commits, "alerts": alerts, "gate": TIMING_GATE}
+
+
+def markdown(result):
+    md = [f"# History: {result['device_key']}\n",
+          f"{result['runs']} runs over {len(result['commits'])} commits ({result['commits'][0]} .. "
+          f"{result['commits'][-1]}); {len(result['alerts'])} alerts, regressions first.\n"]
+    if result["alerts"]:
+        md += ["| case | metric | first commit after | before | after | step | confidence |", "|---|---|---|---|---|---|---|"]
+        for a in result["alerts"]:
+            confidence = "exact" if a["exact"] else f"{a['confidence']:.4f}"
+            before, after = (f"{a['before']:.4g}", f"{a['after']:.4g}") if not isinstance(a["before"], str) else (
+                a["before"], a["after"])
+            step = f"{100 * a['step']:+.1f}%" if not isinstance(a["before"], str) else "changed"
+            md.append(f"| `{a['case']}` | {a['metric']} | {a['commit']} | {before} | {after} | {step} | {confidence} |")
+        md.append("\nAccept a step (it stops alerting; a new step alerts again): add "
+                  '`{"case": "<regex>", "metric": "<regex>", "commit": "<sha>", "reason": "..."}` to '
+                  "results/accepted_steps.json.")
+    return "\n".join(md) + "\n"
+
+
+def write_atomic(path, text):
+    with open(path + ".tmp", "w") as f:
+        f.write(text)
+    os.replace(path + ".tmp", path)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("runs", nargs="+")
+    parser.add_argument("--out", default=".")
+    parser.add_argument("--accepted", default=os.path.join(ROOT, "results", "accepted_steps.json"))
+    parser.add_argument("--repo", default=ROOT)
+    parser.add_argument("--device-key")
+    args = parser.parse_args()
+    result = analyse(find_runs(args.runs), load_accepted(args.accepted), args.repo, args.device_key)
+    os.makedirs(args.out, exist_ok=True)
+    text = markdown(result)
+    write_atomic(os.path.join(args.out, "history.json"), json.dumps(result, indent=1))
+    write_atomic(os.path.join(args.out, "history.md"), text)
+    print(text)
+    sys.exit(1 if result["alerts"] else 0)
+
+
+if __name__ == "__main__":
+    main()

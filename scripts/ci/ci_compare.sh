@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# CI's regression gate: runs the CI matrix and compares it with the committed baseline of this device key.
+# Work-counter and image changes fail. Timing fails only beyond the gate in results/baselines/<key>/gate.json,
+# which scripts/experiments/sensitivity.py --write-gate writes only when a gate meets <= 1% false alarms; a missing
+# baseline is a message, not a failure. Exit codes as `omnishadow compare`: 0 fine, 1 regression, 2 input error.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+out="${1:-$(mktemp -d)/ci-run}"
+bash scripts/ci/ci_matrix.sh "$out" >/dev/null 2>"$out.log" || { cat "$out.log"; exit 2; }
+key="$(./build/release/omnishadow device-key "$out" | head -n 1)"
+base="results/baselines/$key"
+status=0
+if [ ! -f "$base/results.json" ]; then
+  echo "ci_compare: no baseline for device key '$key' (results/baselines/); scripts/ci/refresh_baselines.sh makes one"
+  exit 0
+fi
+# Without a proven gate, timing is reported and never fails CI: scripts/experiments/sensitivity.py measured 3.8% false
+# alarms per case even at alpha 0.01 on the shared llvmpipe machine, so no timing gate is trustworthy there yet.
+if [ -f "$base/gate.json" ]; then
+  echo "ci_compare: $out against $base (timing gate: $base/gate.json)"
+  ./build/release/omnishadow compare "$base" "$out" --gate "$base/gate.json" --out "$out/compare" || status=$?
+else
+  echo "ci_compare: $out against $base (no proven timing gate: timing reported only)"
+  ./build/release/omnishadow compare "$base" "$out" --timing-report-only --out "$out/compare" || status=$?
+fi
+
+# Deterministic work: instructions per timed frame under callgrind (scripts/ci/instruction_counts.sh), compared with
+# the baseline for this device key *and* this CPU and valgrind (JIT code depends on both), when one exists. Same
+# build, same machine: counts agree within 0.035% run to run (4 runs), so a change above 0.2% is a change of work.
+cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | tr -cs 'A-Za-z0-9.' '-' | sed 's/^-//; s/-$//')"
+vg="$(valgrind --version 2>/dev/null || echo none)"
+counts="$base/instructions-$cpu-$vg.json"
+# OMNISHADOW_GATE_FORCE_BASE=1 takes the base-commit path even where a committed baseline exists (to test it).
+if [ -f "$counts" ] && [ -z "${OMNISHADOW_GATE_FORCE_BASE:-}" ]; then
+  echo "ci_compare: instructions per frame against $counts"
+  bash scripts/ci/instruction_counts.sh "$out-instructions" >/dev/null
+  /usr/bin/python3 scripts/ci/instruction_counts.py --compare "$counts" "$out-instructions/instructions.json" \
+    --threshold 0.002 || status=$?
+else
+  # No committed baseline for this CPU: the gate stays on, against the base commit built here.
+  if [ -n "${OMNISHADOW_GATE_FORCE_BASE:-}" ]; then
+    echo "ci_compare: OMNISHADOW_GATE_FORCE_BASE set: the base-commit gate instead of $counts"
+  else
+    echo "ci_compare: no instruction-count baseline for CPU '$cpu' and $vg ($counts)"
+  fi
+  bash scripts/ci/gate_against_base.sh "$out" || status=$?
+fi
+exit $status

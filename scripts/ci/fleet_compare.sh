@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The fan-in job's verdict: compares a merged run with the baseline of its device key at the merge-base commit
+# (results/baselines/<key>/ as committed there) or with BASE_RUN when given, writes RUN/compare/summary.md, posts it
+# where the engine shows it, and fails only on regressions (exit 1); 2 is an input error.
+# Usage: scripts/ci/fleet_compare.sh RUN [BASE_RUN]
+#   FLEET_TARGET_BRANCH  the branch whose merge-base holds the baseline (default: origin/main, then main)
+#   GITHUB_STEP_SUMMARY  set by GitHub Actions: the summary is appended to the job's page
+#   FLEET_GITLAB_TOKEN   with GitLab's CI_MERGE_REQUEST_IID: the summary is posted as a merge-request note
+set -euo pipefail
+run="$1"; base="${2:-}"
+here="$(cd "$(dirname "$0")/../.." && pwd)"
+bin="${OMNISHADOW_BIN:-$here/build/release/omnishadow}"
+key="$("$bin" device-key "$run" | head -n 1)"
+if [ -z "$base" ]; then
+  target="${FLEET_TARGET_BRANCH:-origin/main}"
+  git -C "$here" rev-parse -q --verify "$target" >/dev/null || target=main
+  merge_base="$(git -C "$here" merge-base HEAD "$target")"
+  base="$(mktemp -d)/baseline"
+  mkdir -p "$base"
+  if ! git -C "$here" archive "$merge_base" "results/baselines/$key" 2>/dev/null | tar -x -C "$base" --strip-components=3; then
+    echo "fleet_compare: no baseline for device key '$key' at merge-base ${merge_base:0:12}: timing and images reported only"
+    exit 0
+  fi
+  echo "fleet_compare: $run against results/baselines/$key at merge-base ${merge_base:0:12}"
+else
+  echo "fleet_compare: $run against $base"
+fi
+gate=(--timing-report-only)
+if [ -f "$base/gate.json" ]; then
+  gate=(--gate "$base/gate.json")
+fi
+status=0
+"$bin" compare "$base" "$run" "${gate[@]}" --out "$run/compare" || status=$?
+summary="$run/compare/summary.md"
+if [ -f "$summary" ]; then
+  if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then { echo "## $key"; cat "$summary"; } >> "$GITHUB_STEP_SUMMARY"; fi
+  if [ -n "${FLEET_GITLAB_TOKEN:-}" ] && [ -n "${CI_MERGE_REQUEST_IID:-}" ]; then
+    body="$(/usr/bin/python3 -c 'import json,sys; print(json.dumps({"body": "## " + sys.argv[1] + "\n\n" + open(sys.argv[2]).read()[:900000]}))' "$key" "$summary")"
+    curl -sf -X POST -H "PRIVATE-TOKEN: $FLEET_GITLAB_TOKEN" -H "Content-Type: application/json" --data "$body" \
+      "$CI_API_V4_URL/projects/$CI_PROJECT_ID/merge_requests/$CI_MERGE_REQUEST_IID/notes" >/dev/null ||
+      echo "fleet_compare: could not post the summary to the merge request (the artifact keeps it)"
+  fi
+fi
+exit $status

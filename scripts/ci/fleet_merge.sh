@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# The fan-in step: joins the shards of one device key into one run. Usage: scripts/ci/fleet_merge.sh OUT SHARD_DIR...
+# Refuses (exit 2) shards that overlap or come from different devices of the same backend.
+set -euo pipefail
+out="$1"; shift
+here="$(cd "$(dirname "$0")/../.." && pwd)"
+[ "$#" -ge 1 ] || { echo "fleet_merge: no shard folders given" >&2; exit 2; }
+"${OMNISHADOW_BIN:-$here/build/release/omnishadow}" merge "$out" "$@"

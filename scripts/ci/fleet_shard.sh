@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# One shard of the GPU fleet's matrix on this runner: `omnishadow run --shard auto`, which reads the shard from the
+# CI engine (GitLab `parallel:` CI_NODE_INDEX/CI_NODE_TOTAL, our GitHub workflow's OMNISHADOW_SHARD_INDEX/COUNT
+# from its matrix, Slurm arrays, Kubernetes indexed jobs; bench/run/matrix.h). Usage:
+#   scripts/ci/fleet_shard.sh OUT_DIR [omnishadow run arguments]
+# Without arguments: the default matrix, 10 frames after 2 warm-up frames, 5 repetitions in rounds.
+# The run's own failed checks do not fail the job: the fan-in job's comparison decides (scripts/ci/fleet_compare.sh).
+set -euo pipefail
+out="$1"; shift
+here="$(cd "$(dirname "$0")/../.." && pwd)"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+if [ "$#" -eq 0 ]; then set -- --frames 10 --warmup 2 --benchmark_repetitions=5; fi
+"${OMNISHADOW_BIN:-$here/build/release/omnishadow}" run --shard auto --out "$out" "$@"

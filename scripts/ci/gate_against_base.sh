@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# The deterministic work gate on a runner whose CPU has no committed instruction-count baseline (JIT code depends
+# on the CPU, so another CPU's counts cannot be compared): builds the base commit on this runner, in a scratch
+# worktree, counts its instructions per timed frame exactly as for the commit under test, and compares the two
+# (scripts/ci/instruction_counts.py, threshold 0.2%). The gate is then on wherever CI runs.
+#   base: $OMNISHADOW_GATE_BASE (a CI engine's merge-base, e.g. GitLab's CI_MERGE_REQUEST_DIFF_BASE_SHA or
+#         GitHub's github.event.pull_request.base.sha), else the parent commit HEAD~1.
+#   An intended change of work: a line "Work-Change: <why>" in a commit message since the base; the change is
+#   then reported and does not fail.
+# Usage: scripts/ci/gate_against_base.sh OUT. Exit codes as instruction_counts.py --compare: 0 fine, 1 changed,
+# 2 the base could not be built or counted.
+set -euo pipefail
+out="${1:?usage: scripts/ci/gate_against_base.sh OUT}"
+cd "$(dirname "$0")/../.."
+base_rev="${OMNISHADOW_GATE_BASE:-HEAD~1}"
+if ! base_sha="$(git rev-parse --verify -q "$base_rev^{commit}")"; then
+  echo "ci_compare: instruction gate OFF: base commit '$base_rev' is not in this clone (a shallow clone?); fetch it or set OMNISHADOW_GATE_BASE"
+  exit 0
+fi
+tree="$out-base-tree"
+rm -rf "$tree"
+git worktree add -q --detach "$tree" "$base_sha"
+trap 'git worktree remove --force "$tree" >/dev/null 2>&1 || rm -rf "$tree"' EXIT
+echo "ci_compare: instructions per frame against base commit $(git rev-parse --short=12 "$base_sha") ($base_rev), built and counted on this runner"
+if ! (cd "$tree" && cmake --preset release >/dev/null && cmake --build --preset release --target omnishadow >/dev/null); then
+  echo "ci_compare: the base commit does not build here" >&2
+  exit 2
+fi
+# The base counts with its own script, wherever that commit kept it (scripts/ before the folders by purpose).
+base_counter=scripts/ci/instruction_counts.sh
+[ -f "$tree/$base_counter" ] || base_counter=scripts/instruction_counts.sh
+(cd "$tree" && bash "$base_counter" "$out-base-instructions" >/dev/null) || exit 2
+bash scripts/ci/instruction_counts.sh "$out-instructions" >/dev/null
+status=0
+/usr/bin/python3 scripts/ci/instruction_counts.py --compare "$out-base-instructions/instructions.json" \
+  "$out-instructions/instructions.json" --threshold 0.002 || status=$?
+if [ "$status" -eq 1 ] && git log --format=%B "$base_sha..HEAD" | grep -q '^Work-Change:'; then
+  echo "ci_compare: the work changed, as a commit since the base says:"
+  git log --format=%B "$base_sha..HEAD" | grep '^Work-Change:' | sed 's/^/  /'
+  status=0
+fi
+exit $status

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Re-measures the CI matrix on this machine and stores it as the baseline for this machine's device key
+# (results/baselines/<key>/): results.json plus the images compare reads (lit, shadow factor, cube faces).
+# Commit the folder after looking at its summary. Usage: scripts/ci/refresh_baselines.sh
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+bash scripts/ci/ci_matrix.sh "$tmp/run" >/dev/null 2>"$tmp/log" || { cat "$tmp/log"; exit 2; }
+key="$(./build/release/omnishadow device-key "$tmp/run" | head -n 1)"
+dest="results/baselines/$key"
+rm -rf "$dest"
+mkdir -p "$dest"
+cp "$tmp/run/results.json" "$tmp/run/summary.md" "$dest/"
+(cd "$tmp/run" && find images \( -name lit.png -o -name shadow_factor.pfm -o -name cube_faces.png \) -print0 |
+  xargs -0 -I{} cp --parents {} "$OLDPWD/$dest/")
+echo "baseline for device key $key: $dest ($(du -sh "$dest" | cut -f1))"
+# Instruction counts for this CPU and valgrind (scripts/ci/ci_compare.sh compares them when they exist).
+cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | tr -cs 'A-Za-z0-9.' '-' | sed 's/^-//; s/-$//')"
+vg="$(valgrind --version 2>/dev/null || echo none)"
+if [ "$vg" != none ]; then
+  bash scripts/ci/instruction_counts.sh "$tmp/instructions" >/dev/null
+  cp "$tmp/instructions/instructions.json" "$dest/instructions-$cpu-$vg.json"
+  echo "instruction counts: $dest/instructions-$cpu-$vg.json"
+fi

@@ -1,0 +1,101 @@
+#!/usr/bin/python3
+"""Writes scenes/extremes/: the scenes of the numerical-stability suite, each with its purpose in `description`.
+
+All are the point-shadow tutorial's room (a 10-unit room, five cubes, a point light) pushed to one extreme at a time, so that an
+error can be attributed to that extreme: near/far ratios from 1:25 to 1:1e6, the whole scene translated far from
+the origin, the light on a surface and inside a caster, receivers at grazing angles, casters on cube-face seams and
+corners, zero-area triangles, and a light moving by tiny steps (for flicker). Regenerate after changing this
+script: scripts/experiments/make_extreme_scenes.py (the files are committed so the suite needs no generation step).
+"""
+import copy
+import json
+import os
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+OUT = os.path.join(ROOT, "scenes", "extremes")
+
+CUBES = [
+    {"name": "cube1", "type": "box", "translate": [4, -3.5, 0], "scale": 0.5},
+    {"name": "cube2", "type": "box", "translate": [2, 3, 1], "scale": 0.75},
+    {"name": "cube3", "type": "box", "translate": [-3, -1, 0], "scale": 0.5},
+    {"name": "cube4", "type": "box", "translate": [-1.5, 1, 1.5], "scale": 0.5},
+    {"name": "cube5", "type": "box", "translate": [-1.5, 2, -3], "rotate": {"degrees": 60, "axis": [1, 0, 1]},
+     "scale": 0.75},
+]
+
+
+def room(description, light, objects=None, camera=None):
+    return {
+        "format": "omnishadow-scene/1",
+        "description": description,
+        "camera": camera or {"position": [0, 0, 3], "target": [0, 0, 2], "fov_y_degrees": 45, "near": 0.1,
+                             "far": 100, "size": [400, 300]},
+        "light": light,
+        "objects": [{"name": "room", "type": "box", "scale": 5, "inside": True}] + (objects or copy.deepcopy(CUBES)),
+    }
+
+
+def point(position=(0, 0, 0), near=1.0, far=25.0, path=None):
+    light = {"type": "point", "position": list(position), "near": near, "far": far, "color": [0.3, 0.3, 0.3]}
+    if path:
+        light["path"] = path
+    return light
+
+
+def translated(scene, offset):
+    s = copy.deepcopy(scene)
+    for o in s["objects"]:
+        o["translate"] = [a + offset for a in o.get("translate", [0, 0, 0])]
+    s["light"]["position"] = [a + offset for a in s["light"]["position"]]
+    for key in ("position", "target"):
+        s["camera"][key] = [a + offset for a in s["camera"][key]]
+    return s
+
+
+def main():
+    os.makedirs(OUT, exist_ok=True)
+    scenes = {}
+    for name, near, far in [("nf_25", 1.0, 25.0), ("nf_1e3", 0.1, 100.0), ("nf_1e4", 0.01, 100.0),
+                            ("nf_1e5", 1.0, 1e5), ("nf_1e6", 1e-4, 100.0)]:
+        scenes[name] = room(f"near/far {near:g}:{far:g} (ratio 1:{far / near:g}): how far linear depth, each depth "
+                            "format and R32F distance hold when the range is stretched", point(near=near, far=far))
+    base = room("the room at the origin, for the far-from-origin family", point())
+    for exp in (3, 5, 6):
+        s = translated(base, 10.0 ** exp)
+        s["description"] = (f"the room, light and camera translated by 1e{exp} on every axis: float cancellation in "
+                            "world-space distances (ulp at 1e6 is 0.06)")
+        scenes[f"offset_1e{exp}"] = s
+    scenes["light_on_floor"] = room("the light exactly on the floor (y = -5): distances of 0 and surfaces through "
+                                    "the light", point(position=(0, -5, 0), near=0.01))
+    scenes["light_in_caster"] = room("the light inside cube1: every direction is blocked at distance < 1",
+                                     point(position=(4, -3.5, 0), near=0.01))
+    scenes["grazing"] = room("the light 0.05 above the floor: the floor is lit at grazing angles, where bias and "
+                             "texel size decide acne", point(position=(0, -4.95, 0), near=0.01))
+    # Casters on the diagonals from the light: their shadows fall across cube-face seams and corners, where the
+    # face selection ties.
+    seams = [{"name": f"seam{i}", "type": "box", "translate": t, "scale": 0.3} for i, t in enumerate(
+        [[2, 2, 2], [-2, 2, -2], [2, -2, 0], [0, 2, -2], [-2.5, -2.5, 2.5], [2, 0, 2]])]
+    scenes["seams"] = room("casters on the light's diagonals: shadows across face seams (|x| = |y|) and corners "
+                           "(|x| = |y| = |z|), where the face selection ties", point(), objects=seams,
+                           camera={"position": [-4, -4, -4], "target": [5, 5, 5], "fov_y_degrees": 70, "near": 0.1,
+                                   "far": 100, "size": [400, 300]})
+    scenes["degenerate"] = room("zero-area triangles (repeated and collinear vertices) mixed with real ones: they must "
+                                "rasterise to nothing and change no value", point(),
+                                objects=copy.deepcopy(CUBES) + [{"name": "degenerate", "type": "obj",
+                                                                 "file": "degenerate.obj", "translate": [0, -2, -2]}])
+    scenes["stability_tiny_steps"] = room(
+        "the light moving by about 1e-5 units per frame (amplitude 1e-3): shadows must not flicker between frames",
+        point(path={"amplitude": [0.001, 0.0007, 0.0013], "frequency": 0.5, "seconds_per_frame": 0.0166666667}))
+    for name, scene in scenes.items():
+        with open(os.path.join(OUT, name + ".json"), "w") as f:
+            json.dump(scene, f, indent=1)
+            f.write("\n")
+    with open(os.path.join(OUT, "degenerate.obj"), "w") as f:
+        f.write("# zero-area triangles: repeated vertices, collinear vertices; and one real triangle\n"
+                "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\n"
+                "f 1 1 1\nf 1 2 3\nf 2 2 4\nf 1 2 5\n")
+    print(f"wrote {len(scenes)} scenes to {OUT}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,215 @@
+#!/usr/bin/python3
+"""The mutation suite: do the harness's own checks catch a broken shadow pipeline? A benchmark of the checks, not a
+unit test: no unit test and no committed baseline takes part, only what a user profiling their own scene has.
+
+For each mutant (a one-place change to the shadow pipeline: a face's up vector, two faces swapped, the face
+projection's field of view, the bias, the stored depth's divide by far, the lookup direction's sign on one axis,
+the PCF kernels' size) the script applies the change to a scratch clone of this commit, builds it, runs the
+default scenes with `--check` on GL and Vulkan, and records whether the run failed, which checks failed and their
+figures. Target: every mutant caught (a survivor is a hole in the checks to close, never a row to delete).
+
+Writes OUT/mutants.json and OUT/mutants.md; with --docs also docs/mutants.md.
+
+Usage: scripts/experiments/mutants.py [--backend gl,vulkan] [--only NAME[,NAME]] [--work DIR] [--out DIR] [--docs]
+"""
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+# The matrix each mutant runs: the default scenes and filters, every technique a backend can do, smaller frames
+# and cubes than the default run (the checks do not depend on size) and one timed frame.
+MATRIX = ["--scene", "room,heavy", "--cube", "256", "--frame", "400x300", "--frames", "1", "--warmup", "0",
+          "--images", "none", "--check", "--benchmark_repetitions=1"]
+FACES = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"]
+
+
+def flip_up(face):
+    """kFaceUps[face] negated (backends/common/cube_faces.h)."""
+    def apply(text):
+        block = re.search(r"kFaceUps = \{(.*?)\};", text, re.S)
+        vecs = re.findall(r"glm::vec3\(([^)]*)\)", block.group(1))
+        parts = [int(v) for v in vecs[face].split(",")]
+        vecs[face] = ", ".join(str(-p) if p else "0" for p in parts)
+        rows = [", ".join(f"glm::vec3({v})" for v in vecs[i:i + 3]) for i in (0, 3)]
+        return text[:block.start(1)] + "\n    " + ",\n    ".join(rows) + text[block.end(1):]
+    return apply
+
+
+def replace(old, new, count=1):
+    def apply(text):
+        found = text.count(old)
+        if found != count:
+            raise ValueError(f"expected {count} occurrence(s) of {old!r}, found {found}")
+        return text.replace(old, new)
+    return apply
+
+
+MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
+            f"the {FACES[f]} face's up vector negated") for f in range(6)] + [
+    ("faces_swapped", "backends/common/cube_faces.h",
+     replace("glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0),", "glm::vec3(-1, 0, 0), glm::vec3(1, 0, 0),"),
+     "the +X and -X faces' directions swapped"),
+    ("fov_91", "backends/common/cube_faces.cpp", replace("glm::radians(90.0f)", "glm::radians(91.0f)", 2),
+     "the face projection's field of view 91 degrees instead of 90"),
+    ("bias_dropped", "shaders/shadow_filters.glsl", replace("  return seed_bias;", "  return 0.0;"),
+     "the lookups' constant bias dropped (0 instead of 0.05 / 0.15)"),
+    ("no_divide_by_far", "shaders/shadow_depth.frag",
+     replace("length(world_position - frame.light_position.xyz) / light_far();",
+             "length(world_position - frame.light_position.xyz);"),
+     "linear depth stored without the divide by far"),
+    ("lookup_x_flipped", "shaders/shadow_filters.glsl",
+     replace("texture(shadow_map, dir).r", "texture(shadow_map, dir * vec3(-1.0, 1.0, 1.0)).r"),
+     "the lookup direction's x negated"),
+    ("pcf_grid_x10", "shaders/shadow_filters.glsl",
+     replace("float offset = 0.1 * frame.knobs.y;", "float offset = 1.0 * frame.knobs.y;"),
+     "the grid PCF's offsets scaled by 10"),
+    ("pcf_disk_x10", "shaders/shadow_filters.glsl",
+     replace("/ 25.0 * frame.knobs.y;", "/ 2.5 * frame.knobs.y;"),
+     "the disk PCF's radius scaled by 10"),
+]
+
+
+def sh(cmd, cwd, log):
+    with open(log, "a") as f:
+        f.write(f"$ {' '.join(cmd)}\n")
+        f.flush()
+        return subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT).returncode
+
+
+def build(work, log):
+    if sh(["cmake", "--preset", "release"], work, log):
+        return False
+    return sh(["cmake", "--build", "--preset", "release", "--target", "omnishadow", "-j2"], work, log) == 0
+
+
+# The figure a check's row shows: the share of what it compared that was wrong.
+HEADLINE = {"cube_texels": "bad_percent", "max_error": "misclassified_percent"}
+
+
+def failures(results_path):
+    """{(case id, check): figures} of every finding that failed a case."""
+    with open(results_path) as f:
+        doc = json.load(f)
+    return {(case["id"], finding["check"]): finding.get("figures", {})
+            for case in doc["omnishadow"]["cases"] for finding in case.get("findings", [])
+            if finding["status"] not in ("ok", "unsupported")}
+
+
+def caught_by(found, baseline):
+    """Per check, the cases it failed that the unmutated build passes, and the largest headline figure."""
+    checks = {}
+    for (case_id, check), figures in found.items():
+        if (case_id, check) in baseline:
+            continue  # fails without the mutant too (lavapipe's multiview): not evidence of catching it
+        c = checks.setdefault(check, {"cases": 0, "figure": None, "example": case_id})
+        c["cases"] += 1
+        value = figures.get(HEADLINE.get(check, "percent_differing"))
+        if value is not None:
+            c["figure"] = max(c["figure"] or value, value)
+    return checks
+
+
+def run_matrix(work, out, name, backend, log):
+    """Runs the matrix with the clone's build; (exit code, failures)."""
+    run_dir = os.path.join(out, name)
+    shutil.rmtree(run_dir, ignore_errors=True)
+    env = dict(os.environ, XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
+    with open(log, "a") as f:
+        code = subprocess.run([os.path.join(work, "build", "release", "omnishadow"), "run", "--backend", backend,
+                               "--out", run_dir, *MATRIX], cwd=work, env=env, stdout=f, stderr=subprocess.STDOUT,
+                              ).returncode
+    results = os.path.join(run_dir, "results.json")
+    return code, failures(results) if os.path.exists(results) else {}
+
+
+def headline(checks):
+    """'cube_texels (24 cases, 30.2%)': the checks that failed most cases, each with its largest headline figure."""
+    if not checks:
+        return "-"
+    items = sorted(checks.items(), key=lambda kv: -kv[1]["cases"])
+    return "; ".join(f"{check} ({c['cases']} cases" + (f", {c['figure']:.3g}%" if c["figure"] is not None else "")
+                     + ")" for check, c in items[:3])
+
+
+def write_report(out, rows, backends, seconds, commit, docs):
+    caught = sum(r["caught"] for r in rows)
+    md = [f"# Mutation suite: {caught} of {len(rows)} mutants caught by the harness's checks\n",
+          f"Generated by `scripts/experiments/mutants.py --docs` at commit {commit} ({seconds / 60:.0f} min). Each mutant is "
+          "one change to the shadow pipeline, built in a scratch clone and run with `omnishadow run --backend "
+          f"{backends} {' '.join(MATRIX)}` (the default scenes; no unit test, no committed baseline). The unmutated "
+          "build runs the same matrix first: a check counts only for the cases it fails with the mutant and passes "
+          "without (lavapipe's multiview cases fail either way). Caught = every API has such a case (and exits 1); "
+          "the checks column lists them with their largest figure (cube texels wrong, pixels misclassified, or "
+          "values differing, in %).\n",
+          "| mutant | change | caught | exit codes | failed checks (cases, largest figure) |", "|---|---|---|---|---|"]
+    for r in rows:
+        codes = ", ".join(f"{b} {v['exit_code']}" for b, v in r["runs"].items())
+        checks = " / ".join(f"{b}: {headline(v['checks'])}" for b, v in r["runs"].items())
+        md.append(f"| `{r['name']}` | {r['change']} | {'yes' if r['caught'] else '**no**'} | {codes} | {checks} |")
+    text = "\n".join(md) + "\n"
+    with open(os.path.join(out, "mutants.md"), "w") as f:
+        f.write(text)
+    with open(os.path.join(out, "mutants.json"), "w") as f:
+        json.dump({"commit": commit, "matrix": MATRIX, "rows": rows}, f, indent=2)
+    if docs:
+        with open(os.path.join(ROOT, "docs", "mutants.md"), "w") as f:
+            f.write(text)
+    print(text)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--backend", default="gl,vulkan")
+    parser.add_argument("--only", help="comma list of mutant names")
+    parser.add_argument("--work", default="/tmp/omnishadow-mutants", help="scratch clone (kept between runs)")
+    parser.add_argument("--out", default=os.path.join(ROOT, "results", time.strftime("mutants-%Y%m%d-%H%M%S")))
+    parser.add_argument("--docs", action="store_true", help="also write docs/mutants.md")
+    args = parser.parse_args()
+    mutants = [m for m in MUTANTS if not args.only or m[0] in args.only.split(",")]
+    if not mutants:
+        sys.exit(f"mutants: --only {args.only}: no such mutant; known: {', '.join(m[0] for m in MUTANTS)}")
+    os.makedirs(args.out, exist_ok=True)
+    log = os.path.join(args.out, "mutants.log")
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                            text=True).stdout.strip()
+    # A clone of this commit (kept, so its build directory makes later runs incremental).
+    if not os.path.isdir(os.path.join(args.work, ".git")):
+        subprocess.run(["git", "clone", "-q", ROOT, args.work], check=True)
+    subprocess.run(["git", "fetch", "-q", ROOT, "HEAD"], cwd=args.work, check=True)
+    subprocess.run(["git", "checkout", "-q", "--force", "FETCH_HEAD"], cwd=args.work, check=True)
+    started = time.time()
+    if not build(args.work, log):
+        sys.exit(f"mutants: the unmutated build failed; see {log}")
+    baseline = {b: run_matrix(args.work, args.out, f"unmutated-{b}", b, log)[1] for b in args.backend.split(",")}
+    rows = []
+    for name, path, mutate, change in mutants:
+        target = os.path.join(args.work, path)
+        with open(target) as f:
+            original = f.read()
+        try:
+            with open(target, "w") as f:
+                f.write(mutate(original))
+            built = build(args.work, log)
+            runs = {}
+            for b in args.backend.split(",") if built else []:
+                code, found = run_matrix(args.work, args.out, f"{name}-{b}", b, log)
+                runs[b] = {"exit_code": code, "checks": caught_by(found, baseline[b])}
+        finally:
+            with open(target, "w") as f:
+                f.write(original)
+        caught = built and all(r["exit_code"] == 1 and r["checks"] for r in runs.values())
+        rows.append({"name": name, "file": path, "change": change, "built": built, "caught": caught, "runs": runs})
+        print(f"{name}: {'caught' if caught else 'SURVIVED'} ({time.time() - started:.0f}s)", flush=True)
+    build(args.work, log)  # leave the clone unmutated and built
+    write_report(args.out, rows, args.backend, time.time() - started, commit, args.docs)
+    sys.exit(0 if all(r["caught"] for r in rows) else 1)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,275 @@
+#!/usr/bin/python3
+"""How sensitive, and how trustworthy, is `omnishadow compare` on this machine? A benchmark, not a test.
+
+Runs the CI matrix (scripts/ci/ci_matrix.sh) K times in each of four arms per trial, in a shuffled order: a base
+run, the same build again, and the same build with injected fragment work (--inject-fragment-work) calibrated to
+slow the median case by 5% and by 10%. Every arm is compared with its trial's base run by `omnishadow compare`;
+the decisions are then re-derived for a grid of (alpha, minimum effect) gates from the Holm-adjusted p-values and
+changes it reports. Writes sensitivity.json and sensitivity.md: false-alarm rate (same build against itself),
+detection rates for 5% and 10%, per gate; and the smallest gate meeting <= 1% false alarms.
+
+With --alternate R each arm's sample is pooled from R separate runs of 9/R repetitions, alternated with the
+base's runs (base, arm, base, arm, ...), so that machine-wide slow spells hit both sides alike: the design to
+use when comparing two builds on a shared machine.
+
+With --precision P the trials also run a second design, interleaved with the fixed one in the same trials:
+adaptive repetitions (`run --precision P`, at least --min-repetitions, at most --max-repetitions per case), and
+the report sets the two side by side: repetitions spent per run, false alarms and detections at the same gate.
+
+With --metric cpu the test runs on the process's CPU time per frame (all threads; on llvmpipe the rendering work
+itself) instead of frame wall time.
+
+Usage: scripts/experiments/sensitivity.py [--trials 20] [--alternate R] [--repetitions N] [--metric wall|cpu] [--out DIR]
+                              [--write-gate] [--precision P [--min-repetitions M] [--max-repetitions C]]
+--write-gate stores the recommended gate in results/baselines/<device key>/gate.json for scripts/ci/ci_compare.sh.
+"""
+import argparse
+import json
+import os
+import random
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BINARY = os.path.join(ROOT, "build", "release", "omnishadow")
+ALPHAS = [0.01, 0.05]
+EFFECTS = [0.0, 0.02, 0.03, 0.05, 0.075, 0.10, 0.15, 0.25, 0.5]
+
+
+def run_matrix(out, injected, repetitions=9, extra=()):
+    cmd = ["bash", os.path.join(ROOT, "scripts", "ci", "ci_matrix.sh"), out, "--no-images", "--no-accuracy",
+           f"--inject-fragment-work={injected}", f"--benchmark_repetitions={repetitions}", *extra]
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        sys.exit(f"sensitivity: {' '.join(cmd)} failed:\n{done.stderr[-2000:]}")
+
+
+METRIC = "wall"
+SAMPLE_KEY = {"wall": "real_time", "cpu": "frame_cpu_ms"}
+
+
+def compare(base, new, out):
+    # alpha 0.5, effect 0: the raw material (adjusted p, change) for re-deciding under every gate below.
+    cmd = [BINARY, "compare", base, new, "--alpha", "0.5", "--min-effect", "0", "--metric", METRIC, "--out", out]
+    done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode not in (0, 1):
+        sys.exit(f"sensitivity: compare failed: {done.stderr}")
+    with open(os.path.join(out, "comparison.json")) as f:
+        return json.load(f)["cases"]
+
+
+def pool(runs, out):
+    """One results.json whose benchmark entries are all the runs' repetitions: compare pools them per case."""
+    with open(os.path.join(runs[0], "results.json")) as f:
+        doc = json.load(f)
+    for run in runs[1:]:
+        with open(os.path.join(run, "results.json")) as f:
+            doc["benchmarks"].extend(json.load(f)["benchmarks"])
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "results.json"), "w") as f:
+        json.dump(doc, f)
+    return out
+
+
+def median_times(run):
+    with open(os.path.join(run, "results.json")) as f:
+        doc = json.load(f)
+    samples = {}
+    for b in doc["benchmarks"]:
+        if b.get("run_type") == "iteration" and "omnishadow_case" in b:
+            samples.setdefault(b["omnishadow_case"], []).append(b[SAMPLE_KEY[METRIC]])
+    return {k: statistics.median(v) for k, v in samples.items()}
+
+
+def slowdowns(work_dir, tag, injected, pairs):
+    """Per case, the relative slowdown of `injected` iterations: `pairs` base/injected runs alternated and pooled,
+    so that one slow spell does not skew it."""
+    bases, heavies = [], []
+    for r in range(pairs):
+        bases.append(os.path.join(work_dir, f"{tag}0-{r}"))
+        heavies.append(os.path.join(work_dir, f"{tag}{injected}-{r}"))
+        run_matrix(bases[-1], 0)
+        run_matrix(heavies[-1], injected)
+    t0 = median_times(pool(bases, os.path.join(work_dir, f"{tag}0")))
+    t1 = median_times(pool(heavies, os.path.join(work_dir, f"{tag}{injected}")))
+    return [(t1[k] - t0[k]) / t0[k] for k in t0]
+
+
+def calibrate(work_dir):
+    """Extra time per injected iteration, relative to each case's time: pick N for +5% and +10% at the median."""
+    probe = 80
+    per_iteration = statistics.median(slowdowns(work_dir, "cal", probe, 3)) / probe
+    if per_iteration <= 0:
+        sys.exit("sensitivity: injected work did not slow the matrix down; cannot calibrate")
+    # The cost is not linear in the iterations (a loop of 80 is compiled differently from one of 8): measure at the
+    # 10% estimate itself and rescale once, so that the arms slow the matrix by what they are named after.
+    n10 = max(1, round(0.10 / per_iteration))
+    realized = statistics.median(slowdowns(work_dir, "recal", n10, 2))
+    if realized > 0.01:
+        per_iteration = realized / n10
+    return max(1, round(0.05 / per_iteration)), max(1, round(0.10 / per_iteration)), per_iteration
+
+
+def repetitions_spent(run):
+    with open(os.path.join(run, "results.json")) as f:
+        doc = json.load(f)
+    return sum(c.get("timing", {}).get("repetitions", 0) for c in doc["omnishadow"]["cases"])
+
+
+def decide(case, alpha, effect):
+    return case["p_adjusted"] < alpha and abs(case["change"]) > effect
+
+
+def rates(outcomes, arms, alpha, effect):
+    row = {"alpha": alpha, "min_effect": effect}
+    for arm in arms:
+        cases = [c for trial in outcomes[arm] for c in trial]
+        flagged = [c for c in cases if decide(c, alpha, effect) and (arm == "same" or c["change"] > 0)]
+        runs_flagged = sum(any(decide(c, alpha, effect) for c in trial) for trial in outcomes[arm])
+        row[arm] = {"case_rate": len(flagged) / len(cases), "run_rate": runs_flagged / len(outcomes[arm])}
+    return row
+
+
+def run_trial(args, trial, arms, designs, rng, spent):
+    """One trial: per design, a base run and one run per arm (alternated or shuffled); returns compared cases."""
+    out = {}
+    for design, (repetitions, extra) in designs.items():
+        tag = f"t{trial:02d}" + ("" if design == "fixed" else f"-{design}")
+        runs = {}
+        if args.alternate <= 1:
+            order = ["base"] + list(arms)
+            rng.shuffle(order)  # no arm always runs first or last: drift must not look like an effect
+            for arm in order:
+                runs[arm] = os.path.join(args.out, f"{tag}-{arm}")
+                run_matrix(runs[arm], 0 if arm == "base" else arms[arm], repetitions, extra)
+                spent[design].append(repetitions_spent(runs[arm]))
+            bases = {arm: runs["base"] for arm in arms}
+        else:
+            bases = {}
+            reps = max(1, repetitions // args.alternate)
+            for arm in arms:
+                pair = {"base": [], arm: []}
+                for r in range(args.alternate):
+                    for side in (["base", arm] if r % 2 == 0 else [arm, "base"]):
+                        path = os.path.join(args.out, f"{tag}-{arm}-{side}-{r}")
+                        run_matrix(path, 0 if side == "base" else arms[arm], reps, extra)
+                        pair[side].append(path)
+                bases[arm] = pool(pair["base"], os.path.join(args.out, f"{tag}-{arm}-base"))
+                runs[arm] = pool(pair[arm], os.path.join(args.out, f"{tag}-{arm}-pooled"))
+                spent[design].append(repetitions_spent(runs[arm]))
+        out[design] = {arm: compare(bases[arm], runs[arm], os.path.join(runs[arm], "compare")) for arm in arms}
+    return out
+
+
+def design_table(designs, grids, spent, gate):
+    """The designs side by side at the fixed design's recommended gate and at each one's own."""
+    md = ["\n## Designs compared (same trials, interleaved)\n",
+          "| design | repetitions per run (mean) | gate | false alarms (cases) | detect 5% (cases) | detect 10% (cases) |",
+          "|---|---|---|---|---|---|"]
+    for design in designs:
+        own = [r for r in grids[design] if r["same"]["case_rate"] <= 0.01]
+        own_gate = min(own, key=lambda r: (r["min_effect"], -r["alpha"])) if own else None
+        for label, g in (("fixed design's", gate), ("its own", own_gate)):
+            if g is None:
+                continue
+            row = next(r for r in grids[design] if r["alpha"] == g["alpha"] and r["min_effect"] == g["min_effect"])
+            md.append(f"| {design} | {statistics.mean(spent[design]):.0f} | {label}: alpha {g['alpha']}, "
+                      f"{100 * g['min_effect']:.1f}% | {100 * row['same']['case_rate']:.1f}% | "
+                      f"{100 * row['slow5']['case_rate']:.1f}% | {100 * row['slow10']['case_rate']:.1f}% |")
+    return md
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--trials", type=int, default=20)
+    parser.add_argument("--out", default=os.path.join(ROOT, "results", time.strftime("sensitivity-%Y%m%d-%H%M%S")))
+    parser.add_argument("--write-gate", action="store_true")
+    parser.add_argument("--alternate", type=int, default=1, help="runs per arm, alternated with the base's")
+    parser.add_argument("--repetitions", type=int, default=9, help="repetitions per side (split over the runs)")
+    parser.add_argument("--metric", choices=["wall", "cpu"], default="wall", help="time the U-test runs on")
+    parser.add_argument("--frames", type=int, default=3, help="timed frames per repetition (CI matrix: 3)")
+    parser.add_argument("--precision", type=float, help="also run the adaptive design: run --precision P")
+    parser.add_argument("--min-repetitions", type=int, default=7, help="adaptive design: fewest per case")
+    parser.add_argument("--max-repetitions", type=int, default=15, help="adaptive design: the cap per case")
+    args = parser.parse_args()
+    global METRIC, BINARY
+    METRIC = args.metric
+    os.environ["CI_MATRIX_FRAMES"] = str(args.frames)
+    if not os.path.exists(BINARY):
+        sys.exit(f"sensitivity: {BINARY} missing; run scripts/build.sh first")
+    os.makedirs(args.out, exist_ok=True)
+    # A copy of the binary: a rebuild while the trials run must not change (or break) what they measure.
+    BINARY = shutil.copy2(BINARY, os.path.join(args.out, "omnishadow"))
+    os.environ["OMNISHADOW_BIN"] = BINARY
+    started = time.time()
+
+    n5, n10, per_iteration = calibrate(args.out)
+    print(f"calibration: {100 * per_iteration:.2f}% per iteration; +5% = {n5}, +10% = {n10} iterations", flush=True)
+    arms = {"same": 0, "slow5": n5, "slow10": n10}
+    designs = {"fixed": (args.repetitions, ())}
+    if args.precision:
+        designs[f"precision{args.precision:g}"] = (
+            args.min_repetitions, ("--precision", str(args.precision), "--max-repetitions", str(args.max_repetitions),
+                                   "--precision-metric", args.metric))
+    outcomes = {d: {arm: [] for arm in arms} for d in designs}  # per design, arm, trial: compared cases
+    spent = {d: [] for d in designs}  # repetitions per run (all cases)
+    rng = random.Random(12345)
+    for trial in range(args.trials):
+        for design, per_arm in run_trial(args, trial, arms, designs, rng, spent).items():
+            for arm, cases in per_arm.items():
+                outcomes[design][arm].append(cases)
+        print(f"trial {trial + 1}/{args.trials} done ({time.time() - started:.0f}s)", flush=True)
+
+    grids = {d: [rates(outcomes[d], arms, a, e) for a in ALPHAS for e in EFFECTS] for d in designs}
+    grid = grids["fixed"]
+    realized = {arm: statistics.median(c["change"] for trial in outcomes["fixed"][arm] for c in trial) for arm in arms}
+    ok = [r for r in grid if r["same"]["case_rate"] <= 0.01]
+    gate = min(ok, key=lambda r: (r["min_effect"], -r["alpha"])) if ok else None
+    result = {"metric": METRIC, "trials": args.trials, "alternate": args.alternate, "repetitions": args.repetitions,
+              "cases_per_run": len(outcomes["fixed"]["same"][0]), "injected_iterations": arms,
+              "per_iteration_fraction": per_iteration, "realized_median_change": realized, "grid": grid,
+              "recommended_gate": gate, "seconds": time.time() - started,
+              "designs": {d: {"repetitions_per_run": spent[d], "grid": grids[d], "options": list(designs[d][1]),
+                              "min_repetitions": designs[d][0]} for d in designs}}
+    with open(os.path.join(args.out, "sensitivity.json"), "w") as f:
+        json.dump(result, f, indent=2)
+
+    design = (f"{args.repetitions} interleaved repetitions in one run per side" if args.alternate <= 1 else
+              f"{args.alternate} alternating runs of {max(1, args.repetitions // args.alternate)} repetitions per "
+              "side, pooled")
+    md = [f"# Regression-detection sensitivity\n\n{args.trials} trials x {result['cases_per_run']} cases (CI matrix, {args.frames} frames per repetition, "
+          f"{design}; metric: {'process CPU time' if METRIC == 'cpu' else 'wall time'} per frame); every run a "
+          "separate process. Realized median change: "
+          + ", ".join(f"{a} {100 * v:+.1f}%" for a, v in realized.items()) + ".\n",
+          "| alpha | min effect | false alarms (cases) | false alarms (runs) | detect 5% (cases) | detect 10% (cases) "
+          "| detect 10% (runs) |", "|---|---|---|---|---|---|---|"]
+    for r in grid:
+        md.append(f"| {r['alpha']} | {100 * r['min_effect']:.1f}% | {100 * r['same']['case_rate']:.1f}% | "
+                  f"{100 * r['same']['run_rate']:.0f}% | {100 * r['slow5']['case_rate']:.1f}% | "
+                  f"{100 * r['slow10']['case_rate']:.1f}% | {100 * r['slow10']['run_rate']:.0f}% |")
+    md.append("\nRecommended gate (smallest minimum effect with <= 1% false alarms per case): "
+              + (f"alpha {gate['alpha']}, minimum effect {100 * gate['min_effect']:.1f}%" if gate else "none"))
+    if len(designs) > 1:
+        md += design_table(designs, grids, spent, gate)
+    with open(os.path.join(args.out, "sensitivity.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+
+    if args.write_gate and gate:
+        key = subprocess.run([BINARY, "device-key", os.path.join(args.out, "cal0")], capture_output=True,
+                             text=True).stdout.split()[0]
+        path = os.path.join(ROOT, "results", "baselines", key, "gate.json")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as f:
+            json.dump({"metric": METRIC, "alpha": gate["alpha"], "min_effect": gate["min_effect"],
+                       "false_alarm_case_rate": gate["same"]["case_rate"],
+                       "detect_5_case_rate": gate["slow5"]["case_rate"],
+                       "detect_10_case_rate": gate["slow10"]["case_rate"], "trials": args.trials}, f, indent=2)
+        print(f"gate written to {path}")
+
+
+if __name__ == "__main__":
+    main()
