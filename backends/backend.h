@@ -26,6 +26,9 @@ struct DeviceInfo {
   int max_cube_size = 0;    // GL_MAX_CUBE_MAP_TEXTURE_SIZE / maxImageDimensionCube
   uint64_t device_memory_bytes = 0;  // largest device-local heap / GL_NVX_gpu_memory_info; 0 = unknown
   bool shares_host_memory = false;   // CPU drivers (llvmpipe, lavapipe): targets live in host memory
+  // The rasteriser's sub-pixel precision: vertices are snapped to 1 / 2^bits of a pixel (GL_SUBPIXEL_BITS,
+  // VkPhysicalDeviceLimits::subPixelPrecisionBits; both APIs require at least 4). The texel truths' bounds read it.
+  int subpixel_bits = 4;
   std::map<std::string, std::string> extra;  // anything else worth recording (extensions that matter, ...)
 };
 

@@ -2,7 +2,8 @@
 // 2D shadow map pass for a spot or directional light (the directional notes): plain projective depth, no colour output.
 // pass.face selects the light (its layer of the 2D map array and its view-projection).
 #include "common.glsl"
+#include "raster_perturb.glsl"
 
 layout(location = 0) in vec3 in_position;
 
-void main() { gl_Position = frame.map_view_proj[pass.face] * vec4(in_position, 1.0); }
+void main() { gl_Position = perturb_raster(frame.map_view_proj[pass.face] * vec4(in_position, 1.0), in_position); }

@@ -1,6 +1,7 @@
 #version 450
 // Layered single pass: each triangle is sent to the six faces through gl_Layer.
 #include "common.glsl"
+#include "raster_perturb.glsl"
 
 #if defined(GS_INSTANCED)
 layout(triangles, invocations = 6) in;      // one invocation per face
@@ -32,7 +33,7 @@ bool beyond_one_plane(vec4 c0, vec4 c1, vec4 c2) {
 
 void emit_face(int face) {
   vec4 clip[3];
-  for (int i = 0; i < 3; ++i) clip[i] = frame.face_view_proj[face] * gl_in[i].gl_Position;
+  for (int i = 0; i < 3; ++i) clip[i] = perturb_raster(frame.face_view_proj[face] * gl_in[i].gl_Position, gl_in[i].gl_Position.xyz);
 #if defined(FACE_CULLING)
   if (beyond_one_plane(clip[0], clip[1], clip[2])) return;
 #endif

@@ -146,7 +146,7 @@ inline void check_map_lights(Backend& b, const std::string& backend, const std::
     const cube::DepthRange range =
         img.map_depth_zero_to_one ? cube::DepthRange::zero_to_one : cube::DepthRange::minus_one_to_one;
     bench::MapTruth truth = bench::compute_map_truth(caster, s, 30, img.map_size, range);
-    bench::MapTexelReport ok = bench::check_map_texels(truth, img, c.depth_format);
+    bench::MapTexelReport ok = bench::check_map_texels(truth, img, c.depth_format, b.device().subpixel_bits);
     EXPECT_GT(ok.texels, 0u) << name;
     EXPECT_LE(ok.bad_percent(), bench::kMapTexelLimitPercent) << name << ": " << bench::describe(ok);
     Images flipped = img;
@@ -154,7 +154,7 @@ inline void check_map_lights(Backend& b, const std::string& backend, const std::
       for (int row = 0; row < img.map_size / 2; ++row)
         std::swap_ranges(map.begin() + row * img.map_size, map.begin() + (row + 1) * img.map_size,
                          map.begin() + (img.map_size - 1 - row) * img.map_size);
-    EXPECT_GT(bench::check_map_texels(truth, flipped, c.depth_format).bad_percent(), 1.0) << name;
+    EXPECT_GT(bench::check_map_texels(truth, flipped, c.depth_format, b.device().subpixel_bits).bad_percent(), 1.0) << name;
   }
   // mixed without its spot and directional lights: same shadow factor (the point light's), a darker frame.
   scene::Scene mixed = scene::load_scene_file(scenes_dir + "/mixed.json");

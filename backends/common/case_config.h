@@ -111,6 +111,11 @@ struct CaseConfig {
   // The PCF kernels' radius as a multiple of the tutorials' (grid offset 0.1, disk radius, 2D maps' one texel); an
   // axis of the stability suite (0 collapses every kernel to one direction). In the id as /pcf<scale> unless 1.
   float pcf_scale = 1.0f;
+  // Test only (--raster-perturb): every vertex of the shadow and map passes moved in window space by up to this many
+  // of the device's sub-pixel steps, deterministically from its world position (shared vertices move alike, so
+  // meshes stay closed). It makes a CPU rasteriser snap like another conformant one, to prove the texel truths'
+  // bounds (bench/truth/texel_bounds.h) hold there. 0 in every real run: the shaders then fold it away. Not in the id.
+  float raster_perturb_steps = 0.0f;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
   // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are on

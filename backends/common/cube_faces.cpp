@@ -58,6 +58,20 @@ glm::vec3 texel_direction(int face, int s, int t, int size) {
   }
 }
 
+glm::dvec3 face_point_direction(int face, double s, double t, int size) {
+  // As texel_direction, in double and at any point: the truth's rays a sub-pixel step off a centre differ from the
+  // centre's by ~1e-5 of a face, which float would round away at large sizes.
+  const double u = 2.0 * s / double(size) - 1.0, v = 2.0 * t / double(size) - 1.0;
+  switch (face) {
+    case 0: return {1.0, -v, -u};
+    case 1: return {-1.0, -v, u};
+    case 2: return {u, 1.0, v};
+    case 3: return {u, -1.0, -v};
+    case 4: return {u, -v, 1.0};
+    default: return {-u, -v, -1.0};
+  }
+}
+
 FaceCoord direction_to_face(const glm::vec3& d) {
   glm::vec3 a = glm::abs(d);
   int face;

@@ -61,5 +61,8 @@ FaceCoord direction_to_face(const glm::vec3& direction);
 // from the face view matrices above, so that a wrong up vector or face order there cannot hide from a check that
 // uses this): the major axis is +-1, the other two components are in (-1, 1).
 glm::vec3 texel_direction(int face, int s, int t, int size);
+// The same at any point of a face in continuous texel coordinates: texel k spans [k, k + 1), its centre is k + 0.5.
+// The truth checks cast through points a sub-pixel step off a texel centre (bench/truth/texel_bounds.h).
+glm::dvec3 face_point_direction(int face, double s, double t, int size);
 
 }  // namespace omnishadow::cube

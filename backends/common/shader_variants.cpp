@@ -1,5 +1,7 @@
 #include "backends/common/shader_variants.h"
 
+#include <cmath>
+
 #include "backends/common/techniques.h"
 
 #include <set>
@@ -96,6 +98,11 @@ LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s)
 std::vector<std::string> lighting_constant_defines(const LightingConstants& k) {
   return {"MAP_LIGHTS=" + std::to_string(k.map_lights), "POINT_LIGHT=" + std::to_string(k.point_light),
           "INJECTED_WORK=" + std::to_string(k.injected_work)};
+}
+
+float raster_perturb_ndc(const CaseConfig& c, int subpixel_bits) {
+  // A window offset of k texels is 2k / size in NDC.
+  return float(double(c.raster_perturb_steps) * std::ldexp(1.0, -subpixel_bits) * 2.0 / double(c.cube_size));
 }
 
 }  // namespace omnishadow::gpu

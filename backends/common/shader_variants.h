@@ -20,6 +20,9 @@ std::string variant_key(const std::string& file, const std::vector<std::string>&
 std::string storage_define(Storage s);
 // The shadow pass's fragment stage: the storage's define.
 std::vector<std::string> shadow_fragment_defines(const CaseConfig& c);
+// shaders/raster_perturb.glsl's constant: CaseConfig::raster_perturb_steps sub-pixel steps of a device with
+// `subpixel_bits`, as NDC units of the case's cube face (the 2D maps share its size). 0 unless the test asks.
+float raster_perturb_ndc(const CaseConfig& c, int subpixel_bits);
 // Stages whose source has no variants are keyed with this one define ("lighting.vert:NONE").
 inline const std::vector<std::string> kNoVariant = {"NONE"};
 std::string filter_define(Filter f);

@@ -56,6 +56,7 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   info_.version = gl_string(GL_VERSION);
   info_.platform = "EGL " + context_.egl_version() + " (" + egl_platform + ")";
   glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &info_.max_cube_size);
+  glGetIntegerv(GL_SUBPIXEL_BITS, &info_.subpixel_bits);
   // GL has no standard memory query: software rasterisers allocate from host memory; NVIDIA reports its
   // dedicated video memory (kB) through GL_NVX_gpu_memory_info. Elsewhere the device figure stays unknown.
   for (const char* software : {"llvmpipe", "softpipe", "swrast"})
@@ -201,6 +202,13 @@ void GlBackend::configure_case(const CaseConfig& c) {
   for (const std::string& d : gpu::shadow_geometry_defines(c))
     if (std::find(shadow_defines.begin(), shadow_defines.end(), d) == shadow_defines.end()) shadow_defines.push_back(d);
   shadow_defines.push_back(gpu::storage_define(c.storage));
+  std::vector<std::string> map_defines;
+  if (c.raster_perturb_steps != 0.0f) {
+    char perturb[64];
+    std::snprintf(perturb, sizeof perturb, "RASTER_PERTURB_NDC=%.9g", gpu::raster_perturb_ndc(c, info_.subpixel_bits));
+    shadow_defines.push_back(perturb);
+    map_defines.push_back(perturb);
+  }
   std::vector<ShaderStage> shadow_stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"},
                                             {GL_FRAGMENT_SHADER, "shadow_depth.frag"}};
   if (traits(c.technique).geometry_stage)
@@ -213,7 +221,7 @@ void GlBackend::configure_case(const CaseConfig& c) {
         program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "lighting.frag"}}, defines);
   }
 
-  map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, {});
+  map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, map_defines);
   floor_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "floor.frag"}}, {});
   summary_program_ = program({{GL_COMPUTE_SHADER, "cube_summary.comp"}}, {});
   shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format, traits(c.technique).multiview);

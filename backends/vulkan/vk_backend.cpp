@@ -74,6 +74,7 @@ void VkBackend::describe_device(bool validation) {
   info_.version = std::string(ctx_->driver().driverName) + " " + ctx_->driver().driverInfo;
   info_.platform = "headless (no surface)";
   info_.max_cube_size = static_cast<int>(p.limits.maxImageDimensionCube);
+  info_.subpixel_bits = static_cast<int>(p.limits.subPixelPrecisionBits);
   info_.shares_host_memory = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
   VkPhysicalDeviceMemoryProperties memory{};
   vkGetPhysicalDeviceMemoryProperties(ctx_->physical(), &memory);
@@ -297,6 +298,8 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
   map.layout = shadow_layout_;
   map.render_pass = maps_.render_pass;
   map.position_only = true;
+  if (c.raster_perturb_steps != 0.0f)
+    map.vertex_constants = {std::bit_cast<int32_t>(gpu::raster_perturb_ndc(c, info_.subpixel_bits))};
   const VkCullModeFlags map_culls[3] = {VK_CULL_MODE_NONE, VK_CULL_MODE_BACK_BIT, VK_CULL_MODE_FRONT_BIT};
   for (size_t k = 0; k < 3; ++k) {
     map.cull = map_culls[k];
@@ -315,6 +318,7 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
   shadow.render_pass = shadow_.render_pass;
   shadow.color_attachments = c.storage == Storage::r32f_distance ? 1 : 0;
   shadow.position_only = true;
+  shadow.vertex_constants = map.vertex_constants;
   const gpu::LightingConstants constants = gpu::lighting_constants(c, *scene_);
   for (int cull = 0; cull < 2; ++cull) {
     // two_sided remedy: closed casters keep their back faces in the shadow pass (a light inside one is blocked).

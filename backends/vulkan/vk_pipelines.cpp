@@ -23,20 +23,30 @@ VkShaderModule ShaderModules::get(const std::string& key) {
   return module;
 }
 
-VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc) {
-  std::vector<VkSpecializationMapEntry> entries;
-  for (uint32_t k = 0; k < desc.fragment_constants.size(); ++k)
+namespace {
+
+// Constant k at offset 4k, 4 bytes each. `entries` must outlive the returned info's use.
+VkSpecializationInfo specialisation_of(const std::vector<int32_t>& values, std::vector<VkSpecializationMapEntry>& entries) {
+  for (uint32_t k = 0; k < values.size(); ++k)
     entries.push_back({k, static_cast<uint32_t>(k * sizeof(int32_t)), sizeof(int32_t)});
-  VkSpecializationInfo specialisation{static_cast<uint32_t>(entries.size()), entries.data(),
-                                      desc.fragment_constants.size() * sizeof(int32_t),
-                                      desc.fragment_constants.data()};
+  return {static_cast<uint32_t>(entries.size()), entries.data(), values.size() * sizeof(int32_t), values.data()};
+}
+
+}  // namespace
+
+VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc) {
+  std::vector<VkSpecializationMapEntry> fragment_entries, vertex_entries;
+  const VkSpecializationInfo fragment = specialisation_of(desc.fragment_constants, fragment_entries);
+  const VkSpecializationInfo vertex = specialisation_of(desc.vertex_constants, vertex_entries);
   std::vector<VkPipelineShaderStageCreateInfo> stages;
   for (const auto& [stage, key] : desc.stages) {
     VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     s.stage = stage;
     s.module = modules.get(key);
     s.pName = "main";
-    if (stage == VK_SHADER_STAGE_FRAGMENT_BIT && !entries.empty()) s.pSpecializationInfo = &specialisation;
+    if (stage == VK_SHADER_STAGE_FRAGMENT_BIT && !fragment_entries.empty()) s.pSpecializationInfo = &fragment;
+    if ((stage == VK_SHADER_STAGE_VERTEX_BIT || stage == VK_SHADER_STAGE_GEOMETRY_BIT) && !vertex_entries.empty())
+      s.pSpecializationInfo = &vertex;
     stages.push_back(s);
   }
   VkVertexInputBindingDescription binding{0, static_cast<uint32_t>(gpu::kVertexStride), VK_VERTEX_INPUT_RATE_VERTEX};

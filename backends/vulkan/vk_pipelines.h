@@ -32,6 +32,8 @@ struct PipelineDesc {
   VkCullModeFlags cull = VK_CULL_MODE_NONE;
   // The fragment stage's specialisation constants: value k for constant_id k (4 bytes each; a bool is a VkBool32).
   std::vector<int32_t> fragment_constants;
+  // The vertex and geometry stages' (shaders/raster_perturb.glsl: constant_id 0, a float's bits); empty: defaults.
+  std::vector<int32_t> vertex_constants;
 };
 
 VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc);

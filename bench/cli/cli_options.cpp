@@ -190,6 +190,10 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
                "sensitivity experiments only: measure K copies of every case in the same rounds (ids end in /rep<k>): "
                "a same-run A/A test of the timing noise")
       ->capture_default_str()->check(CLI::Range(1, 16));
+  r.add_option("--raster-perturb", run.matrix.raster_perturb_steps,
+               "tests of the checks only: move every shadow- and map-pass vertex by up to STEPS of the device's "
+               "sub-pixel steps (deterministic per world position), as another conformant rasteriser may snap")
+      ->capture_default_str()->check(CLI::Range(0.0, 4.0));
   r.add_flag("--no-accuracy", flags.no_accuracy, "skip the shadow error against the ray-cast reference");
   r.add_flag("--no-memory-precheck", flags.no_memory_precheck,
              "allocate even when a case is predicted not to fit (tests the driver's own out-of-memory path)");

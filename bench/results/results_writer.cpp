@@ -44,6 +44,7 @@ json pass_timing_to_json(const std::vector<FrameTiming>& frames, PassTiming Fram
 json device_to_json(const DeviceInfo& d) {
   json j{{"api", d.api},          {"vendor", d.vendor},     {"renderer", d.renderer},
          {"version", d.version},  {"platform", d.platform}, {"max_cube_size", d.max_cube_size},
+         {"subpixel_bits", d.subpixel_bits},
          {"device_memory_bytes", d.device_memory_bytes}, {"shares_host_memory", d.shares_host_memory}};
   for (const auto& [k, v] : d.extra) j["extra"][k] = v;
   return j;
@@ -68,6 +69,7 @@ json axes_to_json(const CaseConfig& c) {
     axes["experiment"] = c.experiment;
     axes["injected_fragment_work"] = c.injected_work;
   }
+  if (c.raster_perturb_steps != 0.0f) axes["raster_perturb_steps"] = c.raster_perturb_steps;
   return axes;
 }
 
@@ -177,9 +179,15 @@ json repetitions_to_json(const CaseResult& r) {
 // A cube or map texel report (bench/truth/cube_truth.h, bench/truth/map_truth.h): the fields both have.
 template <typename Report>
 json texels_to_json(const Report& k, const char* reference, double limit_percent) {
+  json worst = json::array();
+  for (const TexelFinding& w : k.worst)  // "nothing" (no surface) as null
+    worst.push_back({{"layer", w.layer}, {"s", w.s}, {"t", w.t}, {"got", w.got < 0 ? json() : json(w.got)},
+                     {"want", w.want < 0 ? json() : json(w.want)},
+                     {"edge_texels", w.edge_texels < 0 ? json() : json(w.edge_texels)}});
   return {{"reference", reference},     {"stride", k.stride},       {"texels", k.texels},
           {"bad_percent", k.bad_percent()}, {"wrong", k.wrong},      {"spurious", k.spurious},
-          {"missing", k.missing},       {"max_error", k.max_error}, {"limit_percent", limit_percent}};
+          {"missing", k.missing},       {"max_error", k.max_error}, {"limit_percent", limit_percent},
+          {"reach_texels", k.reach_texels}, {"worst", worst}};
 }
 
 json timing_to_json(const CaseResult& r) {

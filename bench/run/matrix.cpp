@@ -93,6 +93,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.optimizations = optimizations;
                   c.remedies = remedies;
                   c.pcf_scale = pcf_scale;
+                  c.raster_perturb_steps = spec.raster_perturb_steps;
                   cases.push_back(c);
                 }
     }

@@ -33,6 +33,7 @@ struct MatrixSpec {
   // (/inj<N>, /rep<k>), so a run with one value keeps the ids of a run without them.
   std::vector<int> injected_work{0};  // --inject-fragment-work 0,18
   int replicas = 1;                   // --replicas 2
+  float raster_perturb_steps = 0.0f;  // --raster-perturb 1 (test only: CaseConfig::raster_perturb_steps)
   // --technique not given: techniques a backend cannot do at all are left out of its cases (said once on stderr)
   // rather than reported unsupported case by case; a technique asked for by name is always reported.
   bool techniques_given = false;

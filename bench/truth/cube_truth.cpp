@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <memory>
 
 #include "backends/common/cube_faces.h"
 
@@ -39,26 +40,31 @@ double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& sc
 
 CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene, const glm::vec3& light,
                              float near_plane, float far_plane, int cube_size, bool two_sided) {
-  const std::vector<uint8_t> culled = culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back);
+  auto culled = std::make_shared<const std::vector<uint8_t>>(
+      culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back));
   CubeTruth t;
   t.size = cube_size;
   t.stride = cube_sample_stride(cube_size);
   t.far_plane = far_plane;
+  t.cast = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size](int face, double s,
+                                                                                              double tt) {
+    const glm::dvec3 d = cube::face_point_direction(face, s, tt, cube_size);
+    const double len = glm::length(d);  // the face axis component is 1: axis distance = distance / len
+    const glm::vec3 unit(d / len);
+    // The face frustum clips at the axis distances near and far. A surface lying exactly on the near plane is
+    // kept by the rasteriser (the room's cube face at x = -1 with the light at the origin and near 1), so the ray
+    // starts a hair before it.
+    const double start = double(near_plane) * len * (1.0 - 1e-5), end = double(far_plane) * len;
+    const double hit = first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
+    return hit >= 0.0 ? start + hit : -1.0;
+  };
   const int n = cube_size / t.stride;
   auto face_truth = [&](int face) {
     std::vector<float> out(size_t(n) * size_t(n), -1.0f);
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const int s = x * t.stride + t.stride / 2, tt = y * t.stride + t.stride / 2;
-        const glm::vec3 d = cube::texel_direction(face, s, tt, cube_size);
-        const float len = glm::length(d);  // the face axis component is 1: axis distance = distance / len
-        const glm::vec3 unit = d / len;
-        // The face frustum clips at the axis distances near and far. A surface lying exactly on the near plane is
-        // kept by the rasteriser (the room's cube face at x = -1 with the light at the origin and near 1), so the
-        // ray starts a hair before it.
-        const double start = double(near_plane) * len * (1.0 - 1e-5), end = double(far_plane) * len;
-        const double hit = first_kept_hit(caster, scene, culled, light + unit * float(start), unit, end - start);
-        if (hit >= 0.0) out[size_t(y) * size_t(n) + size_t(x)] = float(start + hit);
+        out[size_t(y) * size_t(n) + size_t(x)] = float(t.cast(face, s + 0.5, tt + 0.5));
       }
     return out;
   };
@@ -88,9 +94,11 @@ double storage_step(Storage storage, DepthFormat format, double distance, double
 }  // namespace
 
 CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
-                                  DepthFormat format, float near_plane) {
+                                  DepthFormat format, float near_plane, int subpixel_bits) {
   CubeTexelReport r;
   r.stride = truth.stride;
+  r.reach_texels = raster_reach_texels(subpixel_bits);
+  WorstTexels worst;
   const int n = truth.size / truth.stride;
   if (images.cube_size != truth.size) return r;
   if (!images.has_full_cube() && (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
@@ -108,23 +116,33 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
         const double want = exact[size_t(y) * size_t(n) + size_t(x)];
         // "Nothing here": the clear value, far (depth storages) or FLT_MAX (r32f).
         const bool got_surface = got < far_plane * (1.0 - 1e-6) && got != double(FLT_MAX);
-        const bool want_surface = want >= 0.0;
         ++r.texels;
-        bool bad = false;
-        if (got_surface && !want_surface) {
-          ++r.spurious, bad = true;
-        } else if (!got_surface && want_surface) {
-          ++r.missing, bad = true;
-        } else if (got_surface) {
-          const double error = std::fabs(got - want);
-          r.max_error = std::max(r.max_error, error);
-          const double len = glm::length(cube::texel_direction(f, s, t, truth.size));
-          const double bound = 2.0 * storage_step(storage, format, want, want / len, near_plane, far_plane) + 1e-4 * want;
-          if (error > bound) ++r.wrong, bad = true;
-        }
-        r.bad_per_face[size_t(f)] += bad;
+        if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
+        const double len = glm::length(cube::texel_direction(f, s, t, truth.size));
+        auto agree = [&](double stored_distance, double exact_distance) {
+          return std::fabs(stored_distance - exact_distance) <=
+                 2.0 * storage_step(storage, format, exact_distance, exact_distance / len, near_plane, far_plane) +
+                     1e-4 * exact_distance;
+        };
+        auto cast = [&](double cs, double ct) {
+          const double d = truth.cast(f, cs, ct);
+          return TexelSample{d >= 0.0, d};
+        };
+        const TexelVerdict v = judge_texel({got_surface, got}, {want >= 0.0, want}, agree, [&] {
+          return reach_corners(s + 0.5, t + 0.5, r.reach_texels, cast);
+        });
+        if (v == TexelVerdict::ok) continue;
+        ++(v == TexelVerdict::wrong ? r.wrong : v == TexelVerdict::spurious ? r.spurious : r.missing);
+        ++r.bad_per_face[size_t(f)];
+        worst.add({f, s, t, got_surface ? got : -1.0, want});
       }
   }
+  for (TexelFinding& w : worst.list())
+    w.edge_texels = edge_distance_texels(w.s + 0.5, w.t + 0.5, [&](double cs, double ct) {
+      const double d = truth.cast(w.layer, cs, ct);
+      return TexelSample{d >= 0.0, d};
+    });
+  r.worst = std::move(worst.list());
   return r;
 }
 
@@ -145,7 +163,7 @@ std::string describe(const CubeTexelReport& r) {
   std::snprintf(buf, sizeof buf, ": %llu beyond the depth step, %llu spurious, %llu missing, max error %.4g units",
                 static_cast<unsigned long long>(r.wrong), static_cast<unsigned long long>(r.spurious),
                 static_cast<unsigned long long>(r.missing), r.max_error);
-  return out + buf;
+  return out + buf + describe_worst(r.worst, "", cube::kFaceNames.data());
 }
 
 }  // namespace omnishadow::bench

@@ -9,12 +9,14 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "backends/backend.h"
 #include "backends/common/cube_faces.h"
 #include "backends/reference/ray_caster.h"
+#include "bench/truth/texel_bounds.h"
 
 namespace omnishadow::bench {
 
@@ -28,6 +30,9 @@ struct MapTruth {
   // Per map light, per checked texel (row-major): the expected window depth in [0, 1]; 1 where nothing is hit
   // (what the pass clears to).
   std::vector<std::vector<float>> depth;
+  // The exact window depth through any point of map `m` in continuous texel coordinates (texel k's centre at
+  // k + 0.5), 1 where nothing is met: the checks cast off-centre rays through it (texel_bounds.h).
+  std::function<double(size_t m, double x, double y)> cast;
 };
 MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, int map_size,
                            cube::DepthRange range);
@@ -40,12 +45,15 @@ struct MapTexelReport {
   uint64_t missing = 0;    // nothing stored where the ray meets a surface
   double max_error = 0.0;  // largest |stored - exact| window depth where both are a surface
   std::vector<uint64_t> bad_per_map;
+  double reach_texels = 0.0;        // the sub-pixel reach the bound allowed
+  std::vector<TexelFinding> worst;  // the largest wrong texels (layer = map), window depths
   uint64_t bad() const { return wrong + spurious + missing; }
   double bad_percent() const { return texels ? 100.0 * double(bad()) / double(texels) : 0.0; }
 };
-// The bound: two steps of the depth format (UNORM 2^-bits, D32F 2^-23 relative) plus 1e-5 for the rasteriser's
-// interpolation against the ray's float arithmetic.
-MapTexelReport check_map_texels(const MapTruth& truth, const Images& images, DepthFormat format);
+// A texel passes when its stored depth agrees with the exact one at its centre or at some point within the
+// rasteriser's reach (texel_bounds.h). Two depths agree within two steps of the depth format (UNORM 2^-bits, D32F
+// 2^-23 relative) plus 1e-5 for the rasteriser's interpolation against the ray's float arithmetic.
+MapTexelReport check_map_texels(const MapTruth& truth, const Images& images, DepthFormat format, int subpixel_bits);
 
 // "map_texels: 3.1% of 16384 texels wrong (map 0 3.1%), max error 0.02" for a finding.
 std::string describe(const MapTexelReport& r);

@@ -40,7 +40,8 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
                                               images.cube_size, r.config.remedies.two_sided))
              .first;
   }
-  r.cube_texels = check_cube_texels(it->second, images, r.config.storage, r.config.depth_format, sc.light.near_plane);
+  r.cube_texels = check_cube_texels(it->second, images, r.config.storage, r.config.depth_format, sc.light.near_plane,
+                                    backend(r.config.backend).device().subpixel_bits);
   add_texel_finding(r, "cube_texels", *r.cube_texels, kCubeTexelLimitPercent);
 }
 
@@ -57,7 +58,8 @@ void Harness::check_maps(CaseResult& r, const Images& images) {
     it = map_truths_
              .emplace(key, compute_map_truth(caster_of(r.config), sc, options_.check_frame, images.map_size, range))
              .first;
-  r.map_texels = check_map_texels(it->second, images, r.config.depth_format);
+  r.map_texels = check_map_texels(it->second, images, r.config.depth_format,
+                                  backend(r.config.backend).device().subpixel_bits);
   add_texel_finding(r, "map_texels", *r.map_texels, kMapTexelLimitPercent);
 }
 
