@@ -6,4 +6,4 @@
 
 layout(location = 0) in vec3 in_position;
 
-void main() { gl_Position = perturb_raster(frame.map_view_proj[pass.face] * vec4(in_position, 1.0), in_position); }
+void main() { gl_Position = perturb_raster(frame.map_view_proj[pass.face] * vec4(in_position, 1.0)); }

@@ -1,8 +1,15 @@
-// Test only (--raster-perturb, CaseConfig::raster_perturb_steps): moves a shadow- or map-pass vertex in window
-// space by up to kRasterPerturbNdc (the requested sub-pixel steps as NDC units of the target), in a direction
-// hashed from its world position, so that vertices shared by triangles move alike and meshes stay closed. In every
-// real run the constant is 0 and the compiler folds perturb_raster() to its argument: the timed pass is unchanged.
-// Vulkan sets it as a specialisation constant of the vertex and geometry stages; GL compiles it as a #define.
+// Test only (--raster-perturb, CaseConfig::raster_perturb_steps): moves every shadow- and map-pass vertex in window
+// space by up to kRasterPerturbNdc (the requested sub-pixel steps as NDC units of the target), as a rasteriser
+// that snaps differently from this one would. In every real run the constant is 0 and the compiler folds
+// perturb_raster() to its argument: the timed pass is unchanged. Vulkan sets it as a specialisation constant of the
+// vertex and geometry stages; GL compiles it as a #define.
+//
+// The offset is a fixed linear map of clip space (NDC offset = k (a + b x_ndc + c y_ndc), |a| + |b| + |c| <= 1), a
+// function of the vertex's position, so shared vertices move alike and meshes stay closed. It must be linear: the
+// clipper interpolates clip coordinates, and a per-vertex offset proportional to w (a hash per vertex, say) is
+// amplified at the vertices it creates on triangles that cross the light's plane (one vertex behind the light),
+// moving edges by many steps where a GPU, which snaps after clipping, moves them by at most one. A linear map
+// commutes with that interpolation, so every window-space point within the target moves by at most k.
 #ifdef VULKAN
 layout(constant_id = 0) const float kRasterPerturbNdc = 0.0;
 #elif defined(RASTER_PERTURB_NDC)
@@ -11,20 +18,10 @@ const float kRasterPerturbNdc = RASTER_PERTURB_NDC;
 const float kRasterPerturbNdc = 0.0;
 #endif
 
-// A direction in [-1, 1]^2 from the position's bits (a 32-bit integer hash; deterministic on every device).
-vec2 raster_perturbation(vec3 world) {
-  uvec3 u = floatBitsToUint(world);
-  uint h = (u.x * 0x9E3779B1u) ^ (u.y * 0x85EBCA77u) ^ (u.z * 0xC2B2AE3Du);
-  h ^= h >> 15u;
-  h *= 0x2C1B3C6Du;
-  h ^= h >> 12u;
-  h *= 0x297A2D39u;
-  h ^= h >> 15u;
-  return vec2(float(h & 0xFFFFu), float(h >> 16u)) / 65535.0 * 2.0 - 1.0;
-}
-
-vec4 perturb_raster(vec4 clip, vec3 world) {
+vec4 perturb_raster(vec4 clip) {
   if (kRasterPerturbNdc == 0.0) return clip;
-  clip.xy += raster_perturbation(world) * kRasterPerturbNdc * clip.w;  // window offset = NDC offset, after the divide
+  // x: k (0.5 + 0.3 x + 0.2 y) in [0, k]; y: k (-0.4 + 0.25 x - 0.35 y) in [-k, 0.2 k] for |x|, |y| <= 1.
+  clip.x += kRasterPerturbNdc * (0.5 * clip.w + 0.3 * clip.x + 0.2 * clip.y);
+  clip.y += kRasterPerturbNdc * (-0.4 * clip.w + 0.25 * clip.x - 0.35 * clip.y);
   return clip;
 }

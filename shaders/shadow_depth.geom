@@ -33,7 +33,7 @@ bool beyond_one_plane(vec4 c0, vec4 c1, vec4 c2) {
 
 void emit_face(int face) {
   vec4 clip[3];
-  for (int i = 0; i < 3; ++i) clip[i] = perturb_raster(frame.face_view_proj[face] * gl_in[i].gl_Position, gl_in[i].gl_Position.xyz);
+  for (int i = 0; i < 3; ++i) clip[i] = perturb_raster(frame.face_view_proj[face] * gl_in[i].gl_Position);
 #if defined(FACE_CULLING)
   if (beyond_one_plane(clip[0], clip[1], clip[2])) return;
 #endif

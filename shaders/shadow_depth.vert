@@ -24,7 +24,7 @@ void main() {
 #ifdef WRITE_WORLD_POSITION
   world_position = in_position;
 #endif
-  gl_Position = perturb_raster(frame.face_view_proj[pass.face] * vec4(in_position, 1.0), in_position);
+  gl_Position = perturb_raster(frame.face_view_proj[pass.face] * vec4(in_position, 1.0));
 #elif defined(TECHNIQUE_VS_LAYER)
 #ifdef VULKAN
   int instance = gl_InstanceIndex;
@@ -43,7 +43,7 @@ void main() {
 #ifdef WRITE_WORLD_POSITION
   world_position = in_position;
 #endif
-  gl_Position = perturb_raster(frame.face_view_proj[face] * vec4(in_position, 1.0), in_position);
+  gl_Position = perturb_raster(frame.face_view_proj[face] * vec4(in_position, 1.0));
 #elif defined(TECHNIQUE_MULTIVIEW)
   // One draw, six views (Vulkan: view mask 0b111111; GL: num_views = 6): the view index picks the face.
 #ifdef VULKAN
@@ -54,7 +54,7 @@ void main() {
 #ifdef WRITE_WORLD_POSITION
   world_position = in_position;
 #endif
-  gl_Position = perturb_raster(frame.face_view_proj[face] * vec4(in_position, 1.0), in_position);
+  gl_Position = perturb_raster(frame.face_view_proj[face] * vec4(in_position, 1.0));
 #else
   // Geometry-shader techniques transform per face in the GS.
   gl_Position = vec4(in_position, 1.0);

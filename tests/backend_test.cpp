@@ -18,6 +18,7 @@
 #include "backends/reference/ray_caster.h"
 #include "bench/truth/accuracy.h"
 #include "bench/truth/cube_truth.h"
+#include "bench/run/case_runner.h"
 #include "tests/optimization_checks.h"
 
 namespace omnishadow {
@@ -201,6 +202,37 @@ TEST_P(BackendTest, PerturbedRasterPassesTheSubPixelBoundOnly) {
     EXPECT_GT(bench::check_cube_texels(truth, swapped, Storage::linear_depth, DepthFormat::d32f,
                                        room_->light.near_plane, bits).bad_percent(), 5.0);
   }
+}
+
+// timed_lit's tolerance (bench/run/case_runner.h kTimedLitMaxPercent), both sides: a compiler's float contraction
+// (0.1% of values one level off) passes; a timed variant that renders another filter, no bias or another light
+// count fails.
+TEST_P(BackendTest, TimedLitToleranceAllowsRoundingFlipsOnly) {
+  CaseConfig c = room_case(Technique::six_pass, Filter::pcf_disk20, 256);
+  Images img = render(c, 30);
+  auto agrees = [&](const std::vector<uint8_t>& timed, const std::vector<uint8_t>& checked) {
+    return bench::timed_variant_check(timed, checked).passed;
+  };
+  EXPECT_TRUE(agrees(img.timed_lit_rgba8, img.lit_rgba8));
+  std::vector<uint8_t> contracted = img.lit_rgba8;
+  for (size_t i = 0; i < contracted.size(); i += 1000) contracted[i] = contracted[i] == 255 ? 254 : contracted[i] + 1;
+  EXPECT_TRUE(agrees(contracted, img.lit_rgba8)) << "0.1% of values one level off is within the guarantee";
+  std::vector<uint8_t> two_levels = img.lit_rgba8;
+  two_levels[two_levels.size() / 2] = two_levels[two_levels.size() / 2] < 128 ? two_levels[two_levels.size() / 2] + 2 : two_levels[two_levels.size() / 2] - 2;
+  EXPECT_FALSE(agrees(two_levels, img.lit_rgba8)) << "a value two levels off is no rounding flip";
+  CaseConfig hard = c;
+  hard.filter = Filter::hard;
+  EXPECT_FALSE(agrees(render(hard, 30).lit_rgba8, img.lit_rgba8)) << "another filter";
+  CaseConfig no_bias = c;
+  no_bias.remedies.bias = BiasMode::zero;
+  EXPECT_FALSE(agrees(render(no_bias, 30).lit_rgba8, img.lit_rgba8)) << "no bias";
+  scene::Scene mixed = scene::load_scene_file(kScenes + "/mixed.json");
+  backend_->load(mixed);
+  CaseConfig m = testing::optimization_case(GetParam(), "mixed", Technique::six_pass);
+  Images all = testing::render_frame(*backend_, m, 30);
+  mixed.map_lights.pop_back();
+  backend_->load(mixed);
+  EXPECT_FALSE(agrees(testing::render_frame(*backend_, m, 30).lit_rgba8, all.lit_rgba8)) << "one light fewer";
 }
 
 // Error falls as the cube grows: each size's misclassification is at most the previous one's plus a noise band

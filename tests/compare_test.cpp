@@ -96,6 +96,25 @@ class CompareTest : public ::testing::Test {
     return run.string();
   }
 
+  static json read_doc(const std::string& run) {
+    return json::parse(read_file((fs::path(run) / "results.json").string()));
+  }
+  static void write_doc(const std::string& run, const json& doc) {
+    write_file_atomic((fs::path(run) / "results.json").string(), doc.dump());
+  }
+  static void set_status(const std::string& run, const std::string& id, const std::string& status,
+                         const std::string& reason) {
+    json doc = read_doc(run);
+    for (json& c : doc["omnishadow"]["cases"])
+      if (c["id"] == id) c["status"] = status, c["reason"] = reason;
+    write_doc(run, doc);
+  }
+  static void set_complete(const std::string& run, bool complete) {
+    json doc = read_doc(run);
+    doc["omnishadow"]["complete"] = complete;
+    write_doc(run, doc);
+  }
+
   fs::path dir_;
 };
 
@@ -178,14 +197,53 @@ TEST_F(CompareTest, WorkAndImageChangesAreRegressionsWhateverTheTiming) {
   EXPECT_TRUE(fs::exists(fs::path(image) / "compare" / "diffs" / "a" / "diff_shadow_factor.png"));
 }
 
-TEST_F(CompareTest, MismatchedMatricesAreListedNotFailed) {
+// A case ok in the base that is missing from the new run fails the comparison; a case only in the new run is listed.
+TEST_F(CompareTest, AMissingCaseIsAStatusRegressionANewCaseIsListed) {
   std::string base = write_run("base", {{"a", kBase}, {"gone", kBase}});
   std::string fresh = write_run("new", {{"a", kBase}, {"added", kBase}});
   Comparison c = compare_runs(load_run(base), load_run(fresh), {});
   EXPECT_EQ(c.cases.size(), 1u);
   EXPECT_EQ(c.only_in_base, std::vector<std::string>{"gone"});
   EXPECT_EQ(c.only_in_new, std::vector<std::string>{"added"});
-  EXPECT_EQ(compare_command(base, fresh, {}), 0);
+  EXPECT_EQ(c.status_regressions, std::vector<std::string>{"gone: ok -> missing"});
+  EXPECT_EQ(compare_command(base, fresh, {}), 1);
+  std::string only_added = write_run("more", {{"a", kBase}, {"gone", kBase}, {"added", kBase}});
+  EXPECT_EQ(compare_command(base, only_added, {}), 0) << "a new case alone is no regression";
+}
+
+// Statuses: ok -> failed_check, unsupported or interrupted fails and is listed first; a case that already failed in
+// the base and still fails is not a new regression; an interrupted run's missing cases say so.
+TEST_F(CompareTest, AStatusRegressionFailsTheComparison) {
+  std::string base = write_run("base", {{"a", kBase}, {"b", kBase}, {"c", kBase}, {"d", kBase}});
+  set_status(base, "d", "failed_check", "was failing");
+  std::string fresh = write_run("new", {{"a", kBase}, {"b", kBase}, {"c", kBase}, {"d", kBase}});
+  set_status(fresh, "a", "failed_check", "cube_texels: 3% of texels wrong");
+  set_status(fresh, "b", "unsupported", "no geometry shader");
+  set_status(fresh, "d", "failed_check", "still failing");
+  Comparison c = compare_runs(load_run(base), load_run(fresh), {});
+  EXPECT_EQ(c.status_regressions,
+            (std::vector<std::string>{"a: ok -> failed_check (cube_texels: 3% of texels wrong)",
+                                      "b: ok -> unsupported (no geometry shader)"}));
+  EXPECT_TRUE(c.failed({}));
+  EXPECT_EQ(comparison_table(c, {}).rfind("STATUS REGRESSION a: ok -> failed_check", 0), 0u) << "listed first";
+  EXPECT_EQ(comparison_json(c, {})["failed"], true);
+  EXPECT_EQ(compare_command(base, fresh, {}), 1);
+  std::string cut = write_run("cut", {{"a", kBase}});
+  set_complete(cut, false);
+  Comparison i = compare_runs(load_run(base), load_run(cut), {});
+  EXPECT_EQ(i.status_regressions.front(), "b: ok -> missing (the new run was interrupted)");
+}
+
+// Two runs with no case in common compare nothing: that is a failure, not a pass.
+TEST_F(CompareTest, NoCaseInCommonFails) {
+  std::string base = write_run("base", {{"a", kBase}});
+  std::string fresh = write_run("new", {{"b", kBase}});
+  set_status(base, "a", "unsupported", "not here");  // so that no status regression is what fails it
+  Comparison c = compare_runs(load_run(base), load_run(fresh), {});
+  EXPECT_TRUE(c.status_regressions.empty());
+  EXPECT_TRUE(c.cases.empty());
+  EXPECT_NE(comparison_table(c, {}).find("no case in common"), std::string::npos);
+  EXPECT_EQ(compare_command(base, fresh, {}), 1);
 }
 
 TEST_F(CompareTest, BadInputIsAClearError) {

@@ -112,9 +112,9 @@ struct CaseConfig {
   // axis of the stability suite (0 collapses every kernel to one direction). In the id as /pcf<scale> unless 1.
   float pcf_scale = 1.0f;
   // Test only (--raster-perturb): every vertex of the shadow and map passes moved in window space by up to this many
-  // of the device's sub-pixel steps, deterministically from its world position (shared vertices move alike, so
-  // meshes stay closed). It makes a CPU rasteriser snap like another conformant one, to prove the texel truths'
-  // bounds (bench/truth/texel_bounds.h) hold there. 0 in every real run: the shaders then fold it away. Not in the id.
+  // of the device's sub-pixel steps, by a fixed linear map of clip space (shaders/raster_perturb.glsl: shared
+  // vertices move alike, meshes stay closed, and clipping cannot amplify it). It makes a CPU rasteriser place edges
+  // as another conformant one may, to prove the texel truths' bounds (bench/truth/texel_bounds.h) hold there. 0 in every real run: the shaders then fold it away. Not in the id.
   float raster_perturb_steps = 0.0f;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,

@@ -27,7 +27,9 @@ EGLDisplay open_display(const std::string& platform, int device_index) {
   }
   if (platform == "device") {
     if (!has_client_extension("EGL_EXT_platform_device") || !has_client_extension("EGL_EXT_device_enumeration"))
-      throw std::runtime_error("EGL_EXT_platform_device / EGL_EXT_device_enumeration are not available");
+      throw std::runtime_error("--egl-platform device --gl-device " + std::to_string(device_index) +
+                               ": this EGL has no EGL_EXT_platform_device / EGL_EXT_device_enumeration (use "
+                               "--egl-platform surfaceless)");
     EGLint count = 0;
     if (!eglQueryDevicesEXT(0, nullptr, &count)) egl_fail("eglQueryDevicesEXT");
     std::vector<EGLDeviceEXT> devices(static_cast<size_t>(count));

@@ -195,6 +195,10 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
                "sub-pixel steps (deterministic per world position), as another conformant rasteriser may snap")
       ->capture_default_str()->check(CLI::Range(0.0, 4.0));
   r.add_flag("--no-accuracy", flags.no_accuracy, "skip the shadow error against the ray-cast reference");
+  r.add_option("--memory-budget", run.harness.memory_budget,
+               "plan as if the device had BYTES (1G, 512M, ...; on CPU drivers: host memory): a case that would not "
+               "fit fails as resource_error before it allocates")
+      ->transform(CLI::AsSizeValue(false));
   r.add_flag("--no-memory-precheck", flags.no_memory_precheck,
              "allocate even when a case is predicted not to fit (tests the driver's own out-of-memory path)");
   r.add_option("--images", flags.images,

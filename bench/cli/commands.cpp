@@ -21,6 +21,7 @@
 #include "bench/results/results_reader.h"
 #include "bench/results/results_writer.h"
 #include "bench/results/summary_table.h"
+#include "bench/run/memory_budget.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -336,7 +337,11 @@ int list_command(const std::string& scenes_dir, const std::map<std::string, std:
     try {
       const DeviceInfo& d = harness.backend(name).device();
       std::cout << "  " << name << ": " << d.renderer << " | " << d.version << " | " << d.platform
-                << " | max cube " << d.max_cube_size << "\n";
+                << " | max cube " << d.max_cube_size << " | "
+                << (d.shares_host_memory ? std::string("host memory (CPU driver)")
+                    : d.device_memory_bytes ? format_bytes(d.device_memory_bytes) + " device memory"
+                                            : std::string("device memory unknown"))
+                << "\n";
       available.push_back(name);
     } catch (const std::exception& e) {
       std::cout << "  " << name << ": unavailable: " << e.what() << "\n";

@@ -146,8 +146,43 @@ std::string Comparison::clock_note() const {
          fmt("new %.0f MHz ", new_clock_mhz) + fmt("(%+.1f%%)", 100 * (new_clock_mhz / base_clock_mhz - 1));
 }
 
+namespace {
+
+std::string status_of(const nlohmann::json& c) { return c.contains("status") && c["status"].is_string() ? c["status"].get<std::string>() : "?"; }
+
+// Cases ok in the base that are not ok in the new run, or not there at all (an incomplete run was interrupted).
+std::vector<std::string> status_regressions(const RunData& base, const RunData& fresh) {
+  const json& o = fresh.doc["omnishadow"];
+  const bool complete = !o.contains("complete") || !o["complete"].is_boolean() || o["complete"].get<bool>();
+  std::vector<std::string> out;
+  for (const auto& [id, bc] : base.cases) {
+    if (status_of(*bc) != "ok") continue;
+    auto it = fresh.cases.find(id);
+    if (it == fresh.cases.end()) {
+      out.push_back(id + ": ok -> " + (complete ? "missing" : "missing (the new run was interrupted)"));
+      continue;
+    }
+    const std::string now = status_of(*it->second);
+    if (now == "ok") continue;
+    const json& nc = *it->second;
+    const std::string reason = nc.contains("reason") && nc["reason"].is_string() ? nc["reason"].get<std::string>() : "";
+    out.push_back(id + ": ok -> " + now + (reason.empty() ? "" : " (" + reason + ")"));
+  }
+  return out;
+}
+
+}  // namespace
+
+bool Comparison::failed(const CompareOptions& options) const {
+  if (!status_regressions.empty() || cases.empty()) return true;
+  for (const CaseComparison& cc : cases)
+    if (cc.regressed(options.timing_fails)) return true;
+  return false;
+}
+
 Comparison compare_runs(const RunData& base, const RunData& fresh, const CompareOptions& options) {
   Comparison c;
+  c.status_regressions = status_regressions(base, fresh);
   c.base_clock_mhz = median_clock(base);
   c.new_clock_mhz = median_clock(fresh);
   c.base_devices = device_keys(base);
@@ -214,6 +249,8 @@ std::string Comparison::resolution_note(const CompareOptions& options) const {
 
 std::string comparison_table(const Comparison& c, const CompareOptions& o) {
   std::ostringstream s;
+  for (const auto& line : c.status_regressions) s << "STATUS REGRESSION " << line << "\n";
+  if (c.cases.empty()) s << "no case in common: the two runs compare nothing (different matrices?)\n";
   size_t width = 10;
   for (const auto& cc : c.cases) width = std::max(width, cc.id.size());
   s << std::string(width, ' ').replace(0, 4, "case") << "   base ms    new ms   change   p (Holm)  n     verdict\n";
@@ -250,7 +287,14 @@ std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
   s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << (o.metric == "cpu" ? "process CPU time" : "wall time") << " per frame, Holm-corrected (alpha " << o.alpha
     << "), minimum effect " << 100 * o.min_effect << "%. Work counters compared exactly; images by checksum, "
     << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".")
-    << (blind.empty() ? "" : " **" + blind + ".**") << "\n\n| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
+    << (blind.empty() ? "" : " **" + blind + ".**") << "\n\n";
+  if (!c.status_regressions.empty()) {
+    s << "**Status regressions** (ok in the base, not in the new run):\n\n";
+    for (const auto& line : c.status_regressions) s << "- `" << line.substr(0, line.find(':')) << "`" << line.substr(line.find(':')) << "\n";
+    s << "\n";
+  }
+  if (c.cases.empty()) s << "**No case in common: the two runs compare nothing.**\n\n";
+  s << "| case | base ms | new ms | change | p (Holm) | verdict | work / image changes |\n"
     << "|---|---|---|---|---|---|---|\n";
   for (const auto& cc : c.cases) {
     std::string notes;
@@ -287,6 +331,7 @@ nlohmann::json comparison_json(const Comparison& c, const CompareOptions& o) {
                      {"work_changes", cc.work_changes},
                      {"image_changes", cc.image_changes}});
   return {{"alpha", o.alpha},           {"min_effect", o.min_effect},       {"cases", cases},
+          {"status_regressions", c.status_regressions}, {"failed", c.failed(o)},
           {"metric", o.metric},
           {"only_in_base", c.only_in_base}, {"only_in_new", c.only_in_new},
           {"base_devices", c.base_devices}, {"new_devices", c.new_devices}};
@@ -331,9 +376,7 @@ int compare_command(const std::string& base_path, const std::string& new_path, c
   write_file_atomic((out_dir / "summary.md").string(), comparison_markdown(c, options));
   write_file_atomic((out_dir / "comparison.json").string(), comparison_json(c, options).dump(2) + "\n");
   std::cout << "summary: " << (out_dir / "summary.md").string() << "\n";
-  for (const auto& cc : c.cases)
-    if (cc.regressed(options.timing_fails)) return 1;
-  return 0;
+  return c.failed(options) ? 1 : 0;
 }
 
 }  // namespace omnishadow::bench

@@ -1,8 +1,9 @@
 #pragma once
 // `omnishadow compare BASE NEW`: per case, a timing verdict (Mann-Whitney U over the repetitions, Holm-corrected
 // across cases, and a minimum effect), an exact comparison of the work counters, and an image comparison
-// (checksum first, then metrics and a diff PNG). Exit codes: 0 no regression, 1 regression (timing, work or
-// image change), 2 usage or input error.
+// (checksum first, then metrics and a diff PNG); and each case's status: a case ok in the base that failed, became
+// unsupported, or is missing or interrupted in the new run is a regression (listed first). Exit codes: 0 no
+// regression, 1 regression (status, timing, work or image change, or no case in common), 2 usage or input error.
 
 #include <nlohmann/json.hpp>
 
@@ -49,8 +50,10 @@ struct CaseComparison {
 };
 
 struct Comparison {
+  // "gl/room/...: ok -> failed_check (cube_texels: ...)", "...: ok -> missing": cases ok in the base and not in new.
+  std::vector<std::string> status_regressions;
   std::vector<CaseComparison> cases;       // in both runs
-  std::vector<std::string> only_in_base;   // listed, not an error
+  std::vector<std::string> only_in_base;   // listed; a status regression where the base had it ok
   std::vector<std::string> only_in_new;
   std::map<std::string, std::string> base_devices, new_devices;
   // Median clock over every device-state sample of each run (bench/run/device_state.h); -1 where a run has none. Two
@@ -59,6 +62,8 @@ struct Comparison {
   std::string clock_note() const;  // "clocks: base 1980 MHz, new 1755 MHz (-11.4%)"; empty without both
   // "3 of 24 timed cases cannot be flagged at alpha 0.05 whatever their change: ..."; empty when all can.
   std::string resolution_note(const CompareOptions& options) const;
+  // Whether the comparison fails: a status regression, a regressed case, or nothing in common to compare.
+  bool failed(const CompareOptions& options) const;
 };
 
 Comparison compare_runs(const RunData& base, const RunData& fresh, const CompareOptions& options);

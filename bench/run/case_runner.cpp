@@ -180,7 +180,9 @@ bool Harness::admit(CaseResult& r, Backend& b) {
   }
   if (!options_.memory_precheck) return true;
   const MemoryNeed need = estimate_case_memory(r.config, cube_read_back_for(r.config));
-  std::string shortfall = memory_shortfall(need, host_memory_available(), b.device());
+  MemoryAvailable available = host_memory_available();
+  available.device_budget = options_.memory_budget;
+  std::string shortfall = memory_shortfall(need, available, b.device());
   if (shortfall.empty()) return true;
   r.add({Status::resource_error, "memory", shortfall,
          {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});

@@ -63,6 +63,7 @@ struct RunOptions {
   static constexpr int kFullCubeReadBackMax = 1024;  // 6 x 1024^2 floats: 24 MB
   bool accuracy = true;     // shadow error against exact visibility (ray-cast reference)
   bool memory_precheck = true;  // fail a case that cannot fit before it allocates (bench/run/memory_budget.h)
+  uint64_t memory_budget = 0;   // --memory-budget: plan as if the device had this many bytes (0: what it reports)
   // Also render check_frame + 1 and report how much of the shadow factor changed (flicker): with a light that
   // moves by tiny steps (scenes/extremes/stability_*), any change beyond the motion itself is instability.
   bool stability = false;
@@ -74,12 +75,23 @@ struct RunOptions {
   std::map<std::string, std::string> backend_options;  // egl_platform, gl_device, vk_device, api_checks
 };
 
+struct CheckResult;
+// The timed and the check lighting variants are two compilations of one shader; a GPU compiler may contract or
+// reorder their float operations. Each colour channel is fp32 until the final 8-bit rounding, and reassociating
+// the ~64 operations that lead to it moves it by at most 64 * 2^-24 relative, under 1e-3 of a level: a value may
+// then round the other way (1 level) only when it lies within 1e-3 of a rounding boundary, 0.2% of values at most
+// for any distribution of colours. So: no value may differ by more than 1 level, and at most 0.2% by 1. Another
+// filter, no bias or another light count moves whole regions by many levels and fails both (tests/image_test.cpp).
+inline constexpr double kTimedLitMaxPercent = 0.2;
+CheckResult timed_variant_check(const std::vector<uint8_t>& timed, const std::vector<uint8_t>& check_variant);
+
 struct CheckResult {
   std::string name;     // timed_lit; cube_faces, shadow_factor, lit; cross_backend_lit, cross_backend_shadow_factor
   std::string against;  // id of the case compared with
   Difference difference;
   double tolerance = 0.0;    // per value
   double max_percent = 0.0;  // of values beyond the tolerance; 0 = none may differ
+  double max_abs = -1.0;     // >= 0: and no value may differ by more than this (timed_lit: 1 level)
   bool passed = true;
   std::string diff_image;  // relative to out_dir, written on failure only
   // "values": compared value by value; "hash": the face hashes were equal, so were the values (cubes).

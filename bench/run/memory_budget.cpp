@@ -92,19 +92,32 @@ MemoryAvailable host_memory_available() {
 }
 
 std::string memory_shortfall(const MemoryNeed& need, const MemoryAvailable& host, const DeviceInfo& device) {
+  MemoryAvailable available = host;
+  uint64_t device_bytes = device.device_memory_bytes;
+  std::string device_source = "the device has";
+  if (host.device_budget > 0) {
+    if (device.shares_host_memory && (available.host_bytes == 0 || host.device_budget < available.host_bytes))
+      available.host_bytes = host.device_budget, available.host_limit = "--memory-budget";
+    if (!device.shares_host_memory && (device_bytes == 0 || host.device_budget < device_bytes))
+      device_bytes = host.device_budget, device_source = "--memory-budget allows";
+  }
+  return shortfall_against(need, available, device.shares_host_memory, device_bytes, device_source);
+}
+
+std::string shortfall_against(const MemoryNeed& need, const MemoryAvailable& host, bool shares_host_memory,
+                              uint64_t device_bytes, const std::string& device_source) {
   // Leave a fifth of what is available to the driver's own allocations (staging, JIT code, command memory).
   auto usable = [](uint64_t bytes) { return bytes / 5 * 4; };
   if (host.host_bytes == 0) return "";  // nothing known (no /proc): let the allocations speak
-  uint64_t host_need = need.host_bytes + (device.shares_host_memory ? need.device_bytes : 0);
+  uint64_t host_need = need.host_bytes + (shares_host_memory ? need.device_bytes : 0);
   if (host_need > usable(host.host_bytes))
     return "out of memory (predicted): needs " + format_bytes(host_need) + " of host memory (" +
-           format_bytes(need.device_bytes) + " of targets" + (device.shares_host_memory ? ", which this driver keeps in host memory" : "") +
+           format_bytes(need.device_bytes) + " of targets" + (shares_host_memory ? ", which this driver keeps in host memory" : "") +
            ", " + format_bytes(need.host_bytes) + " of read-back copies), " + format_bytes(host.host_bytes) +
            " available (" + host.host_limit + ")";
-  if (!device.shares_host_memory && device.device_memory_bytes > 0 &&
-      need.device_bytes > usable(device.device_memory_bytes))
-    return "out of memory (predicted): needs " + format_bytes(need.device_bytes) + " of device memory, the device has " +
-           format_bytes(device.device_memory_bytes);
+  if (!shares_host_memory && device_bytes > 0 && need.device_bytes > usable(device_bytes))
+    return "out of memory (predicted): needs " + format_bytes(need.device_bytes) + " of device memory, " +
+           device_source + " " + format_bytes(device_bytes);
   return "";
 }
 

@@ -20,12 +20,18 @@ MemoryNeed estimate_case_memory(const CaseConfig& config, CubeReadBack cube = Cu
 struct MemoryAvailable {
   uint64_t host_bytes = 0;  // min(MemAvailable, cgroup memory.max - memory.current, RLIMIT_AS - VmSize)
   std::string host_limit;   // which of those applied, for the reason
+  // --memory-budget: the device is planned as if it had this many bytes (0: as it reports). On a driver that keeps
+  // its targets in host memory the budget caps the host figure instead.
+  uint64_t device_budget = 0;
 };
 MemoryAvailable host_memory_available();
 
 // "" when the case fits; otherwise the reason: "out of memory (predicted): needs 9.4 GiB ..., 2.1 GiB available
 // (RLIMIT_AS)". Device memory that is host memory (CPU drivers) counts against the host figure.
 std::string memory_shortfall(const MemoryNeed& need, const MemoryAvailable& host, const DeviceInfo& device);
+// The same once the budget is applied: device memory `device_bytes` (0 = unknown), named by `device_source`.
+std::string shortfall_against(const MemoryNeed& need, const MemoryAvailable& host, bool shares_host_memory,
+                              uint64_t device_bytes, const std::string& device_source);
 
 std::string format_bytes(uint64_t bytes);
 

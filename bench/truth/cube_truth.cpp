@@ -124,8 +124,13 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
                  2.0 * storage_step(storage, format, exact_distance, exact_distance / len, near_plane, far_plane) +
                      1e-4 * exact_distance;
         };
+        // What the storage reports for a point of the reach square: its distance for the storages that compute
+        // one per fragment; hardware_depth stores the point's axis depth and the read-back scales it by the
+        // centre's direction (cube::projective_depth_to_distance), so the same scaling applies here.
         auto cast = [&](double cs, double ct) {
-          const double d = truth.cast(f, cs, ct);
+          double d = truth.cast(f, cs, ct);
+          if (d >= 0.0 && storage == Storage::hardware_depth)
+            d *= len / glm::length(cube::face_point_direction(f, cs, ct, truth.size));
           return TexelSample{d >= 0.0, d};
         };
         const TexelVerdict v = judge_texel({got_surface, got}, {want >= 0.0, want}, agree, [&] {

@@ -22,9 +22,9 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-# The matrix each mutant runs: the default scenes and filters, every technique a backend can do, smaller frames
+# The matrix each mutant runs: the default scenes and spot (its 2D map) and filters, every technique a backend can do, smaller frames
 # and cubes than the default run (the checks do not depend on size) and one timed frame.
-MATRIX = ["--scene", "room,heavy", "--cube", "256", "--frame", "400x300", "--frames", "1", "--warmup", "0",
+MATRIX = ["--scene", "room,heavy,spot", "--cube", "256", "--frame", "400x300", "--frames", "1", "--warmup", "0",
           "--images", "none", "--check", "--benchmark_repetitions=1"]
 FACES = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"]
 
@@ -72,6 +72,22 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("pcf_disk_x10", "shaders/shadow_filters.glsl",
      replace("/ 25.0 * frame.knobs.y;", "/ 2.5 * frame.knobs.y;"),
      "the disk PCF's radius scaled by 10"),
+    ("far_mismatch_1pct", "shaders/shadow_depth.frag",
+     replace("/ light_far();  // the point-shadow tutorial", "/ (light_far() * 1.01);  // the point-shadow tutorial"),
+     "the shadow pass divides by a far plane 1% larger than the lighting pass multiplies by"),
+    ("lookup_half_texel", "shaders/shadow_filters.glsl",
+     replace("texture(shadow_map, dir).r",
+             "texture(shadow_map, dir + vec3(0.0, max(max(abs(dir.x), abs(dir.y)), abs(dir.z)) / "
+             "float(textureSize(shadow_map, 0).x), 0.0)).r"),
+     "the hard lookup's direction moved by half a texel along y (faces other than +-Y)"),
+    ("spot_view_transposed", "backends/common/map_lights.cpp",
+     replace("glm::mat4 view = glm::lookAtRH(position, position + light.direction, map_up(light.direction));",
+             "glm::mat4 view = glm::transpose(glm::lookAtRH(position, position + light.direction, "
+             "map_up(light.direction)));"),
+     "the spot light map's view matrix transposed"),
+    ("gs_wrong_layer", "shaders/shadow_depth.geom",
+     replace("gl_Layer = face;  // per vertex", "gl_Layer = face == 4 ? 5 : face;  // per vertex"),
+     "the geometry-shader techniques write the +Z face into the -Z layer"),
 ]
 
 
