@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
-# The checks a session with a real GPU owes the open issues (13: real GPUs first; 14: timings a renderer can trust),
+# The checks only a real GPU can run (no false alarms, single-pass paths, timings a renderer can trust),
 # one step per call so that each fits a device call (10 minutes). Writes OUT/<step>/ and appends one section per step
 # to OUT/summary.md: exit codes, untimed and timed seconds, statuses, clocks, the figures the closing notes ask for.
 # Usage: scripts/gpu_acceptance.sh OUT STEP [STEP...]
-#   exits      `list`, `run --backend gl,vulkan` and `--backend vulkan,gl` must exit 0 (issue 13.1)
+#   exits      `list`, `run --backend gl,vulkan` and `--backend vulkan,gl` must exit 0
 #   checks     no false alarm on correct code: the small-cube matrix that failed 124 of 156 cases at 3387fa1, the
 #              grazing scene in every storage and depth format, and ctest; PASS or FAIL per part
-#   multiview  GL and Vulkan multiview against six_pass with --check (issue 13.4)
-#   matrix     the issue's untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
-#              (issue 13.2: the untimed part at most a quarter of the run); clock samples recorded (13.6)
-#   tutorial   scripts/experiments/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering (14.1)
-#   precision  the adaptive design beside the fixed one (14.3): across runs (scripts/experiments/sensitivity.py, as CI compares
+#   multiview  GL and Vulkan multiview against six_pass with --check
+#   matrix     the untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
+#              (the untimed part at most a quarter of the run); clock samples recorded
+#   tutorial   scripts/experiments/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering
+#   precision  the adaptive design beside the fixed one: across runs (scripts/experiments/sensitivity.py, as CI compares
 #              builds) and inside one run (scripts/experiments/sensitivity_same_run.py), 6 trials each; every stopping rule
 #              replayed on the fixed design's samples (scripts/experiments/repetition_replay.py)
 # Exit 1 when a command it ran failed (a failed check included). On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview

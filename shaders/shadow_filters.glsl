@@ -49,13 +49,13 @@ const vec3 kDiskDirections[20] = vec3[](
 
 // The bias of a lookup: the tutorials' constant for the filter, or (remedies, CaseConfig::remedies) zero or the
 // directional notes' slope-scaled max(0.05 (1 - n.l), 0.005), in world units (docs/glossary.md).
-float lookup_bias(float seed_bias, vec3 normal, vec3 frag_to_light) {
+float lookup_bias(float tutorial_bias, vec3 normal, vec3 frag_to_light) {
 #if defined(BIAS_ZERO)
   return 0.0;
 #elif defined(BIAS_SLOPE)
   return max(0.05 * (1.0 - dot(normal, normalize(-frag_to_light))), 0.005);
 #else
-  return seed_bias;
+  return tutorial_bias;
 #endif
 }
 

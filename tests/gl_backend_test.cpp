@@ -8,6 +8,7 @@
 #include <epoxy/gl.h>
 
 #include "backends/backend.h"
+#include "tests/backend_availability.h"
 
 namespace omnishadow {
 namespace {
@@ -26,7 +27,7 @@ std::unique_ptr<Backend> gl_or_skip_reason(const std::map<std::string, std::stri
 TEST(GlBackend, DescribesAnOpenGl45CoreContext) {
   std::string why;
   auto backend = gl_or_skip_reason({}, why);
-  if (!backend) GTEST_SKIP() << why;
+  if (!backend) OMNISHADOW_SKIP_UNAVAILABLE("gl", why);
   const DeviceInfo& d = backend->device();
   EXPECT_EQ(d.api.rfind("OpenGL 4.", 0), 0u) << d.api;
   EXPECT_NE(d.version.find("4."), std::string::npos) << d.version;
@@ -37,7 +38,7 @@ TEST(GlBackend, DescribesAnOpenGl45CoreContext) {
 TEST(GlApiChecks, ErrorsAreCapturedOnce) {
   std::string why;
   auto backend = gl_or_skip_reason({{"api_checks", "1"}}, why);
-  if (!backend) GTEST_SKIP() << why;
+  if (!backend) OMNISHADOW_SKIP_UNAVAILABLE("gl", why);
   backend->load(scene::load_scene_file(kScenes + "/ogldev.json"));
   EXPECT_TRUE(backend->drain_api_errors().empty());
   glEnable(0x7fff);  // not a capability: GL_INVALID_ENUM, reported through KHR_debug

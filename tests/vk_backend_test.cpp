@@ -13,6 +13,7 @@
 #include "backends/vulkan/vk_context.h"
 #include "bench/truth/accuracy.h"
 #include "bench/run/case_runner.h"
+#include "tests/backend_availability.h"
 #include "tests/optimization_checks.h"
 
 namespace omnishadow {
@@ -25,16 +26,16 @@ class VkBackendTest : public ::testing::Test {
   static void SetUpTestSuite() {
     try {
       backend_ = create_backend("vulkan", {{"api_checks", "1"}});
-      room_ = std::make_unique<scene::Scene>(scene::load_scene_file(kScenes + "/room.json"));
-      backend_->load(*room_);
     } catch (const std::exception& e) {
       skip_reason_ = std::string("no Vulkan 1.2 device with the validation layer on this machine: ") + e.what();
-      backend_.reset();
+      return;
     }
+    room_ = std::make_unique<scene::Scene>(scene::load_scene_file(kScenes + "/room.json"));
+    backend_->load(*room_);
   }
   static void TearDownTestSuite() { backend_.reset(); }
   void SetUp() override {
-    if (!backend_) GTEST_SKIP() << skip_reason_;
+    if (!backend_) OMNISHADOW_SKIP_UNAVAILABLE("vulkan", skip_reason_);
   }
   void TearDown() override {
     if (!backend_) return;
@@ -86,7 +87,7 @@ TEST_F(VkBackendTest, AgreesWithOpenGl) {
   try {
     gl = create_backend("gl", {});
   } catch (const std::exception& e) {
-    GTEST_SKIP() << "no OpenGL backend to compare with: " << e.what();
+    OMNISHADOW_SKIP_UNAVAILABLE("gl", std::string("no OpenGL backend to compare with: ") + e.what());
   }
   gl->load(*room_);
   for (Filter f : {Filter::hard, Filter::pcf_grid64}) {
@@ -171,7 +172,7 @@ TEST(VkValidation, MessagesAreCaptured) {
   try {
     ctx = std::make_unique<VkContext>("", true);
   } catch (const std::exception& e) {
-    GTEST_SKIP() << "no Vulkan device with the validation layer: " << e.what();
+    OMNISHADOW_SKIP_UNAVAILABLE("vulkan", std::string("no Vulkan device with the validation layer: ") + e.what());
   }
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = 0;  // invalid: VUID-VkBufferCreateInfo-size-00912

@@ -158,7 +158,7 @@ Remedies parse_remedies(std::string_view text) {
     if (!found)
       throw std::invalid_argument("unknown remedy '" + std::string(word) +
                                   "' (valid: none, rebase, bias0, slope_bias, normal_offset, two_sided, or a '+' join)");
-    if (r.bias != BiasMode::seed && (word == "bias0" || word == "slope_bias"))
+    if (r.bias != BiasMode::tutorial && (word == "bias0" || word == "slope_bias"))
       throw std::invalid_argument("bias0 and slope_bias exclude each other");
     found->set(r);
   });

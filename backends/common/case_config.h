@@ -47,7 +47,7 @@ struct Support {
   std::string reason;  // why not, in one line: "GL_ARB_shader_viewport_layer_array not exposed"
 };
 
-// Work-avoiding switches (issue: do only the work a scene requires). Each is measured on and off in one run;
+// Work-avoiding switches (do only the work a scene requires). Each is measured on and off in one run;
 // images must agree with the unoptimised six_pass case (bit-exact for culling and caching, where the maths is
 // the same; fit_range changes the stored depth's scale and is checked against six_pass with the same switch).
 struct Optimizations {
@@ -69,13 +69,13 @@ struct Optimizations {
 //   normal_offset: the lookup point moves 1.5 cube texels (at its distance) along the surface normal.
 //   two_sided:     casters are drawn two-sided in the shadow pass (no back-face culling), so a light inside a
 //                  closed caster is blocked by it.
-enum class BiasMode { seed, zero, slope };
+enum class BiasMode { tutorial, zero, slope };  // tutorial: the tutorials' constant bias (0.05 hard, 0.15 disk PCF)
 struct Remedies {
   bool rebase_origin = false;
-  BiasMode bias = BiasMode::seed;
+  BiasMode bias = BiasMode::tutorial;
   bool normal_offset = false;
   bool two_sided = false;
-  bool any() const { return rebase_origin || bias != BiasMode::seed || normal_offset || two_sided; }
+  bool any() const { return rebase_origin || bias != BiasMode::tutorial || normal_offset || two_sided; }
   bool operator==(const Remedies&) const = default;
 };
 // "none" or a '+' join of rebase, bias0, slope_bias, normal_offset, two_sided; throws std::invalid_argument.

@@ -79,7 +79,7 @@ std::vector<std::string> spirv_variant_keys() {
       }
   for (Storage storage : all_values<Storage>())
     for (Filter filter : all_values<Filter>())
-      for (BiasMode bias : {BiasMode::seed, BiasMode::zero, BiasMode::slope})
+      for (BiasMode bias : {BiasMode::tutorial, BiasMode::zero, BiasMode::slope})
         for (bool normal_offset : {false, true})
           for (LightingVariant v : {LightingVariant::timed, LightingVariant::check}) {
             c.storage = storage;

@@ -23,7 +23,7 @@ class EglContext {
   // Makes this context current on the calling thread again; false when EGL refuses. Needed before any GL call
   // that may follow another API's teardown: on NVIDIA the Vulkan ICD (libGLX_nvidia) shares driver state with
   // EGL, and after vkDestroyInstance libepoxy found no current context for the GL backend's destructor and
-  // aborted the process (issue 13).
+  // aborted the process.
   bool make_current() const;
 
  private:

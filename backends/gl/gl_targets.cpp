@@ -190,7 +190,7 @@ LightingTargets create_lighting_targets(int width, int height, bool check_output
   }
   glNamedFramebufferRenderbuffer(t.fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.depth);
   // The timed framebuffer has one draw buffer: a renderer's. (With three bound, NVIDIA's GL paid for all three
-  // even when the shader wrote one: issue 14.)
+  // even when the shader wrote one.)
   const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
   glNamedFramebufferDrawBuffers(t.fbo, check_outputs ? 3 : 1, buffers);
   check_complete(t.fbo, check_outputs ? "lighting (check)" : "lighting");

@@ -209,7 +209,6 @@ void VkContext::read_properties() {
   geometry_shader_ = features.features.geometryShader;
   pipeline_statistics_ = features.features.pipelineStatisticsQuery;
   multiview_ = f11.multiview;
-  multiview_geometry_shader_ = f11.multiviewGeometryShader;
   layer_output_ = f12.shaderOutputLayer;
 }
 
@@ -219,7 +218,6 @@ void VkContext::create_device() {
   e12.shaderOutputLayer = layer_output_;
   VkPhysicalDeviceVulkan11Features e11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &e12};
   e11.multiview = multiview_;
-  e11.multiviewGeometryShader = multiview_geometry_shader_;
   VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &e11};
   enable.features.geometryShader = geometry_shader_;
   enable.features.pipelineStatisticsQuery = pipeline_statistics_;

@@ -45,7 +45,6 @@ class VkContext {
 
   bool has_geometry_shader() const { return geometry_shader_; }
   bool has_multiview() const { return multiview_; }
-  bool has_multiview_geometry_shader() const { return multiview_geometry_shader_; }
   bool has_layer_output() const { return layer_output_; }  // shaderOutputLayer (1.2) for vs_layer
   bool has_pipeline_statistics() const { return pipeline_statistics_; }
   bool validation() const { return validation_; }
@@ -90,7 +89,6 @@ class VkContext {
   uint32_t timestamp_valid_bits_ = 0;
   bool geometry_shader_ = false;
   bool multiview_ = false;
-  bool multiview_geometry_shader_ = false;
   bool layer_output_ = false;
   bool pipeline_statistics_ = false;
   bool validation_ = false;

@@ -201,9 +201,8 @@ void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
   r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
 }
 
-// The cube against exact first-hit distances, whatever the camera sees. Cases of one scene, light, range and size
-// share the truth; a scene without a point light has no cube to check.
-// Not the filter, remedies or PCF scale (the floor's lighting has no lookup), nor the optimisations (no draws).
+// What a case's floor depends on: backend, scene, cube, frame size, storage and depth format. Not the filter,
+// remedies or PCF scale (the floor's lighting has no lookup), nor the optimisations (no draws).
 static std::string floor_key(const CaseConfig& c) {
   return c.backend + "/" + c.scene + (c.remedies.rebase_origin ? "#rebase" : "") + "/c" + std::to_string(c.cube_size) +
          "/f" + std::to_string(c.width) + "x" + std::to_string(c.height) + "/" + std::string(to_string(c.technique)) +
@@ -341,8 +340,8 @@ void Harness::measure_flicker(CaseResult& r, Backend& b, const Images& images) {
   r.flicker_mean_abs = covered ? sum / double(covered) : 0.0;
 }
 
-// What was timed is what was checked: the timed lighting variant's colour must equal the check variant's, bit for
-// bit (they share every line that computes it; only the check variant's extra outputs differ).
+// The case's image files (--images): the lit frame and shadow factor as PNG, and the float buffers as PFM (every
+// case with --images all, failing cases with failed), encoded on the writer thread where there is one.
 void Harness::write_images(CaseResult& r, const Images& img) {
   fs::path rel = fs::path("images") / r.config.id();
   fs::path dir = fs::path(options_.out_dir) / rel;
@@ -355,17 +354,24 @@ void Harness::write_images(CaseResult& r, const Images& img) {
   // The float buffers (24 bytes a pixel, 1.9 MB per 800x600 buffer) are what a failed check needs to be examined.
   const bool floats = options_.images == RunOptions::ImagePolicy::all || failed;
   struct Files {
-    std::string lit, shadow_png, cube, shadow_pfm, position, coverage;
+    std::string lit, shadow_png, cube, shadow_pfm, position, coverage, cube_pfm;
+    std::vector<std::string> maps;
   } files{out("lit", "lit.png"), out("shadow_factor_png", "shadow_factor.png"), out("cube_faces", "cube_faces.png")};
   if (floats) {
     files.shadow_pfm = out("shadow_factor", "shadow_factor.pfm");
     files.position = out("world_position", "world_position.pfm");
     files.coverage = out("coverage", "coverage.pfm");
+    // What the texel truths read, for studying a finding offline: the cube as distances (faces side by side, row
+    // t = 0 first, i.e. PFM's bottom row), each 2D map as window depth (row 0 = NDC y = -1, PFM's bottom row).
+    if (img.cube_size > 0) files.cube_pfm = out("cube_distance", "cube_distance.pfm");
+    for (size_t m = 0; m < img.map_depth.size(); ++m)
+      files.maps.push_back(out("map_depth_" + std::to_string(m), "map_" + std::to_string(m) + "_depth.pfm"));
   }
   // The writer gets its own copies: `img` may be reused (the six_pass reference) before the files are written.
   write_later(r, [files, w = img.width, h = img.height, n = face_edge(img), far_plane = img.light_far,
                   lit = img.lit_rgba8, shadow = img.shadow_factor, cube = concat_faces(img),
-                  position = floats ? img.world_position : std::vector<float>{}] {
+                  position = floats ? img.world_position : std::vector<float>{}, map_size = img.map_size,
+                  maps = floats ? img.map_depth : std::vector<std::vector<float>>{}] {
     write_png_rgba_bottom_up(files.lit, w, h, lit);
     write_png_gray(files.shadow_png, w, h, shadow, 0.0f, 1.0f, true);
     write_png_gray(files.cube, n * 6, n, cube, 0.0f, far_plane, false);
@@ -380,6 +386,8 @@ void Harness::write_images(CaseResult& r, const Images& img) {
     }
     write_pfm(files.position, w, h, 3, xyz);
     write_pfm(files.coverage, w, h, 1, coverage);
+    if (!files.cube_pfm.empty()) write_pfm(files.cube_pfm, n * 6, n, 1, cube);
+    for (size_t m = 0; m < files.maps.size() && m < maps.size(); ++m) write_pfm(files.maps[m], map_size, map_size, 1, maps[m]);
   });
 }
 

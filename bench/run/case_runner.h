@@ -28,6 +28,9 @@ inline constexpr double kDefaultHardMaxErrorPercent = 5.0;
 // misclassified at the 0.5 threshold here and there (room 0.2-0.3%, heavy 2.9-5.1% at cube 256), while a kernel
 // scaled by 10 (scripts/experiments/mutants.py) misclassifies 25-39% on heavy. A scale chosen with --pcf-scale has no default.
 inline constexpr double kDefaultSoftMaxErrorPercent = 15.0;
+// Which default a filter gets: hard for one depth comparison per lookup (hard, and hw_compare2x2, whose 2x2
+// bilinear weighting of four 0/1 comparisons blurs only within one texel), soft for the PCF kernels.
+inline bool has_hard_error_limit(Filter f) { return f == Filter::hard || f == Filter::hw_compare2x2; }
 
 struct RunOptions {
   std::string out_dir;                // results/<run>; images go under out_dir/images/<case id>/

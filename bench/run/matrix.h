@@ -81,16 +81,7 @@ auto parse_list_with(const std::string& text, const std::string& option, Parse p
 
 template <typename E>
 std::vector<E> parse_enum_list(const std::string& text, const std::string& option) {
-  std::vector<E> out;
-  for (const std::string& item : split_list(text)) {
-    try {
-      out.push_back(parse_enum<E>(item));
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(option + ": " + e.what());
-    }
-  }
-  if (out.empty()) throw std::invalid_argument(option + ": empty list");
-  return out;
+  return parse_list_with(text, option, [](const std::string& item) { return parse_enum<E>(item); });
 }
 
 }  // namespace omnishadow::bench

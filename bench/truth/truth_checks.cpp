@@ -67,7 +67,7 @@ void Harness::check_maps(CaseResult& r, const Images& images) {
 void Harness::check_accuracy(CaseResult& r, const Images& images) {
   const Truth& truth = truth_for(r.config, images);
   r.accuracy = measure_accuracy(truth, images);
-  const bool given = options_.max_error_percent >= 0, hard = r.config.filter == Filter::hard;
+  const bool given = options_.max_error_percent >= 0, hard = has_hard_error_limit(r.config.filter);
   const double limit = given                          ? options_.max_error_percent
                        : hard                         ? kDefaultHardMaxErrorPercent
                        : r.config.pcf_scale == 1.0f   ? kDefaultSoftMaxErrorPercent
@@ -76,7 +76,7 @@ void Harness::check_accuracy(CaseResult& r, const Images& images) {
     char buf[200];
     std::snprintf(buf, sizeof buf, "shadow disagrees with exact visibility on %.3f%% of pixels (%s %g%%)",
                   r.accuracy->misclassified_percent,
-                  given ? "--max-error" : hard ? "default limit for hard shadows" : "default limit for soft filters",
+                  given ? "--max-error" : hard ? "default limit for hard comparisons" : "default limit for soft filters",
                   limit);
     r.add({Status::failed_quality, "max_error", buf,
            {{"misclassified_percent", r.accuracy->misclassified_percent}, {"max_error_percent", limit}}});

@@ -2,7 +2,7 @@
 // one geometry-shader pass storing distance / far_plane, then the room lit into the window's framebuffer: one
 // RGBA8 colour buffer and a 24-bit depth buffer, both cleared each frame, one program with the tutorial's shaders
 // and its wood texture), headless. It exists to hold the harness's timed frame against an independent renderer of
-// the same scene (issue 14.1): scripts/experiments/tutorial_ab.py runs both alternately. Not part of the product's checks.
+// the same scene: scripts/experiments/tutorial_ab.py runs both alternately. Not part of the product's checks.
 //
 // Usage: omnishadow_tutorial_sample [--filter hard|pcf_grid64|pcf_disk20] [--albedo texture|constant]
 //                                   [--cube 1024] [--size 800x600] [--frames 30] [--warmup 5] [--png FILE]

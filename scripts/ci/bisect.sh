@@ -18,7 +18,10 @@ here="$(cd "$(dirname "$0")/../.." && pwd)"
 good="$1"; bad="$2"; shift 2
 repo="$here"; work="/tmp/omnishadow-bisect"
 build='cmake --preset release >/dev/null && cmake --build --preset release'
-run='./build/release/omnishadow run --backend gl --scene room,ogldev --cube 128 --frame 160x120 --frames 3 --warmup 1 --technique six_pass,geometry_shader,vs_layer --filter hard,pcf_disk20 --light-radius 0 --images all --benchmark_repetitions=5 --out "$OUT"'
+# The CI matrix from its one definition (this checkout's scripts/ci/ci_matrix.sh, whatever commit is built), run by
+# the commit's own binary; 5 repetitions (Google Benchmark takes the last value given). A commit too old for one of
+# its options fails its run and is skipped.
+run="OMNISHADOW_BIN=./build/release/omnishadow bash '$here/scripts/ci/ci_matrix.sh' \"\$OUT\" --benchmark_repetitions=5"
 while [ "$#" -gt 0 ] && [ "$1" != "--" ]; do
   case "$1" in
     --repo) repo="$2"; shift 2 ;;

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Stopping rules replayed on recorded repetitions (issue 14.3): how many repetitions a rule saves at equal false
+"""Stopping rules replayed on recorded repetitions: how many repetitions a rule saves at equal false
 alarms and detection, judged on the same samples, so that the comparison is paired instead of one noisy run against
 another. A benchmark analysis, not a test.
 

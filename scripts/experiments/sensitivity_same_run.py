@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Fixed against adaptive repetitions (issue 14.3), measured where each design's own precision is what counts: in
+"""Fixed against adaptive repetitions, measured where each design's own precision is what counts: in
 one run. A benchmark, not a test.
 
 scripts/experiments/sensitivity.py compares separate runs, as CI compares builds; on a shared machine the run-to-run drift (here

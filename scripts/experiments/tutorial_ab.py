@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The harness's timed frame against the point-shadow tutorial's own way of rendering it (issue 14.1). A benchmark,
+"""The harness's timed frame against the point-shadow tutorial's own way of rendering it. A benchmark,
 not a test.
 
 Alternates, in one sitting, the harness (`run --backend gl --scene room --cube 1024 --frame 800x600 --technique
