@@ -303,9 +303,19 @@ int run_command(const RunCommand& cmd) {
   return 0;
 }
 
+std::string project_path(const std::string& relative) {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "omnishadow" / relative;
+    if (fs::exists(installed, ec)) return installed.string();
+  }
+  return (fs::path(OMNISHADOW_SOURCE_DIR) / relative).string();
+}
+
 int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out) {
   const std::string python = "/usr/bin/python3";
-  const std::string script = std::string(OMNISHADOW_SOURCE_DIR) + "/scripts/analysis/report.py";
+  const std::string script = project_path("scripts/analysis/report.py");
   std::error_code ec;
   if (!fs::exists(python, ec) || !fs::exists(script, ec)) {
     print_error("report needs " + python + " and " + script + " (scripts/setup.sh installs Python's packages)");
@@ -320,6 +330,7 @@ int report_command(const std::string& run, const std::vector<std::string>& histo
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  std::cerr << "report: " << script << "\n";
   std::fflush(stdout);
   execv(python.c_str(), argv.data());
   print_error("report: cannot run " + python + ": " + std::strerror(errno));

@@ -12,6 +12,11 @@
 
 namespace omnishadow::bench {
 
+// A file or folder the project ships (the scenes, the report's scripts): beside an installed binary,
+// <prefix>/share/omnishadow/<relative>, where <prefix> is the parent of the binary's folder (read from
+// /proc/self/exe, so an installed tree can be moved anywhere); else in the source tree the build came from.
+std::string project_path(const std::string& relative);
+
 // A `run` request: the matrix, the harness's own options (bound by the CLI straight to RunOptions), and what
 // only the command uses.
 struct RunCommand {

@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   CLI::App app{"omnishadow: benchmark harness for point-light (cube-map) shadow mapping"};
   app.require_subcommand(1);
   CommonOptions common;
-  common.scenes_dir = OMNISHADOW_SCENES_DIR;
+  common.scenes_dir = project_path("scenes");
   CLI::App* list = app.add_subcommand("list", "backends, scenes, techniques, filters and what this machine supports");
   add_common_options(*list, common);
   RunFlags run_flags;
