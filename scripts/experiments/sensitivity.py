@@ -119,6 +119,24 @@ def repetitions_spent(run):
     return sum(c.get("timing", {}).get("repetitions", 0) for c in doc["omnishadow"]["cases"])
 
 
+def choose_gate(grid, max_false_alarms=0.01):
+    """The gate CI may trust: of the grid's (alpha, minimum effect) rows whose false-alarm rate per case is at most
+    `max_false_alarms`, the one with the smallest minimum effect (then the largest alpha); None when no row is."""
+    ok = [r for r in grid if r["same"]["case_rate"] <= max_false_alarms]
+    return min(ok, key=lambda r: (r["min_effect"], -r["alpha"])) if ok else None
+
+
+def write_gate_file(path, metric, gate, trials):
+    """results/baselines/<key>/gate.json, as `omnishadow compare --gate` reads it (metric, alpha, min_effect)."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path + ".tmp", "w") as f:
+        json.dump({"metric": metric, "alpha": gate["alpha"], "min_effect": gate["min_effect"],
+                   "false_alarm_case_rate": gate["same"]["case_rate"],
+                   "detect_5_case_rate": gate["slow5"]["case_rate"],
+                   "detect_10_case_rate": gate["slow10"]["case_rate"], "trials": trials}, f, indent=2)
+    os.replace(path + ".tmp", path)
+
+
 def decide(case, alpha, effect):
     return case["p_adjusted"] < alpha and abs(case["change"]) > effect
 
@@ -226,8 +244,7 @@ def main():
     grids = {d: [rates(outcomes[d], arms, a, e) for a in ALPHAS for e in EFFECTS] for d in designs}
     grid = grids["fixed"]
     realized = {arm: statistics.median(c["change"] for trial in outcomes["fixed"][arm] for c in trial) for arm in arms}
-    ok = [r for r in grid if r["same"]["case_rate"] <= 0.01]
-    gate = min(ok, key=lambda r: (r["min_effect"], -r["alpha"])) if ok else None
+    gate = choose_gate(grid)
     result = {"metric": METRIC, "trials": args.trials, "alternate": args.alternate, "repetitions": args.repetitions,
               "cases_per_run": len(outcomes["fixed"]["same"][0]), "injected_iterations": arms,
               "per_iteration_fraction": per_iteration, "realized_median_change": realized, "grid": grid,
@@ -262,12 +279,7 @@ def main():
         key = subprocess.run([BINARY, "device-key", os.path.join(args.out, "cal0")], capture_output=True,
                              text=True).stdout.split()[0]
         path = os.path.join(ROOT, "results", "baselines", key, "gate.json")
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        with open(path, "w") as f:
-            json.dump({"metric": METRIC, "alpha": gate["alpha"], "min_effect": gate["min_effect"],
-                       "false_alarm_case_rate": gate["same"]["case_rate"],
-                       "detect_5_case_rate": gate["slow5"]["case_rate"],
-                       "detect_10_case_rate": gate["slow10"]["case_rate"], "trials": args.trials}, f, indent=2)
+        write_gate_file(path, METRIC, gate, args.trials)
         print(f"gate written to {path}")
 
 
