@@ -8,7 +8,8 @@
 #   An intended change of work: a line "Work-Change: <why>" in a commit message since the base; the change is
 #   then reported and does not fail.
 # Usage: scripts/ci/gate_against_base.sh OUT. Exit codes as instruction_counts.py --compare: 0 fine, 1 changed,
-# 2 the base could not be built or counted.
+# 2 the base could not be built or counted. OMNISHADOW_GATE_BUILD and OMNISHADOW_GATE_COUNT replace the build and
+# the counting command (run in each tree, OUT appended) for tests/gate_against_base_test.sh.
 set -euo pipefail
 out="${1:?usage: scripts/ci/gate_against_base.sh OUT}"
 cd "$(dirname "$0")/../.."
@@ -22,15 +23,18 @@ rm -rf "$tree"
 git worktree add -q --detach "$tree" "$base_sha"
 trap 'git worktree remove --force "$tree" >/dev/null 2>&1 || rm -rf "$tree"' EXIT
 echo "ci_compare: instructions per frame against base commit $(git rev-parse --short=12 "$base_sha") ($base_rev), built and counted on this runner"
-if ! (cd "$tree" && cmake --preset release >/dev/null && cmake --build --preset release --target omnishadow >/dev/null); then
+build="${OMNISHADOW_GATE_BUILD:-cmake --preset release >/dev/null && cmake --build --preset release --target omnishadow >/dev/null}"
+if ! (cd "$tree" && bash -c "$build"); then
   echo "ci_compare: the base commit does not build here" >&2
   exit 2
 fi
 # The base counts with its own script, wherever that commit kept it (scripts/ before the folders by purpose).
 base_counter=scripts/ci/instruction_counts.sh
 [ -f "$tree/$base_counter" ] || base_counter=scripts/instruction_counts.sh
-(cd "$tree" && bash "$base_counter" "$out-base-instructions" >/dev/null) || exit 2
-bash scripts/ci/instruction_counts.sh "$out-instructions" >/dev/null
+base_count="${OMNISHADOW_GATE_COUNT:-bash $base_counter}"
+new_count="${OMNISHADOW_GATE_COUNT:-bash scripts/ci/instruction_counts.sh}"
+(cd "$tree" && bash -c "$base_count \"\$0\"" "$out-base-instructions" >/dev/null) || exit 2
+bash -c "$new_count \"\$0\"" "$out-instructions" >/dev/null
 status=0
 /usr/bin/python3 scripts/ci/instruction_counts.py --compare "$out-base-instructions/instructions.json" \
   "$out-instructions/instructions.json" --threshold 0.002 || status=$?
