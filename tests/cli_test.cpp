@@ -2,6 +2,7 @@
 // writes results that Google Benchmark's compare.py reads; --check turns failed checks into exit code 1.
 
 #include <gtest/gtest.h>
+#include <chrono>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -434,6 +435,60 @@ TEST_F(CliRun, InterruptedRunLeavesValidResults) {
   EXPECT_LE(cases, 2u * 6u * 5u * 3u);
   for (const auto& c : j["omnishadow"]["cases"]) EXPECT_TRUE(c.contains("status")) << c.dump();
   EXPECT_NE(omnishadow::bench::read_file(log.string()).find("stopped by SIGINT"), std::string::npos);
+}
+
+// SIGTERM in the middle of a timed round that lasts over 10 s: the run stops after the repetition in hand, not
+// after the round. The delay from the signal to the exit is measured against one repetition's length.
+TEST_F(CliRun, StopsPromptlyInsideALongRound) {
+  fs::path out = scratch("prompt_stop");
+  fs::path log = scratch("prompt_stop.log");
+  std::string cmd = std::string(OMNISHADOW_BINARY) +
+                    " run --backend gl --scene room --cube 128 --frame 400x300 --technique six_pass,geometry_shader,"
+                    "vs_layer --filter hard,pcf_grid64,pcf_disk20 --storage linear_depth,r32f_distance,hardware_depth "
+                    "--frames 200 --warmup 0 --no-accuracy --no-images --benchmark_repetitions=2 --out " +
+                    out.string() + " 2>" + log.string();
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  auto log_text = [&] {
+    std::ifstream f(log);
+    std::stringstream text;
+    text << f.rdbuf();
+    return text.str();
+  };
+  // Wait until the third repetition of round 1 has started.
+  for (int i = 0; i < 1200 && log_text().find("[time round 1/2, 3/") == std::string::npos; ++i) usleep(50 * 1000);
+  ASSERT_NE(log_text().find("[time round 1/2, 3/"), std::string::npos) << "round 1 never reached its third case";
+  const auto signalled = std::chrono::steady_clock::now();
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const double delay_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 143);
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  EXPECT_FALSE(j["omnishadow"]["complete"].get<bool>());
+  EXPECT_EQ(j["omnishadow"]["stopped_by"], "SIGTERM");
+  // One repetition's length: the longest timed case's frames; the round is every case once.
+  double longest_s = 0.0, round_s = 0.0;
+  int timed = 0, interrupted = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    if (c["status"] == "interrupted") ++interrupted;
+    if (!c.contains("timing") || c["timing"]["repetitions"].get<int>() == 0) continue;
+    ++timed;
+    const double repetition_s = c["timing"]["frame_wall_ms"]["median"].get<double>() * 200 / 1000.0;
+    longest_s = std::max(longest_s, repetition_s);
+  }
+  ASSERT_GE(timed, 2);
+  round_s = longest_s * double(timed + interrupted);
+  std::printf("round ~%.1f s (%d cases), one repetition <= %.2f s, stopped %.2f s after SIGTERM\n", round_s,
+              timed + interrupted, longest_s, delay_s);
+  EXPECT_GT(round_s, 10.0) << "the round must be long for the delay to mean something";
+  EXPECT_GT(interrupted, 0) << "the round was cut short";
+  EXPECT_LT(delay_s, 2.0 * longest_s + 3.0) << "the run finished more than the repetition in hand";
 }
 
 // Out of memory is a result, never a crash, and the matrix goes on. Predicted (bench/run/memory_budget.h): with

@@ -175,6 +175,12 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, const Repetit
     for (CaseResult* r : round)
       benchmark::RegisterBenchmark(r->config.id().c_str(),
                                    [&, r, size = static_cast<int>(round.size())](benchmark::State& state) {
+                                     // A stop ends the run after the repetition in hand, not after the round:
+                                     // the rest of the round is skipped (RoundReporter drops skipped runs).
+                                     if (stop_requested()) {
+                                       state.SkipWithError("stopped");
+                                       return;
+                                     }
                                      progress.step(r->config.id(), ++in_round, size);
                                      time_case(harness, *r, state);
                                      after_case();

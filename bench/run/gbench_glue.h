@@ -20,8 +20,9 @@ size_t compared_cases(const std::vector<CaseResult>& results);
 
 // Times every case whose checks ran, with console output on stdout, and writes Google Benchmark's JSON of all
 // rounds to `gbench_json_path`. Timings are appended to each result; `after_case` runs after every timed
-// repetition (the caller saves partial results there). When `stop_requested` turns true (SIGINT/SIGTERM) no new
-// round starts: cases never timed are marked "interrupted", the others keep the repetitions they have.
+// repetition (the caller saves partial results there). When `stop_requested` turns true (SIGINT/SIGTERM) the
+// repetition in hand finishes and nothing more is timed: cases never timed are marked "interrupted", the others
+// keep the repetitions they have.
 void run_timed(Harness& harness, std::vector<CaseResult>& results, const RepetitionPolicy& policy,
                const std::string& gbench_json_path, const std::function<void()>& after_case,
                const std::function<bool()>& stop_requested);

@@ -48,6 +48,7 @@ bool RoundReporter::ReportContext(const Context& context) {
 void RoundReporter::ReportRuns(const std::vector<Run>& runs) {
   std::vector<Run> compact;
   for (Run run : runs) {
+    if (run.error_occurred) continue;  // skipped after a stop request: never timed, never a repetition
     run.run_name.repetitions.clear();  // the name stays the case's, whatever the round
     std::vector<Run>& kept = runs_[run.benchmark_name()];
     if (kept.empty()) order_.push_back(run.benchmark_name());
