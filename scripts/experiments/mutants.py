@@ -105,7 +105,7 @@ def build(work, log):
 
 
 # The figure a check's row shows: the share of what it compared that was wrong.
-HEADLINE = {"cube_texels": "bad_percent", "max_error": "misclassified_percent"}
+HEADLINE = {"cube_texels": "bad_percent", "map_texels": "bad_percent", "max_error": "misclassified_percent"}
 
 
 def failures(results_path):
