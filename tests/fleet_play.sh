@@ -37,9 +37,22 @@ assert len(bench) == 8, f"every shard's repetitions kept: {len(bench)} of 8"
 PY
 bash "$here/scripts/ci/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare.log" 2>&1 || { cat "$work/compare.log"; exit 1; }
 test -s "$work/merged/compare/summary.md"
-# A baseline with a proven gate: compare takes metric, alpha and minimum effect from it.
+# A baseline with a proven gate: compare takes metric, alpha and minimum effect from it; 2 against 2 repetitions
+# can flag nothing at alpha 0.01 over 4 cases, so the gated comparison is blind and must fail, saying so.
 echo '{"metric": "cpu", "alpha": 0.01, "min_effect": 0.3}' >"$work/whole/gate.json"
-bash "$here/scripts/ci/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare2.log" 2>&1 || { cat "$work/compare2.log"; exit 1; }
+status=0
+bash "$here/scripts/ci/fleet_compare.sh" "$work/merged" "$work/whole" >"$work/compare2.log" 2>&1 || status=$?
+[ "$status" -eq 1 ] && grep -q "BLIND: 4 timed cases" "$work/compare2.log" || {
+  echo "a blind gated comparison must fail (exit $status)"; cat "$work/compare2.log"; exit 1; }
 /usr/bin/python3 -c 'import json, sys; c = json.load(open(sys.argv[1])); assert (c["metric"], c["alpha"], c["min_effect"]) == ("cpu", 0.01, 0.3), c' \
   "$work/merged/compare/comparison.json"
-echo "fleet play: 3 shards merged to the unsharded run's 4 cases; compare passed, with and without a gate file"
+# A device without a baseline at the merge-base: nothing is compared, and the job's page says so and how to start.
+cp -r "$work/merged" "$work/unknown"
+rm -rf "$work/unknown/compare"
+/usr/bin/python3 -c 'import json, sys; p = sys.argv[1]; d = json.load(open(p)); d["omnishadow"]["devices"]["gl"]["renderer"] = "No Such GPU"; json.dump(d, open(p, "w"))' \
+  "$work/unknown/results.json"
+GITHUB_STEP_SUMMARY="$work/step_summary.md" bash "$here/scripts/ci/fleet_compare.sh" "$work/unknown" \
+  >"$work/compare3.log" 2>&1 || { cat "$work/compare3.log"; exit 1; }
+grep -q "No baseline for this device key" "$work/step_summary.md" && grep -q "results/baselines/gl-no-such-gpu" "$work/step_summary.md" || {
+  echo "no word on the job's page about the missing baseline"; cat "$work/compare3.log" "$work/step_summary.md" 2>/dev/null; exit 1; }
+echo "fleet play: 3 shards merged to the unsharded run's 4 cases; compare passed without a gate, failed blind with one; a missing baseline is said on the job's page"

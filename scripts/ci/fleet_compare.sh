@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The fan-in job's verdict: compares a merged run with the baseline of its device key at the merge-base commit
 # (results/baselines/<key>/ as committed there) or with BASE_RUN when given, writes RUN/compare/summary.md, posts it
-# where the engine shows it, and fails only on regressions (exit 1); 2 is an input error.
+# where the engine shows it, and fails on regressions and on a gated comparison too small to flag any (exit 1); 2 is
+# an input error. Without a baseline it compares nothing and says so where the engine shows it, with how to make one.
 # Usage: scripts/ci/fleet_compare.sh RUN [BASE_RUN]
 #   FLEET_TARGET_BRANCH  the branch whose merge-base holds the baseline (default: origin/main, then main)
 #   GITHUB_STEP_SUMMARY  set by GitHub Actions: the summary is appended to the job's page
@@ -11,6 +12,17 @@ run="$1"; base="${2:-}"
 here="$(cd "$(dirname "$0")/../.." && pwd)"
 bin="${OMNISHADOW_BIN:-$here/build/release/omnishadow}"
 key="$("$bin" device-key "$run" | head -n 1)"
+# Appends a markdown file to the job's page (GitHub) and posts it as a merge-request note (GitLab).
+publish() {
+  local file="$1"
+  if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then { echo "## $key"; cat "$file"; } >> "$GITHUB_STEP_SUMMARY"; fi
+  if [ -n "${FLEET_GITLAB_TOKEN:-}" ] && [ -n "${CI_MERGE_REQUEST_IID:-}" ]; then
+    body="$(/usr/bin/python3 -c 'import json,sys; print(json.dumps({"body": "## " + sys.argv[1] + "\n\n" + open(sys.argv[2]).read()[:900000]}))' "$key" "$file")"
+    curl -sf -X POST -H "PRIVATE-TOKEN: $FLEET_GITLAB_TOKEN" -H "Content-Type: application/json" --data "$body" \
+      "$CI_API_V4_URL/projects/$CI_PROJECT_ID/merge_requests/$CI_MERGE_REQUEST_IID/notes" >/dev/null ||
+      echo "fleet_compare: could not post the summary to the merge request (the artifact keeps it)"
+  fi
+}
 if [ -z "$base" ]; then
   target="${FLEET_TARGET_BRANCH:-origin/main}"
   git -C "$here" rev-parse -q --verify "$target" >/dev/null || target=main
@@ -18,7 +30,15 @@ if [ -z "$base" ]; then
   base="$(mktemp -d)/baseline"
   mkdir -p "$base"
   if ! git -C "$here" archive "$merge_base" "results/baselines/$key" 2>/dev/null | tar -x -C "$base" --strip-components=3; then
-    echo "fleet_compare: no baseline for device key '$key' at merge-base ${merge_base:0:12}: timing and images reported only"
+    mkdir -p "$run/compare"
+    cat > "$run/compare/summary.md" <<MD
+**No baseline for this device key at merge-base ${merge_base:0:12}: nothing was compared.** This run's results are
+in the job's artifacts. To start tracking this device, commit its merged run as the baseline (README, "A GPU fleet
+on GitLab CI or GitHub Actions"): copy the artifact's merged folder to \`results/baselines/$key/\` (results.json
+and the images compare reads) on the target branch.
+MD
+    echo "fleet_compare: no baseline for device key '$key' at merge-base ${merge_base:0:12}: nothing compared (said in the summary)"
+    publish "$run/compare/summary.md"
     exit 0
   fi
   echo "fleet_compare: $run against results/baselines/$key at merge-base ${merge_base:0:12}"
@@ -32,13 +52,13 @@ fi
 status=0
 "$bin" compare "$base" "$run" "${gate[@]}" --out "$run/compare" || status=$?
 summary="$run/compare/summary.md"
-if [ -f "$summary" ]; then
-  if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then { echo "## $key"; cat "$summary"; } >> "$GITHUB_STEP_SUMMARY"; fi
-  if [ -n "${FLEET_GITLAB_TOKEN:-}" ] && [ -n "${CI_MERGE_REQUEST_IID:-}" ]; then
-    body="$(/usr/bin/python3 -c 'import json,sys; print(json.dumps({"body": "## " + sys.argv[1] + "\n\n" + open(sys.argv[2]).read()[:900000]}))' "$key" "$summary")"
-    curl -sf -X POST -H "PRIVATE-TOKEN: $FLEET_GITLAB_TOKEN" -H "Content-Type: application/json" --data "$body" \
-      "$CI_API_V4_URL/projects/$CI_PROJECT_ID/merge_requests/$CI_MERGE_REQUEST_IID/notes" >/dev/null ||
-      echo "fleet_compare: could not post the summary to the merge request (the artifact keeps it)"
+# A gated comparison whose repetitions cannot reach significance would pass any slowdown: fail loudly.
+if [ -f "$base/gate.json" ] && [ -f "$run/compare/comparison.json" ]; then
+  blind="$(/usr/bin/python3 -c 'import json,sys; print(sum(1 for c in json.load(open(sys.argv[1]))["cases"] if c.get("base_n") and c.get("new_n") and not c.get("resolvable", True)))' "$run/compare/comparison.json")"
+  if [ "$blind" -gt 0 ]; then
+    echo "fleet_compare: BLIND: $blind timed cases cannot be flagged at the gate's alpha whatever their change (too few repetitions); run more" | tee -a "$summary"
+    [ "$status" -ne 0 ] || status=1
   fi
 fi
+[ -f "$summary" ] && publish "$summary"
 exit $status
