@@ -340,9 +340,19 @@ TEST_F(CliRun, ShardsMergeIntoTheSameRunAndCompareReadsIt) {
   EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
   EXPECT_NE(c.out.find("4 cases compared"), std::string::npos) << c.out;
   EXPECT_NE(c.out.find("0 work changes, 0 image changes"), std::string::npos) << c.out;
+  EXPECT_TRUE(j["omnishadow"]["complete"].get<bool>());
   Outcome twice = run("merge " + scratch("m2").string() + " " + s0.string() + " " + s0.string());
   EXPECT_EQ(twice.exit_code, 2);
-  EXPECT_NE(twice.err.find("is in more than one run"), std::string::npos) << twice.err;
+  EXPECT_NE(twice.err.find("shard 0 is given twice"), std::string::npos) << twice.err;
+  // A shard missing (an offline runner): the merged run is incomplete, names the shard, and compare fails.
+  fs::path partial = scratch("partial");
+  ASSERT_EQ(run("merge " + partial.string() + " " + s0.string()).exit_code, 0);
+  auto p = nlohmann::json::parse(omnishadow::bench::read_file((partial / "results.json").string()));
+  EXPECT_FALSE(p["omnishadow"]["complete"].get<bool>());
+  EXPECT_EQ(p["omnishadow"]["missing_shards"], nlohmann::json::array({1}));
+  Outcome lacking = run("compare --no-timing " + full.string() + " " + partial.string());
+  EXPECT_EQ(lacking.exit_code, 1) << lacking.out;
+  EXPECT_NE(lacking.out.find("missing (the merged run lacks shard [1])"), std::string::npos) << lacking.out;
 }
 
 TEST_F(CliRun, CompareRefusesBadInput) {

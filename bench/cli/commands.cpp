@@ -256,6 +256,8 @@ int run_command(const RunCommand& cmd) {
   run.info.command_line = cmd.command_line;
   run.info.options = options;
   run.info.repetitions = cmd.repetitions;
+  run.info.shard_index = cmd.shard_index;
+  run.info.shard_count = cmd.shard_count;
   run.results_path = (fs::path(options.out_dir) / "results.json").string();
   std::vector<CaseConfig> cases;
   try {

@@ -154,12 +154,15 @@ std::string status_of(const nlohmann::json& c) { return c.contains("status") && 
 std::vector<std::string> status_regressions(const RunData& base, const RunData& fresh) {
   const json& o = fresh.doc["omnishadow"];
   const bool complete = !o.contains("complete") || !o["complete"].is_boolean() || o["complete"].get<bool>();
+  std::string why_missing = complete ? "missing" : "missing (the new run was interrupted)";
+  if (o.contains("missing_shards") && o["missing_shards"].is_array() && !o["missing_shards"].empty())
+    why_missing = "missing (the merged run lacks shard " + o["missing_shards"].dump() + ")";
   std::vector<std::string> out;
   for (const auto& [id, bc] : base.cases) {
     if (status_of(*bc) != "ok") continue;
     auto it = fresh.cases.find(id);
     if (it == fresh.cases.end()) {
-      out.push_back(id + ": ok -> " + (complete ? "missing" : "missing (the new run was interrupted)"));
+      out.push_back(id + ": ok -> " + why_missing);
       continue;
     }
     const std::string now = status_of(*it->second);

@@ -20,8 +20,19 @@ void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs
   std::set<std::string> ids;
   std::map<std::string, std::string> keys;
   bool complete = true;
+  std::set<int> shards;
+  int shard_count = 0;  // 0: no run said (results written before shards were recorded)
   for (const std::string& path : runs) {
     RunData run = load_run(path);
+    if (const json& o = run.doc["omnishadow"]; o.contains("shard") && o["shard"].is_object()) {
+      const int index = o["shard"].value("index", 0), count = o["shard"].value("count", 1);
+      if (shard_count && count != shard_count)
+        throw CompareError("merge: " + run.file + " is a shard of " + std::to_string(count) + ", the others of " +
+                           std::to_string(shard_count));
+      shard_count = count;
+      if (!shards.insert(index).second)
+        throw CompareError("merge: shard " + std::to_string(index) + " is given twice (" + run.file + ")");
+    }
     for (const auto& [backend, key] : device_keys(run)) {
       auto [it, inserted] = keys.emplace(backend, key);
       if (!inserted && it->second != key)
@@ -50,6 +61,14 @@ void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs
     }
     merged["omnishadow"]["merged_from"].push_back(run.file);
   }
+  // A missing shard's cases are simply absent: the merged run is incomplete, and says which shards it lacks, so that
+  // compare fails on the cases the baseline has and this run does not.
+  json missing = json::array();
+  for (int i = 0; i < shard_count; ++i)
+    if (!shards.count(i)) missing.push_back(i);
+  if (!missing.empty()) complete = false;
+  merged["omnishadow"]["missing_shards"] = missing;
+  merged["omnishadow"]["shard"] = {{"index", 0}, {"count", 1}};
   merged["omnishadow"]["complete"] = complete;
   write_file_atomic((fs::path(out_dir) / "results.json").string(), merged.dump(2) + "\n");
 }

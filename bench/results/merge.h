@@ -7,7 +7,9 @@
 
 namespace omnishadow::bench {
 
-// Throws CompareError on unreadable inputs, a case in two shards, or one backend on two different devices.
+// Throws CompareError on unreadable inputs, a case in two shards, a shard given twice or shards of different
+// counts, or one backend on two different devices. Shards missing from 0..N-1 make the merged run incomplete
+// ("complete": false, "missing_shards"), and compare then fails on the cases they held.
 void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs);
 
 }  // namespace omnishadow::bench

@@ -283,6 +283,7 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
   out["omnishadow"] = {{"format", "omnishadow-results/1"},
                        {"complete", complete},
                        {"stopped_by", run.stopped_by.empty() ? json(nullptr) : json(run.stopped_by)},
+                       {"shard", {{"index", run.shard_index}, {"count", run.shard_count}}},
                        {"commit", build_commit()},
                        {"commit_date", build_commit_date()},
                        {"command_line", run.command_line},

@@ -19,6 +19,7 @@ struct RunInfo {
   std::map<std::string, DeviceInfo> devices;  // by backend name
   RunOptions options;
   std::string stopped_by;  // "SIGINT" / "SIGTERM" when the run was interrupted
+  int shard_index = 0, shard_count = 1;  // --shard i/N: merge checks that every shard of N is there
   RunPhases phases;
   RepetitionPolicy repetitions;
 };
