@@ -13,6 +13,7 @@ packages=(
   python3-yaml                             # tests/workflows_test.py: the fleet workflow files parse
   chromium                                 # tests/report_test.sh: the HTML report rendered in a real browser
   valgrind                                 # callgrind: deterministic instruction counts (scripts/ci/instruction_counts.sh)
+  curl                                     # scripts/ci/fleet_compare.sh posts the GitLab merge-request note
 )
 [ "${1:-}" = "--fuzz" ] && packages+=(clang-14 libclang-rt-14-dev)
 

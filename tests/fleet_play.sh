@@ -55,4 +55,9 @@ GITHUB_STEP_SUMMARY="$work/step_summary.md" bash "$here/scripts/ci/fleet_compare
   >"$work/compare3.log" 2>&1 || { cat "$work/compare3.log"; exit 1; }
 grep -q "No baseline for this device key" "$work/step_summary.md" && grep -q "results/baselines/gl-no-such-gpu" "$work/step_summary.md" || {
   echo "no word on the job's page about the missing baseline"; cat "$work/compare3.log" "$work/step_summary.md" 2>/dev/null; exit 1; }
+# A target branch that is not in the clone is an input error naming it (exit 2), not git's 128.
+status=0
+FLEET_TARGET_BRANCH=no-such-branch bash "$here/scripts/ci/fleet_compare.sh" "$work/unknown" >"$work/compare4.log" 2>&1 || status=$?
+[ "$status" -eq 2 ] && grep -q "target branch 'no-such-branch' is not in this clone" "$work/compare4.log" || {
+  echo "a missing target branch must be exit 2 naming it (exit $status)"; cat "$work/compare4.log"; exit 1; }
 echo "fleet play: 3 shards merged to the unsharded run's 4 cases; compare passed without a gate, failed blind with one; a missing baseline is said on the job's page"

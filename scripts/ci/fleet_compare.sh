@@ -4,7 +4,9 @@
 # where the engine shows it, and fails on regressions and on a gated comparison too small to flag any (exit 1); 2 is
 # an input error. Without a baseline it compares nothing and says so where the engine shows it, with how to make one.
 # Usage: scripts/ci/fleet_compare.sh RUN [BASE_RUN]
-#   FLEET_TARGET_BRANCH  the branch whose merge-base holds the baseline (default: origin/main, then main)
+#   FLEET_TARGET_BRANCH  the branch whose merge-base holds the baseline (default: the merge request's target,
+#                        CI_MERGE_REQUEST_TARGET_BRANCH_NAME or GITHUB_BASE_REF, as origin/<name>; else origin/main,
+#                        then main); none of them found is exit 2
 #   GITHUB_STEP_SUMMARY  set by GitHub Actions: the summary is appended to the job's page
 #   FLEET_GITLAB_TOKEN   with GitLab's CI_MERGE_REQUEST_IID: the summary is posted as a merge-request note
 set -euo pipefail
@@ -18,15 +20,23 @@ publish() {
   if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then { echo "## $key"; cat "$file"; } >> "$GITHUB_STEP_SUMMARY"; fi
   if [ -n "${FLEET_GITLAB_TOKEN:-}" ] && [ -n "${CI_MERGE_REQUEST_IID:-}" ]; then
     body="$(/usr/bin/python3 -c 'import json,sys; print(json.dumps({"body": "## " + sys.argv[1] + "\n\n" + open(sys.argv[2]).read()[:900000]}))' "$key" "$file")"
-    curl -sf -X POST -H "PRIVATE-TOKEN: $FLEET_GITLAB_TOKEN" -H "Content-Type: application/json" --data "$body" \
-      "$CI_API_V4_URL/projects/$CI_PROJECT_ID/merge_requests/$CI_MERGE_REQUEST_IID/notes" >/dev/null ||
-      echo "fleet_compare: could not post the summary to the merge request (the artifact keeps it)"
+    if ! command -v curl >/dev/null; then
+      echo "fleet_compare: WARNING: curl is missing (scripts/setup.sh installs it): no merge-request note" >&2
+    elif ! curl -sS -f -X POST -H "PRIVATE-TOKEN: $FLEET_GITLAB_TOKEN" -H "Content-Type: application/json" \
+        --data "$body" "$CI_API_V4_URL/projects/$CI_PROJECT_ID/merge_requests/$CI_MERGE_REQUEST_IID/notes" >/dev/null; then
+      echo "fleet_compare: WARNING: posting the merge-request note failed (curl's error above); the artifact keeps the summary" >&2
+    fi
   fi
 }
 if [ -z "$base" ]; then
-  target="${FLEET_TARGET_BRANCH:-origin/main}"
-  git -C "$here" rev-parse -q --verify "$target" >/dev/null || target=main
-  merge_base="$(git -C "$here" merge-base HEAD "$target")"
+  requested="${CI_MERGE_REQUEST_TARGET_BRANCH_NAME:-${GITHUB_BASE_REF:-main}}"
+  target=""
+  if [ -n "${FLEET_TARGET_BRANCH:-}" ]; then candidates=("$FLEET_TARGET_BRANCH"); else candidates=("origin/$requested" "$requested"); fi
+  for candidate in "${candidates[@]}"; do
+    if git -C "$here" rev-parse -q --verify "$candidate^{commit}" >/dev/null; then target="$candidate"; break; fi
+  done
+  [ -n "$target" ] || { echo "fleet_compare: target branch '${FLEET_TARGET_BRANCH:-origin/$requested}' is not in this clone (fetch it, or set FLEET_TARGET_BRANCH)" >&2; exit 2; }
+  merge_base="$(git -C "$here" merge-base HEAD "$target")" || { echo "fleet_compare: no merge-base of HEAD and $target" >&2; exit 2; }
   base="$(mktemp -d)/baseline"
   mkdir -p "$base"
   if ! git -C "$here" archive "$merge_base" "results/baselines/$key" 2>/dev/null | tar -x -C "$base" --strip-components=3; then
