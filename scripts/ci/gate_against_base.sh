@@ -38,9 +38,11 @@ bash -c "$new_count \"\$0\"" "$out-instructions" >/dev/null
 status=0
 /usr/bin/python3 scripts/ci/instruction_counts.py --compare "$out-base-instructions/instructions.json" \
   "$out-instructions/instructions.json" --threshold 0.002 || status=$?
-if [ "$status" -eq 1 ] && git log --format=%B "$base_sha..HEAD" | grep -q '^Work-Change:'; then
+# The messages are read first: `git log | grep -q` under pipefail fails whenever grep stops early (SIGPIPE).
+messages="$(git log --format=%B "$base_sha..HEAD")"
+if [ "$status" -eq 1 ] && grep -q '^Work-Change:' <<<"$messages"; then
   echo "ci_compare: the work changed, as a commit since the base says:"
-  git log --format=%B "$base_sha..HEAD" | grep '^Work-Change:' | sed 's/^/  /'
+  grep '^Work-Change:' <<<"$messages" | sed 's/^/  /'
   status=0
 fi
 exit $status
