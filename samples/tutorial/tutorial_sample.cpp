@@ -1,11 +1,14 @@
-// The point-shadow tutorial's sample, rendered the way the tutorial renders it (seed 002: depth cube map filled in
+// The point-shadow tutorial's sample, rendered the way the tutorial renders it (the point-shadow tutorial: depth cube map filled in
 // one geometry-shader pass storing distance / far_plane, then the room lit into the window's framebuffer: one
 // RGBA8 colour buffer and a 24-bit depth buffer, both cleared each frame, one program with the tutorial's shaders
 // and its wood texture), headless. It exists to hold the harness's timed frame against an independent renderer of
 // the same scene: scripts/experiments/tutorial_ab.py runs both alternately. Not part of the product's checks.
 //
 // Usage: omnishadow_tutorial_sample [--filter hard|pcf_grid64|pcf_disk20] [--albedo texture|constant]
-//                                   [--cube 1024] [--size 800x600] [--frames 30] [--warmup 5] [--png FILE]
+//                                   [--depth-format d32f|d24|unsized] [--cube 1024] [--size 800x600]
+//                                   [--frames 30] [--warmup 5] [--png FILE]
+// --depth-format: the cube's depth format, d32f by default as the harness's (the tutorial's unsized
+// GL_DEPTH_COMPONENT is 24-bit on NVIDIA: a different format costs differently, so A/B runs name one).
 // Prints one JSON object: per pass the median wall time from the first command to glFinish (as the harness times
 // its passes), in milliseconds.
 
@@ -32,6 +35,7 @@ namespace {
 
 struct Options {
   std::string filter = "hard", albedo = "texture", png;  // png: write the last frame there (to look at it)
+  std::string depth_format = "d32f";
   int cube = 1024, width = 800, height = 600, frames = 30, warmup = 5;
 };
 
@@ -43,6 +47,7 @@ Options parse(int argc, char** argv) {
     const std::string value = argv[++i];
     if (arg == "--filter") o.filter = value;
     else if (arg == "--albedo") o.albedo = value;
+    else if (arg == "--depth-format") o.depth_format = value;
     else if (arg == "--png") o.png = value;
     else if (arg == "--cube") o.cube = std::stoi(value);
     else if (arg == "--frames") o.frames = std::stoi(value);
@@ -53,6 +58,8 @@ Options parse(int argc, char** argv) {
   if (o.filter != "hard" && o.filter != "pcf_grid64" && o.filter != "pcf_disk20")
     throw std::invalid_argument("--filter: hard, pcf_grid64 or pcf_disk20, not " + o.filter);
   if (o.albedo != "texture" && o.albedo != "constant") throw std::invalid_argument("--albedo: texture or constant");
+  if (o.depth_format != "d32f" && o.depth_format != "d24" && o.depth_format != "unsized")
+    throw std::invalid_argument("--depth-format: d32f, d24 or unsized, not " + o.depth_format);
   if (o.cube < 1 || o.frames < 1 || o.warmup < 0 || o.width < 1 || o.height < 1)
     throw std::invalid_argument("--cube, --frames, --size must be positive");
   return o;
@@ -167,12 +174,13 @@ double median(std::vector<double> v) {
 }
 
 // The depth cube map and its framebuffer, as the tutorial makes them; returns the framebuffer.
-GLuint depth_cube_framebuffer(int size, GLuint& depth_cube) {
+GLuint depth_cube_framebuffer(int size, const std::string& format, GLuint& depth_cube) {
   glGenTextures(1, &depth_cube);
   glBindTexture(GL_TEXTURE_CUBE_MAP, depth_cube);
+  const GLint internal = format == "d32f" ? GL_DEPTH_COMPONENT32F : format == "d24" ? GL_DEPTH_COMPONENT24
+                                                                                     : GL_DEPTH_COMPONENT;
   for (GLenum f = 0; f < 6; ++f)
-    glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, GL_DEPTH_COMPONENT, size, size, 0, GL_DEPTH_COMPONENT,
-                 GL_FLOAT, nullptr);
+    glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, internal, size, size, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
   for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glTexParameteri(GL_TEXTURE_CUBE_MAP, p, GL_NEAREST);
   for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
     glTexParameteri(GL_TEXTURE_CUBE_MAP, p, GL_CLAMP_TO_EDGE);
@@ -214,7 +222,7 @@ class TutorialRenderer {
                              {GL_FRAGMENT_SHADER, tutorial::lighting_fragment(o.filter, o.albedo)}})),
         vao_(cube_vao()),
         wood_(wood_texture()),
-        depth_fbo_(depth_cube_framebuffer(o.cube, depth_cube_)),
+        depth_fbo_(depth_cube_framebuffer(o.cube, o.depth_format, depth_cube_)),
         window_fbo_(window_framebuffer(o.width, o.height)) {
     glEnable(GL_DEPTH_TEST);
     const glm::mat4 shadow_proj = glm::perspective(glm::radians(90.0f), 1.0f, kNear, kFar);
@@ -296,9 +304,9 @@ int run(const Options& o) {
   }
   if (!o.png.empty()) renderer.write_png(o.png);
   if (GLenum e = glGetError(); e != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(e));
-  std::printf("{\"filter\": \"%s\", \"albedo\": \"%s\", \"cube\": %d, \"size\": [%d, %d], \"frames\": %d, "
-              "\"shadow_ms\": %.4f, \"lighting_ms\": %.4f, \"renderer\": \"%s\"}\n",
-              o.filter.c_str(), o.albedo.c_str(), o.cube, o.width, o.height, o.frames, median(shadow_ms),
+  std::printf("{\"filter\": \"%s\", \"albedo\": \"%s\", \"depth_format\": \"%s\", \"cube\": %d, \"size\": [%d, %d], "
+              "\"frames\": %d, \"shadow_ms\": %.4f, \"lighting_ms\": %.4f, \"renderer\": \"%s\"}\n",
+              o.filter.c_str(), o.albedo.c_str(), o.depth_format.c_str(), o.cube, o.width, o.height, o.frames, median(shadow_ms),
               median(lighting_ms), reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
   return 0;
 }

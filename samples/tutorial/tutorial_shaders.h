@@ -1,5 +1,5 @@
 #pragma once
-// The point-shadow tutorial's shaders as its chapter gives them (seed 002: point_shadows_depth.vs/.gs/.fs and
+// The point-shadow tutorial's shaders as its chapter gives them (the chapter's text: point_shadows_depth.vs/.gs/.fs and
 // point_shadows.vs/.fs), for samples/tutorial only: the harness's own shaders live in shaders/. The lighting
 // fragment shader takes one of the chapter's three ShadowCalculation bodies (hard, the 64-sample grid, the
 // 20-direction disk with the view-distance radius) and the tutorial's diffuse texture or a constant albedo.

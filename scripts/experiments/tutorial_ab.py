@@ -41,8 +41,9 @@ def run_harness(out, frames):
 
 
 def run_sample(filter_name, albedo, frames):
+    # The harness's depth format (D32F), named: the tutorial's unsized format is 24-bit on NVIDIA.
     cmd = [os.path.join(BUILD, "omnishadow_tutorial_sample"), "--filter", filter_name, "--albedo", albedo,
-           "--frames", str(frames), "--warmup", "5"]
+           "--depth-format", "d32f", "--frames", str(frames), "--warmup", "5"]
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode != 0:
         sys.exit(f"tutorial_ab: {' '.join(cmd)} failed: {done.stderr.strip()}")
