@@ -14,6 +14,8 @@ packages=(
   chromium                                 # tests/report_test.sh: the HTML report rendered in a real browser
   valgrind                                 # callgrind: deterministic instruction counts (scripts/ci/instruction_counts.sh)
   curl                                     # scripts/ci/fleet_compare.sh posts the GitLab merge-request note
+  ccache                                   # tests/fleet_pipeline_play.py: its four fleet builds share compilations
+  rsync                                    # gitlab-ci-local (tests/fleet_pipeline_play.py) copies the work tree with it
 )
 [ "${1:-}" = "--fuzz" ] && packages+=(clang-14 libclang-rt-14-dev)
 

@@ -53,7 +53,7 @@ rm -rf "$work/unknown/compare"
   "$work/unknown/results.json"
 GITHUB_STEP_SUMMARY="$work/step_summary.md" bash "$here/scripts/ci/fleet_compare.sh" "$work/unknown" \
   >"$work/compare3.log" 2>&1 || { cat "$work/compare3.log"; exit 1; }
-grep -q "No baseline for this device key" "$work/step_summary.md" && grep -q "results/baselines/gl-no-such-gpu" "$work/step_summary.md" || {
+grep -q "No baseline for this device key" "$work/step_summary.md" && grep -q "results/fleet_baselines/gl-no-such-gpu" "$work/step_summary.md" || {
   echo "no word on the job's page about the missing baseline"; cat "$work/compare3.log" "$work/step_summary.md" 2>/dev/null; exit 1; }
 # A target branch that is not in the clone is an input error naming it (exit 2), not git's 128.
 status=0

@@ -1,8 +1,10 @@
 #!/usr/bin/python3
-"""The fleet's workflow files parse, call the scripts the fleet play test runs (tests/fleet_play.sh), and hold what
-the engines' documented semantics need: GitLab merge-request pipelines (so the note can be posted), artifact paths
-without variables (expose_as) that keep the shards the merged run's images point into, no fork pull request on
-GitHub's self-hosted GPU runners, no merge after a cancel, and one shard count per engine."""
+"""The fleet's workflow files parse, call the scripts the plays run (tests/fleet_play.sh, tests/fleet_pipeline_play.py),
+and hold what the engines' documented semantics need: GitLab merge-request pipelines (so the note can be posted),
+artifact paths without variables (expose_as) that keep the shards the merged run's images point into, no fork pull
+request on GitHub's self-hosted GPU runners, no merge after a cancel, one build per device passed to its jobs, one
+shard per GPU pinned to that GPU's runner and serialised on it, a fan-in per device that waits for that device only,
+and one shard count per engine."""
 import os
 import sys
 
@@ -30,42 +32,61 @@ def scripts_of(job):
 
 def main():
     gitlab = load(".gitlab-ci.yml")
-    bench = [k for k in gitlab if k.startswith("bench:")]
-    merge = [k for k in gitlab if k.startswith("merge:")]
-    assert bench and len(bench) == len(merge), "one bench and one merge job per device"
-    assert gitlab[".bench"]["parallel"] >= 2, "shards in parallel"
-    assert "fleet_shard.sh" in scripts_of(gitlab[".bench"])
+    devices = [k.split(":", 1)[1] for k in gitlab if k.startswith("bench:")]
+    assert devices, "bench jobs per device"
+    assert "fleet_build.sh" in scripts_of(gitlab[".build"]) and "fleet-build/" in gitlab[".build"]["artifacts"]["paths"]
+    assert "fleet-build/bin/omnishadow" in gitlab["variables"]["OMNISHADOW_BIN"], "later jobs use the build artifact"
+    assert "fleet_shard.sh" in scripts_of(gitlab[".bench"]) and "build.sh" not in scripts_of(gitlab[".bench"])
     assert "fleet_merge.sh" in scripts_of(gitlab[".merge"]) and "fleet_compare.sh" in scripts_of(gitlab[".merge"])
-    for job in merge:
-        device = gitlab[job]["variables"]["DEVICE"]
-        assert gitlab[job]["needs"] == [f"bench:{device}"], job
+    assert "build.sh" not in scripts_of(gitlab[".merge"]), "the fan-in uses the device's build, not its own"
+    for device in devices:
+        build, bench, merge = (gitlab[f"{kind}:{device}"] for kind in ("build", "bench", "merge"))
+        assert device in build["tags"], f"build:{device} runs on that device's runners"
+        (gpus,) = bench["parallel"]["matrix"]
+        assert list(gpus) == ["GPU"] and len(gpus["GPU"]) >= 1, f"bench:{device}: one shard per GPU"
+        assert f"{device}-gpu$GPU" in bench["tags"], f"bench:{device}: each shard pinned to its GPU's runner"
+        assert bench["resource_group"] == f"{device}-gpu$GPU", f"bench:{device}: serialised per GPU across pipelines"
+        assert bench["needs"] == [f"build:{device}"], f"bench:{device} waits for its own build only"
+        assert merge["needs"] == [f"build:{device}", f"bench:{device}"], f"merge:{device} waits for its device only"
     rules = [r.get("if", "") for r in gitlab["workflow"]["rules"]]
     assert any('$CI_PIPELINE_SOURCE == "merge_request_event"' in r for r in rules), "merge-request pipelines"
     artifacts = gitlab[".merge"]["artifacts"]
     assert "expose_as" in artifacts and not any("$" in p for p in artifacts["paths"]), "expose_as needs fixed paths"
     merge_script = scripts_of(gitlab[".merge"])
     assert "fleet/shards" in merge_script and artifacts["paths"] == ["fleet/"], "shards kept beside the merged run"
-    assert "SHARDS" not in gitlab.get("variables", {}), "the shard count is parallel: alone"
+    assert gitlab[".bench"]["artifacts"]["expire_in"] == artifacts["expire_in"], "shards live as long as the merged run"
+    assert "SHARDS" not in gitlab.get("variables", {}), "the shard count is the GPU list alone"
 
-    github = load(".github/workflows/gpu-fleet.yml")
-    jobs = github["jobs"]
-    matrix = jobs["bench"]["strategy"]["matrix"]
-    assert len(matrix["shard"]) == int(jobs["bench"]["env"]["OMNISHADOW_SHARD_COUNT"]), "shard list = count"
-    assert "matrix.shard" in jobs["bench"]["env"]["OMNISHADOW_SHARD_INDEX"]
-    assert set(jobs["merge"]["strategy"]["matrix"]["device"]) == set(matrix["device"])
-    assert "fleet_shard.sh" in scripts_of(jobs["bench"])
-    assert "fleet_merge.sh" in scripts_of(jobs["merge"]) and "fleet_compare.sh" in scripts_of(jobs["merge"])
+    caller = load(".github/workflows/gpu-fleet.yml")
     same_repo = "github.event.pull_request.head.repo.full_name == github.repository"
-    assert same_repo in jobs["bench"]["if"] and same_repo in jobs["merge"]["if"], "no fork PR on self-hosted runners"
+    assert "pull_request_target" not in caller[True], "never run a fork's code with this repository's secrets"
+    for name, job in caller["jobs"].items():
+        assert job["uses"] == "./.github/workflows/fleet-device.yml", f"{name}: one call per device key"
+        assert same_repo in job["if"], f"{name}: no fork pull request on self-hosted runners"
+        assert job["with"]["device"] == name
+    device = load(".github/workflows/fleet-device.yml")
+    jobs = device["jobs"]
+    assert "workflow_call" in device[True]
+    assert jobs["bench"]["needs"] == "build" and jobs["merge"]["needs"] == ["build", "bench"]
+    assert "fleet_build.sh" in scripts_of(jobs["build"]) and "tar -cf" in scripts_of(jobs["build"]), \
+        "the build travels as a tar (upload-artifact v4 drops the executable bit)"
+    assert "inputs.device" in " ".join(jobs["build"]["runs-on"])
+    assert "matrix.gpu" in " ".join(jobs["bench"]["runs-on"]), "each shard pinned to its GPU's runner"
+    assert "strategy.job-total" in str(jobs["bench"]["env"]["OMNISHADOW_SHARD_COUNT"]), "shard count = the GPU list's length"
+    assert "strategy.job-index" in str(jobs["bench"]["env"]["OMNISHADOW_SHARD_INDEX"])
+    assert "concurrency" not in jobs["bench"], "concurrency: cancels pending measurements"
+    assert "fleet_shard.sh" in scripts_of(jobs["bench"]) and "build.sh" not in scripts_of(jobs["bench"])
+    assert "fleet_merge.sh" in scripts_of(jobs["merge"]) and "fleet_compare.sh" in scripts_of(jobs["merge"])
     assert "!cancelled()" in jobs["merge"]["if"] and "always()" not in jobs["merge"]["if"], "no merge after a cancel"
     upload = [s for s in jobs["merge"]["steps"] if s.get("uses", "").startswith("actions/upload-artifact")][0]
     assert "shards/" in upload["with"]["path"] and "merged/" in upload["with"]["path"], "images uploaded with the run"
-    assert "SHARDS" not in github.get("env", {}), "the shard count is the matrix's list alone"
     with open(os.path.join(ROOT, "scripts", "setup.sh")) as f:
         assert "curl" in f.read(), "setup.sh installs curl for the merge-request note"
-    for path in ("scripts/ci/fleet_shard.sh", "scripts/ci/fleet_merge.sh", "scripts/ci/fleet_compare.sh"):
+    for path in ("scripts/ci/fleet_build.sh", "scripts/ci/fleet_shard.sh", "scripts/ci/fleet_merge.sh",
+                 "scripts/ci/fleet_compare.sh", "scripts/ci/fleet_baseline.sh", "scripts/ci/store_baseline.sh"):
         assert os.access(os.path.join(ROOT, path), os.X_OK), f"{path} is not executable"
-    print("workflows: .gitlab-ci.yml and .github/workflows/gpu-fleet.yml parse and call the fleet scripts")
+    print("workflows: .gitlab-ci.yml and the GitHub fleet workflows parse and hold one build, one shard per GPU and "
+          "one fan-in per device")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The fan-in job's verdict: compares a merged run with the baseline of its device key at the merge-base commit
-# (results/baselines/<key>/ as committed there) or with BASE_RUN when given, writes RUN/compare/summary.md, posts it
+# The fan-in job's verdict: compares a merged run with the fleet baseline of its device key at the merge-base commit
+# (results/fleet_baselines/<key>/ as committed there: a merged run of scripts/ci/fleet_matrix.args, stored by
+# scripts/ci/fleet_baseline.sh) or with BASE_RUN when given, writes RUN/compare/summary.md, posts it
 # where the engine shows it, and fails on regressions and on a gated comparison too small to flag any (exit 1); 2 is
 # an input error. Without a baseline it compares nothing and says so where the engine shows it, with how to make one.
 # Usage: scripts/ci/fleet_compare.sh RUN [BASE_RUN]
@@ -10,7 +11,7 @@
 #   GITHUB_STEP_SUMMARY  set by GitHub Actions: the summary is appended to the job's page
 #   FLEET_GITLAB_TOKEN   with GitLab's CI_MERGE_REQUEST_IID: the summary is posted as a merge-request note
 set -euo pipefail
-run="$1"; base="${2:-}"
+run="$1"; base="${2:-}"; matrix_note=""
 here="$(cd "$(dirname "$0")/../.." && pwd)"
 bin="${OMNISHADOW_BIN:-$here/build/release/omnishadow}"
 key="$("$bin" device-key "$run" | head -n 1)"
@@ -39,19 +40,24 @@ if [ -z "$base" ]; then
   merge_base="$(git -C "$here" merge-base HEAD "$target")" || { echo "fleet_compare: no merge-base of HEAD and $target" >&2; exit 2; }
   base="$(mktemp -d)/baseline"
   mkdir -p "$base"
-  if ! git -C "$here" archive "$merge_base" "results/baselines/$key" 2>/dev/null | tar -x -C "$base" --strip-components=3; then
+  if ! git -C "$here" archive "$merge_base" "results/fleet_baselines/$key" 2>/dev/null | tar -x -C "$base" --strip-components=3 2>/dev/null; then
     mkdir -p "$run/compare"
     cat > "$run/compare/summary.md" <<MD
 **No baseline for this device key at merge-base ${merge_base:0:12}: nothing was compared.** This run's results are
-in the job's artifacts. To start tracking this device, commit its merged run as the baseline (README, "A GPU fleet
-on GitLab CI or GitHub Actions"): copy the artifact's merged folder to \`results/baselines/$key/\` (results.json
-and the images compare reads) on the target branch.
+in the job's artifacts. To start tracking this device, make its merged run the baseline on the target branch
+(README, "A GPU fleet on GitLab CI or GitHub Actions"): download this job's artifact and run
+\`scripts/ci/fleet_baseline.sh fleet/merged\` (optionally \`--gate gate.json\`), then commit
+\`results/fleet_baselines/$key/\`.
 MD
     echo "fleet_compare: no baseline for device key '$key' at merge-base ${merge_base:0:12}: nothing compared (said in the summary)"
     publish "$run/compare/summary.md"
     exit 0
   fi
-  echo "fleet_compare: $run against results/baselines/$key at merge-base ${merge_base:0:12}"
+  echo "fleet_compare: $run against results/fleet_baselines/$key at merge-base ${merge_base:0:12}"
+  if ! cmp -s "$base/fleet_matrix.args" "$here/scripts/ci/fleet_matrix.args"; then
+    matrix_note="The fleet's matrix (scripts/ci/fleet_matrix.args) differs from the baseline's: cases in only one of
+them are not compared; refresh the baseline from a merged run of this matrix (scripts/ci/fleet_baseline.sh)."
+  fi
 else
   echo "fleet_compare: $run against $base"
 fi
@@ -62,6 +68,7 @@ fi
 status=0
 "$bin" compare "$base" "$run" "${gate[@]}" --out "$run/compare" || status=$?
 summary="$run/compare/summary.md"
+if [ -n "${matrix_note:-}" ]; then echo "fleet_compare: $matrix_note" | tee -a "$summary"; fi
 # A gated comparison whose repetitions cannot reach significance would pass any slowdown: fail loudly.
 if [ -f "$base/gate.json" ] && [ -f "$run/compare/comparison.json" ]; then
   blind="$(/usr/bin/python3 -c 'import json,sys; print(sum(1 for c in json.load(open(sys.argv[1]))["cases"] if c.get("base_n") and c.get("new_n") and not c.get("resolvable", True)))' "$run/compare/comparison.json")"

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Re-measures the CI matrix on this machine and stores it as the baseline for this machine's device key
-# (results/baselines/<key>/): results.json plus the images compare reads (lit, shadow factor, cube faces).
+# (results/baselines/<key>/): results.json plus the images compare reads (lit, shadow factor, cube faces). The GPU
+# fleet's baselines are merged runs of the fleet's own matrix instead: scripts/ci/fleet_baseline.sh.
 # Commit the folder after looking at its summary. Usage: scripts/ci/refresh_baselines.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -9,11 +10,7 @@ trap 'rm -rf "$tmp"' EXIT
 bash scripts/ci/ci_matrix.sh "$tmp/run" >/dev/null 2>"$tmp/log" || { cat "$tmp/log"; exit 2; }
 key="$(./build/release/omnishadow device-key "$tmp/run" | head -n 1)"
 dest="results/baselines/$key"
-rm -rf "$dest"
-mkdir -p "$dest"
-cp "$tmp/run/results.json" "$tmp/run/summary.md" "$dest/"
-(cd "$tmp/run" && find images \( -name lit.png -o -name shadow_factor.pfm -o -name cube_faces.png \) -print0 |
-  xargs -0 -I{} cp --parents {} "$OLDPWD/$dest/")
+bash scripts/ci/store_baseline.sh "$tmp/run" "$dest" >/dev/null
 echo "baseline for device key $key: $dest ($(du -sh "$dest" | cut -f1))"
 # Instruction counts for this CPU and valgrind (scripts/ci/ci_compare.sh compares them when they exist).
 cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | tr -cs 'A-Za-z0-9.' '-' | sed 's/^-//; s/-$//')"
