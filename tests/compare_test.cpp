@@ -143,6 +143,43 @@ TEST_F(CompareTest, TimingVerdictsNeedSignificanceAndEffect) {
   EXPECT_EQ(compare_command(base, base, o), 0);
 }
 
+// --metric gpu tests the passes' GPU time (timer queries), only from repetitions whose timer passed its check: a
+// GPU slowdown hidden in the wall time (CPU-bound frames) is found, an unreliable repetition's figure is not used,
+// and a run without GPU times says so instead of passing.
+TEST_F(CompareTest, GpuMetricTestsThePassesGpuTime) {
+  std::string base = write_run("base", {{"a", kBase}});
+  std::string fresh = write_run("new", {{"a", kBase}});
+  std::string no_gpu = write_run("no_gpu", {{"a", kBase}});
+  auto add_gpu = [](const std::string& run, double factor, bool last_unreliable) {
+    json doc = read_doc(run);
+    size_t i = 0, n = doc["benchmarks"].size();
+    for (json& b : doc["benchmarks"]) {
+      const bool unreliable = last_unreliable && ++i == n;
+      b["gpu_timer_reliable"] = unreliable ? 0.0 : 1.0;
+      b["shadow_gpu_ms"] = unreliable ? 1000.0 : 0.3 * factor * b["real_time"].get<double>();
+      b["lighting_gpu_ms"] = unreliable ? 1000.0 : 0.2 * factor * b["real_time"].get<double>();
+    }
+    write_doc(run, doc);
+  };
+  add_gpu(base, 1.0, false);
+  add_gpu(fresh, 1.3, true);
+  RunData fresh_run = load_run(fresh);
+  ASSERT_EQ(fresh_run.gpu_samples["a"].size(), kBase.size() - 1) << "the unreliable repetition is left out";
+  EXPECT_NEAR(load_run(base).gpu_samples["a"][0], 0.5 * kBase[0], 1e-9);
+  CompareOptions o;
+  EXPECT_EQ(compare_runs(load_run(base), fresh_run, o).cases[0].verdict, "no change") << "the wall time is the same";
+  o.metric = "gpu";
+  Comparison c = compare_runs(load_run(base), fresh_run, o);
+  EXPECT_EQ(c.cases[0].verdict, "regression");
+  EXPECT_NEAR(c.cases[0].change, 0.3, 0.02) << "+30% (medians of 9 and of the 8 reliable repetitions)";
+  EXPECT_EQ(compare_runs(load_run(base), load_run(no_gpu), o).cases[0].verdict, "no GPU time");
+  const fs::path gate = dir_ / "gate.json";
+  write_file_atomic(gate.string(), R"({"metric": "gpu", "alpha": 0.01, "min_effect": 0.02})");
+  CompareOptions from_gate;
+  apply_gate_file(gate.string(), from_gate);
+  EXPECT_EQ(from_gate.metric, "gpu");
+}
+
 // "No change" from samples too small to reach significance over the family says nothing: compare says so.
 TEST_F(CompareTest, CasesTooSmallToFlagAreNamed) {
   std::map<std::string, std::vector<double>> base_times, new_times;

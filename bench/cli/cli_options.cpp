@@ -271,9 +271,11 @@ void add_compare_options(CLI::App& cmp, CompareOptions& compare, CompareFlags& f
   cmp.add_option("--min-effect", compare.min_effect, "smallest relative time change reported (0.05 = 5%)")
       ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   cmp.add_option("--metric", compare.metric,
-                 "time to test: wall (frame wall time) or cpu (process CPU time per frame, all threads: the work "
-                 "itself on CPU drivers, less disturbed by other load)")
-      ->capture_default_str()->check(CLI::IsMember({"wall", "cpu"}));
+                 "time to test: wall (frame wall time), cpu (process CPU time per frame, all threads: the work "
+                 "itself on CPU drivers, less disturbed by other load) or gpu (shadow + lighting pass GPU time per "
+                 "frame from timer queries, repetitions whose timer passed its sanity check: what a GPU spends, "
+                 "without the CPU's submission noise)")
+      ->capture_default_str()->check(CLI::IsMember({"wall", "cpu", "gpu"}));
   cmp.add_option("--gate", flags.gate,
                  "take --metric, --alpha and --min-effect from this gate file (results/baselines/<key>/gate.json, "
                  "written by scripts/experiments/sensitivity.py --write-gate); overrides those options");

@@ -150,6 +150,18 @@ namespace {
 
 std::string status_of(const nlohmann::json& c) { return c.contains("status") && c["status"].is_string() ? c["status"].get<std::string>() : "?"; }
 
+const std::map<std::string, std::vector<double>>& samples_of(const RunData& run, const std::string& metric) {
+  if (metric == "cpu") return run.cpu_samples;
+  if (metric == "gpu") return run.gpu_samples;
+  return run.samples;
+}
+
+std::string metric_words(const std::string& metric) {
+  if (metric == "cpu") return "process CPU time";
+  if (metric == "gpu") return "GPU time (shadow + lighting passes, timer queries; repetitions whose timer passed its check)";
+  return "wall time";
+}
+
 // Cases ok in the base that are not ok in the new run, or not there at all (an incomplete run was interrupted).
 std::vector<std::string> status_regressions(const RunData& base, const RunData& fresh) {
   const json& o = fresh.doc["omnishadow"];
@@ -204,8 +216,8 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
     CaseComparison cc;
     cc.id = id;
     cc.verdict = "not timed";
-    const auto& base_samples = options.metric == "cpu" ? base.cpu_samples : base.samples;
-    const auto& new_samples = options.metric == "cpu" ? fresh.cpu_samples : fresh.samples;
+    const auto& base_samples = samples_of(base, options.metric);
+    const auto& new_samples = samples_of(fresh, options.metric);
     auto bs = base_samples.find(id), ns = new_samples.find(id);
     if (options.timing && bs != base_samples.end() && ns != new_samples.end()) {
       cc.base_n = bs->second.size();
@@ -214,6 +226,8 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
       cc.new_ms = median(ns->second);
       cc.change = cc.base_ms > 0 ? cc.new_ms / cc.base_ms - 1.0 : 0.0;
       cc.p = mann_whitney_p(bs->second, ns->second);
+    } else if (options.timing && options.metric == "gpu" && base.samples.count(id) && fresh.samples.count(id)) {
+      cc.verdict = "no GPU time";  // timed, but no repetition's GPU timer passed its check in one of the runs
     }
     if (bc->contains("counters") && nc.contains("counters")) compare_counters((*bc)["counters"], nc["counters"], cc);
     for (const char* role : {"lit", "shadow_factor", "cube_faces"})
@@ -287,7 +301,7 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
 std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
   std::ostringstream s;
   const std::string blind = c.resolution_note(o);
-  s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << (o.metric == "cpu" ? "process CPU time" : "wall time") << " per frame, Holm-corrected (alpha " << o.alpha
+  s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << metric_words(o.metric) << " per frame, Holm-corrected (alpha " << o.alpha
     << "), minimum effect " << 100 * o.min_effect << "%. Work counters compared exactly; images by checksum, "
     << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".")
     << (blind.empty() ? "" : " **" + blind + ".**") << "\n\n";
@@ -359,8 +373,8 @@ void apply_gate_file(const std::string& path, CompareOptions& options) {
   options.alpha = number("alpha", 1e-9, 0.5);
   options.min_effect = number("min_effect", 0.0, 10.0);
   options.metric = gate.contains("metric") && gate["metric"].is_string() ? gate["metric"].get<std::string>() : "wall";
-  if (options.metric != "wall" && options.metric != "cpu")
-    throw CompareError("gate file " + path + ": field 'metric' must be wall or cpu");
+  if (options.metric != "wall" && options.metric != "cpu" && options.metric != "gpu")
+    throw CompareError("gate file " + path + ": field 'metric' must be wall, cpu or gpu");
 }
 
 int compare_command(const std::string& base_path, const std::string& new_path, const CompareOptions& options) {

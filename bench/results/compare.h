@@ -23,8 +23,10 @@ struct CompareOptions {
   bool timing = true;         // false: counters and images only
   bool timing_fails = true;   // false: timing verdicts are reported but only work and image changes fail
   bool allow_device_mismatch = false;
-  // Which time is tested: "wall" (frame wall time, Google Benchmark's real_time) or "cpu" (the process's CPU time
-  // per frame, all threads: on CPU drivers the rendering work itself, and much less disturbed by other load).
+  // Which time is tested: "wall" (frame wall time, Google Benchmark's real_time), "cpu" (the process's CPU time
+  // per frame, all threads: on CPU drivers the rendering work itself, and much less disturbed by other load) or
+  // "gpu" (shadow + lighting pass GPU time per frame, from repetitions whose timer passed its sanity check: on a GPU
+  // the work itself, without the CPU's submission and scheduling noise).
   std::string metric = "wall";
   std::string out_dir;        // summary.md, comparison.json and diffs/; empty = NEW's folder/compare
 };

@@ -85,6 +85,8 @@ void check_benchmark(const Shape& shape, const json& b, const std::string& where
   shape.optional(b, where, "omnishadow_case", json::value_t::string);
   shape.optional(b, where, "real_time", json::value_t::number_float);
   shape.optional(b, where, "frame_cpu_ms", json::value_t::number_float);
+  for (const char* key : {"gpu_timer_reliable", "shadow_gpu_ms", "lighting_gpu_ms"})
+    shape.optional(b, where, key, json::value_t::number_float);
 }
 
 }  // namespace
@@ -177,6 +179,12 @@ RunData parse_run(const std::string& text, const std::string& file, const std::s
         if (!std::isfinite(cpu) || cpu < 0)
           shape.fail("/benchmarks/" + std::to_string(i) + "/frame_cpu_ms", "not a finite, non-negative time");
         run.cpu_samples[id].push_back(cpu);
+      }
+      if (b.value("gpu_timer_reliable", 0.0) == 1.0 && b.contains("shadow_gpu_ms") && b.contains("lighting_gpu_ms")) {
+        double gpu = b["shadow_gpu_ms"].get<double>() + b["lighting_gpu_ms"].get<double>();
+        if (!std::isfinite(gpu) || gpu < 0)
+          shape.fail("/benchmarks/" + std::to_string(i) + "/shadow_gpu_ms", "not a finite, non-negative time");
+        run.gpu_samples[id].push_back(gpu);
       }
     }
   }

@@ -29,6 +29,9 @@ struct RunData {
   std::map<std::string, const nlohmann::json*> cases;   // by case id, pointing into doc
   std::map<std::string, std::vector<double>> samples;      // per case: mean frame wall time of each repetition, ms
   std::map<std::string, std::vector<double>> cpu_samples;  // per case: mean process CPU time per frame, ms
+  // Per case: mean GPU time per frame (shadow + lighting passes, timer/timestamp queries), ms; only repetitions
+  // whose GPU timer passed its sanity check (gpu_timer_reliable), as only they carry the pass times.
+  std::map<std::string, std::vector<double>> gpu_samples;
 };
 
 // Throws CompareError naming the file (and the JSON pointer) on anything that is not an omnishadow results file.
