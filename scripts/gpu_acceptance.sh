@@ -4,6 +4,8 @@
 # to OUT/summary.md: exit codes, untimed and timed seconds, statuses, clocks, the figures the closing notes ask for.
 # Usage: scripts/gpu_acceptance.sh OUT STEP [STEP...]
 #   exits      `list`, `run --backend gl,vulkan` and `--backend vulkan,gl` must exit 0
+#   clocks     the default run (both APIs) and the GL default matrix twice: PASS when no case's clock moved inside a
+#              timed repetition and every case's first and last repetitions agree within 5%
 #   checks     no false alarm on correct code: the small-cube matrix that failed 124 of 156 cases at 3387fa1, the
 #              grazing scene in every storage and depth format, and ctest; PASS or FAIL per part
 #   multiview  GL and Vulkan multiview against six_pass with --check
@@ -115,6 +117,49 @@ step_checks() {
   grep -E "\*\*\*(Failed|Skipped|Not Run|Exception)" "$out/checks/ctest.log" | sed 's/^/  - /' | tee -a "$summary"
 }
 
+# PASS when no case warns that its clock moved inside a timed repetition and every case's first and last
+# repetitions agree within 5% (frame wall time): issue 23's target for the run a new user starts first.
+judge_clocks() {
+  /usr/bin/python3 - "$1" <<'PY' | tee -a "$summary"
+import json, sys
+cases = json.load(open(sys.argv[1] + "/results.json"))["omnishadow"]["cases"]
+warned = [c for c in cases if c.get("device_state", {}).get("warning")]
+spread = []
+for c in cases:
+    reps = c.get("timing", {}).get("per_repetition", {}).get("frame_ms") or []
+    if len(reps) >= 2 and reps[0] > 0:
+        spread.append((abs(reps[-1] / reps[0] - 1.0), c["id"], reps))
+spread.sort(reverse=True)
+beyond = [s for s in spread if s[0] > 0.05]
+print(f"- {'PASS' if not warned and not beyond else 'FAIL'}: {len(warned)} clock warnings (target 0); "
+      f"{len(beyond)} of {len(spread)} timed cases with first and last repetitions more than 5% apart (target 0)")
+for c in warned[:10]:
+    print(f"  - warning {c['id']}: {c['device_state']['warning']}")
+for d, cid, reps in (beyond or spread)[:5]:
+    print(f"  - {cid}: repetitions {', '.join(f'{r:.3f}' for r in reps)} ms: first to last {100 * d:.1f}%")
+sys.exit(1 if warned or beyond else 0)
+PY
+  return "${PIPESTATUS[0]}"
+}
+
+step_clocks() {
+  note "## clocks"
+  # The run a new user starts first (scripts/run_default.sh's settings) on both APIs, then the GL matrix twice back
+  # to back: each backend settles its clock before timing (the [settle] lines) and warms up 100 ms a repetition.
+  "$bin" run --backend gl,vulkan --frames 4 --warmup 1 --benchmark_repetitions=3 \
+    --benchmark_enable_random_interleaving=true --out "$out/clocks/default" >"$out/clocks/default.log" 2>&1
+  exit_note $? "default run, both APIs"
+  grep "^\[settle\]" "$out/clocks/default.log" | sed 's/^/  - /' | tee -a "$summary"
+  describe_run "$out/clocks/default"
+  judge_clocks "$out/clocks/default" || failed=1
+  for i in 1 2; do
+    "$bin" run --backend gl --frames 4 --warmup 1 --benchmark_repetitions=3 \
+      --benchmark_enable_random_interleaving=true --out "$out/clocks/gl$i" >"$out/clocks/gl$i.log" 2>&1
+    exit_note $? "default GL matrix, run $i of 2 back to back"
+    judge_clocks "$out/clocks/gl$i" || failed=1
+  done
+}
+
 step_tutorial() {
   note "## tutorial"
   /usr/bin/python3 "$here/scripts/experiments/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
@@ -139,7 +184,7 @@ step_precision() {
   sed -n '/^| rule/,$p' "$out/precision/replay.log" | tee -a "$summary"
 }
 
-steps="exits checks multiview matrix tutorial precision"
+steps="exits checks clocks multiview matrix tutorial precision"
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] ($steps)" >&2; exit 2; }
 for step in "$@"; do
   case " $steps " in

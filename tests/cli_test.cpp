@@ -385,6 +385,33 @@ TEST_F(CliRun, ExperimentAxesRunEveryCopyInOneRun) {
   EXPECT_NE(twice.err.find("--inject-fragment-work: a value is given twice"), std::string::npos) << twice.err;
 }
 
+// --warmup-ms repeats the warm-up frames until that long (a GPU's clock ramps after each pause), cycling over the
+// warm-up frames' indices so the timed frames stay the same frames (gbench_glue.cpp): the run's work and images
+// are those of a run without it; and each backend's clock settles before its first timed repetition, said on
+// stderr.
+TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
+  const std::string args = "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
+                           "--frames 2 --warmup 2 --images all --no-accuracy --benchmark_repetitions=2 --out ";
+  fs::path none = scratch("warmup_none"), timed = scratch("warmup_timed");
+  Outcome a = run(args + none.string() + " --warmup-ms 0");
+  Outcome b = run(args + timed.string() + " --warmup-ms 200");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_NE(b.err.find("[settle] gl: clock "), std::string::npos) << b.err;
+  auto warmup_frames = [](const fs::path& out) {
+    auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+    return j["omnishadow"]["cases"][0]["timing"]["warmup_frames"].get<int>();
+  };
+  EXPECT_EQ(warmup_frames(none), 4) << "2 frames in each of 2 repetitions";
+  EXPECT_GT(warmup_frames(timed), 4) << "200 ms of a 64x48 frame is more than two frames";
+  Outcome same = run("compare " + none.string() + " " + timed.string() + " --no-timing --out " +
+                     scratch("warmup_cmp").string());
+  EXPECT_EQ(same.exit_code, 0) << same.out;
+  Outcome bad = run(args + scratch("warmup_bad").string() + " --warmup-ms -5");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--warmup-ms"), std::string::npos) << bad.err;
+}
+
 // A gate file (scripts/experiments/sensitivity.py --write-gate) sets the test's metric, alpha and minimum effect; a bad one is a
 // one-line error naming the file and the field.
 TEST_F(CliRun, CompareTakesItsGateFromAGateFile) {

@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 
 #include "backends/common/cube_summary.h"
@@ -90,8 +91,10 @@ class ScriptedBackend : public Backend {
 class HarnessTest : public ::testing::Test {
  protected:
   void SetUp() override { start(RunOptions::ImagePolicy::failed); }
+  // warmup_ms 0: the scripted device is a GPU (it does not share host memory), whose automatic 100 ms of warm-up
+  // by time would render thousands of scripted frames; the test of that default asks for it (-1).
   void start(RunOptions::ImagePolicy images,
-             RunOptions::CubeReadBackPolicy cube = RunOptions::CubeReadBackPolicy::automatic) {
+             RunOptions::CubeReadBackPolicy cube = RunOptions::CubeReadBackPolicy::automatic, double warmup_ms = 0) {
     out_ = fs::temp_directory_path() / ("omnishadow_harness_" + std::to_string(::getpid()));
     fs::remove_all(out_);
     fs::create_directories(out_);
@@ -102,6 +105,8 @@ class HarnessTest : public ::testing::Test {
     o.scenes_dir = OMNISHADOW_TEST_SCENES_DIR;
     o.frames = 3;
     o.warmup_frames = 1;
+    o.warmup_ms = warmup_ms;
+    o.settle_s = 0;  // the scripted device has no clock to settle
     harness_ = std::make_unique<Harness>(o);
     auto backend = std::make_unique<ScriptedBackend>();
     backend_ = backend.get();
@@ -242,6 +247,27 @@ TEST_F(HarnessTest, ImagePolicyDecidesWhichFilesAreWritten) {
     for (const CheckResult& c : r.checks) EXPECT_TRUE(c.diff_image.empty());
   }
   EXPECT_FALSE(fs::exists(out_ / "images"));
+}
+
+// On a GPU the warm-up goes on by time (--warmup-ms, 100 ms by default) so the clock ramps after each pause; the
+// timed frames stay as many as asked.
+TEST_F(HarnessTest, GpuWarmupGoesOnByTime) {
+  start(RunOptions::ImagePolicy::none, RunOptions::CubeReadBackPolicy::automatic, -1.0);
+  std::vector<CaseResult> results = prepare_all({Filter::hard});
+  RepetitionPolicy one;
+  one.repetitions = 1;
+  const auto start_time = std::chrono::steady_clock::now();
+  run_timed(*harness_, results, one, (out_ / "raw.json").string(), [] {}, [] { return false; });
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  int timed = 0;
+  for (const CaseResult& r : results) {
+    if (r.frames.empty()) continue;
+    ++timed;
+    EXPECT_EQ(r.frames.size(), 3u) << r.config.id();
+    EXPECT_GT(r.warmup.size(), 1u) << r.config.id() << ": one warm-up frame, then more until 100 ms";
+  }
+  ASSERT_GT(timed, 0);
+  EXPECT_GE(seconds, 0.1 * timed) << "each timed repetition warmed up for at least 100 ms";
 }
 
 TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {

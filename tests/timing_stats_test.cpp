@@ -85,14 +85,27 @@ TEST(DeviceState, ClockWarningOnlyWhenTheClockMovedOrThrottled) {
   idle.clock_mhz = 345;
   boost.clock_mhz = 1980;
   steady.clock_mhz = 1965;  // within 5% of 1980
-  EXPECT_EQ(clock_warning({boost, steady, boost}), "");
-  EXPECT_EQ(clock_warning({idle, boost}), "clocks moved during the case: 345-1980 MHz");
+  // Samples come in pairs, before and after each timed repetition.
+  EXPECT_EQ(clock_warning({boost, steady, steady, boost}), "");
+  EXPECT_EQ(clock_warning({idle, boost}), "clocks moved inside 1 of 1 timed repetitions: 345-1980 MHz");
+  EXPECT_EQ(clock_warning({idle, idle, boost, boost, boost, steady}), "")
+      << "a clock that differs between repetitions, steady inside each, measured each figure at one clock";
+  EXPECT_EQ(clock_warning({boost, boost, idle, boost, boost, boost}),
+            "clocks moved inside 1 of 3 timed repetitions: 345-1980 MHz");
   DeviceState hot = boost;
   hot.throttle = "hw_thermal_slowdown";
   EXPECT_EQ(clock_warning({boost, hot}), "throttled: hw_thermal_slowdown");
   EXPECT_EQ(clock_warning({DeviceState{}, DeviceState{}}), "") << "unknown clocks say nothing";
   EXPECT_FALSE(to_json(hot).contains("temperature_c")) << "unknown fields are left out";
   EXPECT_EQ(to_json(hot)["clock_mhz"], 1980);
+}
+
+TEST(DeviceState, ClockSteadyWhenTheLastReadingsAgree) {
+  EXPECT_FALSE(clock_steady({1980, 1980})) << "fewer readings than the window";
+  EXPECT_FALSE(clock_steady({345, 1125, 1755, 1980}));
+  EXPECT_TRUE(clock_steady({345, 1125, 1980, 1965, 1980})) << "within 2%";
+  EXPECT_FALSE(clock_steady({1980, 1980, 1890})) << "4.5% apart";
+  EXPECT_FALSE(clock_steady({-1, -1, -1})) << "an unknown clock never settles";
 }
 
 // Here (no GPU) the probe reads the CPUs' frequency; on any machine it names its source and never throws.

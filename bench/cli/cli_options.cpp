@@ -86,6 +86,14 @@ void add_frame_options(CLI::App& r, RunOptions& o) {
       CLI::Range(1, 1000000));
   r.add_option("--warmup", o.warmup_frames, "untimed warm-up frames per repetition")->capture_default_str()->check(
       CLI::Range(0, 1000000));
+  r.add_option("--warmup-ms", o.warmup_ms,
+               "untimed warm-up time per repetition as well as frames: the warm-up frames repeat until this long "
+               "(default: 100 on a GPU, whose clock must ramp after each pause; 0 on a CPU driver)")
+      ->check(CLI::Range(0.0, 600000.0));
+  r.add_option("--settle-s", o.settle_s,
+               "before a backend's first timed repetition, render until the device clock is steady, at most this "
+               "many seconds (0: don't)")
+      ->capture_default_str()->check(CLI::Range(0.0, 600.0));
   r.add_option("--check-frame", o.check_frame, "frame index whose images are written and compared")
       ->capture_default_str()->check(CLI::Range(0, 100000000));
   r.add_flag("--stability", o.stability,

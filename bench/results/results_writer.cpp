@@ -301,6 +301,8 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                          {"order", "rounds: one repetition of every unfinished case per round"}}},
                        {"options",
                         {{"warmup_frames", o.warmup_frames},
+                         {"warmup_ms", o.warmup_ms},  // negative: automatic (100 on a GPU, 0 on a CPU driver)
+                         {"settle_s", o.settle_s},
                          {"injected_fragment_work", injected_work_values(results)},
                          {"frames", o.frames},
                          {"check_frame", o.check_frame},

@@ -36,6 +36,15 @@ struct RunOptions {
   std::string out_dir;                // results/<run>; images go under out_dir/images/<case id>/
   std::string scenes_dir;             // where `--scene room` finds room.json
   int warmup_frames = 2;              // rendered before timing, excluded from every figure
+  // Warm-up by time as well (--warmup-ms): after the warm-up frames, more of them (the same frame indices again, so
+  // the timed frames are the same frames whatever the count) until this much time has passed, so that a GPU's
+  // clock has ramped up after the CPU-side pauses between repetitions. Negative: kGpuWarmupMs on a GPU, 0 on a
+  // CPU driver (llvmpipe, lavapipe: no clock to ramp; the process keeps the CPUs busy).
+  double warmup_ms = -1.0;
+  static constexpr double kGpuWarmupMs = 100.0;
+  // Before a backend's first timed repetition, render its first case until the device clock reads steady
+  // (clock_steady: three readings 50 ms apart within 2%), at most this long; 0 skips it.
+  double settle_s = 10.0;
   int frames = 10;                    // timed frames per repetition (Google Benchmark iterations)
   int check_frame = 0;                // the frame whose images are written and compared
   double face_tolerance = 0.0;        // world units; single-pass faces are expected bit-identical to six_pass

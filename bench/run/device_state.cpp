@@ -223,19 +223,38 @@ std::unique_ptr<DeviceStateProbe> make_device_state_probe(const DeviceInfo& devi
 
 std::string clock_warning(const std::vector<DeviceState>& samples, double tolerance) {
   double lo = 0, hi = 0;
+  int moved = 0, repetitions = 0;
   std::string throttle;
-  for (const DeviceState& s : samples) {
-    if (!s.throttle.empty() && throttle.empty()) throttle = s.throttle;
-    if (s.clock_mhz <= 0) continue;
-    lo = lo == 0 ? s.clock_mhz : std::min(lo, s.clock_mhz);
-    hi = std::max(hi, s.clock_mhz);
+  for (size_t i = 0; i + 1 < samples.size(); i += 2) {
+    const DeviceState &before = samples[i], &after = samples[i + 1];
+    ++repetitions;
+    for (const DeviceState* s : {&before, &after})
+      if (!s->throttle.empty() && throttle.empty()) throttle = s->throttle;
+    if (before.clock_mhz <= 0 || after.clock_mhz <= 0) continue;
+    const double a = std::min(before.clock_mhz, after.clock_mhz), b = std::max(before.clock_mhz, after.clock_mhz);
+    if (b - a <= tolerance * b) continue;
+    ++moved;
+    lo = lo == 0 ? a : std::min(lo, a);
+    hi = std::max(hi, b);
   }
   char buf[160] = "";
-  if (hi > 0 && (hi - lo) > tolerance * hi)
-    std::snprintf(buf, sizeof buf, "clocks moved during the case: %.0f-%.0f MHz", lo, hi);
+  if (moved > 0)
+    std::snprintf(buf, sizeof buf, "clocks moved inside %d of %d timed repetitions: %.0f-%.0f MHz", moved, repetitions,
+                  lo, hi);
   std::string out = buf;
   if (!throttle.empty()) out += (out.empty() ? "" : "; ") + std::string("throttled: ") + throttle;
   return out;
+}
+
+bool clock_steady(const std::vector<double>& clocks_mhz, size_t window, double tolerance) {
+  if (window == 0 || clocks_mhz.size() < window) return false;
+  double lo = clocks_mhz.back(), hi = clocks_mhz.back();
+  for (size_t i = clocks_mhz.size() - window; i < clocks_mhz.size(); ++i) {
+    if (clocks_mhz[i] <= 0) return false;
+    lo = std::min(lo, clocks_mhz[i]);
+    hi = std::max(hi, clocks_mhz[i]);
+  }
+  return hi - lo <= tolerance * hi;
 }
 
 std::string clock_range(const std::vector<DeviceState>& samples) {

@@ -37,9 +37,16 @@ class DeviceStateProbe {
 // The best source for this device (by vendor and renderer), falling back to the CPU frequency.
 std::unique_ptr<DeviceStateProbe> make_device_state_probe(const DeviceInfo& device);
 
-// "clocks moved during the case: 345-1980 MHz": the clock's spread across samples beyond `tolerance` (relative to
-// the highest), or throttling seen; empty when steady or unknown.
+// `samples` are a case's device states in pairs, before and after each timed repetition (gbench_glue.cpp).
+// "clocks moved inside 2 of 8 timed repetitions: 345-1980 MHz": a repetition whose clock at its end differs from
+// its start by more than `tolerance` (relative to the higher), or throttling seen in one; empty when every
+// repetition ran at one clock or the clock is unknown. A clock that differs between repetitions is recorded
+// (each sample is in results.json) but is no warning: each figure was measured at one clock.
 std::string clock_warning(const std::vector<DeviceState>& samples, double tolerance = 0.05);
+
+// Whether the last `window` clock readings agree within `tolerance` of the highest (the device has settled);
+// false while fewer are known.
+bool clock_steady(const std::vector<double>& clocks_mhz, size_t window = 3, double tolerance = 0.02);
 // "1410-1980 MHz, 41-63 C" over the samples (the parts known); "-" when nothing is.
 std::string clock_range(const std::vector<DeviceState>& samples);
 

@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 #include <valgrind/callgrind.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -55,6 +56,34 @@ struct Progress {
   }
 };
 
+constexpr int kMaxTimedWarmupFrames = 100000;  // --warmup-ms ends at this many frames whatever the time
+
+// Renders `config`'s frames until the device clock reads steady (clock_steady over readings >= 50 ms apart) or
+// `limit_s` passed; one line on stderr either way. Frame 0 again and again: untimed, nothing recorded.
+void settle_clock(Harness& harness, const CaseConfig& config, double limit_s) {
+  Backend& b = harness.activate(config);
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  std::vector<double> clocks{harness.sample_device(config.backend).clock_mhz};
+  const std::string source = harness.device_state_source(config.backend);
+  if (clocks.back() <= 0) {
+    std::fprintf(stderr, "[settle] %s: no clock reading (%s): timing without waiting for one\n", config.backend.c_str(),
+                 source.c_str());
+    return;
+  }
+  auto last = std::chrono::steady_clock::now();
+  while (!clock_steady(clocks) && seconds() < limit_s) {
+    b.render(0, FrameKind::timed);
+    if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - last).count() < 50.0) continue;
+    last = std::chrono::steady_clock::now();
+    clocks.push_back(harness.sample_device(config.backend).clock_mhz);
+  }
+  const auto [lo, hi] = std::minmax_element(clocks.end() - std::min<size_t>(clocks.size(), 3), clocks.end());
+  std::fprintf(stderr, "[settle] %s: clock %s at %.0f-%.0f MHz after %.1f s (%s, started at %.0f MHz)\n",
+               config.backend.c_str(), clock_steady(clocks) ? "steady" : "NOT steady", *lo, *hi, seconds(),
+               source.c_str(), clocks.front());
+}
+
 // Cases whose checks ran (passed or not) are timed; cases that could not be prepared are not.
 bool is_timed(Status s) { return s == Status::ok || s == Status::failed_check || s == Status::failed_quality; }
 
@@ -66,8 +95,17 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
     Backend& b = harness.activate(r.config);
     if (r.device_state_source.empty()) r.device_state_source = harness.device_state_source(r.config.backend);
     r.device_states.push_back(harness.sample_device(r.config.backend));  // before this repetition's frames
-    // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings.
+    // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings. Then by time
+    // (RunOptions::warmup_ms), cycling over the same frame indices so that the timed frames stay the same frames.
+    const auto warmup_start = std::chrono::steady_clock::now();
     for (int i = 0; i < o.warmup_frames; ++i) r.warmup.push_back(render_measured(b, i));
+    const double warmup_ms = o.warmup_ms >= 0 ? o.warmup_ms
+                                              : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuWarmupMs);
+    for (int i = 0; warmup_ms > 0 && i < kMaxTimedWarmupFrames; ++i) {
+      if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - warmup_start).count() >= warmup_ms)
+        break;
+      r.warmup.push_back(render_measured(b, o.warmup_frames > 0 ? i % o.warmup_frames : 0));
+    }
     int frame = o.warmup_frames;
     double sums[7] = {0, 0, 0, 0, 0, 0, 0};
     // Under `valgrind --tool=callgrind --collect-atstart=no` (scripts/ci/instruction_counts.sh) exactly the timed
@@ -167,6 +205,18 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, const Repetit
   RoundReporter reporter;
   for (CaseResult& r : results) r.precision_on_cpu = policy.cpu_metric;
   const int frames = harness.options().frames;
+  // Each backend's clock settles before its first timed repetition (rounds interleave the backends' cases).
+  if (harness.options().settle_s > 0) {
+    std::set<std::string> settled;
+    for (CaseResult& r : results)
+      if (is_timed(r.status) && settled.insert(r.config.backend).second && !stop_requested()) {
+        try {
+          settle_clock(harness, r.config, harness.options().settle_s);
+        } catch (const std::exception& e) {  // the case's own repetition reports any failure
+          std::fprintf(stderr, "[settle] %s: %s\n", r.config.backend.c_str(), e.what());
+        }
+      }
+  }
   for (;;) {
     std::vector<CaseResult*> round = next_round(results, policy, progress.elapsed());
     if (round.empty() || stop_requested()) break;
