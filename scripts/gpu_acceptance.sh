@@ -11,7 +11,8 @@
 #   multiview  GL and Vulkan multiview against six_pass with --check
 #   matrix     the untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
 #              (the untimed part at most a quarter of the run); clock samples recorded
-#   tutorial   scripts/experiments/tutorial_ab.py: the timed lighting pass against the tutorial's own rendering
+#   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
+#              depth format, wall and GPU time: PASS where the harness is within 1.1x
 #   precision  the adaptive design beside the fixed one: across runs (scripts/experiments/sensitivity.py, as CI compares
 #              builds) and inside one run (scripts/experiments/sensitivity_same_run.py), 6 trials each; every stopping rule
 #              replayed on the fixed design's samples (scripts/experiments/repetition_replay.py)
@@ -165,7 +166,7 @@ step_tutorial() {
   /usr/bin/python3 "$here/scripts/experiments/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
     >"$out/tutorial/ab.log" 2>&1
   exit_note $? tutorial_ab.py
-  grep "^|" "$out/tutorial/ab.log" | tee -a "$summary"
+  grep -E "^\||^\*\*(PASS|FAIL)" "$out/tutorial/ab.log" | tee -a "$summary"
 }
 
 step_precision() {

@@ -146,6 +146,7 @@ def check_regressions(merged, summary, where):
     assert re.search(re.escape(FAILED) + r"[^\n]*: ok -> failed", summary), f"{where}: the failed case is not named:\n{summary}"
     with open(os.path.join(merged, "compare", "comparison.json")) as f:
         comparison = json.load(f)
+    assert comparison["failed"] is True, f"{where}: the comparison did not fail"
     assert {k: comparison[k] for k in GATE} == GATE, f"{where}: the baseline's gate was not applied: {comparison}"
     slowed = [c for c in comparison["cases"] if c["id"].startswith(SLOWED + "/")]
     assert slowed and slowed[0]["regressed"], f"{where}: the slower case does not fail the comparison: {slowed}"
@@ -229,6 +230,8 @@ def run_plays(exe, work):
     assert gh.results == {"build": "success", "bench": "success", "merge": "failure"}, \
         f"GitHub play at C: {gh.results}\n" + gh.logs.get("merge", "")[-6000:]
     assert f"at merge-base {b[:12]}" in gh.logs["merge"], gh.logs["merge"][-3000:]
+    assert "fleet_compare.sh merged\n" in gh.logs["merge"] and "(exit 1)" in gh.logs["merge"], \
+        "GitHub at C: the compare step did not exit 1 (a regression), as opposed to 2 (an input error)"
     check_regressions(os.path.join(work, "github-c", "jobs", "merge", "merged"), gh.summaries["merge"], "GitHub at C")
     print(f"fleet pipeline play: A {a[:8]} no baseline (both pass, said on the page); baseline B {b[:8]} for {key}; "
           f"C {c[:8]}: GitLab and GitHub fan-ins exit 1 naming {SLOWED} (slower) and {FAILED} (failed checks); "

@@ -10,7 +10,7 @@
 // --depth-format: the cube's depth format, d32f by default as the harness's (the tutorial's unsized
 // GL_DEPTH_COMPONENT is 24-bit on NVIDIA: a different format costs differently, so A/B runs name one).
 // Prints one JSON object: per pass the median wall time from the first command to glFinish (as the harness times
-// its passes), in milliseconds.
+// its passes) and the median GPU time (GL_TIME_ELAPSED around the pass), in milliseconds.
 
 #include <epoxy/gl.h>
 
@@ -233,7 +233,10 @@ class TutorialRenderer {
     view_ = glm::lookAt(kCamera, kCamera + glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
   }
 
+  // Each pass inside a GL_TIME_ELAPSED query, as the harness times its passes (GPU time beside the wall time);
+  // read after the pass's glFinish, when the result is available without a wait.
   void shadow_pass() {
+    glBeginQuery(GL_TIME_ELAPSED, queries_[0]);
     glViewport(0, 0, o_.cube, o_.cube);
     glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo_);
     glClear(GL_DEPTH_BUFFER_BIT);
@@ -244,10 +247,12 @@ class TutorialRenderer {
     glUniform1f(uniform(depth_program_, "far_plane"), kFar);
     glUniform3fv(uniform(depth_program_, "lightPos"), 1, glm::value_ptr(kLight));
     render_scene(depth_program_, vao_);
+    glEndQuery(GL_TIME_ELAPSED);
     glFinish();
   }
 
   void lighting_pass() {
+    glBeginQuery(GL_TIME_ELAPSED, queries_[1]);
     glViewport(0, 0, o_.width, o_.height);
     glBindFramebuffer(GL_FRAMEBUFFER, window_fbo_);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -264,7 +269,15 @@ class TutorialRenderer {
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_CUBE_MAP, depth_cube_);
     render_scene(light_program_, vao_);
+    glEndQuery(GL_TIME_ELAPSED);
     glFinish();
+  }
+
+  // The GPU time of the latest shadow (0) or lighting (1) pass, ms.
+  double gpu_ms(int pass) const {
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(queries_[pass], GL_QUERY_RESULT, &ns);
+    return double(ns) * 1e-6;
   }
 
   void write_png(const std::string& path) const {
@@ -282,6 +295,12 @@ class TutorialRenderer {
 
   const Options& o_;
   GLuint depth_program_, light_program_, vao_, wood_, depth_cube_ = 0, depth_fbo_, window_fbo_;
+  std::array<GLuint, 2> queries_ = make_queries();
+  static std::array<GLuint, 2> make_queries() {
+    std::array<GLuint, 2> q{};
+    glGenQueries(2, q.data());
+    return q;
+  }
   std::array<glm::mat4, 6> shadow_matrices_{};
   glm::mat4 projection_{1.0f}, view_{1.0f};
 };
@@ -291,7 +310,7 @@ int run(const Options& o) {
   TutorialRenderer renderer(o);
   using clock = std::chrono::steady_clock;
   auto ms = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-  std::vector<double> shadow_ms, lighting_ms;
+  std::vector<double> shadow_ms, lighting_ms, shadow_gpu_ms, lighting_gpu_ms;
   for (int frame = 0; frame < o.warmup + o.frames; ++frame) {
     const auto t0 = clock::now();
     renderer.shadow_pass();
@@ -301,13 +320,17 @@ int run(const Options& o) {
     if (frame < o.warmup) continue;
     shadow_ms.push_back(ms(t0, t1));
     lighting_ms.push_back(ms(t1, t2));
+    shadow_gpu_ms.push_back(renderer.gpu_ms(0));
+    lighting_gpu_ms.push_back(renderer.gpu_ms(1));
   }
   if (!o.png.empty()) renderer.write_png(o.png);
   if (GLenum e = glGetError(); e != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(e));
   std::printf("{\"filter\": \"%s\", \"albedo\": \"%s\", \"depth_format\": \"%s\", \"cube\": %d, \"size\": [%d, %d], "
-              "\"frames\": %d, \"shadow_ms\": %.4f, \"lighting_ms\": %.4f, \"renderer\": \"%s\"}\n",
+              "\"frames\": %d, \"shadow_ms\": %.4f, \"lighting_ms\": %.4f, \"shadow_gpu_ms\": %.4f, "
+              "\"lighting_gpu_ms\": %.4f, \"renderer\": \"%s\"}\n",
               o.filter.c_str(), o.albedo.c_str(), o.depth_format.c_str(), o.cube, o.width, o.height, o.frames, median(shadow_ms),
-              median(lighting_ms), reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+              median(lighting_ms), median(shadow_gpu_ms), median(lighting_gpu_ms),
+              reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
   return 0;
 }
 
