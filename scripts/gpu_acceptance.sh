@@ -159,6 +159,18 @@ step_clocks() {
     exit_note $? "default GL matrix, run $i of 2 back to back"
     judge_clocks "$out/clocks/gl$i" || failed=1
   done
+  # --lock-clocks (NVML, as root): locked for the run and reset after it; a refusal (no permission) is reported.
+  "$bin" run --backend gl --frames 4 --warmup 1 --benchmark_repetitions=3 --lock-clocks \
+    --benchmark_enable_random_interleaving=true --out "$out/clocks/locked" >"$out/clocks/locked.log" 2>&1
+  code=$?
+  if [ "$code" -eq 2 ] && grep -q "error: --lock-clocks" "$out/clocks/locked.log"; then
+    note "- --lock-clocks refused (not a failure): $(grep -m1 'error: --lock-clocks' "$out/clocks/locked.log")"
+  else
+    exit_note "$code" "default GL matrix with --lock-clocks"
+    grep "^\[lock-clocks\]" "$out/clocks/locked.log" | sed 's/^/  - /' | tee -a "$summary"
+    judge_clocks "$out/clocks/locked" || failed=1
+    command -v nvidia-smi >/dev/null && note "- after the run: $(nvidia-smi --query-gpu=clocks.gr,clocks.max.gr --format=csv,noheader | head -n 1) (graphics, max): the lock was reset"
+  fi
 }
 
 step_tutorial() {

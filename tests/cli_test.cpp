@@ -412,6 +412,23 @@ TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
   EXPECT_NE(bad.err.find("--warmup-ms"), std::string::npos) << bad.err;
 }
 
+// --lock-clocks locks through NVML where this process may (then says so and the run goes on), and is a one-line
+// refusal naming the option and the backend anywhere else (here: llvmpipe's clock is the CPUs'), before any case.
+TEST_F(CliRun, LockClocksLocksThroughNvmlOrRefusesInOneLine) {
+  fs::path out = scratch("lock_clocks");
+  Outcome o = run("run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
+                  "--frames 1 --warmup 0 --no-accuracy --no-images --lock-clocks --out " + out.string());
+  if (o.exit_code == 0) {
+    EXPECT_NE(o.err.find("[lock-clocks] graphics clock locked at"), std::string::npos) << o.err;
+    return;
+  }
+  EXPECT_EQ(o.exit_code, 2) << o.err;
+  const std::string lines = error_lines(o.err);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), '\n'), 1) << o.err;
+  EXPECT_NE(lines.find("omnishadow: error: --lock-clocks: gl: "), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(out / "results.json")) << "refused before any case ran";
+}
+
 // A gate file (scripts/experiments/sensitivity.py --write-gate) sets the test's metric, alpha and minimum effect; a bad one is a
 // one-line error naming the file and the field.
 TEST_F(CliRun, CompareTakesItsGateFromAGateFile) {

@@ -94,6 +94,9 @@ void add_frame_options(CLI::App& r, RunOptions& o) {
                "before a backend's first timed repetition, render until the device clock is steady, at most this "
                "many seconds (0: don't)")
       ->capture_default_str()->check(CLI::Range(0.0, 600.0));
+  r.add_flag("--lock-clocks", o.lock_clocks,
+             "lock the GPU's graphics clock for the run (NVIDIA, through NVML, where this process may: usually "
+             "root), restored when the run ends or is stopped; anywhere else a one-line refusal (exit 2)");
   r.add_option("--check-frame", o.check_frame, "frame index whose images are written and compared")
       ->capture_default_str()->check(CLI::Range(0, 100000000));
   r.add_flag("--stability", o.stability,

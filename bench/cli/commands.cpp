@@ -8,6 +8,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <set>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -262,6 +263,13 @@ int run_command(const RunCommand& cmd) {
   std::vector<CaseConfig> cases;
   try {
     cases = validate_request(cmd, harness, run.info);
+    if (options.lock_clocks) {
+      std::set<std::string> locked;
+      for (const CaseConfig& c : cases)
+        if (locked.insert(c.backend).second)
+          if (std::string why = harness.lock_clocks(c.backend); !why.empty())
+            throw std::runtime_error("--lock-clocks: " + c.backend + ": " + why);
+    }
   } catch (const std::exception& e) {
     print_error(e.what());
     return 2;

@@ -127,6 +127,7 @@ DeviceStateProbe& Harness::probe(const std::string& name) {
 
 DeviceState Harness::sample_device(const std::string& name) { return probe(name).sample(); }
 std::string Harness::device_state_source(const std::string& name) { return probe(name).source(); }
+std::string Harness::lock_clocks(const std::string& name) { return probe(name).lock_clocks(); }
 
 void Harness::add_backend(const std::string& name, std::unique_ptr<Backend> backend) {
   probes_.erase(name);

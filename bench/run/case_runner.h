@@ -45,6 +45,7 @@ struct RunOptions {
   // Before a backend's first timed repetition, render its first case until the device clock reads steady
   // (clock_steady: three readings 50 ms apart within 2%), at most this long; 0 skips it.
   double settle_s = 10.0;
+  bool lock_clocks = false;  // --lock-clocks: NVML locked clocks for the run, a one-line refusal elsewhere
   int frames = 10;                    // timed frames per repetition (Google Benchmark iterations)
   int check_frame = 0;                // the frame whose images are written and compared
   double face_tolerance = 0.0;        // world units; single-pass faces are expected bit-identical to six_pass
@@ -210,6 +211,8 @@ class Harness {
   // The state of `name`'s device now (clocks, temperature, power); its probe is chosen when the backend comes up.
   DeviceState sample_device(const std::string& name);
   std::string device_state_source(const std::string& name);
+  // Locks `name`'s device clock until the harness is destroyed (run --lock-clocks); "" or why it cannot.
+  std::string lock_clocks(const std::string& name);
   // Loads (and caches) a scene by name or path; throws scene::SceneError.
   const scene::Scene& scene(const std::string& name_or_path, bool rebase_origin = false);
   // The scene a case renders (its remedies decide how it is loaded).

@@ -42,6 +42,7 @@ class NvmlProbe final : public DeviceStateProbe {
     return probe;
   }
   ~NvmlProbe() override {
+    if (locked_ && reset_locked_) reset_locked_(device_);
     if (shutdown_) shutdown_();
     dlclose(lib_);
   }
@@ -57,6 +58,23 @@ class NvmlProbe final : public DeviceStateProbe {
     if (throttle_ && throttle_(device_, &reasons) == 0) s.throttle = throttle_words(reasons);
     return s;
   }
+  // Locks the graphics clock at the device's default applications clock: a clock it sustains under load, where
+  // boost would wander with temperature and power. Needs root (or the driver's permission for this user).
+  std::string lock_clocks() override {
+    if (!set_locked_ || !reset_locked_) return "this NVML has no nvmlDeviceSetGpuLockedClocks";
+    unsigned mhz = 0;
+    if (!default_clock_ || default_clock_(device_, 0 /* NVML_CLOCK_GRAPHICS */, &mhz) != 0 || mhz == 0)
+      return "NVML reports no default applications clock to lock at";
+    switch (int rc = set_locked_(device_, mhz, mhz)) {
+      case 0:
+        locked_ = true;
+        std::fprintf(stderr, "[lock-clocks] graphics clock locked at %u MHz (NVML; reset when the run ends)\n", mhz);
+        return "";
+      case 4: return "NVML: no permission to lock clocks (run as root, or lock them with nvidia-smi --lock-gpu-clocks)";
+      case 3: return "NVML: locking clocks is not supported on this GPU";
+      default: return "NVML error " + std::to_string(rc) + " locking clocks at " + std::to_string(mhz) + " MHz";
+    }
+  }
 
  private:
   explicit NvmlProbe(void* lib) : lib_(lib) {}
@@ -68,6 +86,9 @@ class NvmlProbe final : public DeviceStateProbe {
   bool bind() {
     get(throttle_, "nvmlDeviceGetCurrentClocksThrottleReasons");  // optional
     get(shutdown_, "nvmlShutdown");
+    get(set_locked_, "nvmlDeviceSetGpuLockedClocks");  // optional: --lock-clocks
+    get(reset_locked_, "nvmlDeviceResetGpuLockedClocks");
+    get(default_clock_, "nvmlDeviceGetDefaultApplicationsClock");
     return get(init_, "nvmlInit_v2") && get(count_, "nvmlDeviceGetCount_v2") &&
            get(handle_, "nvmlDeviceGetHandleByIndex_v2") && get(name_, "nvmlDeviceGetName") &&
            get(clock_, "nvmlDeviceGetClockInfo") && get(temperature_, "nvmlDeviceGetTemperature") &&
@@ -110,6 +131,10 @@ class NvmlProbe final : public DeviceStateProbe {
   int (*temperature_)(Device, int, unsigned*) = nullptr;
   int (*power_)(Device, unsigned*) = nullptr;
   int (*throttle_)(Device, unsigned long long*) = nullptr;
+  int (*set_locked_)(Device, unsigned, unsigned) = nullptr;
+  int (*reset_locked_)(Device) = nullptr;
+  int (*default_clock_)(Device, int, unsigned*) = nullptr;
+  bool locked_ = false;
 };
 
 // AMD and Intel publish their state in sysfs under the DRM card whose PCI vendor matches.

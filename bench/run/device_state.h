@@ -33,6 +33,12 @@ class DeviceStateProbe {
   virtual ~DeviceStateProbe() = default;
   virtual std::string source() const = 0;  // "nvml", "amdgpu sysfs", "i915 sysfs", "cpu frequency", "none"
   virtual DeviceState sample() = 0;
+  // `run --lock-clocks`: fixes the graphics clock for the rest of the run (restored when the probe is destroyed:
+  // at exit, and after SIGINT/SIGTERM, which end the run normally). "" once locked; otherwise why not, one line.
+  virtual std::string lock_clocks() {
+    return "the harness can lock clocks only through NVIDIA's NVML; the clock source here is " + source() +
+           " (lock them with the platform's tools: README, \"Stable numbers on a GPU\")";
+  }
 };
 // The best source for this device (by vendor and renderer), falling back to the CPU frequency.
 std::unique_ptr<DeviceStateProbe> make_device_state_probe(const DeviceInfo& device);
