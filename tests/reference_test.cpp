@@ -34,6 +34,36 @@ TEST(RayCaster, BoxShadowMatchesItsAnalyticOutline) {
   EXPECT_FALSE(caster.blocked(light, {0, 3.0001f, 0}, 1e-3f)) << "the top face holds itself";
 }
 
+// The previous blocker, tried first, changes no answer: over the box's outline (inside, outside, and points where
+// the hint's triangle is not the blocker or blocks nothing) every ray answers as without it, and the hint ends on
+// a triangle that really blocks.
+TEST(RayCaster, LastBlockerHintChangesNoAnswer) {
+  scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5}, )"
+                              R"({"type": "box", "translate": [3, 2.5, 0], "scale": 0.5})");
+  RayCaster caster(s);
+  const glm::vec3 light(0, 5, 0);
+  uint32_t hint = RayCaster::kNoBlocker;
+  int blocked = 0, changes = 0;
+  uint32_t previous = hint;
+  for (float x = -3.0f; x <= 9.0f; x += 0.037f)
+    for (float z : {0.0f, 0.6f, 1.3f, -1.0f}) {
+      const glm::vec3 p(x, 0, z);
+      const bool plain = caster.blocked(light, p, 1e-4f);
+      EXPECT_EQ(caster.blocked(light, p, 1e-4f, &hint), plain) << "x " << x << " z " << z;
+      if (plain) {
+        ++blocked;
+        EXPECT_NE(hint, RayCaster::kNoBlocker);
+      }
+      changes += hint != previous;
+      previous = hint;
+    }
+  EXPECT_GT(blocked, 20);
+  EXPECT_GT(changes, 1) << "the hint moved from one box's triangles to the other's";
+  uint32_t junk = 123456789u;  // out of range: ignored, then replaced by a real blocker
+  EXPECT_TRUE(caster.blocked(light, {0, 0, 0}, 1e-4f, &junk));
+  EXPECT_LT(junk, caster.triangle_count());
+}
+
 TEST(RayCaster, SphereShadowIsADiscOfTheAnalyticRadius) {
   // Unit sphere scaled 0.5 at height 2.5: the tangent cone from the light has sin(a) = 0.5 / 2.5, so the shadow
   // on y = 0 (5 below the light) has radius 5 tan(a) = 1.0206. The tessellated sphere is inscribed: its shadow

@@ -129,21 +129,26 @@ void RayCaster::traverse(const glm::dvec3& origin, const glm::dvec3& dir, double
   }
 }
 
-bool RayCaster::blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon) const {
+bool RayCaster::blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon, uint32_t* last_blocker) const {
   const glm::dvec3 origin(from);
   const glm::dvec3 segment = glm::dvec3(to) - origin;
   const double length = glm::length(segment);
   if (length <= 2.0 * end_epsilon) return false;
   const glm::dvec3 dir = segment / length;
-  bool found = false;
-  traverse(origin, dir, length - end_epsilon, [&](uint32_t t, double max_distance) {
+  const double max_distance = length - end_epsilon;
+  // The same test as in the traversal below, on the previous blocker first.
+  auto blocks = [&](uint32_t t, double limit) {
     const Triangle& tri = triangles_[t];
-    double d = intersect(origin, dir, tri.a, tri.e1, tri.e2, nullptr, nullptr);
-    if (d > end_epsilon && d < max_distance) {
-      found = true;
-      return -1.0;  // any hit answers the question
-    }
-    return max_distance;
+    const double d = intersect(origin, dir, tri.a, tri.e1, tri.e2, nullptr, nullptr);
+    return d > end_epsilon && d < limit;
+  };
+  if (last_blocker && *last_blocker < triangles_.size() && blocks(*last_blocker, max_distance)) return true;
+  bool found = false;
+  traverse(origin, dir, max_distance, [&](uint32_t t, double limit) {
+    if (!blocks(t, limit)) return limit;
+    found = true;
+    if (last_blocker) *last_blocker = t;
+    return -1.0;  // any hit answers the question
   });
   return found;
 }

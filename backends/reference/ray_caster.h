@@ -26,7 +26,11 @@ class RayCaster {
   // True if any triangle crosses the segment from `from` to `to`, ignoring hits within `end_epsilon` (world
   // units) of either end, so that the surface holding an end point does not hide it from itself. Both sides
   // of every triangle block: shadow casters are not culled.
-  bool blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon) const;
+  // `last_blocker` (optional, per thread): the triangle that blocked this caller's previous ray, tried first
+  // (neighbouring rays of one light are mostly blocked by the same triangle) and updated when another blocks. The
+  // answer is the same with or without it: any triangle crossing the segment answers it, found first or not.
+  bool blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon, uint32_t* last_blocker = nullptr) const;
+  static constexpr uint32_t kNoBlocker = 0xffffffffu;
   // The nearest hit along `direction` (unit) within (0, max_distance].
   Hit closest(const glm::vec3& origin, const glm::vec3& direction, double max_distance) const;
 
