@@ -161,6 +161,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"run --optimize cull+warp --out @OUT@", "--optimize: unknown optimisation 'warp'"},
                       BadInput{"run --precision 2 --sustain 5 --out @OUT@", "--precision and --sustain: choose one"},
                       BadInput{"run --precision 0 --out @OUT@", "--precision"},
+                      BadInput{"run --precision 2 --precision-metric vram --out @OUT@", "--precision-metric"},
                       BadInput{"run --out @OUT@ --benchmark_repetitions=zero", "--benchmark_repetitions: expected"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
 
@@ -275,6 +276,34 @@ TEST_F(CliRun, SustainLoopsRoundsAndReportsStability) {
     EXPECT_GT(per["stability_percent"].get<double>(), 0.0);
   }
   EXPECT_NE(o.out.find("## Sustained run (2 s of rounds)"), std::string::npos) << o.out;
+}
+
+// --precision-metric gpu judges the timer-query time per repetition (compare --metric gpu's samples): recorded
+// for every repetition whose GPU timer passed its check, and the interval reported is over those.
+TEST_F(CliRun, PrecisionJudgesGpuTimeWhereTheTimerPassedItsCheck) {
+  fs::path out = scratch("precision_gpu");
+  Outcome o = run("run --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard,pcf_disk20 "
+                  "--frames 2 --warmup 1 --no-accuracy --no-images --precision 50 --precision-metric gpu "
+                  "--max-repetitions 9 --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  EXPECT_EQ(j["omnishadow"]["repetition_policy"]["precision_metric"], "gpu");
+  size_t reliable = 0;
+  for (const auto& b : j["benchmarks"])
+    if (b.value("run_type", "") == "iteration" && b.value("gpu_timer_reliable", 0.0) == 1.0) ++reliable;
+  size_t gpu_samples = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    const auto& per = c["timing"]["per_repetition"];
+    gpu_samples += per["frame_gpu_ms"].size();
+    for (const auto& v : per["frame_gpu_ms"]) EXPECT_GT(v.get<double>(), 0.0) << c["id"];
+    if (per["frame_gpu_ms"].size() >= 6u) {  // enough for an interval: it is the GPU time's
+      EXPECT_EQ(per["median_interval_95"]["metric"], "frame_gpu_ms") << c["id"];
+    } else {
+      EXPECT_EQ(per["ended_by"], "cap") << c["id"] << ": too few GPU samples to judge, so the cap ends it";
+    }
+  }
+  EXPECT_EQ(gpu_samples, reliable) << "one GPU sample per repetition whose timer passed its check";
+  EXPECT_NE(o.out.find("median per-repetition frame GPU time"), std::string::npos) << o.out;
 }
 
 // Both APIs in one process, in either order, must exit cleanly: teardown of one may not break the other.

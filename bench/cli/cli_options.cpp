@@ -141,9 +141,11 @@ void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
                "--max-repetitions)")
       ->check(CLI::Range(0.01, 100.0));
   r.add_option_function<std::string>(
-       "--precision-metric", [&p](const std::string& m) { p.cpu_metric = m == "cpu"; },
-       "what --precision judges: wall (frame wall time) or cpu (process CPU time per frame; compare --metric cpu)")
-      ->check(CLI::IsMember({"wall", "cpu"}))->default_str("wall");
+       "--precision-metric", [&p](const std::string& m) { p.metric = m; },
+       "what --precision judges: wall (frame wall time), cpu (process CPU time per frame; compare --metric cpu) "
+       "or gpu (timer-query time of the shadow and lighting passes per frame; compare --metric gpu; a repetition "
+       "whose GPU timer failed its check adds no sample)")
+      ->check(CLI::IsMember({"wall", "cpu", "gpu"}))->default_str("wall");
   r.add_option("--max-repetitions", p.max_repetitions, "the cap on repetitions per case under --precision")
       ->capture_default_str()->check(CLI::Range(1, 100000));
   r.add_option("--sustain", p.sustain_seconds,

@@ -164,12 +164,13 @@ json repetitions_to_json(const CaseResult& r) {
   MedianInterval ci = median_interval(r.precision_samples());
   json interval = nullptr;
   if (ci.defined)
-    interval = {{"metric", r.precision_on_cpu ? "frame_cpu_ms" : "frame_ms"},
+    interval = {{"metric", "frame_" + (r.precision_metric == "wall" ? std::string() : r.precision_metric + "_") + "ms"},
                 {"median_ms", ci.median},     {"low_ms", ci.low},
                 {"high_ms", ci.high},         {"coverage", ci.coverage},
                 {"half_width_percent", ci.half_width_percent}};
   return {{"frame_ms", r.repetition_frame_ms},
           {"frame_cpu_ms", r.repetition_cpu_ms},
+          {"frame_gpu_ms", r.repetition_gpu_ms},  // only repetitions whose GPU timer passed its check
           {"ended_by", r.repetitions_ended_by},
           {"precision_target_percent", r.precision_target_percent > 0 ? json(r.precision_target_percent) : json(nullptr)},
           {"median_interval_95", interval},
@@ -297,7 +298,7 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                          {"minimum", run.repetitions.minimum()},
                          {"compared_cases", run.repetitions.compared_cases},
                          {"sustain_seconds", run.repetitions.sustain_seconds},
-                         {"precision_metric", run.repetitions.cpu_metric ? "cpu" : "wall"},
+                         {"precision_metric", run.repetitions.metric},
                          {"order", "rounds: one repetition of every unfinished case per round"}}},
                        {"options",
                         {{"warmup_frames", o.warmup_frames},

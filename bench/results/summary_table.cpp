@@ -121,7 +121,7 @@ void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& res
        << "| case | repetitions | best ms | worst ms | stability | clocks |\n|---|---|---|---|---|---|\n";
   } else {
     md << "\n## Repetitions to +-" << p.precision_percent
-       << "% (95% interval of the median per-repetition frame " << (p.cpu_metric ? "CPU" : "wall") << " time)\n\n"
+       << "% (95% interval of the median per-repetition frame " << (p.metric == "wall" ? "wall" : p.metric == "cpu" ? "CPU" : "GPU") << " time)\n\n"
        << total << " repetitions in all (a fixed count of " << p.cap() << " would take "
        << p.cap() * static_cast<int>(std::count_if(results.begin(), results.end(),
                                                    [](const CaseResult& r) { return !r.repetition_frame_ms.empty(); }))

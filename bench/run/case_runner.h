@@ -150,14 +150,17 @@ struct CaseResult {
   // Per repetition: the mean frame wall time and process CPU time of its timed frames (what Google Benchmark
   // reports per repetition and `compare` tests); the precision and stability figures are computed over these.
   std::vector<double> repetition_frame_ms, repetition_cpu_ms;
+  // Per repetition whose GPU timer passed its check: the mean shadow + lighting GPU time of its timed frames.
+  std::vector<double> repetition_gpu_ms;
   // Why its repetitions ended: "count" (the fixed count), "precision" (--precision met), "cap" (--precision not
   // met by --max-repetitions), "sustain" (--sustain's time), "stopped" (SIGINT/SIGTERM); empty if never timed.
   std::string repetitions_ended_by;
   double precision_target_percent = 0.0;  // --precision, 0 without
-  bool precision_on_cpu = false;          // --precision-metric cpu
-  // The per-repetition figures --precision judges (wall time, or process CPU time).
+  std::string precision_metric = "wall";   // --precision-metric: wall, cpu or gpu
+  // The per-repetition figures --precision judges (wall time, process CPU time or GPU time).
   const std::vector<double>& precision_samples() const {
-    return precision_on_cpu ? repetition_cpu_ms : repetition_frame_ms;
+    return precision_metric == "cpu" ? repetition_cpu_ms
+                                     : precision_metric == "gpu" ? repetition_gpu_ms : repetition_frame_ms;
   }
   std::optional<Accuracy> accuracy;  // against the ray-cast reference, for the check frame
   std::optional<FrameTiming> first_frame;  // the check frame rendered cold, right after configure

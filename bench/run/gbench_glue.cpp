@@ -143,6 +143,7 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
     if (gpu.reliable) {
       state.counters["shadow_gpu_ms"] = Counter(sums[4], Counter::kAvgIterations);
       state.counters["lighting_gpu_ms"] = Counter(sums[5], Counter::kAvgIterations);
+      if (!frames.empty()) r.repetition_gpu_ms.push_back((sums[4] + sums[5]) / static_cast<double>(frames.size()));
     }
     set_pass_counters(state, "shadow", r.counters.shadow);
     set_pass_counters(state, "lighting", r.counters.lighting);
@@ -203,7 +204,7 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, const Repetit
                const std::function<bool()>& stop_requested) {
   Progress progress{policy};
   RoundReporter reporter;
-  for (CaseResult& r : results) r.precision_on_cpu = policy.cpu_metric;
+  for (CaseResult& r : results) r.precision_metric = policy.metric;
   const int frames = harness.options().frames;
   // Each backend's clock settles before its first timed repetition (rounds interleave the backends' cases).
   if (harness.options().settle_s > 0) {

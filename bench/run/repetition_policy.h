@@ -6,6 +6,7 @@
 // (--sustain: the matrix looped for that long; the thermal/clock stability figure).
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace omnishadow::bench {
@@ -15,7 +16,10 @@ struct RepetitionPolicy {
   double precision_percent = 0.0;  // --precision: target half-width of the 95% interval, % of the median; 0 off
   int max_repetitions = 30;        // --max-repetitions: the cap under --precision
   double sustain_seconds = 0.0;    // --sustain: loop rounds until this much time has passed; 0 off
-  bool cpu_metric = false;         // --precision-metric cpu: judge the process CPU time per frame, not wall time
+  // --precision-metric: what --precision judges per repetition: "wall" (frame wall time), "cpu" (process CPU
+  // time per frame) or "gpu" (shadow + lighting timer-query time per frame, from repetitions whose GPU timer
+  // passed its check: compare --metric gpu's samples).
+  std::string metric = "wall";
   // The cases one comparison of this run holds (Holm's family in `omnishadow compare`): the timed cases, each
   // experiment-axis copy (/inj<N>, /rep<k>) counted once. Set by the harness before timing.
   size_t compared_cases = 1;

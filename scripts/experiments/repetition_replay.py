@@ -17,7 +17,7 @@ its own samples (the stop count must equal what the harness did) and sets its me
 replay's.
 
 Usage: scripts/experiments/repetition_replay.py DIR [--precision 1.5,2,2.5,3,4] [--minimum 6,7,8] [--futility 0,2]
-                                    [--metric wall|cpu] [--alpha 0.05]
+                                    [--metric wall|cpu|gpu] [--alpha 0.05]
 Writes DIR/repetition_replay.json and DIR/repetition_replay_<metric>.md (docs/repetition-replay.md holds the
 trials quoted in the README).
 """
@@ -76,9 +76,14 @@ def stop_count(samples, precision, minimum, cap, futility=0.0):
     return min(cap, len(samples))
 
 
+# The per-repetition figures results.json holds per case, by metric (frame_gpu_ms: repetitions whose GPU timer
+# passed its check only).
+PER_REPETITION_KEY = {"wall": "frame_ms", "cpu": "frame_cpu_ms", "gpu": "frame_gpu_ms"}
+
+
 def sequences(doc, key="frame_ms"):
     """Per full case id (with its /injN/repK suffix): the per-repetition frame times (`frame_ms` wall,
-    `frame_cpu_ms` process CPU), in the order they ran."""
+    `frame_cpu_ms` process CPU, `frame_gpu_ms` GPU timer), in the order they ran."""
     return {c["id"]: c["timing"]["per_repetition"][key] for c in doc["omnishadow"]["cases"]
             if c.get("timing", {}).get("per_repetition")}
 
@@ -166,7 +171,7 @@ def real_designs(paths, work):
             doc = json.load(f)
         policy = doc["omnishadow"]["repetition_policy"]
         minimum, cap = policy.get("minimum", max(6, policy["repetitions"])), policy["max_repetitions"]
-        judged = "frame_cpu_ms" if policy.get("precision_metric") == "cpu" else "frame_ms"
+        judged = PER_REPETITION_KEY[policy.get("precision_metric", "wall")]
         entry = real.setdefault(p, {"agree": 0, "total": 0, "outcomes": [], "minimum": minimum, "cap": cap,
                                     "metric": policy.get("precision_metric", "wall")})
         for s in sequences(doc, judged).values():
@@ -243,8 +248,9 @@ def main():
     parser.add_argument("--minimum", default="6,7,8")
     parser.add_argument("--futility", default="0")
     parser.add_argument("--alpha", type=float, default=0.05)
-    parser.add_argument("--metric", choices=["wall", "cpu"], default="wall",
-                        help="what the rules judge and compare tests: frame wall time or process CPU time per frame")
+    parser.add_argument("--metric", choices=sorted(PER_REPETITION_KEY), default="wall",
+                        help="what the rules judge and compare tests: frame wall time, process CPU time or GPU "
+                             "(timer query) time per frame")
     parser.add_argument("--bootstrap", type=int, default=2000, help="resamples of the runs for the saving's interval")
     args = parser.parse_args()
     sensitivity.BINARY = os.path.join(args.dir, "omnishadow")
@@ -260,7 +266,7 @@ def main():
         with open(path) as f:
             fixed_docs.append(json.load(f))
     rules = make_rules(args, cap)
-    key = {"wall": "frame_ms", "cpu": "frame_cpu_ms"}[args.metric]
+    key = PER_REPETITION_KEY[args.metric]
     outcomes = replay(fixed_docs, rules, cap, key, os.path.join(args.dir, "replay"))
     real = real_designs(glob.glob(os.path.join(args.dir, "t*-precision*", "results.json")),
                         os.path.join(args.dir, "replay", "real"))
