@@ -13,9 +13,11 @@
 #              (the untimed part at most a quarter of the run); clock samples recorded
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
 #              depth format, wall and GPU time: PASS where the harness is within 1.1x
-#   precision  the adaptive design beside the fixed one: across runs (scripts/experiments/sensitivity.py, as CI compares
-#              builds) and inside one run (scripts/experiments/sensitivity_same_run.py), 6 trials each; every stopping rule
-#              replayed on the fixed design's samples (scripts/experiments/repetition_replay.py)
+#   precision  a 2% slowdown found at <= 1% false alarms in GPU time on the GPU-sized CI-style matrix, injected work
+#              calibrated on the GPU: fixed and adaptive (--precision) designs across runs (scripts/experiments/
+#              sensitivity.py, as CI compares builds) and inside one run (sensitivity_same_run.py), as many trials as fit
+#              200 s each (PRECISION_BUDGET_S); every stopping rule replayed on the fixed design's samples
+#              (repetition_replay.py); PASS/FAIL per design
 # Exit 1 when a command it ran failed (a failed check included). On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview
 set -uo pipefail
 out="$1"; shift
@@ -181,20 +183,44 @@ step_tutorial() {
   grep -E "^\||^\*\*(PASS|FAIL)" "$out/tutorial/ab.log" | tee -a "$summary"
 }
 
+# Issue 23's target: a 2% slowdown found at <= 1% false alarms, in GPU time, on the GPU-sized CI-style matrix
+# (CI_MATRIX_SIZE=gpu: 1920x1080, cubes 1024). Injected work calibrated on this GPU by doubling (calibration.py);
+# the same count is then used inside one run. Each part runs on a time budget (trials as many as fit, at least two)
+# so that the step fits a 10-minute device call. --warmup-ms 0: the GPU stays busy through the interleaved rounds
+# and the clock settles before the first timed repetition (the `clocks` step judges the warm-up itself); the default
+# 100 ms per repetition would spend most of the budget.
 step_precision() {
   note "## precision"
-  /usr/bin/python3 "$here/scripts/experiments/sensitivity.py" --trials 6 --frames 12 --precision 2 --min-repetitions 6 \
-    --max-repetitions 30 --out "$out/precision/sens" >"$out/precision/sens.log" 2>&1
-  exit_note $? sensitivity.py
-  sed -n '/Designs compared/,$p' "$out/precision/sens/sensitivity.md" 2>/dev/null | tee -a "$summary"
-  /usr/bin/python3 "$here/scripts/experiments/sensitivity_same_run.py" --trials 6 --repetitions 24 --precision 2 \
-    --min-repetitions 7 --out "$out/precision/same_run" >"$out/precision/same_run.log" 2>&1
-  exit_note $? sensitivity_same_run.py
-  sed -n '/^| design/,/^$/p' "$out/precision/same_run/sensitivity_same_run.md" 2>/dev/null | tee -a "$summary"
-  /usr/bin/python3 "$here/scripts/experiments/repetition_replay.py" "$out/precision/same_run" --precision 1,1.5,2,2.5,3 \
-    --minimum 7 >"$out/precision/replay.log" 2>&1
+  local common=(--metric gpu --frames 12 --budget-s "${PRECISION_BUDGET_S:-200}" --extra "--warmup-ms 0")
+  CI_MATRIX_SIZE=gpu /usr/bin/python3 "$here/scripts/experiments/sensitivity.py" "${common[@]}" --trials 20 \
+    --slowdowns 2,5 --judge 2 --precision 1 --min-repetitions 6 --max-repetitions 20 \
+    --out "$out/precision/sens" >"$out/precision/sens.log" 2>&1
+  exit_note $? "sensitivity.py (across runs)"
+  grep -m1 "^calibration" "$out/precision/sens.log" | sed 's/^/- /' | tee -a "$summary"
+  sed -n '/^| alpha/,/^$/p;/Designs compared/,$p' "$out/precision/sens/sensitivity.md" 2>/dev/null | tee -a "$summary"
+  local inject
+  inject=$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["injected_iterations"]["slow2"])' \
+    "$out/precision/sens/sensitivity.json" 2>/dev/null) || inject=""
+  CI_MATRIX_SIZE=gpu /usr/bin/python3 "$here/scripts/experiments/sensitivity_same_run.py" "${common[@]}" --trials 20 \
+    --repetitions 12 --precision 1 --min-repetitions 7 --target 2 ${inject:+--inject "$inject"} --judge \
+    --out "$out/precision/same_run" >"$out/precision/same_run.log" 2>&1
+  exit_note $? "sensitivity_same_run.py (within one run)"
+  sed -n '/^| design/,/^$/p;/^Verdict/p' "$out/precision/same_run/sensitivity_same_run.md" 2>/dev/null | tee -a "$summary"
+  /usr/bin/python3 "$here/scripts/experiments/repetition_replay.py" "$out/precision/same_run" --precision 0.5,1,2 \
+    --minimum 7 --metric gpu --bootstrap 500 >"$out/precision/replay.log" 2>&1
   exit_note $? repetition_replay.py
   sed -n '/^| rule/,$p' "$out/precision/replay.log" | tee -a "$summary"
+  # The verdicts: every design, across runs and within one run, must find the 2% slowdown at <= 1% false alarms.
+  local verdicts
+  verdicts=$(cat "$out/precision/sens/sensitivity.md" "$out/precision/same_run/sensitivity_same_run.md" 2>/dev/null |
+    grep "^Verdict")
+  if [ -z "$verdicts" ]; then
+    note "- **FAIL**: no verdict (a script failed: see $out/precision/*.log)"; failed=1
+  elif grep -q ": FAIL:" <<<"$verdicts"; then
+    note "- **FAIL**: a design missed the target (2% found at <= 1% false alarms)"; failed=1
+  else
+    note "- **PASS**: every design found the 2% slowdown at <= 1% false alarms"
+  fi
 }
 
 steps="exits checks clocks multiview matrix tutorial precision"
