@@ -119,6 +119,47 @@ TEST(Truth, SphericalLightGivesAPenumbraBetweenUmbraAndLight) {
   EXPECT_EQ(bench::compute_truth(caster, s, 0, img, o).sphere_shadow, t.sphere_shadow);
 }
 
+// A prior truth (another API's) gives its values to pixels on the same surface point and no others: positions
+// moved by float rounding (within the GL rule's 1 part in 1e5 per operation) reuse every pixel with the answers a
+// fresh cast gives; a position moved by a pixel's footprint is cast again, with its own answer.
+TEST(Truth, PriorSharesSameSurfacePixelsAndCastsTheRest) {
+  // The penumbra scene above; no point on the point light's edge (x = 1.25), where ulps could change the answer.
+  scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
+  RayCaster caster(s);
+  Images img;
+  img.width = 9;
+  img.height = 1;
+  const float xs[9] = {0.0f, 0.6f, 0.9f, 1.1f, 1.2f, 1.3f, 1.6f, 2.0f, 3.0f};
+  for (float x : xs) img.world_position.insert(img.world_position.end(), {x, 0.0f, 0.0f, 1.0f});
+  img.shadow_factor.assign(9, 0.0f);
+  bench::TruthOptions o;
+  o.light_radius = 0.5f;
+  o.samples_per_axis = 4;
+  const bench::Truth first = bench::compute_truth(caster, s, 0, img, o);
+  EXPECT_EQ(first.reused_pixels, 0u);
+
+  Images rounded = img;  // the other API: every coordinate a few ulps away
+  for (size_t i = 0; i < rounded.world_position.size(); i += 4)
+    rounded.world_position[i] = std::nextafter(std::nextafter(rounded.world_position[i], 10.0f), 10.0f);
+  const bench::Truth shared = bench::compute_truth(caster, s, 0, rounded, o, {&first, &img.world_position});
+  const bench::Truth fresh = bench::compute_truth(caster, s, 0, rounded, o);
+  EXPECT_EQ(shared.reused_pixels, 9u);
+  EXPECT_EQ(shared.point_shadow, fresh.point_shadow);
+  EXPECT_EQ(shared.sphere_shadow, fresh.sphere_shadow);
+
+  Images moved = img;  // pixel 3 (x 1.1, hidden) now shows a lit point: another surface point, cast again
+  moved.world_position[4 * 3] = 3.0f;
+  const bench::Truth recast = bench::compute_truth(caster, s, 0, moved, o, {&first, &img.world_position});
+  EXPECT_EQ(recast.reused_pixels, 8u);
+  EXPECT_EQ(first.point_shadow[3], 1.0f);
+  EXPECT_EQ(recast.point_shadow[3], 0.0f);
+  EXPECT_EQ(recast.point_shadow, bench::compute_truth(caster, s, 0, moved, o).point_shadow);
+
+  bench::TruthOptions other = o;  // a prior cast with other options is not used
+  other.light_radius = 0.25f;
+  EXPECT_EQ(bench::compute_truth(caster, s, 0, rounded, other, {&first, &img.world_position}).reused_pixels, 0u);
+}
+
 TEST(Truth, MetricsCountFalseAndMissedShadowsApart) {
   bench::Truth t;
   t.width = 4;

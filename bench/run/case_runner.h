@@ -272,6 +272,9 @@ class Harness {
   std::map<std::string, MapTruth> map_truths_;  // by scene, frame, map size and depth range
   std::map<std::string, CubeTruth> cube_truths_;  // by scene, light position, near, far and cube size  // by the axes a floor depends on
   std::map<std::string, Truth> truths_;  // by scene, frame and positions fingerprint: shared by all its cases
+  // Per scene, frame and image size: the first truth cast (its key in truths_) and the world positions it was cast
+  // from, the prior every later truth of that scene takes its same-surface pixels from (bench/truth/accuracy.h).
+  std::map<std::string, std::pair<std::string, std::vector<float>>> truth_priors_;
 };
 
 }  // namespace omnishadow::bench

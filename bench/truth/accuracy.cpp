@@ -3,6 +3,7 @@
 #include "backends/common/map_lights.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <thread>
@@ -113,8 +114,15 @@ void keep_covered_fit_slots(Truth& t, const std::vector<int64_t>& slot_pixel) {
 
 }  // namespace
 
+bool same_surface_point(const glm::vec3& a, const glm::vec3& b, const glm::vec3& camera, float pixel_angle) {
+  const float distance = glm::length(a - camera);
+  const float arithmetic = 1e-4f * (glm::length(a) + distance);
+  const float subpixel = distance * pixel_angle / 16.0f;
+  return glm::length(a - b) <= std::min(arithmetic, subpixel);
+}
+
 Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& img,
-                    const TruthOptions& options) {
+                    const TruthOptions& options, const TruthPrior& prior) {
   Truth t = blank_truth(img, options);
   // The light whose shadow the images report (lighting.frag): the point light, else the first spot/directional
   // light. A directional light is a point far along its reverse direction; a spot light reaches only its map.
@@ -136,6 +144,22 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   };
   const glm::vec3 camera = scene.camera.position;
   const int k = std::max(1, options.samples_per_axis);
+  // The prior, where it fits this image: the radians one pixel spans vertically (its footprint at distance d is
+  // about d times that), and each prior fit pixel's index into its fit arrays.
+  const Truth* before = prior.truth && prior.positions && prior.truth->width == img.width &&
+                                prior.truth->height == img.height &&
+                                prior.positions->size() == img.world_position.size() &&
+                                prior.truth->options.light_radius == options.light_radius &&
+                                prior.truth->options.samples_per_axis == options.samples_per_axis &&
+                                prior.truth->sphere_stride == t.sphere_stride
+                            ? prior.truth
+                            : nullptr;
+  const float pixel_angle =
+      2.0f * std::tan(glm::radians(scene.camera.fov_y_degrees) * 0.5f) / static_cast<float>(std::max(img.height, 1));
+  std::vector<int32_t> before_fit(before && !before->fit_pixels.empty() ? before->covered.size() : 0, -1);
+  for (size_t j = 0; j < before_fit.size() && j < before->fit_pixels.size(); ++j)
+    before_fit[before->fit_pixels[j]] = static_cast<int32_t>(j);
+  std::atomic<uint64_t> reused{0};
   // Radius-fit slots: one per fit_stride-th pixel of every fit_stride-th row, filled where covered; large frames
   // thin the fit as they thin the soft reference.
   const bool fit = options.light_radius > 0 && map == nullptr;
@@ -152,6 +176,24 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       if (img.world_position[4 * i + 3] != 1.0f) continue;
       t.covered[i] = 1;
       const glm::vec3 p(img.world_position[4 * i], img.world_position[4 * i + 1], img.world_position[4 * i + 2]);
+      const bool fit_pixel = fit && x % fit_stride == 0 && y % fit_stride == 0;
+      if (before && before->covered[i]) {
+        const float* q = prior.positions->data() + 4 * i;
+        if (same_surface_point(p, glm::vec3(q[0], q[1], q[2]), camera, pixel_angle) &&
+            (!fit_pixel || (!before_fit.empty() && before_fit[i] >= 0))) {
+          t.point_shadow[i] = before->point_shadow[i];
+          if (!t.sphere_shadow.empty()) t.sphere_shadow[i] = before->sphere_shadow[i];
+          t.direct[i] = before->direct[i];
+          t.has_direct[i] = before->has_direct[i];
+          if (fit_pixel) {
+            const size_t slot = static_cast<size_t>(y / fit_stride) * fit_w + static_cast<size_t>(x / fit_stride);
+            fit_slot_pixel[slot] = static_cast<int64_t>(i);
+            for (size_t r = 0; r < kFitRadii.size(); ++r) t.fit_shadow[r][slot] = before->fit_shadow[r][before_fit[i]];
+          }
+          reused.fetch_add(1, std::memory_order_relaxed);
+          continue;
+        }
+      }
       const glm::vec3 light = light_for(p);
       const bool reached = !map || directional || spot_reaches(p);
       // End tolerance: relative to the distance, so that a point does not hide behind its own surface.
@@ -164,7 +206,7 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
         t.sphere_shadow[i] =
             hidden_fraction(caster, light, p, options.light_radius, k, static_cast<uint32_t>(i), eps, &soft_blocker);
       }
-      if (fit && x % fit_stride == 0 && y % fit_stride == 0) {
+      if (fit_pixel) {
         const size_t slot = static_cast<size_t>(y / fit_stride) * fit_w + static_cast<size_t>(x / fit_stride);
         fit_slot_pixel[slot] = static_cast<int64_t>(i);
         for (size_t r = 0; r < kFitRadii.size(); ++r)
@@ -189,6 +231,7 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
     }
   });
   keep_covered_fit_slots(t, fit_slot_pixel);
+  t.reused_pixels = reused.load();
   return t;
 }
 

@@ -96,14 +96,23 @@ const reference::RayCaster& Harness::caster_of(const CaseConfig& c) {
   return *caster;
 }
 
+// One truth per scene and frame, whichever API or technique asks: identical positions share it whole, and positions
+// that differ by rounding (the other API's) share every pixel on the same surface point, cast again elsewhere.
 const Truth& Harness::truth_for(const CaseConfig& c, const Images& images) {
-  const std::string loaded = scene_key(c.scene, c.remedies.rebase_origin);
-  std::string key = loaded + "/" + std::to_string(options_.check_frame) + "/" +
-                    std::to_string(positions_fingerprint(images));
+  const std::string shared = scene_key(c.scene, c.remedies.rebase_origin) + "/" +
+                             std::to_string(options_.check_frame) + "/" + std::to_string(images.width) + "x" +
+                             std::to_string(images.height);
+  std::string key = shared + "/" + std::to_string(positions_fingerprint(images));
   auto it = truths_.find(key);
   if (it != truths_.end()) return it->second;
-  return truths_.emplace(key, compute_truth(caster_of(c), scene_of(c), options_.check_frame, images, options_.truth))
-      .first->second;
+  auto prior = truth_priors_.find(shared);
+  TruthPrior from;
+  if (prior != truth_priors_.end()) from = {&truths_.at(prior->second.first), &prior->second.second};
+  const Truth& made =
+      truths_.emplace(key, compute_truth(caster_of(c), scene_of(c), options_.check_frame, images, options_.truth, from))
+          .first->second;
+  if (prior == truth_priors_.end()) truth_priors_.emplace(shared, std::make_pair(key, images.world_position));
+  return made;
 }
 
 }  // namespace omnishadow::bench
