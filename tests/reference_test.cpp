@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "backends/reference/ray_caster.h"
@@ -93,17 +94,23 @@ TEST(RayCaster, ClosestHitGivesTheSurfaceAndItsShading) {
   EXPECT_FALSE(caster.closest({30, 10, 30}, {0, -1, 0}, 100.0).hit);
 }
 
+// A row of floor points (y = 0) at these x, as the GPU's world positions of a 9x1 image.
+Images floor_row(const std::array<float, 9>& xs) {
+  Images img;
+  img.width = 9;
+  img.height = 1;
+  for (float x : xs) img.world_position.insert(img.world_position.end(), {x, 0.0f, 0.0f, 1.0f});
+  img.shadow_factor.assign(9, 0.0f);
+  return img;
+}
+
 TEST(Truth, SphericalLightGivesAPenumbraBetweenUmbraAndLight) {
   // Box shadow edge at x = 1.25 (point light). With a light of radius 0.5 the edge blurs: full shadow well
   // inside, none well outside, a fraction strictly between near the edge, growing monotonically inwards.
   scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
   RayCaster caster(s);
-  Images img;
-  img.width = 9;
-  img.height = 1;
-  const float xs[9] = {0.0f, 0.6f, 0.9f, 1.1f, 1.25f, 1.4f, 1.6f, 2.0f, 3.0f};
-  for (float x : xs) img.world_position.insert(img.world_position.end(), {x, 0.0f, 0.0f, 1.0f});
-  img.shadow_factor.assign(9, 0.0f);
+  const std::array<float, 9> xs = {0.0f, 0.6f, 0.9f, 1.1f, 1.25f, 1.4f, 1.6f, 2.0f, 3.0f};
+  Images img = floor_row(xs);
   bench::TruthOptions o;
   o.light_radius = 0.5f;
   o.samples_per_axis = 16;
@@ -126,12 +133,7 @@ TEST(Truth, PriorSharesSameSurfacePixelsAndCastsTheRest) {
   // The penumbra scene above; no point on the point light's edge (x = 1.25), where ulps could change the answer.
   scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
   RayCaster caster(s);
-  Images img;
-  img.width = 9;
-  img.height = 1;
-  const float xs[9] = {0.0f, 0.6f, 0.9f, 1.1f, 1.2f, 1.3f, 1.6f, 2.0f, 3.0f};
-  for (float x : xs) img.world_position.insert(img.world_position.end(), {x, 0.0f, 0.0f, 1.0f});
-  img.shadow_factor.assign(9, 0.0f);
+  Images img = floor_row({0.0f, 0.6f, 0.9f, 1.1f, 1.2f, 1.3f, 1.6f, 2.0f, 3.0f});
   bench::TruthOptions o;
   o.light_radius = 0.5f;
   o.samples_per_axis = 4;
