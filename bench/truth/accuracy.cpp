@@ -121,6 +121,70 @@ bool same_surface_point(const glm::vec3& a, const glm::vec3& b, const glm::vec3&
   return glm::length(a - b) <= std::min(arithmetic, subpixel);
 }
 
+namespace {
+
+// The unshadowed (diffuse + specular) light times albedo at the exact surface under the pixel, the same
+// Blinn-Phong as the shader, into `direct`; false where the camera ray finds no surface at p.
+bool unshadowed_light(const reference::RayCaster& caster, const glm::vec3& camera, const glm::vec3& p,
+                      const glm::vec3& to_light, const glm::vec3& light_color, glm::vec3& direct) {
+  const glm::vec3 to_p = p - camera;
+  const float distance = glm::length(to_p);
+  reference::Hit hit = caster.closest(camera, to_p / distance, distance * 1.001 + 1e-3);
+  if (!hit.hit || std::fabs(hit.distance - distance) >= 1e-3 * (1.0 + distance)) return false;
+  const glm::vec3 n = caster.normal_at(hit), albedo = caster.color_at(hit), view = glm::normalize(camera - p);
+  const float diff = std::max(glm::dot(to_light, n), 0.0f);
+  const float spec = std::pow(std::max(glm::dot(n, glm::normalize(to_light + view)), 0.0f), 64.0f);
+  direct = (diff + spec) * light_color * albedo;
+  return true;
+}
+
+// A prior truth where it fits this image (same size and options): per pixel, whether its values can be taken.
+class PriorPixels {
+ public:
+  PriorPixels(const TruthPrior& prior, const Images& img, const Truth& t, const scene::Camera& camera)
+      : positions_(prior.positions), camera_(camera.position) {
+    const Truth* p = prior.truth;
+    if (p && positions_ && p->width == img.width && p->height == img.height &&
+        positions_->size() == img.world_position.size() && p->options.light_radius == t.options.light_radius &&
+        p->options.samples_per_axis == t.options.samples_per_axis && p->sphere_stride == t.sphere_stride)
+      before_ = p;
+    // The radians one pixel spans vertically: its footprint at distance d is about d times that.
+    pixel_angle_ = 2.0f * std::tan(glm::radians(camera.fov_y_degrees) * 0.5f) / float(std::max(img.height, 1));
+    if (before_ && !before_->fit_pixels.empty()) {  // each prior fit pixel's index into its fit arrays
+      fit_index_.assign(before_->covered.size(), -1);
+      for (size_t j = 0; j < before_->fit_pixels.size(); ++j) fit_index_[before_->fit_pixels[j]] = int32_t(j);
+    }
+  }
+
+  // Copies pixel i's values (and its fit slot's, when it is a fit pixel: slot >= 0) where the prior saw the same
+  // surface point there; false where it must be cast.
+  bool take(size_t i, const glm::vec3& p, int64_t slot, Truth& t) {
+    if (!before_ || !before_->covered[i]) return false;
+    const float* q = positions_->data() + 4 * i;
+    if (!same_surface_point(p, glm::vec3(q[0], q[1], q[2]), camera_, pixel_angle_)) return false;
+    if (slot >= 0 && (fit_index_.empty() || fit_index_[i] < 0)) return false;
+    t.point_shadow[i] = before_->point_shadow[i];
+    if (!t.sphere_shadow.empty()) t.sphere_shadow[i] = before_->sphere_shadow[i];
+    t.direct[i] = before_->direct[i];
+    t.has_direct[i] = before_->has_direct[i];
+    for (size_t r = 0; slot >= 0 && r < kFitRadii.size(); ++r)
+      t.fit_shadow[r][size_t(slot)] = before_->fit_shadow[r][size_t(fit_index_[i])];
+    taken_.fetch_add(1, std::memory_order_relaxed);
+    return true;
+  }
+  uint64_t taken() const { return taken_.load(); }
+
+ private:
+  const Truth* before_ = nullptr;
+  const std::vector<float>* positions_;
+  glm::vec3 camera_;
+  float pixel_angle_ = 0.0f;
+  std::vector<int32_t> fit_index_;
+  std::atomic<uint64_t> taken_{0};
+};
+
+}  // namespace
+
 Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& img,
                     const TruthOptions& options, const TruthPrior& prior) {
   Truth t = blank_truth(img, options);
@@ -144,22 +208,7 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   };
   const glm::vec3 camera = scene.camera.position;
   const int k = std::max(1, options.samples_per_axis);
-  // The prior, where it fits this image: the radians one pixel spans vertically (its footprint at distance d is
-  // about d times that), and each prior fit pixel's index into its fit arrays.
-  const Truth* before = prior.truth && prior.positions && prior.truth->width == img.width &&
-                                prior.truth->height == img.height &&
-                                prior.positions->size() == img.world_position.size() &&
-                                prior.truth->options.light_radius == options.light_radius &&
-                                prior.truth->options.samples_per_axis == options.samples_per_axis &&
-                                prior.truth->sphere_stride == t.sphere_stride
-                            ? prior.truth
-                            : nullptr;
-  const float pixel_angle =
-      2.0f * std::tan(glm::radians(scene.camera.fov_y_degrees) * 0.5f) / static_cast<float>(std::max(img.height, 1));
-  std::vector<int32_t> before_fit(before && !before->fit_pixels.empty() ? before->covered.size() : 0, -1);
-  for (size_t j = 0; j < before_fit.size() && j < before->fit_pixels.size(); ++j)
-    before_fit[before->fit_pixels[j]] = static_cast<int32_t>(j);
-  std::atomic<uint64_t> reused{0};
+  PriorPixels from_prior(prior, img, t, scene.camera);
   // Radius-fit slots: one per fit_stride-th pixel of every fit_stride-th row, filled where covered; large frames
   // thin the fit as they thin the soft reference.
   const bool fit = options.light_radius > 0 && map == nullptr;
@@ -176,24 +225,11 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       if (img.world_position[4 * i + 3] != 1.0f) continue;
       t.covered[i] = 1;
       const glm::vec3 p(img.world_position[4 * i], img.world_position[4 * i + 1], img.world_position[4 * i + 2]);
-      const bool fit_pixel = fit && x % fit_stride == 0 && y % fit_stride == 0;
-      if (before && before->covered[i]) {
-        const float* q = prior.positions->data() + 4 * i;
-        if (same_surface_point(p, glm::vec3(q[0], q[1], q[2]), camera, pixel_angle) &&
-            (!fit_pixel || (!before_fit.empty() && before_fit[i] >= 0))) {
-          t.point_shadow[i] = before->point_shadow[i];
-          if (!t.sphere_shadow.empty()) t.sphere_shadow[i] = before->sphere_shadow[i];
-          t.direct[i] = before->direct[i];
-          t.has_direct[i] = before->has_direct[i];
-          if (fit_pixel) {
-            const size_t slot = static_cast<size_t>(y / fit_stride) * fit_w + static_cast<size_t>(x / fit_stride);
-            fit_slot_pixel[slot] = static_cast<int64_t>(i);
-            for (size_t r = 0; r < kFitRadii.size(); ++r) t.fit_shadow[r][slot] = before->fit_shadow[r][before_fit[i]];
-          }
-          reused.fetch_add(1, std::memory_order_relaxed);
-          continue;
-        }
-      }
+      const int64_t slot = fit && x % fit_stride == 0 && y % fit_stride == 0
+                               ? int64_t(y / fit_stride) * fit_w + int64_t(x / fit_stride)
+                               : -1;
+      if (slot >= 0) fit_slot_pixel[size_t(slot)] = static_cast<int64_t>(i);
+      if (from_prior.take(i, p, slot, t)) continue;
       const glm::vec3 light = light_for(p);
       const bool reached = !map || directional || spot_reaches(p);
       // End tolerance: relative to the distance, so that a point does not hide behind its own surface.
@@ -206,32 +242,17 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
         t.sphere_shadow[i] =
             hidden_fraction(caster, light, p, options.light_radius, k, static_cast<uint32_t>(i), eps, &soft_blocker);
       }
-      if (fit_pixel) {
-        const size_t slot = static_cast<size_t>(y / fit_stride) * fit_w + static_cast<size_t>(x / fit_stride);
-        fit_slot_pixel[slot] = static_cast<int64_t>(i);
-        for (size_t r = 0; r < kFitRadii.size(); ++r)
-          t.fit_shadow[r][slot] = kFitRadii[r] == 0.0f ? t.point_shadow[i]
+      for (size_t r = 0; slot >= 0 && r < kFitRadii.size(); ++r)
+          t.fit_shadow[r][size_t(slot)] = kFitRadii[r] == 0.0f ? t.point_shadow[i]
                                                         : hidden_fraction(caster, light, p, kFitRadii[r],
                                                                           kFitSamplesPerAxis, static_cast<uint32_t>(i), eps,
                                                                           &soft_blocker);
-      }
-
-      // The exact surface under the pixel, for the unshadowed lighting terms (same Blinn-Phong as the shader).
-      glm::vec3 to_p = p - camera;
-      float distance = glm::length(to_p);
-      reference::Hit hit = caster.closest(camera, to_p / distance, distance * 1.001 + 1e-3);
-      if (hit.hit && std::fabs(hit.distance - distance) < 1e-3 * (1.0 + distance)) {
-        glm::vec3 n = caster.normal_at(hit), albedo = caster.color_at(hit);
-        glm::vec3 l = directional ? -map->direction : glm::normalize(light - p), view = glm::normalize(camera - p);
-        float diff = std::max(glm::dot(l, n), 0.0f);
-        float spec = std::pow(std::max(glm::dot(n, glm::normalize(l + view)), 0.0f), 64.0f);
-        t.direct[i] = reached ? (diff + spec) * light_color * albedo : glm::vec3(0.0f);
-        t.has_direct[i] = 1;
-      }
+      const glm::vec3 l = directional ? -map->direction : glm::normalize(light - p);
+      t.has_direct[i] = unshadowed_light(caster, camera, p, l, reached ? light_color : glm::vec3(0.0f), t.direct[i]);
     }
   });
   keep_covered_fit_slots(t, fit_slot_pixel);
-  t.reused_pixels = reused.load();
+  t.reused_pixels = from_prior.taken();
   return t;
 }
 
