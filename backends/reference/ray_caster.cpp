@@ -1,6 +1,7 @@
 #include "backends/reference/ray_caster.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -8,8 +9,27 @@ namespace omnishadow::reference {
 namespace {
 
 constexpr uint32_t kLeafSize = 4;
+constexpr int kMaxDepth = 60;  // the traversal stack (128) holds at most depth + 1 entries
+constexpr double kMissed = std::numeric_limits<double>::infinity();
 
-// Slab test; returns the entry distance or +inf when the box is missed within [0, max_distance].
+// Node boxes are tested in float (enter_box_float), about twice as fast as double, and conservatively: the test never
+// misses a box the double ray meets within [0, max_distance]. The origin converts exactly (traverse() checks it is
+// a float), and each direction component is at least kFloatParallel, so |inv| <= 1e12 and no slab distance is NaN.
+// Each slab distance then carries at most three roundings (1/dir to float, lo - o, the product): relative error
+// (1 + u)^3 with u = 2^-24, except where lo - o is subnormal, which the subtraction gives exactly and the product
+// rounds by at most 2^-149 absolute. The entry t0 is thus at most (1 + u)^3 high and the exit t1 (or
+// float(max_distance)) at most (1 + u)^3 low, so a box the exact ray meets (t0 <= t1) has t0_f <= t1_f * (1 + u)^3 /
+// (1 - u)^3, about 1 + 6u; the test allows t1_f * kWiden + kSlack, whose product rounds by one more u: kWiden =
+// 1 + 2^-20 = 1 + 16u leaves a margin of more than 8u, and kSlack (1e-30) covers the subnormal roundings. The same
+// allowance covers the triangle test's own rounding (a vertex on a box's face whose computed distance is a few double
+// ulps short of the exact one) and the double test's (the same three roundings with u = 2^-53).
+constexpr double kFloatParallel = 1e-12;
+constexpr float kWiden = 1.0f + 0x1p-20f;
+constexpr float kSlack = 1e-30f;
+inline bool beyond(double entry, double limit) { return entry > limit * double(kWiden) + double(kSlack); }
+
+// The slab test in double, for rays the float test cannot take (almost axis-parallel, or a non-float origin);
+// returns the entry distance or +inf when the box is missed within [0, max_distance].
 double enter_box(const glm::vec3& lo, const glm::vec3& hi, const glm::dvec3& origin, const glm::dvec3& inv_dir,
                  double max_distance) {
   double t0 = 0.0, t1 = max_distance;
@@ -20,9 +40,24 @@ double enter_box(const glm::vec3& lo, const glm::vec3& hi, const glm::dvec3& ori
     // NaN (0 * inf for a ray in the slab's plane) must not reject: keep the current bounds.
     if (a > t0) t0 = a;
     if (b < t1) t1 = b;
-    if (t0 > t1) return std::numeric_limits<double>::infinity();
   }
-  return t0;
+  return beyond(t0, t1) ? kMissed : t0;
+}
+
+[[gnu::always_inline]] inline float enter_box_float(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& origin, const glm::vec3& inv_dir,
+                      float max_distance) {
+  float t0 = 0.0f, t1 = max_distance;
+  for (int k = 0; k < 3; ++k) {
+    const float a = (lo[k] - origin[k]) * inv_dir[k], b = (hi[k] - origin[k]) * inv_dir[k];
+    t0 = std::max(t0, std::min(a, b));
+    t1 = std::min(t1, std::max(a, b));
+  }
+  return t0 <= t1 * kWiden + kSlack ? t0 : std::numeric_limits<float>::infinity();  // beyond(), in float
+}
+
+float surface_area(const glm::vec3& lo, const glm::vec3& hi) {
+  const glm::vec3 d = hi - lo;
+  return 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
 }
 
 }  // namespace
@@ -69,7 +104,7 @@ RayCaster::RayCaster(const scene::Scene& scene) {
 }
 
 void RayCaster::build(uint32_t index, uint32_t first, uint32_t count, int depth) {
-  Node node{glm::vec3(INFINITY), glm::vec3(-INFINITY), first, count};
+  Node node{glm::vec3(INFINITY), 0, glm::vec3(-INFINITY), 0};
   glm::vec3 cmin(INFINITY), cmax(-INFINITY);
   for (uint32_t i = first; i < first + count; ++i) {
     node.min = glm::min(node.min, tri_min_[order_[i]]);
@@ -77,57 +112,129 @@ void RayCaster::build(uint32_t index, uint32_t first, uint32_t count, int depth)
     cmin = glm::min(cmin, centroids_[order_[i]]);
     cmax = glm::max(cmax, centroids_[order_[i]]);
   }
-  if (count <= kLeafSize || depth > 60) {
+  if (count <= kLeafSize || depth >= kMaxDepth) {
+    node.first = first;
+    node.count = count;
     nodes_[index] = node;
     return;
   }
-  // Median split on the widest axis of the centroids: simple, deterministic, good enough for static scenes.
-  glm::vec3 extent = cmax - cmin;
-  int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-  uint32_t half = count / 2;
-  std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
-                   [&](uint32_t a, uint32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
+  const uint32_t half = split(first, count, cmin, cmax);
   const uint32_t left = static_cast<uint32_t>(nodes_.size());  // children as a pair: right = left + 1
   nodes_.emplace_back();
   nodes_.emplace_back();
   node.first = left;
-  node.count = 0;
   nodes_[index] = node;
   build(left, first, half, depth + 1);
   build(left + 1, first + half, count - half, depth + 1);
 }
 
+// Binned surface-area heuristic (Wald 2007): the triangles' centroids in kBins slabs along each axis, and the
+// boundary that minimises area(left) * count(left) + area(right) * count(right), the expected cost of a random
+// ray meeting the parent. Deterministic (no randomness, ties go to the first axis and bin); returns the left
+// part's size, the part placed first in order_.
+uint32_t RayCaster::split(uint32_t first, uint32_t count, const glm::vec3& cmin, const glm::vec3& cmax) {
+  constexpr int kBins = 16;
+  struct Bin {
+    glm::vec3 lo{INFINITY}, hi{-INFINITY};
+    uint32_t n = 0;
+  };
+  auto bin_of = [&](uint32_t t, int axis) {
+    const float scale = float(kBins) / (cmax[axis] - cmin[axis]);
+    return std::min(kBins - 1, static_cast<int>((centroids_[t][axis] - cmin[axis]) * scale));
+  };
+  float best_cost = INFINITY;
+  int best_axis = -1, best_bin = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(cmax[axis] > cmin[axis])) continue;
+    std::array<Bin, kBins> bins;
+    for (uint32_t i = first; i < first + count; ++i) {
+      Bin& b = bins[size_t(bin_of(order_[i], axis))];
+      b.lo = glm::min(b.lo, tri_min_[order_[i]]);
+      b.hi = glm::max(b.hi, tri_max_[order_[i]]);
+      ++b.n;
+    }
+    std::array<float, kBins> right_cost{};  // right_cost[b]: bins b.. as one side
+    Bin side;
+    for (int b = kBins - 1; b > 0; --b) {
+      side = {glm::min(side.lo, bins[size_t(b)].lo), glm::max(side.hi, bins[size_t(b)].hi), side.n + bins[size_t(b)].n};
+      right_cost[size_t(b)] = side.n ? surface_area(side.lo, side.hi) * float(side.n) : 0.0f;
+    }
+    side = Bin{};
+    for (int b = 0; b + 1 < kBins; ++b) {
+      side = {glm::min(side.lo, bins[size_t(b)].lo), glm::max(side.hi, bins[size_t(b)].hi), side.n + bins[size_t(b)].n};
+      const float cost = (side.n ? surface_area(side.lo, side.hi) * float(side.n) : 0.0f) + right_cost[size_t(b) + 1];
+      if (side.n > 0 && side.n < count && cost < best_cost) {
+        best_cost = cost;
+        best_axis = axis;
+        best_bin = b;
+      }
+    }
+  }
+  if (best_axis < 0) return median_split(first, count, cmin, cmax);
+  auto middle = std::partition(order_.begin() + first, order_.begin() + first + count,
+                               [&](uint32_t t) { return bin_of(t, best_axis) <= best_bin; });
+  return static_cast<uint32_t>(middle - (order_.begin() + first));
+}
+
+// Where every centroid coincides (no boundary separates them): halves by index along the widest axis.
+uint32_t RayCaster::median_split(uint32_t first, uint32_t count, const glm::vec3& cmin, const glm::vec3& cmax) {
+  const glm::vec3 extent = cmax - cmin;
+  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const uint32_t half = count / 2;
+  std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
+                   [&](uint32_t a, uint32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
+  return half;
+}
+
 template <typename OnTriangle>
 void RayCaster::traverse(const glm::dvec3& origin, const glm::dvec3& dir, double max_distance, OnTriangle on) const {
   if (nodes_.empty()) return;
+  const glm::vec3 origin_f(origin);
+  bool in_float = glm::dvec3(origin_f) == origin;
+  for (int k = 0; k < 3; ++k) in_float = in_float && std::fabs(dir[k]) >= kFloatParallel;
   const glm::dvec3 inv(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z);
-  uint32_t stack[128];
+  if (in_float) {
+    const glm::vec3 inv_f(inv);
+    walk(max_distance, [&](const Node& n, double limit) -> double {
+      return enter_box_float(n.min, n.max, origin_f, inv_f, static_cast<float>(limit));
+    }, on);
+  } else {
+    walk(max_distance, [&](const Node& n, double limit) { return enter_box(n.min, n.max, origin, inv, limit); }, on);
+  }
+}
+
+// Each node's box is tested once, when its parent is visited; the entry distance travels with it on the stack, so
+// that closest() skips a node that a nearer hit has since put beyond reach.
+template <typename BoxTest, typename OnTriangle>
+void RayCaster::walk(double max_distance, BoxTest enter, OnTriangle on) const {
+  struct Entry {
+    uint32_t node;
+    double entry;
+  };
+  Entry stack[128];
   int top = 0;
-  stack[top++] = 0;
+  const double root = enter(nodes_[0], max_distance);
+  if (root == kMissed) return;
+  stack[top++] = {0, root};
   while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (enter_box(node.min, node.max, origin, inv, max_distance) == std::numeric_limits<double>::infinity()) continue;
+    const Entry e = stack[--top];
+    if (beyond(e.entry, max_distance)) continue;
+    const Node& node = nodes_[e.node];
     if (node.count > 0) {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) {
         max_distance = on(order_[i], max_distance);
         if (max_distance < 0) return;
       }
-    } else {
-      // Visit the nearer child first so that closest() shrinks max_distance early.
-      const Node& l = nodes_[node.first];
-      const Node& r = nodes_[node.first + 1];
-      double dl = enter_box(l.min, l.max, origin, inv, max_distance);
-      double dr = enter_box(r.min, r.max, origin, inv, max_distance);
-      if (dl <= dr) {
-        stack[top++] = node.first + 1;
-        stack[top++] = node.first;
-      } else {
-        stack[top++] = node.first;
-        stack[top++] = node.first + 1;
-      }
+      continue;
     }
+    Entry near{node.first, enter(nodes_[node.first], max_distance)};
+    Entry far{node.first + 1, enter(nodes_[node.first + 1], max_distance)};
+    if (far.entry < near.entry) std::swap(near, far);
+    if (far.entry != kMissed) stack[top++] = far;  // the nearer child on top: closest() shrinks max_distance early
+    if (near.entry != kMissed) stack[top++] = near;
   }
 }
+
 
 bool RayCaster::blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon, uint32_t* last_blocker) const {
   const glm::dvec3 origin(from);
@@ -160,7 +267,8 @@ Hit RayCaster::closest(const glm::vec3& origin_f, const glm::vec3& direction, do
     const Triangle& tri = triangles_[t];
     double u = 0, v = 0;
     double d = intersect(origin, dir, tri.a, tri.e1, tri.e2, &u, &v);
-    if (d > 0.0 && d < limit) {
+    // Of hits at one distance, the lowest triangle index: the answer does not hang on the visiting order.
+    if (d > 0.0 && (d < limit || (best.hit && d == limit && t < best.triangle))) {
       best = {true, d, t, u, v};
       return d;
     }

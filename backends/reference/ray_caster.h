@@ -31,7 +31,8 @@ class RayCaster {
   // answer is the same with or without it: any triangle crossing the segment answers it, found first or not.
   bool blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon, uint32_t* last_blocker = nullptr) const;
   static constexpr uint32_t kNoBlocker = 0xffffffffu;
-  // The nearest hit along `direction` (unit) within (0, max_distance].
+  // The nearest hit along `direction` (unit) within (0, max_distance); of hits at one distance (an edge or vertex
+  // that triangles share), the lowest triangle index, whatever order the hierarchy visits them in.
   Hit closest(const glm::vec3& origin, const glm::vec3& direction, double max_distance) const;
 
   // Shading data of a hit: the interpolated vertex normal (unit, the scene's lit side) and the albedo.
@@ -44,15 +45,21 @@ class RayCaster {
     glm::dvec3 a, e1, e2;  // a, b - a, c - a (double: the answer must not hinge on float rounding at edges)
   };
   struct Node {
-    glm::vec3 min, max;
+    glm::vec3 min;
     uint32_t first;  // leaf: first index into order_; inner: index of the left child (right = left + 1)
+    glm::vec3 max;
     uint32_t count;  // leaf: triangle count; inner: 0
   };
   // Calls hit(triangle index, distance) for triangles whose bounds the ray meets within `max_distance`, nearest
-  // nodes first; `hit` returns the new max distance (or < 0 to stop).
+  // nodes first; `hit` returns the new max distance (or < 0 to stop). Boxes are tested in float where that is
+  // provably conservative (ray_caster.cpp), in double otherwise: culling never drops a triangle the double ray meets.
   template <typename OnTriangle>
   void traverse(const glm::dvec3& origin, const glm::dvec3& direction, double max_distance, OnTriangle on) const;
+  template <typename BoxTest, typename OnTriangle>
+  void walk(double max_distance, BoxTest enter, OnTriangle on) const;
   void build(uint32_t index, uint32_t first, uint32_t count, int depth);
+  uint32_t split(uint32_t first, uint32_t count, const glm::vec3& cmin, const glm::vec3& cmax);
+  uint32_t median_split(uint32_t first, uint32_t count, const glm::vec3& cmin, const glm::vec3& cmax);
 
   std::vector<Triangle> triangles_;
   std::vector<const scene::Vertex*> vertices_;  // three per triangle, into the scene (kept alive by the caller)
