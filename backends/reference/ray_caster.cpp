@@ -1,4 +1,5 @@
 #include "backends/reference/ray_caster.h"
+#include "backends/reference/wide_bvh.h"
 
 #include <algorithm>
 #include <array>
@@ -11,49 +12,6 @@ namespace {
 constexpr uint32_t kLeafSize = 4;
 constexpr int kMaxDepth = 60;  // the traversal stack (128) holds at most depth + 1 entries
 constexpr double kMissed = std::numeric_limits<double>::infinity();
-
-// Node boxes are tested in float (enter_box_float), about twice as fast as double, and conservatively: the test never
-// misses a box the double ray meets within [0, max_distance]. The origin converts exactly (traverse() checks it is
-// a float), and each direction component is at least kFloatParallel, so |inv| <= 1e12 and no slab distance is NaN.
-// Each slab distance then carries at most three roundings (1/dir to float, lo - o, the product): relative error
-// (1 + u)^3 with u = 2^-24, except where lo - o is subnormal, which the subtraction gives exactly and the product
-// rounds by at most 2^-149 absolute. The entry t0 is thus at most (1 + u)^3 high and the exit t1 (or
-// float(max_distance)) at most (1 + u)^3 low, so a box the exact ray meets (t0 <= t1) has t0_f <= t1_f * (1 + u)^3 /
-// (1 - u)^3, about 1 + 6u; the test allows t1_f * kWiden + kSlack, whose product rounds by one more u: kWiden =
-// 1 + 2^-20 = 1 + 16u leaves a margin of more than 8u, and kSlack (1e-30) covers the subnormal roundings. The same
-// allowance covers the triangle test's own rounding (a vertex on a box's face whose computed distance is a few double
-// ulps short of the exact one) and the double test's (the same three roundings with u = 2^-53).
-constexpr double kFloatParallel = 1e-12;
-constexpr float kWiden = 1.0f + 0x1p-20f;
-constexpr float kSlack = 1e-30f;
-inline bool beyond(double entry, double limit) { return entry > limit * double(kWiden) + double(kSlack); }
-
-// The slab test in double, for rays the float test cannot take (almost axis-parallel, or a non-float origin);
-// returns the entry distance or +inf when the box is missed within [0, max_distance].
-double enter_box(const glm::vec3& lo, const glm::vec3& hi, const glm::dvec3& origin, const glm::dvec3& inv_dir,
-                 double max_distance) {
-  double t0 = 0.0, t1 = max_distance;
-  for (int k = 0; k < 3; ++k) {
-    double a = (lo[k] - origin[k]) * inv_dir[k];
-    double b = (hi[k] - origin[k]) * inv_dir[k];
-    if (a > b) std::swap(a, b);
-    // NaN (0 * inf for a ray in the slab's plane) must not reject: keep the current bounds.
-    if (a > t0) t0 = a;
-    if (b < t1) t1 = b;
-  }
-  return beyond(t0, t1) ? kMissed : t0;
-}
-
-[[gnu::always_inline]] inline float enter_box_float(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& origin, const glm::vec3& inv_dir,
-                      float max_distance) {
-  float t0 = 0.0f, t1 = max_distance;
-  for (int k = 0; k < 3; ++k) {
-    const float a = (lo[k] - origin[k]) * inv_dir[k], b = (hi[k] - origin[k]) * inv_dir[k];
-    t0 = std::max(t0, std::min(a, b));
-    t1 = std::min(t1, std::max(a, b));
-  }
-  return t0 <= t1 * kWiden + kSlack ? t0 : std::numeric_limits<float>::infinity();  // beyond(), in float
-}
 
 float surface_area(const glm::vec3& lo, const glm::vec3& hi) {
   const glm::vec3 d = hi - lo;
@@ -99,12 +57,13 @@ RayCaster::RayCaster(const scene::Scene& scene) {
     nodes_.emplace_back();
     build(0, 0, static_cast<uint32_t>(n), 0);
   }
-  centroids_.clear();
-  centroids_.shrink_to_fit();
+  wide_ = collapse_to_wide(nodes_);
+  for (auto* scratch : {&centroids_, &tri_min_, &tri_max_}) *scratch = {};
+  nodes_ = {};
 }
 
 void RayCaster::build(uint32_t index, uint32_t first, uint32_t count, int depth) {
-  Node node{glm::vec3(INFINITY), 0, glm::vec3(-INFINITY), 0};
+  BinaryNode node{glm::vec3(INFINITY), 0, glm::vec3(-INFINITY), 0};
   glm::vec3 cmin(INFINITY), cmax(-INFINITY);
   for (uint32_t i = first; i < first + count; ++i) {
     node.min = glm::min(node.min, tri_min_[order_[i]]);
@@ -188,53 +147,59 @@ uint32_t RayCaster::median_split(uint32_t first, uint32_t count, const glm::vec3
 
 template <typename OnTriangle>
 void RayCaster::traverse(const glm::dvec3& origin, const glm::dvec3& dir, double max_distance, OnTriangle on) const {
-  if (nodes_.empty()) return;
+  if (wide_.empty()) return;
   const glm::vec3 origin_f(origin);
   bool in_float = glm::dvec3(origin_f) == origin;
   for (int k = 0; k < 3; ++k) in_float = in_float && std::fabs(dir[k]) >= kFloatParallel;
   const glm::dvec3 inv(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z);
   if (in_float) {
     const glm::vec3 inv_f(inv);
-    walk(max_distance, [&](const Node& n, double limit) -> double {
-      return enter_box_float(n.min, n.max, origin_f, inv_f, static_cast<float>(limit));
+    walk(max_distance, [&](const WideNode& n, double limit, double entry[4]) {
+      enter_wide(n, origin_f, inv_f, static_cast<float>(limit), entry);
     }, on);
   } else {
-    walk(max_distance, [&](const Node& n, double limit) { return enter_box(n.min, n.max, origin, inv, limit); }, on);
+    walk(max_distance, [&](const WideNode& n, double limit, double entry[4]) {
+      enter_wide(n, origin, inv, limit, entry);
+    }, on);
   }
 }
 
-// Each node's box is tested once, when its parent is visited; the entry distance travels with it on the stack, so
-// that closest() skips a node that a nearer hit has since put beyond reach.
+// Each box is tested once, with its siblings, when its parent is visited; the entry distance travels with it on the
+// stack, so that closest() skips a node or leaf that a nearer hit has since put beyond reach.
 template <typename BoxTest, typename OnTriangle>
 void RayCaster::walk(double max_distance, BoxTest enter, OnTriangle on) const {
   struct Entry {
-    uint32_t node;
+    uint32_t index;  // a wide node, or (count > 0) a leaf's first triangle in order_
+    uint32_t count;
     double entry;
   };
-  Entry stack[128];
+  Entry stack[256];  // three more entries a level at most, 60 levels
   int top = 0;
-  const double root = enter(nodes_[0], max_distance);
-  if (root == kMissed) return;
-  stack[top++] = {0, root};
+  stack[top++] = {0, 0, 0.0};
   while (top > 0) {
     const Entry e = stack[--top];
     if (beyond(e.entry, max_distance)) continue;
-    const Node& node = nodes_[e.node];
-    if (node.count > 0) {
-      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+    if (e.count > 0) {
+      for (uint32_t i = e.index; i < e.index + e.count; ++i) {
         max_distance = on(order_[i], max_distance);
         if (max_distance < 0) return;
       }
       continue;
     }
-    Entry near{node.first, enter(nodes_[node.first], max_distance)};
-    Entry far{node.first + 1, enter(nodes_[node.first + 1], max_distance)};
-    if (far.entry < near.entry) std::swap(near, far);
-    if (far.entry != kMissed) stack[top++] = far;  // the nearer child on top: closest() shrinks max_distance early
-    if (near.entry != kMissed) stack[top++] = near;
+    const WideNode& node = wide_[e.index];
+    double entry[4];
+    enter(node, max_distance, entry);
+    // The lanes met, farthest first onto the stack, so that the nearest is visited next.
+    const int base = top;
+    for (int lane = 0; lane < 4; ++lane) {
+      if (entry[lane] == kMissed) continue;
+      Entry in{node.child[lane], node.count[lane], entry[lane]};
+      int at = top++;
+      for (; at > base && stack[at - 1].entry < in.entry; --at) stack[at] = stack[at - 1];
+      stack[at] = in;
+    }
   }
 }
-
 
 bool RayCaster::blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon, uint32_t* last_blocker) const {
   const glm::dvec3 origin(from);

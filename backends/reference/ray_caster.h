@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "backends/reference/wide_bvh.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::reference {
@@ -44,12 +45,6 @@ class RayCaster {
   struct Triangle {
     glm::dvec3 a, e1, e2;  // a, b - a, c - a (double: the answer must not hinge on float rounding at edges)
   };
-  struct Node {
-    glm::vec3 min;
-    uint32_t first;  // leaf: first index into order_; inner: index of the left child (right = left + 1)
-    glm::vec3 max;
-    uint32_t count;  // leaf: triangle count; inner: 0
-  };
   // Calls hit(triangle index, distance) for triangles whose bounds the ray meets within `max_distance`, nearest
   // nodes first; `hit` returns the new max distance (or < 0 to stop). Boxes are tested in float where that is
   // provably conservative (ray_caster.cpp), in double otherwise: culling never drops a triangle the double ray meets.
@@ -64,7 +59,8 @@ class RayCaster {
   std::vector<Triangle> triangles_;
   std::vector<const scene::Vertex*> vertices_;  // three per triangle, into the scene (kept alive by the caller)
   std::vector<uint32_t> order_;
-  std::vector<Node> nodes_;
+  std::vector<BinaryNode> nodes_;  // the binary build, collapsed into wide_ and freed
+  std::vector<WideNode> wide_;
   std::vector<glm::vec3> centroids_, tri_min_, tri_max_;
 };
 
