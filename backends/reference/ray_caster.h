@@ -1,7 +1,8 @@
 #pragma once
 // Exact visibility from the scene's own triangles, never from a shadow map: the ground truth every GPU shadow
-// factor is held against. A bounding-volume hierarchy keeps 800x600 pixels x 64 light samples on the heavy
-// scene (110k triangles) to seconds.
+// factor is held against. Triangles are tested in double; a four-wide SAH bounding-volume hierarchy with float box
+// tests (wide_bvh.h: conservative, it never culls a triangle the double ray meets, so every answer is that of testing
+// every triangle) keeps 800x600 pixels x 64 light samples on the heavy scene (110k triangles) to a few seconds.
 
 #include <glm/glm.hpp>
 
