@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include "backends/reference/ray_caster.h"
 #include "bench/truth/accuracy.h"
@@ -240,6 +241,29 @@ TEST(Truth, SoftReferenceIsSubsampledAboveAnEightHundredBySixHundredFrame) {
   EXPECT_GT(a.mae_sphere, 0.05);
   EXPECT_NEAR(b.mae_sphere, a.mae_sphere, 0.1 * a.mae_sphere);
   EXPECT_EQ(b.misclassified_percent, a.misclassified_percent) << "point figures use every pixel";
+}
+
+// Cases share a truth when their positions' fingerprints agree: any changed bit, anywhere, must tell them apart.
+TEST(Truth, FingerprintTellsPositionBuffersApart) {
+  Images a;
+  a.width = 7;
+  a.height = 3;
+  for (int i = 0; i < a.width * a.height * 4; ++i) a.world_position.push_back(0.37f * float(i) - 2.0f);
+  Images same = a;
+  EXPECT_EQ(bench::positions_fingerprint(a), bench::positions_fingerprint(same));
+  for (size_t value : {size_t(0), size_t(41), a.world_position.size() - 1}) {
+    for (int bit : {0, 17, 31}) {
+      Images b = a;
+      uint32_t word;
+      std::memcpy(&word, &b.world_position[value], 4);
+      word ^= 1u << bit;
+      std::memcpy(&b.world_position[value], &word, 4);
+      EXPECT_NE(bench::positions_fingerprint(a), bench::positions_fingerprint(b)) << "value " << value << " bit " << bit;
+    }
+  }
+  Images swapped = a;
+  std::swap(swapped.width, swapped.height);
+  EXPECT_NE(bench::positions_fingerprint(a), bench::positions_fingerprint(swapped)) << "the size is part of it";
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <thread>
 
@@ -327,10 +329,19 @@ std::vector<uint8_t> error_heatmap(const Truth& t, const Images& img) {
 }
 
 uint64_t positions_fingerprint(const Images& img) {
-  uint64_t h = 1469598103934665603ull;  // FNV-1a over the raw float bytes
+  // Eight bytes a step (a 7.7 MB buffer at 800x600 every case): multiply, rotate, multiply, as a 64-bit hash's
+  // rounds do, so that every bit of a word reaches the whole state.
+  uint64_t h = 0x9E3779B97F4A7C15ull ^ (static_cast<uint64_t>(img.width) << 32) ^ static_cast<uint64_t>(img.height);
   const auto* bytes = reinterpret_cast<const uint8_t*>(img.world_position.data());
-  for (size_t i = 0; i < img.world_position.size() * sizeof(float); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
-  return h ^ (static_cast<uint64_t>(img.width) << 32) ^ static_cast<uint64_t>(img.height);
+  const size_t size = img.world_position.size() * sizeof(float);
+  size_t i = 0;
+  for (; i + 8 <= size; i += 8) {
+    uint64_t word;
+    std::memcpy(&word, bytes + i, 8);
+    h = std::rotl(h ^ (word * 0xC2B2AE3D27D4EB4Full), 31) * 0x9E3779B97F4A7C15ull;
+  }
+  for (; i < size; ++i) h = std::rotl(h ^ (bytes[i] * 0xC2B2AE3D27D4EB4Full), 31) * 0x9E3779B97F4A7C15ull;
+  return h ^ (h >> 29);
 }
 
 }  // namespace omnishadow::bench
