@@ -5,7 +5,8 @@
 # Usage: scripts/gpu_acceptance.sh OUT STEP [STEP...]
 #   exits      `list`, `run --backend gl,vulkan` and `--backend vulkan,gl` must exit 0
 #   clocks     the default run (both APIs) and the GL default matrix twice: PASS when no case's clock moved inside a
-#              timed repetition and every case's first and last repetitions agree within 5%
+#              timed repetition and every case's first and last repetitions agree within 5%; and the default run's
+#              untimed part (checks, reference, read-backs, images) at most 0.5x its timed part
 #   checks     no false alarm on correct code: the small-cube matrix that failed 124 of 156 cases at 3387fa1, the
 #              grazing scene in every storage and depth format, and ctest; PASS or FAIL per part
 #   multiview  GL and Vulkan multiview against six_pass with --check
@@ -49,6 +50,21 @@ clocks = [s.get("clock_mhz") for c in cases for s in c.get("device_state", {}).g
 if clocks:
     print(f"- graphics clock over the run: {min(clocks):.0f}-{max(clocks):.0f} MHz ({len(clocks)} samples); "
           f"cases warned: {sum(1 for c in cases if c.get('device_state', {}).get('warning'))}")
+PY
+}
+
+# PASS when the run's untimed part is at most $2 times its timed part (issue 23: checks cheaper than the timing).
+judge_untimed() {
+  /usr/bin/python3 - "$1" "$2" <<'PY' | tee -a "$summary"
+import json, sys
+p = json.load(open(sys.argv[1] + "/results.json"))["omnishadow"].get("phases", {})
+u, t, limit = p.get("untimed_seconds"), p.get("timed_seconds"), float(sys.argv[2])
+if u is None or not t:
+    print("- FAIL: untimed/timed: the run recorded no phases")
+    sys.exit(1)
+ok = u <= limit * t
+print(f"- {'PASS' if ok else 'FAIL'}: untimed {u:.1f} s is {u / t:.2f}x the timed {t:.1f} s (target <= {limit}x)")
+sys.exit(0 if ok else 1)
 PY
 }
 
@@ -155,6 +171,7 @@ step_clocks() {
   grep "^\[settle\]" "$out/clocks/default.log" | sed 's/^/  - /' | tee -a "$summary"
   describe_run "$out/clocks/default"
   judge_clocks "$out/clocks/default" || failed=1
+  judge_untimed "$out/clocks/default" 0.5 || failed=1
   for i in 1 2; do
     "$bin" run --backend gl --frames 4 --warmup 1 --benchmark_repetitions=3 \
       --benchmark_enable_random_interleaving=true --out "$out/clocks/gl$i" >"$out/clocks/gl$i.log" 2>&1
