@@ -155,7 +155,9 @@ void RayCaster::traverse(const glm::dvec3& origin, const glm::dvec3& dir, double
   if (in_float) {
     const glm::vec3 inv_f(inv);
     walk(max_distance, [&](const WideNode& n, double limit, double entry[4]) {
-      enter_wide(n, origin_f, inv_f, static_cast<float>(limit), entry);
+      // Out of float's range the conversion would be undefined: no float box lies beyond infinity.
+      const float reach = limit < double(std::numeric_limits<float>::max()) ? static_cast<float>(limit) : INFINITY;
+      enter_wide(n, origin_f, inv_f, reach, entry);
     }, on);
   } else {
     walk(max_distance, [&](const WideNode& n, double limit, double entry[4]) {
