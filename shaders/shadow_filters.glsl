@@ -59,6 +59,37 @@ float lookup_bias(float tutorial_bias, vec3 normal, vec3 frag_to_light) {
 #endif
 }
 
+#if defined(FILTER_PCSS)
+// Percentage-closer soft shadows (Fernando 2005) for a spherical light of radius R = knobs.z around the point light.
+// Offsets are in the units of frag_to_light (length `current`), where an offset s turns the lookup by s / current
+// radians, the angle a width s at the receiver subtends from the light.
+// 1. Blocker search over the light's disk as seen from the receiver: a blocker at distance d from the light shades
+//    the receiver from the part of the disk within R (current - d) / d of the axis, an offset at the receiver of
+//    R (current - d) / d; searching an offset of R finds every blocker at least halfway from the light to the
+//    receiver (nearer ones are found where the disk's samples reach them), the usual PCSS compromise.
+// 2. The penumbra of the average blocker distance by similar triangles, w = R (current - d) / d, is the disk kernel's
+//    radius: the shadow ramps over +-w around the hard edge, as a disk light's does.
+float pcss_shadow(vec3 frag_to_light, float current, float bias) {
+  float radius = frame.knobs.z;
+  float blockers = 0.0, blocker_sum = 0.0;
+  for (int i = 0; i < 20; ++i) {
+    vec3 dir = frag_to_light + kDiskDirections[i] * radius;
+    float stored = stored_to_distance(texture(shadow_map, dir).r, dir);
+    // The stored distance is along `dir`; its length differs from `current` by the offset, within the bias.
+    if (current - bias > stored) {
+      blockers += 1.0;
+      blocker_sum += stored;
+    }
+  }
+  if (blockers == 0.0) return 0.0;  // nothing between the receiver and the light: lit
+  float blocker = blocker_sum / blockers;
+  float penumbra = radius * (current - blocker) / max(blocker, 1e-4);
+  float shadow = 0.0;
+  for (int i = 0; i < 20; ++i) shadow += occluded(frag_to_light + kDiskDirections[i] * penumbra, current, bias);
+  return shadow / 20.0;
+}
+#endif
+
 float shadow_factor(vec3 world_pos, vec3 normal) {
 #if defined(NORMAL_OFFSET)
   // Normal-offset remedy: look up from a point 1.5 texels (a 90-degree face's texel at this distance) along the
@@ -90,6 +121,8 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
   float bias = lookup_bias(0.15, normal, frag_to_light);
   for (int i = 0; i < 20; ++i) shadow += occluded(frag_to_light + kDiskDirections[i] * disk_radius, current, bias);
   return shadow / 20.0;
+#elif defined(FILTER_PCSS)
+  return pcss_shadow(frag_to_light, current, lookup_bias(0.15, normal, frag_to_light));
 #elif defined(FILTER_HW_COMPARE2X2)
   // Reference value in the stored units (distance / far); the sampler returns the lit fraction.
   return 1.0 - texture(shadow_map, vec4(frag_to_light, (current - lookup_bias(0.05, normal, frag_to_light)) / light_far()));

@@ -21,10 +21,11 @@ constexpr Names<Technique, kTechniques.size()> technique_names() {
   return names;
 }
 constexpr auto kTechniqueNames = technique_names();
-constexpr Names<Filter, 4> kFilters = {{{Filter::hard, "hard"},
+constexpr Names<Filter, 5> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::pcf_grid64, "pcf_grid64"},
                                         {Filter::pcf_disk20, "pcf_disk20"},
-                                        {Filter::hw_compare2x2, "hw_compare2x2"}}};
+                                        {Filter::hw_compare2x2, "hw_compare2x2"},
+                                        {Filter::pcss, "pcss"}}};
 constexpr Names<Storage, 3> kStorages = {{{Storage::linear_depth, "linear_depth"},
                                           {Storage::r32f_distance, "r32f_distance"},
                                           {Storage::hardware_depth, "hardware_depth"}}};

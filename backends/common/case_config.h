@@ -20,7 +20,12 @@ enum class Filter {
   pcf_grid64,     // 4x4x4 offsets of +-0.1 around the direction, bias 0.05 (the point-shadow tutorial)
   pcf_disk20,     // 20 directions, radius (1 + viewDistance/far)/25, bias 0.15 (the point-shadow tutorial)
   hw_compare2x2,  // samplerCubeShadow with LINEAR compare: the hardware's 2x2 bilinear PCF; bias 0.05
+  pcss,           // percentage-closer soft shadows (Fernando 2005): a blocker search, then the 20-direction disk sized
+                  // by the penumbra of a spherical light of kPcssLightRadius (times --pcf-scale); bias 0.15
 };
+// The light PCSS imitates: the soft reference's default --light-radius, so that mae_sphere scores it against the
+// light it models (world units).
+inline constexpr float kPcssLightRadius = 0.1f;
 enum class Storage {
   linear_depth,   // the point-shadow tutorial: gl_FragDepth = distance / far in a depth cube map
   r32f_distance,  // the multipass tutorial: distance in an R32F colour cube (cleared to FLT_MAX) + a separate depth cube

@@ -49,6 +49,7 @@ std::string filter_define(Filter f) {
     case Filter::pcf_grid64: return "FILTER_PCF_GRID64";
     case Filter::pcf_disk20: return "FILTER_PCF_DISK20";
     case Filter::hw_compare2x2: return "FILTER_HW_COMPARE2X2";
+    case Filter::pcss: return "FILTER_PCSS";
   }
   return "FILTER_HARD";
 }

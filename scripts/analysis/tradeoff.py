@@ -156,7 +156,7 @@ def plot(out_dir, backend, scene, rows, front, metric):
         print("tradeoff: matplotlib missing (Debian: python3-matplotlib); no plot", file=sys.stderr)
         return
     fig, ax = plt.subplots(figsize=(9, 6))
-    markers = {"hard": "o", "pcf_grid64": "s", "pcf_disk20": "^", "hw_compare2x2": "D"}
+    markers = {"hard": "o", "pcf_grid64": "s", "pcf_disk20": "^", "hw_compare2x2": "D", "pcss": "v"}
     for filt, marker in markers.items():
         pts = [(ms, err, case) for case, ms, err in rows if case["axes"]["filter"] == filt]
         if pts:
