@@ -10,7 +10,7 @@ namespace omnishadow::reference {
 namespace {
 
 constexpr uint32_t kLeafSize = 4;
-constexpr int kMaxDepth = 60;  // the traversal stack (128) holds at most depth + 1 entries
+constexpr int kMaxDepth = 60;  // walk()'s stack (256) gains at most three entries a level
 constexpr double kMissed = std::numeric_limits<double>::infinity();
 
 float surface_area(const glm::vec3& lo, const glm::vec3& hi) {
@@ -98,8 +98,9 @@ uint32_t RayCaster::split(uint32_t first, uint32_t count, const glm::vec3& cmin,
     uint32_t n = 0;
   };
   auto bin_of = [&](uint32_t t, int axis) {
-    const float scale = float(kBins) / (cmax[axis] - cmin[axis]);
-    return std::min(kBins - 1, static_cast<int>((centroids_[t][axis] - cmin[axis]) * scale));
+    // NaN (a centroid that overflowed, coordinates near float's limit) goes to bin 0: no undefined conversion.
+    const float at = (centroids_[t][axis] - cmin[axis]) * (float(kBins) / (cmax[axis] - cmin[axis]));
+    return at >= float(kBins - 1) ? kBins - 1 : (at > 0.0f ? static_cast<int>(at) : 0);
   };
   float best_cost = INFINITY;
   int best_axis = -1, best_bin = 0;
