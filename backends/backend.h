@@ -107,6 +107,10 @@ struct Images {
   int cube_sample_stride = 1;
   std::array<std::vector<float>, 6> cube_sample;
   bool has_full_cube() const { return !cube_distance[0].empty(); }
+  // Moments storages, with a full read-back: per face the blurred moments the lighting pass sampled,
+  // `moment_channels` floats a texel, texels as cube_distance's. Empty otherwise.
+  int moment_channels = 0;
+  std::array<std::vector<float>, 6> moments;
   // Spot/directional lights' 2D maps (none without such lights): per map, the stored window depth in [0, 1],
   // row-major, row 0 at NDC y = -1; 1 where nothing was drawn. The maps use the API's clip depth range (GL -1..1,
   // Vulkan 0..1), which the truth must know.

@@ -8,6 +8,9 @@ layout(location = 0) in vec3 world_position;
 
 #if defined(STORAGE_R32F_DISTANCE)
 layout(location = 0) out float out_distance;  // the multipass tutorial: world units in an R32F cube cleared to FLT_MAX
+#elif defined(STORAGE_VSM_MOMENTS)
+#include "moments.glsl"
+layout(location = 0) out vec4 out_moments;  // the moments of the z written as depth (the format keeps what it has)
 #endif
 
 void main() {
@@ -15,6 +18,11 @@ void main() {
   out_distance = length(world_position - frame.light_position.xyz);
 #elif defined(STORAGE_LINEAR_DEPTH)
   gl_FragDepth = length(world_position - frame.light_position.xyz) / light_far();  // the point-shadow tutorial: distance / far
+#elif defined(STORAGE_VSM_MOMENTS)
+  // One z for both: the checks rebuild the moments from the depth the same fragment wrote.
+  float z = length(world_position - frame.light_position.xyz) / light_far();
+  gl_FragDepth = z;
+  out_moments = distance_moments(z);
 #endif
   // STORAGE_HARDWARE_DEPTH: nothing written; the rasteriser's projective depth is what is stored.
 }

@@ -5,8 +5,9 @@
 #if defined(FILTER_HW_COMPARE2X2)
 layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 2x2 bilinear PCF in hardware
 #else
-layout(binding = 2) uniform samplerCube shadow_map;        // NEAREST, no compare
+layout(binding = 2) uniform samplerCube shadow_map;        // NEAREST, no compare; LINEAR for a moments cube
 #endif
+#include "moments.glsl"
 
 // A perspective projection's window depth back to the distance along its axis (near n, far f): the inverse of
 // the depth mapping of each API's clip range.
@@ -33,7 +34,7 @@ float stored_to_distance(float stored, vec3 dir) {
 #endif
 }
 
-#if !defined(FILTER_HW_COMPARE2X2)
+#if !defined(FILTER_HW_COMPARE2X2) && !defined(FILTER_VSM)
 // 1 when `current` lies behind what the light saw in direction `dir` (shadowed), else 0.
 float occluded(vec3 dir, float current, float bias) {
   return current - bias > stored_to_distance(texture(shadow_map, dir).r, dir) ? 1.0 : 0.0;
@@ -123,6 +124,8 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
   return shadow / 20.0;
 #elif defined(FILTER_PCSS)
   return pcss_shadow(frag_to_light, current, lookup_bias(0.15, normal, frag_to_light));
+#elif defined(FILTER_VSM)
+  return vsm_shadow(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
 #elif defined(FILTER_HW_COMPARE2X2)
   // Reference value in the stored units (distance / far); the sampler returns the lit fraction.
   return 1.0 - texture(shadow_map, vec4(frag_to_light, (current - lookup_bias(0.05, normal, frag_to_light)) / light_far()));

@@ -28,6 +28,27 @@ TEST(Matrix, ExpandsEveryCombinationOnceWithTechniqueInnermost) {
   EXPECT_EQ(cases.back().width, 640);  // the scene's own camera size when --frame is not given
 }
 
+// A moments filter stores its own moments: whatever the storage axis names, it runs once, on its storage; the
+// lookup filters run on every storage named.
+TEST(Matrix, AMomentsFilterRunsOnceOnItsOwnStorage) {
+  MatrixSpec spec;
+  spec.scenes = {"room"};
+  spec.techniques = {Technique::six_pass};
+  spec.cube_sizes = {256};
+  spec.filters = {Filter::hard, Filter::vsm};
+  spec.storages = {Storage::linear_depth, Storage::r32f_distance};
+  auto cases = expand(spec, kSizes);
+  ASSERT_EQ(cases.size(), 3u);
+  std::multiset<Storage> storages;
+  for (const auto& c : cases) storages.insert(c.storage);
+  EXPECT_EQ(storages.count(Storage::vsm_moments), 1u);
+  EXPECT_EQ(cases[1].id(), "gl/room/c256/f800x600/six_pass/vsm/vsm_moments/d32f");
+  CaseConfig lookup_on_moments = cases[1];
+  lookup_on_moments.filter = Filter::hard;
+  EXPECT_FALSE(common_support(lookup_on_moments).ok);
+  EXPECT_NE(common_support(lookup_on_moments).reason.find("hard reads a stored distance"), std::string::npos);
+}
+
 TEST(Matrix, ExplicitFrameSizesOverrideTheScenes) {
   MatrixSpec spec;
   spec.scenes = {"room"};

@@ -1,5 +1,6 @@
 #include "backends/common/case_config.h"
 
+#include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 
 #include <algorithm>
@@ -21,14 +22,16 @@ constexpr Names<Technique, kTechniques.size()> technique_names() {
   return names;
 }
 constexpr auto kTechniqueNames = technique_names();
-constexpr Names<Filter, 5> kFilters = {{{Filter::hard, "hard"},
+constexpr Names<Filter, 6> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::pcf_grid64, "pcf_grid64"},
                                         {Filter::pcf_disk20, "pcf_disk20"},
                                         {Filter::hw_compare2x2, "hw_compare2x2"},
-                                        {Filter::pcss, "pcss"}}};
-constexpr Names<Storage, 3> kStorages = {{{Storage::linear_depth, "linear_depth"},
+                                        {Filter::pcss, "pcss"},
+                                        {Filter::vsm, "vsm"}}};
+constexpr Names<Storage, 4> kStorages = {{{Storage::linear_depth, "linear_depth"},
                                           {Storage::r32f_distance, "r32f_distance"},
-                                          {Storage::hardware_depth, "hardware_depth"}}};
+                                          {Storage::hardware_depth, "hardware_depth"},
+                                          {Storage::vsm_moments, "vsm_moments"}}};
 constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
 
@@ -91,6 +94,13 @@ Support common_support(const CaseConfig& c) {
                        std::string(to_string(c.storage)) +
                        (c.storage == Storage::r32f_distance ? " stores distance in a colour texture"
                                                             : " stores projective depth")};
+  if (!filter_reads(c.filter, c.storage))
+    return {false, std::string(to_string(c.filter)) + " reads " +
+                       (traits(c.filter).own_storage ? std::string(to_string(*traits(c.filter).own_storage))
+                                                     : std::string("a stored distance")) +
+                       ", not " + std::string(to_string(c.storage))};
+  if (traits(c.filter).prefilter == Prefilter::separable_blur && c.cube_size < 4)
+    return {false, "the moments blur needs a cube of at least 4 texels a side (a tap folds across one seam only)"};
   if (c.cube_size < 1 || c.width < 1 || c.height < 1) return {false, "cube and frame sizes must be at least 1"};
   if (c.optimizations.face_culling && traits(c.technique).culling == CullingForm::unsupported)
     return {false, "face culling: a multiview pass renders every view of each draw (the view mask is per render "

@@ -22,6 +22,8 @@ enum class Filter {
   hw_compare2x2,  // samplerCubeShadow with LINEAR compare: the hardware's 2x2 bilinear PCF; bias 0.05
   pcss,           // percentage-closer soft shadows (Fernando 2005): a blocker search, then the 20-direction disk sized
                   // by the penumbra of a spherical light of kPcssLightRadius (times --pcf-scale); bias 0.15
+  vsm,            // variance shadow maps (Donnelly & Lauritzen 2006): blurred moments (z, z^2) of z = distance / far,
+                  // Chebyshev's upper bound on the lit fraction (shaders/moments.glsl); storage vsm_moments
 };
 // The light PCSS imitates: the soft reference's default --light-radius, so that mae_sphere scores it against the
 // light it models (world units).
@@ -31,6 +33,8 @@ enum class Storage {
   r32f_distance,  // the multipass tutorial: distance in an R32F colour cube (cleared to FLT_MAX) + a separate depth cube
   hardware_depth, // the rasteriser's own (non-linear, projective) depth, no fragment write; the lookup converts it
                   // back to a distance along the sampled direction
+  vsm_moments,    // linear_depth's depth plus (z, z^2) of z = distance / far in an RG32F colour cube (RG16F with d16),
+                  // blurred before the lighting pass: the vsm filter's storage
 };
 enum class DepthFormat { d16, d24, d32f };
 

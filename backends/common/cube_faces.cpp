@@ -1,8 +1,12 @@
 #include "backends/common/cube_faces.h"
 
+#include "backends/common/storage_filter_tables.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <array>
 #include <cmath>
+#include <cstdlib>
 
 namespace omnishadow::cube {
 
@@ -36,10 +40,10 @@ std::array<glm::mat4, kFaceCount> face_view_projections(const glm::vec3& light_p
 
 float stored_to_distance(Storage storage, float stored, int s, int t, int size, float near_plane, float far_plane,
                          DepthRange range) {
-  switch (storage) {
-    case Storage::linear_depth: return stored * far_plane;
-    case Storage::r32f_distance: return stored;
-    case Storage::hardware_depth:
+  switch (traits(storage).checked) {
+    case DistanceEncoding::linear_depth: return stored * far_plane;
+    case DistanceEncoding::colour_distance: return stored;
+    case DistanceEncoding::projective_depth:
       return projective_depth_to_distance(stored, s, t, size, near_plane, far_plane, range);
   }
   return stored;
@@ -70,6 +74,36 @@ glm::dvec3 face_point_direction(int face, double s, double t, int size) {
     case 4: return {u, -v, 1.0};
     default: return {-u, -v, -1.0};
   }
+}
+
+FaceTexel neighbour_texel(int face, int s, int t, int axis, int k, int size) {
+  (axis == 0 ? s : t) += k;
+  if (s >= 0 && s < size && t >= 0 && t < size) return {face, s, t};
+  // The texel centre in half-texel units on a cube of half-extent `size` (Table 8.19's placement of sc and tc).
+  const int u = 2 * s + 1 - size, v = 2 * t + 1 - size;
+  std::array<int, 3> p;
+  switch (face) {
+    case 0: p = {size, -v, -u}; break;
+    case 1: p = {-size, -v, u}; break;
+    case 2: p = {u, size, v}; break;
+    case 3: p = {u, -size, -v}; break;
+    case 4: p = {u, -v, size}; break;
+    default: p = {-u, -v, -size}; break;
+  }
+  // Fold the coordinate that left the face onto the adjacent face's major axis; the old major axis shrinks by the
+  // excess (the unfolded cube).
+  const int major = face / 2;
+  int beyond = major == 0 ? 1 : 0;
+  for (int c = 0; c < 3; ++c)
+    if (c != major && std::abs(p[c]) > size) beyond = c;
+  const int excess = std::abs(p[beyond]) - size;
+  p[major] = (p[major] > 0 ? 1 : -1) * (size - excess);
+  p[beyond] = p[beyond] > 0 ? size : -size;
+  const int to = 2 * beyond + (p[beyond] > 0 ? 0 : 1);
+  const int x = p[0], y = p[1], z = p[2];
+  const int sc = to == 0 ? -z : to == 1 ? z : to == 5 ? -x : x;
+  const int tc = to == 2 ? z : to == 3 ? -z : -y;
+  return {to, (sc + size - 1) / 2, (tc + size - 1) / 2};
 }
 
 FaceCoord direction_to_face(const glm::vec3& d) {

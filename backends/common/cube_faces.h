@@ -65,4 +65,13 @@ glm::vec3 texel_direction(int face, int s, int t, int size);
 // The truth checks cast through points a sub-pixel step off a texel centre (bench/truth/texel_bounds.h).
 glm::dvec3 face_point_direction(int face, double s, double t, int size);
 
+// The texel k steps from texel (s, t) of `face` along its s (axis 0) or t (axis 1), continued onto the adjacent face
+// as on the unfolded cube where it runs past an edge (|k| <= size): the moments blur's addressing, the same integer
+// arithmetic as shaders/cube_texel.glsl, so the moments check replays the device's blur texel for texel.
+struct FaceTexel {
+  int face, s, t;
+  bool operator==(const FaceTexel&) const = default;
+};
+FaceTexel neighbour_texel(int face, int s, int t, int axis, int k, int size);
+
 }  // namespace omnishadow::cube

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 
 #include <set>
@@ -12,7 +13,7 @@ std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
   const TechniqueTraits& t = traits(c.technique);
   std::vector<std::string> d{std::string(t.vertex_define)};
   if (t.culling == CullingForm::per_object_masks && c.optimizations.face_culling) d.push_back("FACE_CULLING");
-  if (c.storage == Storage::hardware_depth) d.push_back("DEPTH_ONLY");
+  if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
   return d;
 }
 
@@ -22,7 +23,7 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   std::vector<std::string> d{"TECHNIQUE_GEOMETRY_SHADER"};
   if (t.gs_instanced) d.push_back("GS_INSTANCED");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
-  if (c.storage == Storage::hardware_depth) d.push_back("DEPTH_ONLY");
+  if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
   return d;
 }
 
@@ -34,24 +35,23 @@ std::string variant_key(const std::string& file, const std::vector<std::string>&
   return key;
 }
 
-std::string storage_define(Storage s) {
-  switch (s) {
-    case Storage::linear_depth: return "STORAGE_LINEAR_DEPTH";
-    case Storage::r32f_distance: return "STORAGE_R32F_DISTANCE";
-    case Storage::hardware_depth: return "STORAGE_HARDWARE_DEPTH";
-  }
-  return "STORAGE_LINEAR_DEPTH";
+std::string storage_define(Storage s) { return std::string(traits(s).define); }
+
+std::string filter_define(Filter f) { return std::string(traits(f).define); }
+
+bool depth_only(Storage s) {
+  const StorageTraits& row = traits(s);
+  return !row.fragment_depth && row.colour_channels == 0;
 }
 
-std::string filter_define(Filter f) {
-  switch (f) {
-    case Filter::hard: return "FILTER_HARD";
-    case Filter::pcf_grid64: return "FILTER_PCF_GRID64";
-    case Filter::pcf_disk20: return "FILTER_PCF_DISK20";
-    case Filter::hw_compare2x2: return "FILTER_HW_COMPARE2X2";
-    case Filter::pcss: return "FILTER_PCSS";
+std::vector<std::string> moments_blur_defines(ColourFormat format) {
+  switch (format) {
+    case ColourFormat::rg32f: return {"MOMENTS_RG32F"};
+    case ColourFormat::rg16f: return {"MOMENTS_RG16F"};
+    case ColourFormat::none:
+    case ColourFormat::r32f: break;
   }
-  return "FILTER_HARD";
+  return {};
 }
 
 std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant variant) {
@@ -78,8 +78,14 @@ std::vector<std::string> spirv_variant_keys() {
         if (t.geometry_stage) keys.insert(variant_key("shadow_depth.geom", shadow_geometry_defines(c)));
         keys.insert(variant_key("shadow_depth.frag", shadow_fragment_defines(c)));
       }
+  for (Storage storage : all_values<Storage>()) {
+    if (traits(storage).moments != MomentKind::none)
+      for (DepthFormat format : all_values<DepthFormat>())
+        keys.insert(variant_key("moments_blur.comp", moments_blur_defines(colour_format(storage, format))));
+  }
   for (Storage storage : all_values<Storage>())
     for (Filter filter : all_values<Filter>())
+      if (filter_reads(filter, storage))
       for (BiasMode bias : {BiasMode::tutorial, BiasMode::zero, BiasMode::slope})
         for (bool normal_offset : {false, true})
           for (LightingVariant v : {LightingVariant::timed, LightingVariant::check}) {

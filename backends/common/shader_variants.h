@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "backends/common/case_config.h"
+#include "backends/common/storage_filter_tables.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::gpu {
@@ -26,6 +27,10 @@ float raster_perturb_ndc(const CaseConfig& c, int subpixel_bits);
 // Stages whose source has no variants are keyed with this one define ("lighting.vert:NONE").
 inline const std::vector<std::string> kNoVariant = {"NONE"};
 std::string filter_define(Filter f);
+// The shadow pass writes no fragment output (hardware_depth): DEPTH_ONLY in its vertex and geometry stages.
+bool depth_only(Storage s);
+// shaders/moments_blur.comp's format define for a moments cube's format (MOMENTS_RG32F, ...).
+std::vector<std::string> moments_blur_defines(ColourFormat format);
 
 // The lighting pass in two variants of one shader (shaders/lighting.frag). `timed` is what a renderer ships for
 // the case and the only one the timed frames render: one RGBA8 colour output (+ depth). `check` adds the shadow

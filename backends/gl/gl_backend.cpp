@@ -13,6 +13,7 @@
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
 #include "backends/common/shader_variants.h"
+#include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 #include "backends/gl/gl_cube_summary.h"
 
@@ -105,7 +106,10 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   glSamplerParameteri(compare_sampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glSamplerParameteri(compare_sampler_, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   glSamplerParameteri(compare_sampler_, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-  for (GLuint s : {nearest_sampler_, compare_sampler_}) {
+  glCreateSamplers(1, &linear_sampler_);  // moments: filtered bilinearly, as VSM intends
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  for (GLuint s : {nearest_sampler_, compare_sampler_, linear_sampler_}) {
     glSamplerParameteri(s, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glSamplerParameteri(s, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glSamplerParameteri(s, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
@@ -128,8 +132,8 @@ GlBackend::~GlBackend() {
   glDeleteBuffers(3, buffers);
   const GLuint vaos[] = {shadow_vao_, lighting_vao_};
   glDeleteVertexArrays(2, vaos);
-  const GLuint samplers[] = {nearest_sampler_, compare_sampler_};
-  glDeleteSamplers(2, samplers);
+  const GLuint samplers[] = {nearest_sampler_, compare_sampler_, linear_sampler_};
+  glDeleteSamplers(3, samplers);
 }
 
 Support GlBackend::supports(const CaseConfig& c) const {
@@ -224,6 +228,10 @@ void GlBackend::configure_case(const CaseConfig& c) {
   map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, map_defines);
   floor_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "floor.frag"}}, {});
   summary_program_ = program({{GL_COMPUTE_SHADER, "cube_summary.comp"}}, {});
+  blur_program_ = 0;
+  if (traits(c.filter).prefilter == Prefilter::separable_blur)
+    blur_program_ = program({{GL_COMPUTE_SHADER, "moments_blur.comp"}},
+                            gpu::moments_blur_defines(colour_format(c.storage, c.depth_format)));
   shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format, traits(c.technique).multiview);
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
@@ -311,7 +319,25 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
     bind_pass_uniforms(p);
     draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided);
   }
+  if (blur_program_) blur_moments();
   return stats;
+}
+
+// The moments prefilter (shaders/moments_blur.comp): along s from the moments cube into the intermediate, then
+// along t back. Image stores are incoherent: each reader waits on a barrier.
+void GlBackend::blur_moments() {
+  glUseProgram(blur_program_);
+  glUniform1i(0, shadow_.size);
+  const GLuint groups = static_cast<GLuint>((shadow_.size + 7) / 8);
+  const GLuint from[2] = {shadow_.colour_layers, shadow_.blur_layers}, to[2] = {shadow_.blur_layers, shadow_.colour_layers};
+  for (int axis = 0; axis < 2; ++axis) {
+    glBindImageTexture(0, from[axis], 0, GL_TRUE, 0, GL_READ_ONLY, shadow_.colour_format);
+    glBindImageTexture(1, to[axis], 0, GL_TRUE, 0, GL_WRITE_ONLY, shadow_.colour_format);
+    glUniform1i(1, axis);
+    glDispatchCompute(groups, groups, 6);
+    glMemoryBarrier(axis == 0 ? GL_SHADER_IMAGE_ACCESS_BARRIER_BIT
+                              : GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  }
 }
 
 // Render pass p of `count`: six passes bind face p's framebuffer, one pass the layered framebuffer (whose clear
@@ -323,6 +349,8 @@ void GlBackend::begin_shadow_pass(int p, int count) {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
   if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
+  if (traits(shadow_.storage).moments != MomentKind::none)
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, moments_clear_value(shadow_.storage).data());
 }
 
 void GlBackend::clear_shadow_targets() {
@@ -349,9 +377,11 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
   glUseProgram(program);
   glBindVertexArray(lighting_vao_);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
-  glBindTextureUnit(gpu::kShadowMapBinding, shadow_.stored);
-  glBindSampler(gpu::kShadowMapBinding,
-                config_->filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_);
+  glBindTextureUnit(gpu::kShadowMapBinding, shadow_.sampled);
+  const FilterSampler sampler = traits(config_->filter).sampler;
+  glBindSampler(gpu::kShadowMapBinding, sampler == FilterSampler::linear_compare   ? compare_sampler_
+                                        : sampler == FilterSampler::linear_moments ? linear_sampler_
+                                                                                   : nearest_sampler_);
   glBindTextureUnit(gpu::kMapShadowsBinding, maps_.depth);
   glBindSampler(gpu::kMapShadowsBinding, nearest_sampler_);
   draw_list(all_objects_, stats, false);
@@ -436,7 +466,7 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
 
   img.cube_size = shadow_.size;
   size_t texels = static_cast<size_t>(shadow_.size) * static_cast<size_t>(shadow_.size);
-  const bool depth_stored = shadow_.storage != Storage::r32f_distance;
+  const bool depth_stored = !traits(shadow_.storage).colour_checked;
   const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
   img.light_far = far_plane;
   if (cube_read_back == CubeReadBack::sampled) {
@@ -454,6 +484,15 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
     for (size_t i = 0; i < texels; ++i)
       face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
                                          scene_->light.near_plane, far_plane, cube::DepthRange::minus_one_to_one);
+  }
+  if (shadow_.colour_layers && cube_read_back == CubeReadBack::full) {
+    img.moment_channels = traits(shadow_.storage).colour_channels;
+    for (int f = 0; f < 6; ++f) {
+      auto& face = img.moments[static_cast<size_t>(f)];
+      face.resize(texels * size_t(img.moment_channels));
+      glGetTextureSubImage(shadow_.colour, 0, 0, 0, f, shadow_.size, shadow_.size, 1, GL_RG, GL_FLOAT,
+                           static_cast<GLsizei>(face.size() * sizeof(float)), face.data());
+    }
   }
   GLenum error = glGetError();
   if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");

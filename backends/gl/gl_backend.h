@@ -50,6 +50,7 @@ class GlBackend final : public Backend {
   // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only).
   void draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided);
   void release_case();
+  void blur_moments();  // the moments filters' prefilter, in the shadow pass's time
 
   EglContext context_;
   bool has_layer_array_ = false;
@@ -64,6 +65,7 @@ class GlBackend final : public Backend {
   GLuint pass_ubo_ = 0;      // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
   GLuint nearest_sampler_ = 0;
   GLuint compare_sampler_ = 0;
+  GLuint linear_sampler_ = 0;
   std::map<std::string, GLuint> programs_;  // by stages + defines; programs outlive cases
 
   ShadowTargets shadow_{};
@@ -74,6 +76,7 @@ class GlBackend final : public Backend {
   std::array<GLuint, 2> lighting_programs_{};  // by gpu::LightingVariant
   GLuint floor_program_ = 0;                   // lighting.vert + floor.frag
   GLuint summary_program_ = 0;                 // cube_summary.comp
+  GLuint blur_program_ = 0;                    // moments_blur.comp for a moments filter, else 0
   std::unique_ptr<FrameQueries> queries_;
   gpu::ShadowFramePlanner planner_;
 };

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "backends/common/storage_filter_tables.h"
+
 namespace omnishadow::gl {
 namespace {
 
@@ -74,28 +76,52 @@ GLenum depth_internal_format(DepthFormat format) {
   return GL_DEPTH_COMPONENT32F;
 }
 
+GLenum colour_internal_format(ColourFormat format) {
+  switch (format) {
+    case ColourFormat::r32f: return GL_R32F;
+    case ColourFormat::rg32f: return GL_RG32F;
+    case ColourFormat::rg16f: return GL_RG16F;
+    case ColourFormat::none: break;
+  }
+  return GL_NONE;
+}
+
 ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview) {
   ShadowTargets t;
   t.storage = storage;
   t.size = size;
+  const ColourFormat colour_format = omnishadow::colour_format(storage, depth_format);
+  const GLenum colour_internal = colour_internal_format(colour_format);
+  const bool has_colour = colour_format != ColourFormat::none;
   if (multiview) {
     t.depth_array = create_cube_array(depth_internal_format(depth_format), size, t.depth);
-    if (storage == Storage::r32f_distance) t.stored_array = create_cube_array(GL_R32F, size, t.stored);
+    if (has_colour) t.colour_array = create_cube_array(colour_internal, size, t.colour);
   } else {
     t.depth = create_cube(depth_internal_format(depth_format), size);
-    if (storage == Storage::r32f_distance) t.stored = create_cube(GL_R32F, size);
+    if (has_colour) t.colour = create_cube(colour_internal, size);
   }
-  if (storage != Storage::r32f_distance) t.stored = t.depth, t.stored_array = t.depth_array;
-  if (multiview) {
-    t.stored_layers = t.stored_array;
-  } else {
-    glGenTextures(1, &t.stored_layers);
-    glTextureView(t.stored_layers, GL_TEXTURE_2D_ARRAY, t.stored,
-                  storage == Storage::r32f_distance ? GL_R32F : depth_internal_format(depth_format), 0, 1, 0, 6);
+  const bool colour_checked = traits(storage).colour_checked;
+  t.stored = colour_checked ? t.colour : t.depth;
+  t.stored_array = colour_checked ? t.colour_array : t.depth_array;
+  t.sampled = traits(storage).moments != MomentKind::none ? t.colour : t.stored;
+  // 2D array views for the compute passes (a cube sampler has no texelFetch; image units bind layers).
+  auto layers_of = [&](GLuint cube, GLuint array, GLenum format) {
+    if (multiview) return array;
+    GLuint view = 0;
+    glGenTextures(1, &view);
+    glTextureView(view, GL_TEXTURE_2D_ARRAY, cube, format, 0, 1, 0, 6);
+    return view;
+  };
+  t.stored_layers = layers_of(t.stored, t.stored_array, colour_checked ? colour_internal : depth_internal_format(depth_format));
+  if (traits(storage).moments != MomentKind::none) {
+    t.colour_format = colour_internal;
+    t.colour_layers = layers_of(t.colour, t.colour_array, colour_internal);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t.blur_layers);  // the blur's first pass writes here
+    glTextureStorage3D(t.blur_layers, 1, colour_internal, size, size, 6);
   }
   check_allocation("the shadow cube");
   const GLuint depth_target = multiview ? t.depth_array : t.depth;
-  const GLuint stored_target = multiview ? t.stored_array : t.stored;
+  const GLuint colour_target = multiview ? t.colour_array : t.colour;
 
   // A cube map texture is layered: attaching it whole gives a layered framebuffer, attaching one layer
   // (glNamedFramebufferTextureLayer, layer = face) gives the per-face framebuffer of six_pass.
@@ -112,9 +138,9 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
   auto attach = [&](GLuint fbo, int layer) {
     if (layer < 0) attach_all(fbo, GL_DEPTH_ATTACHMENT, depth_target);
     else glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_target, 0, layer);
-    if (storage == Storage::r32f_distance) {
-      if (layer < 0) attach_all(fbo, GL_COLOR_ATTACHMENT0, stored_target);
-      else glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, stored_target, 0, layer);
+    if (has_colour) {
+      if (layer < 0) attach_all(fbo, GL_COLOR_ATTACHMENT0, colour_target);
+      else glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, colour_target, 0, layer);
       glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
     } else {
       glNamedFramebufferDrawBuffer(fbo, GL_NONE);
@@ -135,11 +161,11 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
 void destroy(ShadowTargets& t) {
   glDeleteFramebuffers(6, t.face_fbos.data());
   glDeleteFramebuffers(1, &t.layered_fbo);
+  // Views first (multiview's layers are the arrays themselves); zero names are ignored.
   if (t.stored_layers != t.stored_array) glDeleteTextures(1, &t.stored_layers);
-  if (t.stored != t.depth) glDeleteTextures(1, &t.stored);
-  glDeleteTextures(1, &t.depth);
-  if (t.stored_array != t.depth_array) glDeleteTextures(1, &t.stored_array);
-  glDeleteTextures(1, &t.depth_array);  // 0 is ignored
+  if (t.colour_layers != t.colour_array) glDeleteTextures(1, &t.colour_layers);
+  const GLuint textures[] = {t.blur_layers, t.colour, t.depth, t.colour_array, t.depth_array};
+  glDeleteTextures(5, textures);
   t = ShadowTargets{};
 }
 

@@ -12,14 +12,20 @@
 namespace omnishadow::gl {
 
 struct ShadowTargets {
-  GLuint stored = 0;       // what the lighting pass samples: depth cube (linear_depth) or R32F cube
-  GLuint depth = 0;        // the depth cube the pass tests against (== stored for linear_depth)
+  GLuint depth = 0;        // the depth cube the pass tests against
+  GLuint colour = 0;       // the colour cube beside it: R32F distances (r32f_distance) or moments; 0 for neither
+  GLuint stored = 0;       // what the checks read: the depth cube, or the colour one for r32f_distance
+  GLuint sampled = 0;      // what the lighting pass samples: `stored`, or the moments cube
   // Multiview (GL_OVR_multiview2) renders into 2D array textures, never cube maps: the cube is then a texture view
   // (GL 4.3) of six array layers, sampled and read back as the cube. 0 for every other technique.
-  GLuint depth_array = 0, stored_array = 0;
+  GLuint depth_array = 0, colour_array = 0, stored_array = 0;
   // The stored cube as a 2D array (a texture view of it, or stored_array itself): what the cube summary's compute
   // shader fetches texels from (a cube sampler has no texelFetch).
   GLuint stored_layers = 0;
+  // Moments storages: the moments cube as a 2D array (image units bind layers), the blur's intermediate (six layers)
+  // and their internal format; 0 otherwise.
+  GLuint colour_layers = 0, blur_layers = 0;
+  GLenum colour_format = 0;
   std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face, built once
   GLuint layered_fbo = 0;             // single-pass techniques: the whole cube, gl_Layer (or the view) picks the face
   Storage storage = Storage::linear_depth;

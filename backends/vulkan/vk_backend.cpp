@@ -11,6 +11,7 @@
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
 #include "backends/common/shader_variants.h"
+#include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 
 namespace omnishadow::vk {
@@ -227,6 +228,9 @@ Support VkBackend::supports(const CaseConfig& c) const {
   if (c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " above maxImageDimensionCube " +
                        std::to_string(info_.max_cube_size)};
+  if (traits(c.storage).moments != MomentKind::none)
+    return {false, std::string(to_string(c.filter)) + ": the moments filters' Vulkan path (render into " +
+                       std::string(to_string(c.storage)) + ", blur, sample) is not built yet; GL runs them"};
   VkFormat format = depth_format_of(c.depth_format);
   VkFormatFeatureFlags features = ctx_->format_properties(format).optimalTilingFeatures;
   if (!(features & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <set>
 
+#include "backends/common/storage_filter_tables.h"
+
 #include "bench/results/file_io.h"
 #include "bench/run/repetition_policy.h"
 #include "bench/run/system_info.h"
@@ -101,7 +103,7 @@ json checks_to_json(const std::vector<CheckResult>& checks) {
 // What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
 json plan_to_json(const CaseResult& r) {
   json j = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces}, {"light_far", r.light_far}};
-  if (r.config.storage == Storage::linear_depth) {
+  if (traits(r.config.storage).checked == DistanceEncoding::linear_depth) {
     // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
     const int bits = r.config.depth_format == DepthFormat::d16 ? 16 : 24;
     j["depth_step_world"] = r.light_far / double(1u << bits);
@@ -234,6 +236,12 @@ json case_to_json(const CaseResult& r) {
   if (!r.untimed_ms.empty()) j["untimed_ms"] = r.untimed_ms;
   if (!r.cube_read_back.empty()) j["cube_read_back"] = r.cube_read_back;
   if (r.floor) j["floor"] = floor_to_json(r);
+  if (r.moments)
+    j["moments"] = {{"bound", "the blur of the stored depths' moments, widened by each step's rounding "
+                              "(bench/truth/moments_check.h)"},
+                    {"values", r.moments->values},
+                    {"outside", r.moments->outside},
+                    {"non_finite", r.moments->non_finite}};
   if (r.cube_texels) {
     j["cube_texels"] = texels_to_json(*r.cube_texels, "exact first-hit distance along each checked texel centre's "
                                       "direction", kCubeTexelLimitPercent);

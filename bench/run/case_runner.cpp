@@ -269,6 +269,7 @@ void Harness::prepare(CaseResult& r) {
     if (options_.accuracy) {
       step("cube_and_map_truth", [&] {
         check_cube(r, images);
+        check_moment_cube(r, images);
         check_maps(r, images);
       });
       step("accuracy", [&] { check_accuracy(r, images); });

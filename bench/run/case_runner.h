@@ -10,9 +10,11 @@
 #include <vector>
 
 #include "backends/backend.h"
+#include "backends/common/storage_filter_tables.h"
 #include "bench/truth/accuracy.h"
 #include "bench/run/async_writer.h"
 #include "bench/truth/cube_truth.h"
+#include "bench/truth/moments_check.h"
 #include "bench/truth/map_truth.h"
 #include "bench/run/device_state.h"
 #include "bench/truth/image_compare.h"
@@ -30,7 +32,7 @@ inline constexpr double kDefaultHardMaxErrorPercent = 5.0;
 inline constexpr double kDefaultSoftMaxErrorPercent = 15.0;
 // Which default a filter gets: hard for one depth comparison per lookup (hard, and hw_compare2x2, whose 2x2
 // bilinear weighting of four 0/1 comparisons blurs only within one texel), soft for the PCF kernels.
-inline bool has_hard_error_limit(Filter f) { return f == Filter::hard || f == Filter::hw_compare2x2; }
+inline bool has_hard_error_limit(Filter f) { return !traits(f).soft; }
 
 struct RunOptions {
   std::string out_dir;                // results/<run>; images go under out_dir/images/<case id>/
@@ -182,6 +184,7 @@ struct CaseResult {
   // constant; medians of kFloorFrames frames, shared by every case of the same backend, scene, sizes, technique
   // and storage. A pass's time over its floor is what the technique or filter costs beyond what any variant pays.
   std::optional<FrameTiming> floor;
+  std::optional<MomentsReport> moments;  // a moments storage read back in full: its moments against its depths
   std::optional<CubeTexelReport> cube_texels;  // the cube against exact first-hit distances (bench/truth/cube_truth.h)
   std::optional<MapTexelReport> map_texels;    // spot/directional maps against exact depths (bench/truth/map_truth.h)
   // Milliseconds of the untimed part per step (configure, check_frame, read_back, cube_and_map_truth, accuracy,
@@ -233,6 +236,7 @@ class Harness {
   void check_accuracy(CaseResult& result, const Images& images);
   void measure_floor(CaseResult& result, Backend& b);
   void check_cube(CaseResult& result, const Images& images);
+  void check_moment_cube(CaseResult& result, const Images& images);  // moments storages (bench/truth/moments_check.h)
   void check_maps(CaseResult& result, const Images& images);
   void check_timed_variant(CaseResult& result, const Images& images);
   void check_against_six_pass(CaseResult& result, Images& images);  // may read the cube again in full

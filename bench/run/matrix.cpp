@@ -1,5 +1,7 @@
 #include "bench/run/matrix.h"
 
+#include "backends/common/storage_filter_tables.h"
+
 #include <stdexcept>
 
 namespace omnishadow::bench {
@@ -76,6 +78,9 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                 for (Technique technique : spec.techniques)
                 for (int injected : spec.injected_work)
                 for (int replica = 0; replica < spec.replicas; ++replica) {
+                  // A moments filter stores its own moments whatever the storage axis says: one case, not one per
+                  // storage named.
+                  if (traits(filter).own_storage && storage != spec.storages.front()) continue;
                   CaseConfig c;
                   c.injected_work = injected;
                   if (spec.injected_work.size() > 1) c.experiment = "inj" + std::to_string(injected);
@@ -86,7 +91,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.cube_size = cube;
                   c.width = w;
                   c.height = h;
-                  c.storage = storage;
+                  c.storage = storage_for(filter, storage);
                   c.depth_format = depth;
                   c.filter = filter;
                   c.technique = technique;

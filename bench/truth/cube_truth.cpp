@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/storage_filter_tables.h"
 
 namespace omnishadow::bench {
 
@@ -80,10 +81,10 @@ double storage_step(Storage storage, DepthFormat format, double distance, double
                     double far_plane) {
   const double q = format == DepthFormat::d16 ? 1.0 / 65535.0 : format == DepthFormat::d24 ? 1.0 / 16777215.0
                                                                                            : std::ldexp(1.0, -23);
-  switch (storage) {
-    case Storage::linear_depth: return far_plane * q;
-    case Storage::r32f_distance: return distance * std::ldexp(1.0, -23);
-    case Storage::hardware_depth:
+  switch (traits(storage).checked) {
+    case DistanceEncoding::linear_depth: return far_plane * q;
+    case DistanceEncoding::colour_distance: return distance * std::ldexp(1.0, -23);
+    case DistanceEncoding::projective_depth:
       // d(axis)/d(window depth) = axis^2 (f - n) / (n f), along the texel's direction; GL's [-1, 1] range
       // doubles the window-depth step.
       return 2.0 * axis * axis * (far_plane - near_plane) / (near_plane * far_plane) * q * (distance / axis);
@@ -129,7 +130,7 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
         // centre's direction (cube::projective_depth_to_distance), so the same scaling applies here.
         auto cast = [&](double cs, double ct) {
           double d = truth.cast(f, cs, ct);
-          if (d >= 0.0 && storage == Storage::hardware_depth)
+          if (d >= 0.0 && traits(storage).checked == DistanceEncoding::projective_depth)
             d *= len / glm::length(cube::face_point_direction(f, cs, ct, truth.size));
           return TexelSample{d >= 0.0, d};
         };

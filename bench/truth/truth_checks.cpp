@@ -45,6 +45,16 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
   add_texel_finding(r, "cube_texels", *r.cube_texels, kCubeTexelLimitPercent);
 }
 
+// Not a texel limit: the bound is rounding only, so one moment outside it is a device storing other moments.
+void Harness::check_moment_cube(CaseResult& r, const Images& images) {
+  if (traits(r.config.storage).moments == MomentKind::none || images.moments[0].empty()) return;
+  r.moments = check_moments(images, r.config.storage, r.config.depth_format);
+  if (r.moments->ok()) return;
+  r.add({Status::failed_check, "moments", describe(*r.moments),
+         {{"outside", double(r.moments->outside)}, {"non_finite", double(r.moments->non_finite)},
+          {"values", double(r.moments->values)}}});
+}
+
 void Harness::check_maps(CaseResult& r, const Images& images) {
   const scene::Scene& sc = scene_of(r.config);
   if (images.map_depth.empty() || images.map_size < 1) return;

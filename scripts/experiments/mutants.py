@@ -27,6 +27,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 MATRIX = ["--scene", "room,heavy,spot", "--cube", "256", "--frame", "400x300", "--frames", "1", "--warmup", "0",
           "--images", "none", "--check", "--benchmark_repetitions=1"]
 FACES = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"]
+# What the moments filters' mutants add to MATRIX: the default filters and the moments filters (GL only so far).
+MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm"]
 
 
 def flip_up(face):
@@ -88,6 +90,21 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("gs_wrong_layer", "shaders/shadow_depth.geom",
      replace("gl_Layer = face;  // per vertex", "gl_Layer = face == 4 ? 5 : face;  // per vertex"),
      "the geometry-shader techniques write the +Z face into the -Z layer"),
+    # The moments filters: their matrix adds the filter (MOMENTS_FILTERS), so the unmutated run does too.
+    ("vsm_not_squared", "shaders/moments.glsl",
+     replace("return vec4(z, z * z, 0.0, 0.0);", "return vec4(z, z, 0.0, 0.0);"),
+     "VSM's second moment stored as z instead of z^2", MOMENTS_FILTERS),
+    ("blur_skips_face", "shaders/moments_blur.comp",
+     replace("  vec4 sum = vec4(0.0);", "  if (id.z == 5) { imageStore(target, id, imageLoad(source, id)); return; }\n"
+             "  vec4 sum = vec4(0.0);"),
+     "the moments blur copies the -Z face instead of blurring it", MOMENTS_FILTERS),
+    ("blur_tap_shifted", "shaders/moments_blur.comp",
+     replace("neighbour_texel(id.z, id.x, id.y, axis, k, size)", "neighbour_texel(id.z, id.x, id.y, axis, k + 1, size)"),
+     "the moments blur's taps shifted by one texel (the kernel off centre)", MOMENTS_FILTERS),
+    ("blur_seam_clamped", "shaders/cube_texel.glsl",
+     replace("  ivec3 p = texel_point(face, s, t, size);",
+             "  return ivec3(clamp(s, 0, size - 1), clamp(t, 0, size - 1), face);\n  ivec3 p = texel_point(face, s, t, size);"),
+     "the moments blur clamps at a face's edge instead of reading the adjacent face", MOMENTS_FILTERS),
 ]
 
 
@@ -131,14 +148,14 @@ def caught_by(found, baseline):
     return checks
 
 
-def run_matrix(work, out, name, backend, log):
-    """Runs the matrix with the clone's build; (exit code, failures)."""
+def run_matrix(work, out, name, backend, log, extra=()):
+    """Runs the matrix (plus `extra` arguments) with the clone's build; (exit code, failures)."""
     run_dir = os.path.join(out, name)
     shutil.rmtree(run_dir, ignore_errors=True)
     env = dict(os.environ, XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
     with open(log, "a") as f:
         code = subprocess.run([os.path.join(work, "build", "release", "omnishadow"), "run", "--backend", backend,
-                               "--out", run_dir, *MATRIX], cwd=work, env=env, stdout=f, stderr=subprocess.STDOUT,
+                               "--out", run_dir, *MATRIX, *extra], cwd=work, env=env, stdout=f, stderr=subprocess.STDOUT,
                               ).returncode
     results = os.path.join(run_dir, "results.json")
     return code, failures(results) if os.path.exists(results) else {}
@@ -202,9 +219,17 @@ def main():
     started = time.time()
     if not build(args.work, log):
         sys.exit(f"mutants: the unmutated build failed; see {log}")
-    baseline = {b: run_matrix(args.work, args.out, f"unmutated-{b}", b, log)[1] for b in args.backend.split(",")}
+    # The unmutated build's failures, per backend and per matrix the selected mutants run (before any mutation).
+    baselines = {}
+    for _, _, _, _, *rest in mutants:
+        extra = tuple(rest[0]) if rest else ()
+        for b in args.backend.split(","):
+            if (b, extra) not in baselines:
+                label = "unmutated-" + b + ("-" + "-".join(extra[1:]).replace(",", "_") if extra else "")
+                baselines[(b, extra)] = run_matrix(args.work, args.out, label, b, log, extra)[1]
     rows = []
-    for name, path, mutate, change in mutants:
+    for name, path, mutate, change, *rest in mutants:
+        extra = rest[0] if rest else []
         target = os.path.join(args.work, path)
         with open(target) as f:
             original = f.read()
@@ -214,8 +239,9 @@ def main():
             built = build(args.work, log)
             runs = {}
             for b in args.backend.split(",") if built else []:
-                code, found = run_matrix(args.work, args.out, f"{name}-{b}", b, log)
-                runs[b] = {"exit_code": code, "checks": caught_by(found, baseline[b])}
+                base = baselines[(b, tuple(extra))]
+                code, found = run_matrix(args.work, args.out, f"{name}-{b}", b, log, extra)
+                runs[b] = {"exit_code": code, "checks": caught_by(found, base)}
         finally:
             with open(target, "w") as f:
                 f.write(original)

@@ -1,0 +1,42 @@
+#version 450
+// The moments filters' prefilter: a 5-tap binomial blur, weights (1 4 6 4 1) / 16 (a Gaussian of sigma 1 texel),
+// along one face axis of the moments cube: the shadow pass's moments along s into the second cube, then back along
+// t, in the timed frame between the shadow and lighting passes. Seams: a tap past a face's edge reads the adjacent
+// face as on the unfolded cube (shaders/cube_texel.glsl), so a kernel crossing an edge blurs across it. Each pass
+// sums its taps in a fixed order and scales by 1/16 (exact), which bench/truth/moments_check.cpp bounds.
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+#if defined(MOMENTS_RG16F)
+#define MOMENTS_FORMAT rg16f
+#else
+#define MOMENTS_FORMAT rg32f
+#endif
+
+#ifdef VULKAN
+layout(set = 0, binding = 0, MOMENTS_FORMAT) uniform readonly image2DArray source;  // six faces as layers
+layout(set = 0, binding = 1, MOMENTS_FORMAT) uniform writeonly image2DArray target;
+layout(push_constant) uniform Params { int size; int axis; } params;
+#else
+layout(binding = 0, MOMENTS_FORMAT) uniform readonly image2DArray source;
+layout(binding = 1, MOMENTS_FORMAT) uniform writeonly image2DArray target;
+layout(location = 0) uniform int u_size;
+layout(location = 1) uniform int u_axis;  // 0: along s, 1: along t
+#endif
+
+#include "cube_texel.glsl"
+
+const float kWeights[5] = float[](1.0, 4.0, 6.0, 4.0, 1.0);
+
+void main() {
+#ifdef VULKAN
+  const int size = params.size, axis = params.axis;
+#else
+  const int size = u_size, axis = u_axis;
+#endif
+  const ivec3 id = ivec3(gl_GlobalInvocationID);
+  if (id.x >= size || id.y >= size) return;
+  vec4 sum = vec4(0.0);
+  for (int k = -2; k <= 2; ++k)
+    sum += kWeights[k + 2] * imageLoad(source, neighbour_texel(id.z, id.x, id.y, axis, k, size));
+  imageStore(target, id, sum * (1.0 / 16.0));
+}

@@ -1,0 +1,128 @@
+// The moments blur's cube addressing (cube::neighbour_texel, mirrored by shaders/cube_texel.glsl) and the moments
+// check (bench/truth/moments_check.h): it passes what a conformant device may store (a float replay of the
+// shader, every value then moved by an ulp or two) and fails every planted bug.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "backends/common/cube_faces.h"
+#include "bench/truth/moments_check.h"
+
+namespace omnishadow {
+namespace {
+
+TEST(NeighbourTexel, StaysInsideAFace) {
+  EXPECT_EQ(cube::neighbour_texel(3, 5, 6, 0, 2, 16), (cube::FaceTexel{3, 7, 6}));
+  EXPECT_EQ(cube::neighbour_texel(3, 5, 6, 1, -2, 16), (cube::FaceTexel{3, 5, 4}));
+}
+
+// Past every edge of every face: the texel reached lies on another face, next to the edge (its direction within
+// about one texel's angle of the source's), and one step back from it along one of its axes returns to the source.
+TEST(NeighbourTexel, CrossesEachSeamOntoTheAdjacentTexelAndBack) {
+  for (int size : {4, 7, 16}) {
+    const double texel_angle = 2.0 / size;
+    for (int face = 0; face < 6; ++face)
+      for (int i = 0; i < size; ++i)
+        for (int edge = 0; edge < 4; ++edge) {
+          const int axis = edge / 2, k = edge % 2 ? 1 : -1;
+          const int s = axis == 0 ? (k > 0 ? size - 1 : 0) : i, t = axis == 1 ? (k > 0 ? size - 1 : 0) : i;
+          const cube::FaceTexel n = cube::neighbour_texel(face, s, t, axis, k, size);
+          ASSERT_NE(n.face, face);
+          ASSERT_TRUE(n.s >= 0 && n.s < size && n.t >= 0 && n.t < size);
+          const glm::vec3 a = glm::normalize(cube::texel_direction(face, s, t, size));
+          const glm::vec3 b = glm::normalize(cube::texel_direction(n.face, n.s, n.t, size));
+          EXPECT_LT(std::acos(std::min(1.0f, glm::dot(a, b))), 1.5 * texel_angle) << face << " " << s << " " << t;
+          int back = 0;
+          for (int axis2 = 0; axis2 < 2; ++axis2)
+            for (int k2 : {-1, 1}) back += cube::neighbour_texel(n.face, n.s, n.t, axis2, k2, size) == cube::FaceTexel{face, s, t};
+          EXPECT_EQ(back, 1) << "face " << face << " (" << s << ", " << t << ") edge " << edge;
+        }
+  }
+}
+
+// A device's moments, replayed in float as shaders/moments.glsl and moments_blur.comp compute them; `bug` plants a
+// fault into the replay.
+enum class Bug { none, not_squared, face_unblurred, shifted_tap, clamped_seam, nan };
+
+Images device_images(int size, Bug bug) {
+  Images img;
+  img.cube_size = size;
+  img.light_far = 25.0f;
+  img.moment_channels = 2;
+  std::array<std::vector<float>, 6> m;
+  for (int f = 0; f < 6; ++f) {
+    auto& d = img.cube_distance[size_t(f)];
+    for (int t = 0; t < size; ++t)
+      for (int s = 0; s < size; ++s) {
+        // A wall with a box in front of it on some faces, nothing drawn (far) on face 3: edges to blur across.
+        float z = 0.4f + 0.02f * float(s) / float(size) + 0.05f * float(f);
+        if (s > size / 3 && s < size / 2 && t > size / 4) z = 0.15f;
+        if (f == 3) z = 1.0f;
+        d.push_back(z * img.light_far);
+        m[size_t(f)].push_back(z);
+        m[size_t(f)].push_back(bug == Bug::not_squared ? z : z * z);
+      }
+  }
+  for (int axis = 0; axis < 2; ++axis) {
+    std::array<std::vector<float>, 6> out = m;
+    const float w[5] = {1, 4, 6, 4, 1};
+    for (int f = 0; f < 6; ++f) {
+      if (bug == Bug::face_unblurred && f == 2) continue;
+      for (int t = 0; t < size; ++t)
+        for (int s = 0; s < size; ++s)
+          for (int c = 0; c < 2; ++c) {
+            float sum = 0.0f;
+            for (int k = -2; k <= 2; ++k) {
+              int kk = bug == Bug::shifted_tap ? k + 1 : k;
+              cube::FaceTexel n = cube::neighbour_texel(f, s, t, axis, kk, size);
+              if (bug == Bug::clamped_seam) {
+                int ss = axis == 0 ? std::clamp(s + k, 0, size - 1) : s, tt = axis == 1 ? std::clamp(t + k, 0, size - 1) : t;
+                n = {f, ss, tt};
+              }
+              sum += w[k + 2] * m[size_t(n.face)][(size_t(n.t) * size_t(size) + size_t(n.s)) * 2 + size_t(c)];
+            }
+            out[size_t(f)][(size_t(t) * size_t(size) + size_t(s)) * 2 + size_t(c)] = sum * (1.0f / 16.0f);
+          }
+    }
+    m = out;
+  }
+  if (bug == Bug::nan) m[4][10] = std::nanf("");
+  img.moments = m;
+  return img;
+}
+
+TEST(MomentsCheck, PassesTheDevicesRoundingAndAnUlpEitherWay) {
+  for (int size : {4, 16}) {
+    Images img = device_images(size, Bug::none);
+    EXPECT_TRUE(bench::check_moments(img, Storage::vsm_moments, DepthFormat::d32f).ok());
+    // Any order of the sums, fused or not, moves a value by at most a few ulps: move every value by two.
+    for (auto& face : img.moments)
+      for (size_t i = 0; i < face.size(); ++i)
+        face[i] = std::nextafter(std::nextafter(face[i], i % 2 ? 2.0f : -2.0f), i % 2 ? 2.0f : -2.0f);
+    const bench::MomentsReport r = bench::check_moments(img, Storage::vsm_moments, DepthFormat::d32f);
+    EXPECT_TRUE(r.ok()) << bench::describe(r);
+    EXPECT_EQ(r.values, 6u * size_t(size) * size_t(size) * 2u);
+  }
+}
+
+TEST(MomentsCheck, FailsEveryPlantedBug) {
+  for (Bug bug : {Bug::not_squared, Bug::face_unblurred, Bug::shifted_tap, Bug::clamped_seam, Bug::nan}) {
+    const bench::MomentsReport r =
+        bench::check_moments(device_images(16, bug), Storage::vsm_moments, DepthFormat::d32f);
+    EXPECT_FALSE(r.ok()) << "bug " << int(bug);
+  }
+}
+
+// 16-bit moments (d16): the format's rounding is in the bound, and a device storing float-precision values passes.
+TEST(MomentsCheck, SixteenBitMomentsAllowTheirRounding) {
+  Images img = device_images(16, Bug::none);
+  for (auto& face : img.moments)
+    for (float& v : face) v *= 1.0f - 0x1p-11f;  // half a binary16 ulp: within one rounding, either mode
+  EXPECT_TRUE(bench::check_moments(img, Storage::vsm_moments, DepthFormat::d16).ok());
+  EXPECT_FALSE(bench::check_moments(img, Storage::vsm_moments, DepthFormat::d32f).ok());
+}
+
+}  // namespace
+}  // namespace omnishadow
