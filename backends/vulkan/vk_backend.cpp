@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cstring>
 
+#include <glm/gtc/packing.hpp>
+
 #include "backends/common/cube_faces.h"
 #include "backends/common/cube_summary.h"
 #include "backends/common/frame_uniforms.h"
@@ -28,6 +30,8 @@ const char* format_name(VkFormat f) {
     case VK_FORMAT_D16_UNORM: return "VK_FORMAT_D16_UNORM";
     case VK_FORMAT_X8_D24_UNORM_PACK32: return "VK_FORMAT_X8_D24_UNORM_PACK32";
     case VK_FORMAT_D32_SFLOAT: return "VK_FORMAT_D32_SFLOAT";
+    case VK_FORMAT_R32G32_SFLOAT: return "VK_FORMAT_R32G32_SFLOAT";
+    case VK_FORMAT_R16G16_SFLOAT: return "VK_FORMAT_R16G16_SFLOAT";
     default: return "format";
   }
 }
@@ -169,6 +173,8 @@ void VkBackend::create_samplers_and_queries() {
   sampler.compareEnable = VK_TRUE;
   sampler.compareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
   OMNISHADOW_VK(vkCreateSampler(d, &sampler, nullptr, &compare_sampler_));
+  sampler.compareEnable = VK_FALSE;  // moments: filtered bilinearly, as VSM intends
+  OMNISHADOW_VK(vkCreateSampler(d, &sampler, nullptr, &linear_sampler_));
 
   if (ctx_->timestamp_valid_bits() > 0) {
     VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
@@ -202,12 +208,29 @@ VkBackend::~VkBackend() {
   if (statistics_) vkDestroyQueryPool(d, statistics_, nullptr);
   vkDestroySampler(d, nearest_sampler_, nullptr);
   vkDestroySampler(d, compare_sampler_, nullptr);
+  vkDestroySampler(d, linear_sampler_, nullptr);
   vkDestroyDescriptorPool(d, descriptor_pool_, nullptr);
   vkDestroyPipelineLayout(d, shadow_layout_, nullptr);
   vkDestroyPipelineLayout(d, lighting_layout_, nullptr);
   vkDestroyDescriptorSetLayout(d, shadow_set_layout_, nullptr);
   vkDestroyDescriptorSetLayout(d, lighting_set_layout_, nullptr);
   modules_.reset();
+}
+
+// A moments storage renders its colour cube, blurs it as storage images and samples it bilinearly: its format must
+// do all three (linear filtering of 32-bit float formats is optional in Vulkan), and the shader's rg32f / rg16f
+// image format needs shaderStorageImageExtendedFormats.
+Support VkBackend::moments_support(const CaseConfig& c, const std::string& device) const {
+  if (traits(c.storage).moments == MomentKind::none) return {};
+  if (!ctx_->has_storage_image_extended_formats())
+    return {false, "shaderStorageImageExtendedFormats not supported by " + device + " (the moments blur's rg formats)"};
+  const VkFormat format = colour_format_of(colour_format(c.storage, c.depth_format));
+  const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
+                                      VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+  if ((ctx_->format_properties(format).optimalTilingFeatures & needed) != needed)
+    return {false, std::string(format_name(format)) + " cannot be rendered, stored and filtered linearly on " + device +
+                       " (" + std::string(to_string(c.filter)) + " needs all three)"};
+  return {};
 }
 
 Support VkBackend::supports(const CaseConfig& c) const {
@@ -228,9 +251,7 @@ Support VkBackend::supports(const CaseConfig& c) const {
   if (c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " above maxImageDimensionCube " +
                        std::to_string(info_.max_cube_size)};
-  if (traits(c.storage).moments != MomentKind::none)
-    return {false, std::string(to_string(c.filter)) + ": the moments filters' Vulkan path (render into " +
-                       std::string(to_string(c.storage)) + ", blur, sample) is not built yet; GL runs them"};
+  if (Support s = moments_support(c, device); !s.ok) return s;
   VkFormat format = depth_format_of(c.depth_format);
   VkFormatFeatureFlags features = ctx_->format_properties(format).optimalTilingFeatures;
   if (!(features & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
@@ -267,6 +288,7 @@ void VkBackend::release_case() {
   shadow_pipelines_ = {};
   lighting_pipelines_ = {};
   map_pipelines_ = {};
+  blur_.reset();
   destroy(*ctx_, maps_);
   destroy(*ctx_, shadow_);
   for (LightingTargets& t : lighting_) destroy(*ctx_, t);
@@ -286,6 +308,9 @@ void VkBackend::configure_case(const CaseConfig& c) {
     maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u, std::max(map_layers, 1u),
                                c.depth_format);
     create_pipelines(c);
+    if (traits(c.filter).prefilter == Prefilter::separable_blur)
+      blur_ = std::make_unique<MomentsBlur>(*ctx_, *modules_, colour_format(c.storage, c.depth_format), shadow_.color,
+                                            shadow_.blur);
     write_lighting_descriptors(c);
   } catch (...) {
     release_case();
@@ -320,7 +345,7 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("shadow_depth.frag", gpu::shadow_fragment_defines(c))});
   shadow.layout = shadow_layout_;
   shadow.render_pass = shadow_.render_pass;
-  shadow.color_attachments = c.storage == Storage::r32f_distance ? 1 : 0;
+  shadow.color_attachments = traits(c.storage).colour_channels > 0 ? 1 : 0;
   shadow.position_only = true;
   shadow.vertex_constants = map.vertex_constants;
   const gpu::LightingConstants constants = gpu::lighting_constants(c, *scene_);
@@ -353,8 +378,13 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
 
 void VkBackend::write_lighting_descriptors(const CaseConfig& c) {
   // Written before any command buffer binds the set: lavapipe crashes on a bound, never-written sampler.
-  VkDescriptorImageInfo image{c.filter == Filter::hw_compare2x2 ? compare_sampler_ : nearest_sampler_,
-                              shadow_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  const FilterSampler sampler = traits(c.filter).sampler;
+  VkDescriptorImageInfo image{sampler == FilterSampler::linear_compare   ? compare_sampler_
+                              : sampler == FilterSampler::linear_moments ? linear_sampler_
+                                                                         : nearest_sampler_,
+                              shadow_.sampled_view,
+                              traits(c.storage).moments != MomentKind::none ? VK_IMAGE_LAYOUT_GENERAL
+                                                                            : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   VkDescriptorImageInfo map_image{nearest_sampler_, maps_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
   writes[0].dstSet = writes[1].dstSet = lighting_set_;
@@ -449,8 +479,12 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   }
   VkClearValue clears[2];
   clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (the multipass tutorial)
+  if (traits(shadow_.storage).moments != MomentKind::none) {  // the moments of z = 1, as the depth's clear
+    const std::array<float, 4> m = moments_clear_value(shadow_.storage);
+    clears[0].color = {{m[0], m[1], m[2], m[3]}};
+  }
   clears[1].depthStencil = {1.0f, 0};
-  const bool r32f = shadow_.storage == Storage::r32f_distance;
+  const bool r32f = traits(shadow_.storage).colour_channels > 0;  // a colour attachment comes first
   VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   rp.renderPass = shadow_.render_pass;
   rp.renderArea = {{0, 0}, {shadow_.size, shadow_.size}};
@@ -471,6 +505,7 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
     if (!floor) draw_list(cb, shadow_pipelines_, shadow_layout_, shadow_set_, passes.draws[p], draws);
     vkCmdEndRenderPass(cb);
   }
+  if (blur_ && !floor) blur_->record(cb, shadow_.size);
   end_pass(cb, 0, statistics);
 }
 
@@ -595,6 +630,30 @@ std::vector<float> decode_texels(VkFormat format, const uint8_t* src, size_t cou
 
 }  // namespace
 
+// The blurred moments as floats, `moment_channels` a texel (binary16 widened exactly).
+void VkBackend::read_moments(Images& img) {
+  const int channels = traits(shadow_.storage).colour_channels;
+  const bool half = shadow_.color.format == VK_FORMAT_R16G16_SFLOAT;
+  const uint32_t texel_bytes = uint32_t(channels) * (half ? 2u : 4u);
+  const std::vector<uint8_t> bytes = read_image(*ctx_, shadow_.color, VK_IMAGE_LAYOUT_GENERAL, texel_bytes);
+  const size_t values = size_t(shadow_.size) * shadow_.size * size_t(channels);
+  img.moment_channels = channels;
+  for (size_t f = 0; f < 6; ++f) {
+    std::vector<float>& face = img.moments[f];
+    face.resize(values);
+    const uint8_t* src = bytes.data() + f * values * (half ? 2 : 4);
+    for (size_t i = 0; i < values; ++i) {
+      if (half) {
+        uint16_t h;
+        std::memcpy(&h, src + 2 * i, 2);
+        face[i] = glm::unpackHalf1x16(h);
+      } else {
+        std::memcpy(&face[i], src + 4 * i, 4);
+      }
+    }
+  }
+}
+
 Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
@@ -632,6 +691,7 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
                                          int(shadow_.size), scene_->light.near_plane, far_plane,
                                          cube::DepthRange::zero_to_one);
   }
+  if (blur_ && cube_read_back == CubeReadBack::full) read_moments(img);
   if (!scene_->map_lights.empty()) {
     img.map_size = static_cast<int>(maps_.size);
     img.map_depth_zero_to_one = true;

@@ -15,6 +15,7 @@
 #include "backends/common/shadow_frame.h"
 #include "backends/vulkan/vk_context.h"
 #include "backends/vulkan/vk_cube_summary.h"
+#include "backends/vulkan/vk_moments_blur.h"
 #include "backends/vulkan/vk_pipelines.h"
 #include "backends/vulkan/vk_resources.h"
 #include "backends/vulkan/vk_targets.h"
@@ -55,6 +56,8 @@ class VkBackend final : public Backend {
   void begin_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);  // pass 0 shadow, 1 lighting
   void end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);
   void release_case();
+  void read_moments(Images& img);  // a moments storage's blurred moments (full read-back)
+  Support moments_support(const CaseConfig& c, const std::string& device) const;
   double timestamp_ms(uint32_t first) const;
 
   std::unique_ptr<VkContext> ctx_;
@@ -70,6 +73,7 @@ class VkBackend final : public Backend {
   VkDescriptorSet lighting_set_ = VK_NULL_HANDLE;
   VkSampler nearest_sampler_ = VK_NULL_HANDLE;
   VkSampler compare_sampler_ = VK_NULL_HANDLE;
+  VkSampler linear_sampler_ = VK_NULL_HANDLE;  // the moments filters' bilinear lookups
   Buffer frame_uniforms_;  // host-visible; written before each frame, which waits for the previous one
   VkQueryPool timestamps_ = VK_NULL_HANDLE;  // 0,1: shadow pass; 2,3: lighting pass
   VkQueryPool statistics_ = VK_NULL_HANDLE;  // 0: shadow pass, 1: lighting pass
@@ -85,6 +89,7 @@ class VkBackend final : public Backend {
   std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
   std::array<std::array<VkPipeline, 2>, 2> lighting_pipelines_{};  // [variant][back-face culling]
   std::array<VkPipeline, 2> floor_pipelines_{};                     // the lighting floor, [back-face culling]
+  std::unique_ptr<MomentsBlur> blur_;  // a moments filter's prefilter, recorded into the shadow pass
 };
 
 }  // namespace omnishadow::vk

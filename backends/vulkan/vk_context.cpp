@@ -208,6 +208,7 @@ void VkContext::read_properties() {
   vkGetPhysicalDeviceFeatures2(physical_, &features);
   geometry_shader_ = features.features.geometryShader;
   pipeline_statistics_ = features.features.pipelineStatisticsQuery;
+  storage_image_extended_formats_ = features.features.shaderStorageImageExtendedFormats;
   multiview_ = f11.multiview;
   layer_output_ = f12.shaderOutputLayer;
 }
@@ -221,6 +222,7 @@ void VkContext::create_device() {
   VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &e11};
   enable.features.geometryShader = geometry_shader_;
   enable.features.pipelineStatisticsQuery = pipeline_statistics_;
+  enable.features.shaderStorageImageExtendedFormats = storage_image_extended_formats_;
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};

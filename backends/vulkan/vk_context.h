@@ -47,6 +47,7 @@ class VkContext {
   bool has_multiview() const { return multiview_; }
   bool has_layer_output() const { return layer_output_; }  // shaderOutputLayer (1.2) for vs_layer
   bool has_pipeline_statistics() const { return pipeline_statistics_; }
+  bool has_storage_image_extended_formats() const { return storage_image_extended_formats_; }
   bool validation() const { return validation_; }
 
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
@@ -91,6 +92,7 @@ class VkContext {
   bool multiview_ = false;
   bool layer_output_ = false;
   bool pipeline_statistics_ = false;
+  bool storage_image_extended_formats_ = false;  // rg32f / rg16f storage images (the moments blur)
   bool validation_ = false;
   std::vector<std::string> messages_;
 };

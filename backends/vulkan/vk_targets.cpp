@@ -90,42 +90,60 @@ VkFormat depth_format_of(DepthFormat format) {
   return VK_FORMAT_D32_SFLOAT;
 }
 
+VkFormat colour_format_of(ColourFormat format) {
+  switch (format) {
+    case ColourFormat::r32f: return VK_FORMAT_R32_SFLOAT;
+    case ColourFormat::rg32f: return VK_FORMAT_R32G32_SFLOAT;
+    case ColourFormat::rg16f: return VK_FORMAT_R16G16_SFLOAT;
+    case ColourFormat::none: break;
+  }
+  return VK_FORMAT_UNDEFINED;
+}
+
 ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
   ShadowTargets t;
   t.storage = c.storage;
   t.size = static_cast<uint32_t>(c.cube_size);
-  const bool r32f = c.storage == Storage::r32f_distance;
+  const VkFormat colour = colour_format_of(colour_format(c.storage, c.depth_format));
+  const bool has_colour = colour != VK_FORMAT_UNDEFINED, colour_checked = traits(c.storage).colour_checked;
+  const bool moments = traits(c.storage).moments != MomentKind::none;
   const VkFormat depth_format = depth_format_of(c.depth_format);
   try {
     t.depth = create_image(ctx, depth_format, t.size, t.size, 6, true,
                            VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                               (r32f ? 0 : VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
-    if (r32f)
-      t.color = create_image(ctx, VK_FORMAT_R32_SFLOAT, t.size, t.size, 6, true,
+                               (colour_checked ? 0 : VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
+    const VkImageUsageFlags storage_usage = moments ? VK_IMAGE_USAGE_STORAGE_BIT : 0;
+    if (has_colour)
+      t.color = create_image(ctx, colour, t.size, t.size, 6, true,
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
-                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    t.sampled_view = create_view(ctx, t.stored(), VK_IMAGE_VIEW_TYPE_CUBE, 0, 6);
+                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT | storage_usage);
+    if (moments) t.blur = create_image(ctx, colour, t.size, t.size, 6, false, VK_IMAGE_USAGE_STORAGE_BIT);
+    t.sampled_view = create_view(ctx, moments ? t.color : t.stored(), VK_IMAGE_VIEW_TYPE_CUBE, 0, 6);
 
+    // The moments stay in GENERAL: the blur reads and writes them as storage images, the lighting pass samples them.
     std::vector<VkAttachmentDescription> attachments;
-    if (r32f)
-      attachments.push_back(
-          attachment(VK_FORMAT_R32_SFLOAT, VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    if (has_colour)
+      attachments.push_back(attachment(colour, VK_ATTACHMENT_STORE_OP_STORE,
+                                       moments ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     attachments.push_back(attachment(depth_format,
-                                     r32f ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
-                                     r32f ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
-                                          : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+                                     colour_checked ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
+                                     colour_checked ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+                                                    : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     const TechniqueTraits& technique = traits(c.technique);
     const uint32_t view_mask = technique.multiview ? 0b111111u : 0u;
-    t.render_pass = create_render_pass(ctx, attachments, r32f ? 1 : 0,
-                                       VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT, view_mask);
+    t.render_pass = create_render_pass(
+        ctx, attachments, has_colour ? 1 : 0,
+        VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+            (moments ? VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT : 0),
+        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT | (moments ? VK_ACCESS_SHADER_WRITE_BIT : 0),
+        view_mask);
 
     // six_pass: each face a framebuffer of single-layer views. Layered: one framebuffer of 6-layer array views
     // (layers = 6; gl_Layer picks the face). Multiview: the same views with layers = 1; the view mask routes.
     auto views_for = [&](uint32_t first, uint32_t count) {
       std::vector<VkImageView> views;
       VkImageViewType type = count == 1 ? VK_IMAGE_VIEW_TYPE_2D : VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-      if (r32f) views.push_back(create_view(ctx, t.color, type, first, count));
+      if (has_colour) views.push_back(create_view(ctx, t.color, type, first, count));
       views.push_back(create_view(ctx, t.depth, type, first, count));
       t.attachment_views.insert(t.attachment_views.end(), views.begin(), views.end());
       return views;
@@ -149,6 +167,7 @@ void destroy(VkContext& ctx, ShadowTargets& t) {
   for (VkImageView v : t.attachment_views) vkDestroyImageView(ctx.device(), v, nullptr);
   if (t.sampled_view) vkDestroyImageView(ctx.device(), t.sampled_view, nullptr);
   if (t.render_pass) vkDestroyRenderPass(ctx.device(), t.render_pass, nullptr);
+  destroy(ctx, t.blur);
   destroy(ctx, t.color);
   destroy(ctx, t.depth);
   t = ShadowTargets{};

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "backends/common/case_config.h"
+#include "backends/common/storage_filter_tables.h"
 #include "backends/vulkan/vk_resources.h"
 
 namespace omnishadow::vk {
@@ -15,13 +16,14 @@ namespace omnishadow::vk {
 struct ShadowTargets {
   Storage storage = Storage::linear_depth;
   uint32_t size = 0;
-  Image depth;  // the depth test's cube; also what is stored for linear_depth
-  Image color;  // r32f_distance only: the stored distances
-  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE view of what the lighting pass samples
+  Image depth;  // the depth test's cube; what the checks read unless r32f_distance
+  Image color;  // the colour cube beside it: r32f_distance's distances or the moments (GENERAL after the pass)
+  Image blur;   // moments filters: the blur's intermediate, six layers (GENERAL)
+  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE view of what the lighting pass samples (the moments for VSM)
   std::vector<VkImageView> attachment_views;  // owned; referenced by the framebuffers
   VkRenderPass render_pass = VK_NULL_HANDLE;  // multiview pass for Technique::multiview
   std::vector<VkFramebuffer> framebuffers;    // six_pass: one per face; otherwise one, all six layers
-  const Image& stored() const { return storage == Storage::r32f_distance ? color : depth; }
+  const Image& stored() const { return traits(storage).colour_checked ? color : depth; }
 };
 
 // The timed variant has the colour and depth only; the check variant adds the shadow factor and world position.
@@ -51,6 +53,7 @@ MapTargets create_map_targets(VkContext& ctx, uint32_t size, uint32_t layers, De
 void destroy(VkContext& ctx, MapTargets& t);
 
 VkFormat depth_format_of(DepthFormat format);
+VkFormat colour_format_of(ColourFormat format);  // VK_FORMAT_UNDEFINED for none
 // After the shadow pass the stored cube is in SHADER_READ_ONLY_OPTIMAL; the lighting targets end in
 // TRANSFER_SRC_OPTIMAL, ready for read-back.
 ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& config);

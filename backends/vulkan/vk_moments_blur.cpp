@@ -1,0 +1,115 @@
+#include "backends/vulkan/vk_moments_blur.h"
+
+#include "backends/common/shader_variants.h"
+
+namespace omnishadow::vk {
+namespace {
+
+void compute_barrier(VkCommandBuffer cb, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
+                     VkPipelineStageFlags dst_stage, VkAccessFlags dst_access) {
+  VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cb, src_stage, dst_stage, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace
+
+MomentsBlur::MomentsBlur(VkContext& ctx, ShaderModules& modules, ColourFormat format, const Image& moments,
+                         const Image& intermediate)
+    : ctx_(ctx) {
+  VkDevice d = ctx_.device();
+  try {
+    VkDescriptorSetLayoutBinding bindings[2] = {
+        {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
+    VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    set_info.bindingCount = 2;
+    set_info.pBindings = bindings;
+    OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &set_layout_));
+    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 2 * sizeof(int32_t)};  // size, axis
+    VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layout_info.setLayoutCount = 1;
+    layout_info.pSetLayouts = &set_layout_;
+    layout_info.pushConstantRangeCount = 1;
+    layout_info.pPushConstantRanges = &push;
+    OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_));
+    VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    pipeline_info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    pipeline_info.stage.module = modules.get(gpu::variant_key("moments_blur.comp", gpu::moments_blur_defines(format)));
+    pipeline_info.stage.pName = "main";
+    pipeline_info.layout = layout_;
+    OMNISHADOW_VK(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_));
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4};
+    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pool_info.maxSets = 2;
+    pool_info.poolSizeCount = 1;
+    pool_info.pPoolSizes = &size;
+    OMNISHADOW_VK(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_));
+    const VkDescriptorSetLayout layouts[2] = {set_layout_, set_layout_};
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = pool_;
+    alloc.descriptorSetCount = 2;
+    alloc.pSetLayouts = layouts;
+    OMNISHADOW_VK(vkAllocateDescriptorSets(d, &alloc, sets_));
+    views_[0] = create_view(ctx_, moments, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
+    views_[1] = create_view(ctx_, intermediate, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
+    VkDescriptorImageInfo infos[2] = {{VK_NULL_HANDLE, views_[0], VK_IMAGE_LAYOUT_GENERAL},
+                                      {VK_NULL_HANDLE, views_[1], VK_IMAGE_LAYOUT_GENERAL}};
+    VkWriteDescriptorSet writes[4];
+    for (int w = 0; w < 4; ++w) {
+      const int axis = w / 2, binding = w % 2;  // axis 0: moments -> intermediate; axis 1: back
+      writes[w] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+      writes[w].dstSet = sets_[axis];
+      writes[w].dstBinding = uint32_t(binding);
+      writes[w].descriptorCount = 1;
+      writes[w].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+      writes[w].pImageInfo = &infos[axis == 0 ? binding : 1 - binding];
+    }
+    vkUpdateDescriptorSets(d, 4, writes, 0, nullptr);
+    ctx_.submit_and_wait([&](VkCommandBuffer cb) {
+      transition(cb, intermediate, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    });
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+MomentsBlur::~MomentsBlur() { release(); }
+
+void MomentsBlur::release() {
+  VkDevice d = ctx_.device();
+  for (VkImageView& v : views_)
+    if (v) vkDestroyImageView(d, v, nullptr), v = VK_NULL_HANDLE;
+  if (pool_) vkDestroyDescriptorPool(d, pool_, nullptr), pool_ = VK_NULL_HANDLE;
+  if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr), pipeline_ = VK_NULL_HANDLE;
+  if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr), layout_ = VK_NULL_HANDLE;
+  if (set_layout_) vkDestroyDescriptorSetLayout(d, set_layout_, nullptr), set_layout_ = VK_NULL_HANDLE;
+}
+
+void MomentsBlur::record(VkCommandBuffer cb, uint32_t size) const {
+  // The shadow pass's render pass made its moments visible to compute reads (its external dependency); the
+  // intermediate's last readers and writers were the previous frame's dispatches.
+  compute_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  const uint32_t groups = (size + 7) / 8;
+  for (int axis = 0; axis < 2; ++axis) {
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &sets_[axis], 0, nullptr);
+    const int32_t params[2] = {int32_t(size), axis};
+    vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
+    vkCmdDispatch(cb, groups, groups, 6);
+    if (axis == 0)
+      compute_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  }
+  compute_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+}
+
+}  // namespace omnishadow::vk
