@@ -4,7 +4,12 @@
 // moments' C++ form, which checks what the device stored.
 
 #if defined(STORAGE_VSM_MOMENTS)
+#define MOMENTS_STORAGE
 vec4 distance_moments(float z) { return vec4(z, z * z, 0.0, 0.0); }
+#elif defined(STORAGE_ESM_EXP)
+#define MOMENTS_STORAGE
+// z clamped to 1 as the depth is (a face corner is sqrt(3) x far away), so exp(c z) <= exp(c) stays finite.
+vec4 distance_moments(float z) { return vec4(exp(frame.knobs.w * min(z, 1.0)), 0.0, 0.0, 0.0); }
 #endif
 
 #if defined(FILTER_VSM)
@@ -19,5 +24,16 @@ float vsm_shadow(vec3 dir, float current, float bias) {
   float variance = max(m.y - m.x * m.x, frame.knobs.w);
   float d = t - m.x;
   return 1.0 - variance / (variance + d * d);
+}
+#endif
+
+#if defined(FILTER_ESM)
+// Annen et al. 2008: with occluders at or before the receiver, the filtered exp(c z_occ) times exp(-c t) is at
+// most 1 where lit and falls off exponentially behind an occluder; clamped to [0, 1] it is the lit fraction.
+// c = frame.knobs.w; the product is formed as exp(log(m) - c t) so that neither factor overflows.
+float esm_shadow(vec3 dir, float current, float bias) {
+  float m = texture(shadow_map, dir).r;
+  float t = (current - bias) / light_far();
+  return 1.0 - clamp(exp(log(max(m, 1e-30)) - frame.knobs.w * t), 0.0, 1.0);
 }
 #endif

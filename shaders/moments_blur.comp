@@ -8,6 +8,10 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #if defined(MOMENTS_RG16F)
 #define MOMENTS_FORMAT rg16f
+#elif defined(MOMENTS_R32F)
+#define MOMENTS_FORMAT r32f
+#elif defined(MOMENTS_R16F)
+#define MOMENTS_FORMAT r16f
 #else
 #define MOMENTS_FORMAT rg32f
 #endif

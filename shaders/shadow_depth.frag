@@ -1,6 +1,7 @@
 #version 450
 // Shadow pass fragment stage: what is stored is a distance from the light, never projective depth.
 #include "common.glsl"
+#include "moments.glsl"
 
 #if !defined(STORAGE_HARDWARE_DEPTH)
 layout(location = 0) in vec3 world_position;
@@ -8,8 +9,7 @@ layout(location = 0) in vec3 world_position;
 
 #if defined(STORAGE_R32F_DISTANCE)
 layout(location = 0) out float out_distance;  // the multipass tutorial: world units in an R32F cube cleared to FLT_MAX
-#elif defined(STORAGE_VSM_MOMENTS)
-#include "moments.glsl"
+#elif defined(MOMENTS_STORAGE)
 layout(location = 0) out vec4 out_moments;  // the moments of the z written as depth (the format keeps what it has)
 #endif
 
@@ -18,7 +18,7 @@ void main() {
   out_distance = length(world_position - frame.light_position.xyz);
 #elif defined(STORAGE_LINEAR_DEPTH)
   gl_FragDepth = length(world_position - frame.light_position.xyz) / light_far();  // the point-shadow tutorial: distance / far
-#elif defined(STORAGE_VSM_MOMENTS)
+#elif defined(MOMENTS_STORAGE)
   // One z for both: the checks rebuild the moments from the depth the same fragment wrote.
   float z = length(world_position - frame.light_position.xyz) / light_far();
   gl_FragDepth = z;

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/storage_filter_tables.h"
 #include "bench/truth/moments_check.h"
 
 namespace omnishadow {
@@ -44,13 +45,23 @@ TEST(NeighbourTexel, CrossesEachSeamOntoTheAdjacentTexelAndBack) {
 
 // A device's moments, replayed in float as shaders/moments.glsl and moments_blur.comp compute them; `bug` plants a
 // fault into the replay.
-enum class Bug { none, not_squared, face_unblurred, shifted_tap, clamped_seam, nan };
+enum class Bug { none, not_squared, face_unblurred, shifted_tap, clamped_seam, nan, exponent_sign };
 
-Images device_images(int size, Bug bug) {
+// The storage's moments of z in float, as the shader computes them (esm: exp of the float product c z).
+std::vector<float> device_moments(Storage storage, float z, Bug bug) {
+  if (storage == Storage::esm_exp) {
+    const float c = moments_parameter(storage, ColourFormat::r32f);
+    return {std::exp((bug == Bug::exponent_sign ? -c : c) * std::min(z, 1.0f))};
+  }
+  return {z, bug == Bug::not_squared ? z : z * z};
+}
+
+Images device_images(int size, Bug bug, Storage storage = Storage::vsm_moments) {
   Images img;
   img.cube_size = size;
   img.light_far = 25.0f;
-  img.moment_channels = 2;
+  const int channels = traits(storage).colour_channels;
+  img.moment_channels = channels;
   std::array<std::vector<float>, 6> m;
   for (int f = 0; f < 6; ++f) {
     auto& d = img.cube_distance[size_t(f)];
@@ -61,8 +72,7 @@ Images device_images(int size, Bug bug) {
         if (s > size / 3 && s < size / 2 && t > size / 4) z = 0.15f;
         if (f == 3) z = 1.0f;
         d.push_back(z * img.light_far);
-        m[size_t(f)].push_back(z);
-        m[size_t(f)].push_back(bug == Bug::not_squared ? z : z * z);
+        for (float v : device_moments(storage, z, bug)) m[size_t(f)].push_back(v);
       }
   }
   for (int axis = 0; axis < 2; ++axis) {
@@ -72,7 +82,7 @@ Images device_images(int size, Bug bug) {
       if (bug == Bug::face_unblurred && f == 2) continue;
       for (int t = 0; t < size; ++t)
         for (int s = 0; s < size; ++s)
-          for (int c = 0; c < 2; ++c) {
+          for (int c = 0; c < channels; ++c) {
             float sum = 0.0f;
             for (int k = -2; k <= 2; ++k) {
               int kk = bug == Bug::shifted_tap ? k + 1 : k;
@@ -81,9 +91,9 @@ Images device_images(int size, Bug bug) {
                 int ss = axis == 0 ? std::clamp(s + k, 0, size - 1) : s, tt = axis == 1 ? std::clamp(t + k, 0, size - 1) : t;
                 n = {f, ss, tt};
               }
-              sum += w[k + 2] * m[size_t(n.face)][(size_t(n.t) * size_t(size) + size_t(n.s)) * 2 + size_t(c)];
+              sum += w[k + 2] * m[size_t(n.face)][(size_t(n.t) * size_t(size) + size_t(n.s)) * size_t(channels) + size_t(c)];
             }
-            out[size_t(f)][(size_t(t) * size_t(size) + size_t(s)) * 2 + size_t(c)] = sum * (1.0f / 16.0f);
+            out[size_t(f)][(size_t(t) * size_t(size) + size_t(s)) * size_t(channels) + size_t(c)] = sum * (1.0f / 16.0f);
           }
     }
     m = out;
@@ -94,17 +104,36 @@ Images device_images(int size, Bug bug) {
 }
 
 TEST(MomentsCheck, PassesTheDevicesRoundingAndAnUlpEitherWay) {
+  for (Storage storage : {Storage::vsm_moments, Storage::esm_exp})
   for (int size : {4, 16}) {
-    Images img = device_images(size, Bug::none);
-    EXPECT_TRUE(bench::check_moments(img, Storage::vsm_moments, DepthFormat::d32f).ok());
+    Images img = device_images(size, Bug::none, storage);
+    EXPECT_TRUE(bench::check_moments(img, storage, DepthFormat::d32f).ok()) << to_string(storage);
     // Any order of the sums, fused or not, moves a value by at most a few ulps: move every value by two.
     for (auto& face : img.moments)
       for (size_t i = 0; i < face.size(); ++i)
         face[i] = std::nextafter(std::nextafter(face[i], i % 2 ? 2.0f : -2.0f), i % 2 ? 2.0f : -2.0f);
-    const bench::MomentsReport r = bench::check_moments(img, Storage::vsm_moments, DepthFormat::d32f);
-    EXPECT_TRUE(r.ok()) << bench::describe(r);
-    EXPECT_EQ(r.values, 6u * size_t(size) * size_t(size) * 2u);
+    const bench::MomentsReport r = bench::check_moments(img, storage, DepthFormat::d32f);
+    EXPECT_TRUE(r.ok()) << to_string(storage) << ": " << bench::describe(r);
+    EXPECT_EQ(r.values, 6u * size_t(size) * size_t(size) * size_t(img.moment_channels));
   }
+}
+
+// exp's error grows with its argument x = c z (3 + 2|x| ulps, plus |x| / 2 ulps of the argument's rounding): in
+// this scene z >= 0.15 at c = 79.8 gives x >= 12 and at least 39 ulps of allowance, so a device 30 ulps off
+// everywhere passes; 1000 ulps off (beyond the largest allowance, about 160 ulps at z = 0.65) fails.
+TEST(MomentsCheck, EsmAllowsExpsPrecisionAndCatchesAFlippedExponent) {
+  auto scaled = [](float ulps) {
+    Images img = device_images(16, Bug::none, Storage::esm_exp);
+    for (auto& face : img.moments)
+      for (float& v : face) v *= 1.0f + ulps * 0x1p-23f;
+    return img;
+  };
+  EXPECT_TRUE(bench::check_moments(scaled(30.0f), Storage::esm_exp, DepthFormat::d32f).ok());
+  EXPECT_FALSE(bench::check_moments(scaled(1000.0f), Storage::esm_exp, DepthFormat::d32f).ok());
+  EXPECT_FALSE(bench::check_moments(device_images(16, Bug::exponent_sign, Storage::esm_exp), Storage::esm_exp,
+                                    DepthFormat::d32f).ok());
+  Images nan = device_images(16, Bug::nan, Storage::esm_exp);
+  EXPECT_EQ(bench::check_moments(nan, Storage::esm_exp, DepthFormat::d32f).non_finite, 1u);
 }
 
 TEST(MomentsCheck, FailsEveryPlantedBug) {

@@ -22,16 +22,18 @@ constexpr Names<Technique, kTechniques.size()> technique_names() {
   return names;
 }
 constexpr auto kTechniqueNames = technique_names();
-constexpr Names<Filter, 6> kFilters = {{{Filter::hard, "hard"},
+constexpr Names<Filter, 7> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::pcf_grid64, "pcf_grid64"},
                                         {Filter::pcf_disk20, "pcf_disk20"},
                                         {Filter::hw_compare2x2, "hw_compare2x2"},
                                         {Filter::pcss, "pcss"},
-                                        {Filter::vsm, "vsm"}}};
-constexpr Names<Storage, 4> kStorages = {{{Storage::linear_depth, "linear_depth"},
+                                        {Filter::vsm, "vsm"},
+                                        {Filter::esm, "esm"}}};
+constexpr Names<Storage, 5> kStorages = {{{Storage::linear_depth, "linear_depth"},
                                           {Storage::r32f_distance, "r32f_distance"},
                                           {Storage::hardware_depth, "hardware_depth"},
-                                          {Storage::vsm_moments, "vsm_moments"}}};
+                                          {Storage::vsm_moments, "vsm_moments"},
+                                          {Storage::esm_exp, "esm_exp"}}};
 constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
 

@@ -24,6 +24,8 @@ enum class Filter {
                   // by the penumbra of a spherical light of kPcssLightRadius (times --pcf-scale); bias 0.15
   vsm,            // variance shadow maps (Donnelly & Lauritzen 2006): blurred moments (z, z^2) of z = distance / far,
                   // Chebyshev's upper bound on the lit fraction (shaders/moments.glsl); storage vsm_moments
+  esm,            // exponential shadow maps (Annen et al. 2008): the blurred exp(c z), lit = exp(c z) e^(-c t)
+                  // clamped to 1, c from the storage format's range; storage esm_exp
 };
 // The light PCSS imitates: the soft reference's default --light-radius, so that mae_sphere scores it against the
 // light it models (world units).
@@ -35,6 +37,8 @@ enum class Storage {
                   // back to a distance along the sampled direction
   vsm_moments,    // linear_depth's depth plus (z, z^2) of z = distance / far in an RG32F colour cube (RG16F with d16),
                   // blurred before the lighting pass: the vsm filter's storage
+  esm_exp,        // linear_depth's depth plus exp(c min(z, 1)) in an R32F colour cube (R16F with d16), blurred: the
+                  // esm filter's storage
 };
 enum class DepthFormat { d16, d24, d32f };
 

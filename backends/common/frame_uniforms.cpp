@@ -34,7 +34,7 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
   u.light_position = glm::vec4(light_position, far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);
   u.knobs = glm::vec4(static_cast<float>(injected_work), config.pcf_scale, kPcssLightRadius * config.pcf_scale,
-                      moments_min_variance(colour_format(config.storage, config.depth_format)));
+                      moments_parameter(config.storage, colour_format(config.storage, config.depth_format)));
   for (size_t i = 0; i < scene.map_lights.size() && i < u.map_view_proj.size(); ++i) {
     const scene::MapLight& m = scene.map_lights[i];
     const bool spot = m.type == scene::MapLightType::spot;

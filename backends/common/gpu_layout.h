@@ -18,7 +18,7 @@ struct FrameUniforms {
   glm::vec4 light_position;  // w = light far plane
   glm::vec4 light_color;     // w = light near plane
   glm::vec4 knobs{0.0f};     // x = injected fragment work (iterations), y = PCF radius scale, z = PCSS light
-                             // radius, w = VSM variance floor (shaders/common.glsl)
+                             // radius, w = the moments filters' parameter (shaders/common.glsl)
   // Spot and directional lights, one 2D map layer each (backends/common/map_lights.h).
   std::array<glm::mat4, 4> map_view_proj{};
   std::array<glm::vec4, 4> map_light{};  // xyz: spot position / directional: unit vector towards the light;

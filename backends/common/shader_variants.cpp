@@ -48,8 +48,9 @@ std::vector<std::string> moments_blur_defines(ColourFormat format) {
   switch (format) {
     case ColourFormat::rg32f: return {"MOMENTS_RG32F"};
     case ColourFormat::rg16f: return {"MOMENTS_RG16F"};
-    case ColourFormat::none:
-    case ColourFormat::r32f: break;
+    case ColourFormat::r32f: return {"MOMENTS_R32F"};
+    case ColourFormat::r16f: return {"MOMENTS_R16F"};
+    case ColourFormat::none: break;
   }
   return {};
 }

@@ -1,14 +1,15 @@
 #include "backends/common/storage_filter_tables.h"
 
 #include <cmath>
+#include <limits>
 
 namespace omnishadow {
 
 ColourFormat colour_format(Storage s, DepthFormat depth_format) {
   const StorageTraits& row = traits(s);
   if (row.colour_channels == 0) return ColourFormat::none;
-  if (row.colour_channels == 1) return ColourFormat::r32f;
   const bool half = row.half_precision_at_d16 && depth_format == DepthFormat::d16;
+  if (row.colour_channels == 1) return half ? ColourFormat::r16f : ColourFormat::r32f;
   return half ? ColourFormat::rg16f : ColourFormat::rg32f;
 }
 
@@ -18,6 +19,7 @@ int colour_format_bytes(ColourFormat f) {
     case ColourFormat::r32f: return 4;
     case ColourFormat::rg32f: return 8;
     case ColourFormat::rg16f: return 4;
+    case ColourFormat::r16f: return 2;
   }
   return 0;
 }
@@ -29,14 +31,21 @@ bool filter_reads(Filter filter, Storage storage) {
   return own ? *own == storage : traits(storage).moments == MomentKind::none;
 }
 
-float moments_min_variance(ColourFormat f) {
-  return 4.0f * std::ldexp(1.0f, f == ColourFormat::rg16f ? -11 : -24);
+float moments_parameter(Storage s, ColourFormat f) {
+  const bool half = f == ColourFormat::rg16f || f == ColourFormat::r16f;
+  switch (traits(s).moments) {
+    case MomentKind::vsm: return 4.0f * std::ldexp(1.0f, half ? -11 : -24);
+    case MomentKind::esm: return 0.9f * std::log(half ? 65504.0f : std::numeric_limits<float>::max());
+    case MomentKind::none: break;
+  }
+  return 0.0f;
 }
 
-std::array<float, 4> moments_clear_value(Storage s) {
+std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format) {
   switch (traits(s).moments) {
     case MomentKind::none: break;
     case MomentKind::vsm: return {1.0f, 1.0f, 0.0f, 0.0f};  // z = 1, z^2 = 1
+    case MomentKind::esm: return {std::exp(moments_parameter(s, colour_format(s, depth_format))), 0.0f, 0.0f, 0.0f};
   }
   return {0.0f, 0.0f, 0.0f, 0.0f};
 }

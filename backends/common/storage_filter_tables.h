@@ -28,10 +28,11 @@ enum class DistanceEncoding {
 enum class MomentKind {
   none,  // no colour cube, or r32f distances
   vsm,   // (z, z^2) of z = distance / far (Donnelly & Lauritzen 2006)
+  esm,   // exp(c min(z, 1)), c = moments_parameter (Annen et al. 2008)
 };
 
 // A colour cube's format; each backend maps it to its API's (GL internal format, VkFormat).
-enum class ColourFormat { none, r32f, rg32f, rg16f };
+enum class ColourFormat { none, r32f, rg32f, rg16f, r16f };
 
 struct StorageTraits {
   Storage storage;
@@ -44,7 +45,7 @@ struct StorageTraits {
   MomentKind moments;
 };
 
-inline constexpr std::array<StorageTraits, 4> kStorageTable = {{
+inline constexpr std::array<StorageTraits, 5> kStorageTable = {{
     {Storage::linear_depth, "STORAGE_LINEAR_DEPTH", DistanceEncoding::linear_depth, false, true, 0, false,
      MomentKind::none},
     {Storage::r32f_distance, "STORAGE_R32F_DISTANCE", DistanceEncoding::colour_distance, true, false, 1, false,
@@ -54,6 +55,7 @@ inline constexpr std::array<StorageTraits, 4> kStorageTable = {{
     // The depth is linear_depth's (the checks read it as such); the moments of the same z are the colour.
     {Storage::vsm_moments, "STORAGE_VSM_MOMENTS", DistanceEncoding::linear_depth, false, true, 2, true,
      MomentKind::vsm},
+    {Storage::esm_exp, "STORAGE_ESM_EXP", DistanceEncoding::linear_depth, false, true, 1, true, MomentKind::esm},
 }};
 
 // How the lighting pass samples what the filter reads.
@@ -77,7 +79,7 @@ struct FilterTraits {
   Prefilter prefilter;
 };
 
-inline constexpr std::array<FilterTraits, 6> kFilterTable = {{
+inline constexpr std::array<FilterTraits, 7> kFilterTable = {{
     {Filter::hard, "FILTER_HARD", false, FilterSampler::nearest, std::nullopt, Prefilter::none},
     {Filter::pcf_grid64, "FILTER_PCF_GRID64", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
     {Filter::pcf_disk20, "FILTER_PCF_DISK20", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
@@ -87,6 +89,7 @@ inline constexpr std::array<FilterTraits, 6> kFilterTable = {{
     {Filter::pcss, "FILTER_PCSS", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
     {Filter::vsm, "FILTER_VSM", true, FilterSampler::linear_moments, Storage::vsm_moments,
      Prefilter::separable_blur},
+    {Filter::esm, "FILTER_ESM", true, FilterSampler::linear_moments, Storage::esm_exp, Prefilter::separable_blur},
 }};
 
 constexpr const StorageTraits& traits(Storage s) {
@@ -121,10 +124,13 @@ int colour_format_bytes(ColourFormat f);
 Storage storage_for(Filter filter, Storage storage);
 // Whether `filter` can read `storage` (a moments filter only its own moments; the others only distances).
 bool filter_reads(Filter filter, Storage storage);
-// VSM's variance floor in z^2 units (frame.knobs.w): four units of rounding of the moments' format at z = 1 (2^-24
-// for 32-bit float, 2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units) on a flat surface.
-float moments_min_variance(ColourFormat f);
+// The moments' one parameter (frame.knobs.w), by storage and format:
+//   vsm: the variance floor in z^2 units, four units of rounding of the format at z = 1 (2^-24 for 32-bit float,
+//        2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units) on a flat surface;
+//   esm: the exponent c, 0.9 of the natural log of the format's largest finite value (79.8 for 32-bit float, 9.98
+//        for 16-bit): exp(c z) of z <= 1 stays finite, and the blur's averages never exceed their inputs.
+float moments_parameter(Storage s, ColourFormat f);
 // The value a moments cube is cleared to: the moments of z = 1 (nothing drawn: the far plane, as the depth's clear).
-std::array<float, 4> moments_clear_value(Storage s);
+std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format);
 
 }  // namespace omnishadow

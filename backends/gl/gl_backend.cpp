@@ -350,7 +350,7 @@ void GlBackend::begin_shadow_pass(int p, int count) {
   glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
   if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
   if (traits(shadow_.storage).moments != MomentKind::none)
-    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, moments_clear_value(shadow_.storage).data());
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, moments_clear_value(shadow_.storage, config_->depth_format).data());
 }
 
 void GlBackend::clear_shadow_targets() {
@@ -490,7 +490,8 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
     for (int f = 0; f < 6; ++f) {
       auto& face = img.moments[static_cast<size_t>(f)];
       face.resize(texels * size_t(img.moment_channels));
-      glGetTextureSubImage(shadow_.colour, 0, 0, 0, f, shadow_.size, shadow_.size, 1, GL_RG, GL_FLOAT,
+      glGetTextureSubImage(shadow_.colour, 0, 0, 0, f, shadow_.size, shadow_.size, 1,
+                           img.moment_channels == 1 ? GL_RED : GL_RG, GL_FLOAT,
                            static_cast<GLsizei>(face.size() * sizeof(float)), face.data());
     }
   }

@@ -81,6 +81,7 @@ GLenum colour_internal_format(ColourFormat format) {
     case ColourFormat::r32f: return GL_R32F;
     case ColourFormat::rg32f: return GL_RG32F;
     case ColourFormat::rg16f: return GL_RG16F;
+    case ColourFormat::r16f: return GL_R16F;
     case ColourFormat::none: break;
   }
   return GL_NONE;

@@ -32,6 +32,8 @@ const char* format_name(VkFormat f) {
     case VK_FORMAT_D32_SFLOAT: return "VK_FORMAT_D32_SFLOAT";
     case VK_FORMAT_R32G32_SFLOAT: return "VK_FORMAT_R32G32_SFLOAT";
     case VK_FORMAT_R16G16_SFLOAT: return "VK_FORMAT_R16G16_SFLOAT";
+    case VK_FORMAT_R32_SFLOAT: return "VK_FORMAT_R32_SFLOAT";
+    case VK_FORMAT_R16_SFLOAT: return "VK_FORMAT_R16_SFLOAT";
     default: return "format";
   }
 }
@@ -480,7 +482,7 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   VkClearValue clears[2];
   clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (the multipass tutorial)
   if (traits(shadow_.storage).moments != MomentKind::none) {  // the moments of z = 1, as the depth's clear
-    const std::array<float, 4> m = moments_clear_value(shadow_.storage);
+    const std::array<float, 4> m = moments_clear_value(shadow_.storage, config_->depth_format);
     clears[0].color = {{m[0], m[1], m[2], m[3]}};
   }
   clears[1].depthStencil = {1.0f, 0};
@@ -633,7 +635,7 @@ std::vector<float> decode_texels(VkFormat format, const uint8_t* src, size_t cou
 // The blurred moments as floats, `moment_channels` a texel (binary16 widened exactly).
 void VkBackend::read_moments(Images& img) {
   const int channels = traits(shadow_.storage).colour_channels;
-  const bool half = shadow_.color.format == VK_FORMAT_R16G16_SFLOAT;
+  const bool half = shadow_.color.format == VK_FORMAT_R16G16_SFLOAT || shadow_.color.format == VK_FORMAT_R16_SFLOAT;
   const uint32_t texel_bytes = uint32_t(channels) * (half ? 2u : 4u);
   const std::vector<uint8_t> bytes = read_image(*ctx_, shadow_.color, VK_IMAGE_LAYOUT_GENERAL, texel_bytes);
   const size_t values = size_t(shadow_.size) * shadow_.size * size_t(channels);

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "backends/common/storage_filter_tables.h"
+#include "bench/run/memory_budget.h"
 
 #include "bench/results/file_io.h"
 #include "bench/run/repetition_policy.h"
@@ -102,7 +103,8 @@ json checks_to_json(const std::vector<CheckResult>& checks) {
 
 // What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
 json plan_to_json(const CaseResult& r) {
-  json j = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces}, {"light_far", r.light_far}};
+  json j = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces}, {"light_far", r.light_far},
+            {"storage_bytes", shadow_storage_bytes(r.config)}};
   if (traits(r.config.storage).checked == DistanceEncoding::linear_depth) {
     // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
     const int bits = r.config.depth_format == DepthFormat::d16 ? 16 : 24;

@@ -50,14 +50,18 @@ std::string format_bytes(uint64_t bytes) {
   return buf;
 }
 
+uint64_t shadow_storage_bytes(const CaseConfig& c) {
+  const uint64_t texels = 6ull * uint64_t(c.cube_size) * uint64_t(c.cube_size);
+  const uint64_t colour = uint64_t(colour_format_bytes(colour_format(c.storage, c.depth_format)));
+  const uint64_t colour_cubes = traits(c.filter).prefilter == Prefilter::separable_blur ? 2 : 1;
+  return texels * (depth_bytes(c.depth_format) + colour * colour_cubes);
+}
+
 MemoryNeed estimate_case_memory(const CaseConfig& c, CubeReadBack cube) {
   const uint64_t texels = 6ull * uint64_t(c.cube_size) * uint64_t(c.cube_size);
   const uint64_t pixels = uint64_t(c.width) * uint64_t(c.height);
   MemoryNeed need;
-  // The depth cube, the colour cube beside it (r32f distances, moments) and the blur's second moments cube.
-  const uint64_t colour = uint64_t(colour_format_bytes(colour_format(c.storage, c.depth_format)));
-  const uint64_t colour_cubes = traits(c.filter).prefilter == Prefilter::separable_blur ? 2 : 1;
-  need.device_bytes = texels * depth_bytes(c.depth_format) + texels * colour * colour_cubes;
+  need.device_bytes = shadow_storage_bytes(c);
   // Check variant: RGBA8 lit, R32F shadow factor, RGBA32F position, D32F depth; timed variant: RGBA8 + D32F.
   need.device_bytes += pixels * (4 + 4 + 16 + 4) + pixels * (4 + 4);
   // Host: the read-back cube as floats, held twice (this case and the six_pass reference kept for checks), plus

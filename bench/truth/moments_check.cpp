@@ -1,5 +1,6 @@
 #include "bench/truth/moments_check.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -28,10 +29,27 @@ double depth_step(DepthFormat f) {
   return f == DepthFormat::d16 ? 1.0 / 65535.0 : f == DepthFormat::d24 ? 1.0 / 16777215.0 : 0.0;
 }
 
-// The storage's moment `channel` of z (the C++ form of shaders/moments.glsl's distance_moments).
-double moment(MomentKind kind, int channel, double z) {
+// The storage's moment `channel` of z (the C++ form of shaders/moments.glsl's distance_moments); `c` is the
+// moments' parameter where they have an exponent (esm).
+double moment(MomentKind kind, int channel, double z, double c) {
   switch (kind) {
     case MomentKind::vsm: return channel == 0 ? z : z * z;
+    case MomentKind::esm: return std::exp(c * std::min(z, 1.0));
+    case MomentKind::none: break;
+  }
+  return 0.0;
+}
+
+// How far the device's float evaluation of that moment may be from it, relative: vsm's z^2 one correctly rounded
+// multiply; esm's exp(c z) the product's rounding (|x| 2^-24 of exp's argument x = c z) and exp's own (3 + 2|x|)
+// ulps (the GLSL and Vulkan precision tables), an ulp being at most 2^-23 of the value.
+double moment_rounding(MomentKind kind, int channel, double z, double c) {
+  switch (kind) {
+    case MomentKind::vsm: return channel == 0 ? 0.0 : kFloatUnit;
+    case MomentKind::esm: {
+      const double x = std::abs(c * std::min(z, 1.0));
+      return x * kFloatUnit + (3.0 + 2.0 * x) * 0x1p-23;
+    }
     case MomentKind::none: break;
   }
   return 0.0;
@@ -43,7 +61,8 @@ Interval stored(Interval v, bool half) {
   return {v.low - std::abs(v.low) * kHalfUnit - kHalfTiny, v.high + std::abs(v.high) * kHalfUnit + kHalfTiny};
 }
 
-IntervalCube unblurred(const Images& img, MomentKind kind, int channels, DepthFormat depth_format, bool half) {
+IntervalCube unblurred(const Images& img, MomentKind kind, int channels, DepthFormat depth_format, bool half,
+                       double c) {
   IntervalCube out;
   const double far_plane = img.light_far, step = depth_step(depth_format);
   for (int f = 0; f < 6; ++f) {
@@ -54,11 +73,11 @@ IntervalCube unblurred(const Images& img, MomentKind kind, int channels, DepthFo
       double low = z * (1.0 - 0x1p-23) - step, high = z * (1.0 + 0x1p-23) + step;
       if (z >= 1.0 - step - 0x1p-23) high = std::sqrt(3.0) * (1.0 + 0x1p-23);  // clamped depth: any z beyond
       low = std::max(low, 0.0);
-      for (int c = 0; c < channels; ++c) {
-        Interval m{moment(kind, c, low), moment(kind, c, high)};
+      for (int ch = 0; ch < channels; ++ch) {
+        Interval m{moment(kind, ch, low, c), moment(kind, ch, high, c)};
         if (m.low > m.high) std::swap(m.low, m.high);
-        m = {m.low - std::abs(m.low) * kFloatUnit, m.high + std::abs(m.high) * kFloatUnit};  // the multiply
-        out[static_cast<size_t>(f)][i * size_t(channels) + size_t(c)] = stored(m, half);
+        m = {m.low * (1.0 - moment_rounding(kind, ch, low, c)), m.high * (1.0 + moment_rounding(kind, ch, high, c))};
+        out[static_cast<size_t>(f)][i * size_t(channels) + size_t(ch)] = stored(m, half);
       }
     }
   }
@@ -100,8 +119,10 @@ MomentsReport check_moments(const Images& img, Storage storage, DepthFormat dept
   if (row.moments == MomentKind::none || !img.has_full_cube() || img.moments[0].empty() ||
       img.moment_channels != channels)
     return r;
-  const bool half = colour_format(storage, depth_format) == ColourFormat::rg16f;
-  IntervalCube bound = unblurred(img, row.moments, channels, depth_format, half);
+  const ColourFormat format = colour_format(storage, depth_format);
+  const bool half = format == ColourFormat::rg16f || format == ColourFormat::r16f;
+  IntervalCube bound =
+      unblurred(img, row.moments, channels, depth_format, half, double(moments_parameter(storage, format)));
   bound = blur(bound, size, channels, 0, half);
   bound = blur(bound, size, channels, 1, half);
   double worst = -1.0;

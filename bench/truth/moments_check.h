@@ -8,8 +8,9 @@
 //   depth -> z:  z = distance / far read back as float (one rounding each way: 2^-23 relative), plus the depth
 //                format's step for d16 / d24 (the moments hold the unquantised z); a texel at depth 1 may hold any
 //                z up to sqrt(3) (gl_FragDepth clamps, the moments do not: a face corner is sqrt(3) x far away).
-//   moments:     the storage's moment functions (monotone in z over [0, sqrt(3)]) at the interval's ends, one
-//                correctly rounded multiply (2^-24 relative), then the format's rounding (for 16-bit float one ulp,
+//   moments:     the storage's moment functions (monotone in z over [0, sqrt(3)]) at the interval's ends, with
+//                the device's float evaluation (vsm: one correctly rounded multiply, 2^-24 relative; esm: exp's
+//                (3 + 2|x|) ulps and its argument's rounding), then the format's rounding (for 16-bit float one ulp,
 //                2^-10 relative: conversions may round to nearest or toward zero; plus 2^-24 absolute for subnormals).
 //   each blur pass: the weighted sum (1 4 6 4 1) / 16 of the neighbours' intervals (cube::neighbour_texel, the
 //                shader's addressing), widened by the float sum's rounding in any order or fused form, gamma_5 =

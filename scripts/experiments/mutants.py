@@ -27,8 +27,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 MATRIX = ["--scene", "room,heavy,spot", "--cube", "256", "--frame", "400x300", "--frames", "1", "--warmup", "0",
           "--images", "none", "--check", "--benchmark_repetitions=1"]
 FACES = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"]
-# What the moments filters' mutants add to MATRIX: the default filters and the moments filters (GL only so far).
-MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm"]
+# What the moments filters' mutants add to MATRIX: the default filters and the moments filters.
+MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm,esm"]
 
 
 def flip_up(face):
@@ -94,6 +94,10 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("vsm_not_squared", "shaders/moments.glsl",
      replace("return vec4(z, z * z, 0.0, 0.0);", "return vec4(z, z, 0.0, 0.0);"),
      "VSM's second moment stored as z instead of z^2", MOMENTS_FILTERS),
+    ("esm_exponent_sign", "shaders/moments.glsl",
+     replace("return vec4(exp(frame.knobs.w * min(z, 1.0)), 0.0, 0.0, 0.0);",
+             "return vec4(exp(-frame.knobs.w * min(z, 1.0)), 0.0, 0.0, 0.0);"),
+     "ESM's stored exponential with the exponent's sign flipped", MOMENTS_FILTERS),
     ("blur_skips_face", "shaders/moments_blur.comp",
      replace("  vec4 sum = vec4(0.0);", "  if (id.z == 5) { imageStore(target, id, imageLoad(source, id)); return; }\n"
              "  vec4 sum = vec4(0.0);"),
