@@ -10,6 +10,13 @@ vec4 distance_moments(float z) { return vec4(z, z * z, 0.0, 0.0); }
 #define MOMENTS_STORAGE
 // z clamped to 1 as the depth is (a face corner is sqrt(3) x far away), so exp(c z) <= exp(c) stays finite.
 vec4 distance_moments(float z) { return vec4(exp(frame.knobs.w * min(z, 1.0)), 0.0, 0.0, 0.0); }
+#elif defined(STORAGE_EVSM2_MOMENTS) || defined(STORAGE_EVSM4_MOMENTS)
+#define MOMENTS_STORAGE
+// Both warps of min(z, 1) with c = frame.knobs.w (e^(2c) finite in the format); a 2-channel cube keeps the first two.
+vec4 distance_moments(float z) {
+  float p = exp(frame.knobs.w * min(z, 1.0)), n = exp(-frame.knobs.w * min(z, 1.0));
+  return vec4(p, p * p, -n, n * n);
+}
 #endif
 
 #if defined(FILTER_VSM)
@@ -24,6 +31,31 @@ float vsm_shadow(vec3 dir, float current, float bias) {
   float variance = max(m.y - m.x * m.x, frame.knobs.w);
   float d = t - m.x;
   return 1.0 - variance / (variance + d * d);
+}
+#endif
+
+#if defined(FILTER_EVSM2) || defined(FILTER_EVSM4)
+// Chebyshev's one-sided bound on warped moments (mean, mean of squares) at the warped receiver w, with the variance
+// floored at 4 units of the format's rounding of w^2 (frame.knobs.w's format: 2^-24 float, 2^-11 half; the warp
+// spreads z, so the floor scales with w^2 rather than being one constant).
+float chebyshev_lit(vec2 m, float w, float unit) {
+  if (w <= m.x) return 1.0;
+  float variance = max(m.y - m.x * m.x, 4.0 * unit * w * w);
+  float d = w - m.x;
+  return variance / (variance + d * d);
+}
+
+// Lauritzen & McCool 2008: VSM on e^(cz) (and, evsm4, on -e^(-cz)), the lesser bound. The moments' format decides
+// c and so its rounding unit: c > 10 only for 32-bit float.
+float evsm_shadow(vec3 dir, float current, float bias) {
+  vec4 m = texture(shadow_map, dir);
+  float c = frame.knobs.w, t = min((current - bias) / light_far(), 1.0);
+  float unit = c > 10.0 ? 5.96e-8 : 4.88e-4;
+  float lit = chebyshev_lit(m.xy, exp(c * t), unit);
+#if defined(FILTER_EVSM4)
+  lit = min(lit, chebyshev_lit(m.zw, -exp(-c * t), unit));
+#endif
+  return 1.0 - lit;
 }
 #endif
 

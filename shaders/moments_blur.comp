@@ -12,6 +12,10 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #define MOMENTS_FORMAT r32f
 #elif defined(MOMENTS_R16F)
 #define MOMENTS_FORMAT r16f
+#elif defined(MOMENTS_RGBA32F)
+#define MOMENTS_FORMAT rgba32f
+#elif defined(MOMENTS_RGBA16F)
+#define MOMENTS_FORMAT rgba16f
 #else
 #define MOMENTS_FORMAT rg32f
 #endif

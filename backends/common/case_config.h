@@ -26,6 +26,10 @@ enum class Filter {
                   // Chebyshev's upper bound on the lit fraction (shaders/moments.glsl); storage vsm_moments
   esm,            // exponential shadow maps (Annen et al. 2008): the blurred exp(c z), lit = exp(c z) e^(-c t)
                   // clamped to 1, c from the storage format's range; storage esm_exp
+  evsm2,          // exponential variance shadow maps (Lauritzen & McCool 2008), positive warp: VSM's Chebyshev bound on
+                  // the blurred (e^(cz), e^(2cz)); storage evsm2_moments
+  evsm4,          // EVSM with both warps: the lesser of the bounds on (e^(cz), e^(2cz)) and (-e^(-cz), e^(-2cz));
+                  // storage evsm4_moments
 };
 // The light PCSS imitates: the soft reference's default --light-radius, so that mae_sphere scores it against the
 // light it models (world units).
@@ -39,6 +43,8 @@ enum class Storage {
                   // blurred before the lighting pass: the vsm filter's storage
   esm_exp,        // linear_depth's depth plus exp(c min(z, 1)) in an R32F colour cube (R16F with d16), blurred: the
                   // esm filter's storage
+  evsm2_moments,  // the depth plus (e^(cz), e^(2cz)) of min(z, 1), RG32F (RG16F with d16): the evsm2 filter's storage
+  evsm4_moments,  // the depth plus (e^(cz), e^(2cz), -e^(-cz), e^(-2cz)), RGBA32F (RGBA16F with d16): evsm4's storage
 };
 enum class DepthFormat { d16, d24, d32f };
 

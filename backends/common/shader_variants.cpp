@@ -50,6 +50,8 @@ std::vector<std::string> moments_blur_defines(ColourFormat format) {
     case ColourFormat::rg16f: return {"MOMENTS_RG16F"};
     case ColourFormat::r32f: return {"MOMENTS_R32F"};
     case ColourFormat::r16f: return {"MOMENTS_R16F"};
+    case ColourFormat::rgba32f: return {"MOMENTS_RGBA32F"};
+    case ColourFormat::rgba16f: return {"MOMENTS_RGBA16F"};
     case ColourFormat::none: break;
   }
   return {};

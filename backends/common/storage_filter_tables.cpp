@@ -10,6 +10,7 @@ ColourFormat colour_format(Storage s, DepthFormat depth_format) {
   if (row.colour_channels == 0) return ColourFormat::none;
   const bool half = row.half_precision_at_d16 && depth_format == DepthFormat::d16;
   if (row.colour_channels == 1) return half ? ColourFormat::r16f : ColourFormat::r32f;
+  if (row.colour_channels == 4) return half ? ColourFormat::rgba16f : ColourFormat::rgba32f;
   return half ? ColourFormat::rg16f : ColourFormat::rg32f;
 }
 
@@ -20,6 +21,8 @@ int colour_format_bytes(ColourFormat f) {
     case ColourFormat::rg32f: return 8;
     case ColourFormat::rg16f: return 4;
     case ColourFormat::r16f: return 2;
+    case ColourFormat::rgba32f: return 16;
+    case ColourFormat::rgba16f: return 8;
   }
   return 0;
 }
@@ -32,10 +35,12 @@ bool filter_reads(Filter filter, Storage storage) {
 }
 
 float moments_parameter(Storage s, ColourFormat f) {
-  const bool half = f == ColourFormat::rg16f || f == ColourFormat::r16f;
+  const bool half = f == ColourFormat::rg16f || f == ColourFormat::r16f || f == ColourFormat::rgba16f;
+  const float log_max = std::log(half ? 65504.0f : std::numeric_limits<float>::max());
   switch (traits(s).moments) {
     case MomentKind::vsm: return 4.0f * std::ldexp(1.0f, half ? -11 : -24);
-    case MomentKind::esm: return 0.9f * std::log(half ? 65504.0f : std::numeric_limits<float>::max());
+    case MomentKind::esm: return 0.9f * log_max;
+    case MomentKind::evsm: return 0.45f * log_max;
     case MomentKind::none: break;
   }
   return 0.0f;
@@ -46,6 +51,11 @@ std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format) {
     case MomentKind::none: break;
     case MomentKind::vsm: return {1.0f, 1.0f, 0.0f, 0.0f};  // z = 1, z^2 = 1
     case MomentKind::esm: return {std::exp(moments_parameter(s, colour_format(s, depth_format))), 0.0f, 0.0f, 0.0f};
+    case MomentKind::evsm: {
+      const float c = moments_parameter(s, colour_format(s, depth_format));
+      const float p = std::exp(c), n = std::exp(-c);
+      return {p, p * p, -n, n * n};  // a 2-channel cube keeps the first two
+    }
   }
   return {0.0f, 0.0f, 0.0f, 0.0f};
 }

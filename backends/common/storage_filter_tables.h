@@ -29,10 +29,11 @@ enum class MomentKind {
   none,  // no colour cube, or r32f distances
   vsm,   // (z, z^2) of z = distance / far (Donnelly & Lauritzen 2006)
   esm,   // exp(c min(z, 1)), c = moments_parameter (Annen et al. 2008)
+  evsm,  // e^(cz), e^(2cz) [, -e^(-cz), e^(-2cz)] of min(z, 1) (Lauritzen & McCool 2008): 2 or 4 channels
 };
 
 // A colour cube's format; each backend maps it to its API's (GL internal format, VkFormat).
-enum class ColourFormat { none, r32f, rg32f, rg16f, r16f };
+enum class ColourFormat { none, r32f, rg32f, rg16f, r16f, rgba32f, rgba16f };
 
 struct StorageTraits {
   Storage storage;
@@ -45,7 +46,7 @@ struct StorageTraits {
   MomentKind moments;
 };
 
-inline constexpr std::array<StorageTraits, 5> kStorageTable = {{
+inline constexpr std::array<StorageTraits, 7> kStorageTable = {{
     {Storage::linear_depth, "STORAGE_LINEAR_DEPTH", DistanceEncoding::linear_depth, false, true, 0, false,
      MomentKind::none},
     {Storage::r32f_distance, "STORAGE_R32F_DISTANCE", DistanceEncoding::colour_distance, true, false, 1, false,
@@ -56,6 +57,10 @@ inline constexpr std::array<StorageTraits, 5> kStorageTable = {{
     {Storage::vsm_moments, "STORAGE_VSM_MOMENTS", DistanceEncoding::linear_depth, false, true, 2, true,
      MomentKind::vsm},
     {Storage::esm_exp, "STORAGE_ESM_EXP", DistanceEncoding::linear_depth, false, true, 1, true, MomentKind::esm},
+    {Storage::evsm2_moments, "STORAGE_EVSM2_MOMENTS", DistanceEncoding::linear_depth, false, true, 2, true,
+     MomentKind::evsm},
+    {Storage::evsm4_moments, "STORAGE_EVSM4_MOMENTS", DistanceEncoding::linear_depth, false, true, 4, true,
+     MomentKind::evsm},
 }};
 
 // How the lighting pass samples what the filter reads.
@@ -79,7 +84,7 @@ struct FilterTraits {
   Prefilter prefilter;
 };
 
-inline constexpr std::array<FilterTraits, 7> kFilterTable = {{
+inline constexpr std::array<FilterTraits, 9> kFilterTable = {{
     {Filter::hard, "FILTER_HARD", false, FilterSampler::nearest, std::nullopt, Prefilter::none},
     {Filter::pcf_grid64, "FILTER_PCF_GRID64", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
     {Filter::pcf_disk20, "FILTER_PCF_DISK20", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
@@ -90,6 +95,10 @@ inline constexpr std::array<FilterTraits, 7> kFilterTable = {{
     {Filter::vsm, "FILTER_VSM", true, FilterSampler::linear_moments, Storage::vsm_moments,
      Prefilter::separable_blur},
     {Filter::esm, "FILTER_ESM", true, FilterSampler::linear_moments, Storage::esm_exp, Prefilter::separable_blur},
+    {Filter::evsm2, "FILTER_EVSM2", true, FilterSampler::linear_moments, Storage::evsm2_moments,
+     Prefilter::separable_blur},
+    {Filter::evsm4, "FILTER_EVSM4", true, FilterSampler::linear_moments, Storage::evsm4_moments,
+     Prefilter::separable_blur},
 }};
 
 constexpr const StorageTraits& traits(Storage s) {
@@ -128,7 +137,8 @@ bool filter_reads(Filter filter, Storage storage);
 //   vsm: the variance floor in z^2 units, four units of rounding of the format at z = 1 (2^-24 for 32-bit float,
 //        2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units) on a flat surface;
 //   esm: the exponent c, 0.9 of the natural log of the format's largest finite value (79.8 for 32-bit float, 9.98
-//        for 16-bit): exp(c z) of z <= 1 stays finite, and the blur's averages never exceed their inputs.
+//        for 16-bit): exp(c z) of z <= 1 stays finite, and the blur's averages never exceed their inputs;
+//   evsm: the exponent c, half of esm's (39.9, 4.99), as e^(2cz) is stored.
 float moments_parameter(Storage s, ColourFormat f);
 // The value a moments cube is cleared to: the moments of z = 1 (nothing drawn: the far plane, as the depth's clear).
 std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format);

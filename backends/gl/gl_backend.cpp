@@ -491,7 +491,7 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
       auto& face = img.moments[static_cast<size_t>(f)];
       face.resize(texels * size_t(img.moment_channels));
       glGetTextureSubImage(shadow_.colour, 0, 0, 0, f, shadow_.size, shadow_.size, 1,
-                           img.moment_channels == 1 ? GL_RED : GL_RG, GL_FLOAT,
+                           img.moment_channels == 1 ? GL_RED : img.moment_channels == 2 ? GL_RG : GL_RGBA, GL_FLOAT,
                            static_cast<GLsizei>(face.size() * sizeof(float)), face.data());
     }
   }

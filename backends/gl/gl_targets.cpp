@@ -82,6 +82,8 @@ GLenum colour_internal_format(ColourFormat format) {
     case ColourFormat::rg32f: return GL_RG32F;
     case ColourFormat::rg16f: return GL_RG16F;
     case ColourFormat::r16f: return GL_R16F;
+    case ColourFormat::rgba32f: return GL_RGBA32F;
+    case ColourFormat::rgba16f: return GL_RGBA16F;
     case ColourFormat::none: break;
   }
   return GL_NONE;

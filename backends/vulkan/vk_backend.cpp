@@ -34,6 +34,8 @@ const char* format_name(VkFormat f) {
     case VK_FORMAT_R16G16_SFLOAT: return "VK_FORMAT_R16G16_SFLOAT";
     case VK_FORMAT_R32_SFLOAT: return "VK_FORMAT_R32_SFLOAT";
     case VK_FORMAT_R16_SFLOAT: return "VK_FORMAT_R16_SFLOAT";
+    case VK_FORMAT_R32G32B32A32_SFLOAT: return "VK_FORMAT_R32G32B32A32_SFLOAT";
+    case VK_FORMAT_R16G16B16A16_SFLOAT: return "VK_FORMAT_R16G16B16A16_SFLOAT";
     default: return "format";
   }
 }
@@ -635,7 +637,9 @@ std::vector<float> decode_texels(VkFormat format, const uint8_t* src, size_t cou
 // The blurred moments as floats, `moment_channels` a texel (binary16 widened exactly).
 void VkBackend::read_moments(Images& img) {
   const int channels = traits(shadow_.storage).colour_channels;
-  const bool half = shadow_.color.format == VK_FORMAT_R16G16_SFLOAT || shadow_.color.format == VK_FORMAT_R16_SFLOAT;
+  const VkFormat format = shadow_.color.format;
+  const bool half = format == VK_FORMAT_R16G16_SFLOAT || format == VK_FORMAT_R16_SFLOAT ||
+                    format == VK_FORMAT_R16G16B16A16_SFLOAT;
   const uint32_t texel_bytes = uint32_t(channels) * (half ? 2u : 4u);
   const std::vector<uint8_t> bytes = read_image(*ctx_, shadow_.color, VK_IMAGE_LAYOUT_GENERAL, texel_bytes);
   const size_t values = size_t(shadow_.size) * shadow_.size * size_t(channels);

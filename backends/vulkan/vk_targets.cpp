@@ -96,6 +96,8 @@ VkFormat colour_format_of(ColourFormat format) {
     case ColourFormat::rg32f: return VK_FORMAT_R32G32_SFLOAT;
     case ColourFormat::rg16f: return VK_FORMAT_R16G16_SFLOAT;
     case ColourFormat::r16f: return VK_FORMAT_R16_SFLOAT;
+    case ColourFormat::rgba32f: return VK_FORMAT_R32G32B32A32_SFLOAT;
+    case ColourFormat::rgba16f: return VK_FORMAT_R16G16B16A16_SFLOAT;
     case ColourFormat::none: break;
   }
   return VK_FORMAT_UNDEFINED;

@@ -35,6 +35,10 @@ double moment(MomentKind kind, int channel, double z, double c) {
   switch (kind) {
     case MomentKind::vsm: return channel == 0 ? z : z * z;
     case MomentKind::esm: return std::exp(c * std::min(z, 1.0));
+    case MomentKind::evsm: {
+      const double p = std::exp(c * std::min(z, 1.0)), n = std::exp(-c * std::min(z, 1.0));
+      return channel == 0 ? p : channel == 1 ? p * p : channel == 2 ? -n : n * n;
+    }
     case MomentKind::none: break;
   }
   return 0.0;
@@ -49,6 +53,10 @@ double moment_rounding(MomentKind kind, int channel, double z, double c) {
     case MomentKind::esm: {
       const double x = std::abs(c * std::min(z, 1.0));
       return x * kFloatUnit + (3.0 + 2.0 * x) * 0x1p-23;
+    }
+    case MomentKind::evsm: {  // squares: twice the exponential's error and the multiply's rounding
+      const double x = std::abs(c * std::min(z, 1.0)), exp_error = x * kFloatUnit + (3.0 + 2.0 * x) * 0x1p-23;
+      return channel % 2 == 0 ? exp_error : 2.0 * exp_error + 2.0 * kFloatUnit;
     }
     case MomentKind::none: break;
   }
@@ -76,7 +84,8 @@ IntervalCube unblurred(const Images& img, MomentKind kind, int channels, DepthFo
       for (int ch = 0; ch < channels; ++ch) {
         Interval m{moment(kind, ch, low, c), moment(kind, ch, high, c)};
         if (m.low > m.high) std::swap(m.low, m.high);
-        m = {m.low * (1.0 - moment_rounding(kind, ch, low, c)), m.high * (1.0 + moment_rounding(kind, ch, high, c))};
+        const double rounding = std::max(moment_rounding(kind, ch, low, c), moment_rounding(kind, ch, high, c));
+        m = {m.low - std::abs(m.low) * rounding, m.high + std::abs(m.high) * rounding};
         out[static_cast<size_t>(f)][i * size_t(channels) + size_t(ch)] = stored(m, half);
       }
     }
@@ -120,7 +129,7 @@ MomentsReport check_moments(const Images& img, Storage storage, DepthFormat dept
       img.moment_channels != channels)
     return r;
   const ColourFormat format = colour_format(storage, depth_format);
-  const bool half = format == ColourFormat::rg16f || format == ColourFormat::r16f;
+  const bool half = format == ColourFormat::rg16f || format == ColourFormat::r16f || format == ColourFormat::rgba16f;
   IntervalCube bound =
       unblurred(img, row.moments, channels, depth_format, half, double(moments_parameter(storage, format)));
   bound = blur(bound, size, channels, 0, half);
