@@ -10,6 +10,12 @@ vec4 distance_moments(float z) { return vec4(z, z * z, 0.0, 0.0); }
 #define MOMENTS_STORAGE
 // z clamped to 1 as the depth is (a face corner is sqrt(3) x far away), so exp(c z) <= exp(c) stays finite.
 vec4 distance_moments(float z) { return vec4(exp(frame.knobs.w * min(z, 1.0)), 0.0, 0.0, 0.0); }
+#elif defined(STORAGE_MSM_MOMENTS)
+#define MOMENTS_STORAGE
+vec4 distance_moments(float z) {
+  float c = min(z, 1.0), c2 = c * c;
+  return vec4(c, c2, c2 * c, c2 * c2);
+}
 #elif defined(STORAGE_EVSM2_MOMENTS) || defined(STORAGE_EVSM4_MOMENTS)
 #define MOMENTS_STORAGE
 // Both warps of min(z, 1) with c = frame.knobs.w (e^(2c) finite in the format); a 2-channel cube keeps the first two.
@@ -56,6 +62,29 @@ float evsm_shadow(vec3 dir, float current, float bias) {
   lit = min(lit, chebyshev_lit(m.zw, -exp(-c * t), unit));
 #endif
   return 1.0 - lit;
+}
+#endif
+
+#if defined(FILTER_MSM)
+// Hamburger 4MSM (Peters & Klein 2015). The biased moments b are those of some distribution of occluder depths on
+// [0, 1]; the receiver at t is shadowed at least by the sharpest such bound, reached by a distribution on three
+// points: t and the two roots z2 < z3 of c3 x^2 + c2 x + c1, where c solves the Hankel system
+// [1 b1 b2; b1 b2 b3; b2 b3 b4] c = (1, t, t^2) (by its LDL^T factorisation). Bias alpha = frame.knobs.w.
+float msm_shadow(vec3 dir, float current, float bias) {
+  vec4 b = mix(texture(shadow_map, dir), vec4(0.5), frame.knobs.w);
+  float t = min((current - bias) / light_far(), 1.0);
+  float d22 = b.y - b.x * b.x;
+  float l32 = (b.z - b.x * b.y) / d22;
+  float d33 = b.w - b.y * b.y - l32 * l32 * d22;
+  float y2 = (t - b.x) / d22;
+  float y3 = (t * t - b.y - l32 * (t - b.x)) / d33;
+  float c3 = y3, c2 = y2 - l32 * c3, c1 = 1.0 - b.x * c2 - b.y * c3;
+  float p = c2 / c3, q = c1 / c3;
+  float r = sqrt(max(p * p * 0.25 - q, 0.0));
+  float z2 = -0.5 * p - r, z3 = -0.5 * p + r;
+  if (t <= z2) return 0.0;
+  if (t <= z3) return clamp((t * z3 - b.x * (t + z3) + b.y) / ((z3 - z2) * (t - z2)), 0.0, 1.0);
+  return clamp(1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((t - z2) * (t - z3)), 0.0, 1.0);
 }
 #endif
 

@@ -35,7 +35,7 @@ float stored_to_distance(float stored, vec3 dir) {
 }
 
 #if !defined(FILTER_HW_COMPARE2X2) && !defined(FILTER_VSM) && !defined(FILTER_ESM) && !defined(FILTER_EVSM2) && \
-    !defined(FILTER_EVSM4)
+    !defined(FILTER_EVSM4) && !defined(FILTER_MSM)
 // 1 when `current` lies behind what the light saw in direction `dir` (shadowed), else 0.
 float occluded(vec3 dir, float current, float bias) {
   return current - bias > stored_to_distance(texture(shadow_map, dir).r, dir) ? 1.0 : 0.0;
@@ -131,6 +131,8 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
   return esm_shadow(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
 #elif defined(FILTER_EVSM2) || defined(FILTER_EVSM4)
   return evsm_shadow(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
+#elif defined(FILTER_MSM)
+  return msm_shadow(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
 #elif defined(FILTER_HW_COMPARE2X2)
   // Reference value in the stored units (distance / far); the sampler returns the lit fraction.
   return 1.0 - texture(shadow_map, vec4(frag_to_light, (current - lookup_bias(0.05, normal, frag_to_light)) / light_far()));

@@ -53,6 +53,10 @@ std::vector<float> device_moments(Storage storage, float z, Bug bug) {
     const float c = moments_parameter(storage, ColourFormat::r32f);
     return {std::exp((bug == Bug::exponent_sign ? -c : c) * std::min(z, 1.0f))};
   }
+  if (storage == Storage::msm_moments) {
+    const float c = std::min(z, 1.0f), c2 = c * c;
+    return {c, c2, c2 * c, c2 * c2};
+  }
   if (storage == Storage::evsm2_moments || storage == Storage::evsm4_moments) {
     const float c = moments_parameter(storage, colour_format(storage, DepthFormat::d32f));
     const float p = std::exp(c * std::min(z, 1.0f)), n = std::exp(-c * std::min(z, 1.0f));
@@ -110,7 +114,8 @@ Images device_images(int size, Bug bug, Storage storage = Storage::vsm_moments) 
 }
 
 TEST(MomentsCheck, PassesTheDevicesRoundingAndAnUlpEitherWay) {
-  for (Storage storage : {Storage::vsm_moments, Storage::esm_exp, Storage::evsm2_moments, Storage::evsm4_moments})
+  for (Storage storage : {Storage::vsm_moments, Storage::esm_exp, Storage::evsm2_moments, Storage::evsm4_moments,
+                          Storage::msm_moments})
   for (int size : {4, 16}) {
     Images img = device_images(size, Bug::none, storage);
     EXPECT_TRUE(bench::check_moments(img, storage, DepthFormat::d32f).ok()) << to_string(storage);

@@ -22,7 +22,7 @@ constexpr Names<Technique, kTechniques.size()> technique_names() {
   return names;
 }
 constexpr auto kTechniqueNames = technique_names();
-constexpr Names<Filter, 9> kFilters = {{{Filter::hard, "hard"},
+constexpr Names<Filter, 10> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::pcf_grid64, "pcf_grid64"},
                                         {Filter::pcf_disk20, "pcf_disk20"},
                                         {Filter::hw_compare2x2, "hw_compare2x2"},
@@ -30,14 +30,16 @@ constexpr Names<Filter, 9> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::vsm, "vsm"},
                                         {Filter::esm, "esm"},
                                         {Filter::evsm2, "evsm2"},
-                                        {Filter::evsm4, "evsm4"}}};
-constexpr Names<Storage, 7> kStorages = {{{Storage::linear_depth, "linear_depth"},
+                                        {Filter::evsm4, "evsm4"},
+                                        {Filter::msm, "msm"}}};
+constexpr Names<Storage, 8> kStorages = {{{Storage::linear_depth, "linear_depth"},
                                           {Storage::r32f_distance, "r32f_distance"},
                                           {Storage::hardware_depth, "hardware_depth"},
                                           {Storage::vsm_moments, "vsm_moments"},
                                           {Storage::esm_exp, "esm_exp"},
                                           {Storage::evsm2_moments, "evsm2_moments"},
-                                          {Storage::evsm4_moments, "evsm4_moments"}}};
+                                          {Storage::evsm4_moments, "evsm4_moments"},
+                                          {Storage::msm_moments, "msm_moments"}}};
 constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
 

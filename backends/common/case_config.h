@@ -30,6 +30,8 @@ enum class Filter {
                   // the blurred (e^(cz), e^(2cz)); storage evsm2_moments
   evsm4,          // EVSM with both warps: the lesser of the bounds on (e^(cz), e^(2cz)) and (-e^(-cz), e^(-2cz));
                   // storage evsm4_moments
+  msm,            // moment shadow maps (Peters & Klein 2015), Hamburger 4MSM: (z, z^2, z^3, z^4) biased towards
+                  // (0.5, 0.5, 0.5, 0.5), the sharpest occlusion bound they allow; storage msm_moments
 };
 // The light PCSS imitates: the soft reference's default --light-radius, so that mae_sphere scores it against the
 // light it models (world units).
@@ -45,6 +47,7 @@ enum class Storage {
                   // esm filter's storage
   evsm2_moments,  // the depth plus (e^(cz), e^(2cz)) of min(z, 1), RG32F (RG16F with d16): the evsm2 filter's storage
   evsm4_moments,  // the depth plus (e^(cz), e^(2cz), -e^(-cz), e^(-2cz)), RGBA32F (RGBA16F with d16): evsm4's storage
+  msm_moments,    // the depth plus (z, z^2, z^3, z^4) of min(z, 1), RGBA32F (RGBA16F with d16): the msm filter's storage
 };
 enum class DepthFormat { d16, d24, d32f };
 

@@ -41,6 +41,7 @@ float moments_parameter(Storage s, ColourFormat f) {
     case MomentKind::vsm: return 4.0f * std::ldexp(1.0f, half ? -11 : -24);
     case MomentKind::esm: return 0.9f * log_max;
     case MomentKind::evsm: return 0.45f * log_max;
+    case MomentKind::msm: return half ? 1e-3f : 3e-5f;
     case MomentKind::none: break;
   }
   return 0.0f;
@@ -56,6 +57,7 @@ std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format) {
       const float p = std::exp(c), n = std::exp(-c);
       return {p, p * p, -n, n * n};  // a 2-channel cube keeps the first two
     }
+    case MomentKind::msm: return {1.0f, 1.0f, 1.0f, 1.0f};
   }
   return {0.0f, 0.0f, 0.0f, 0.0f};
 }

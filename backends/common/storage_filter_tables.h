@@ -30,6 +30,7 @@ enum class MomentKind {
   vsm,   // (z, z^2) of z = distance / far (Donnelly & Lauritzen 2006)
   esm,   // exp(c min(z, 1)), c = moments_parameter (Annen et al. 2008)
   evsm,  // e^(cz), e^(2cz) [, -e^(-cz), e^(-2cz)] of min(z, 1) (Lauritzen & McCool 2008): 2 or 4 channels
+  msm,   // z, z^2, z^3, z^4 of min(z, 1) (Peters & Klein 2015)
 };
 
 // A colour cube's format; each backend maps it to its API's (GL internal format, VkFormat).
@@ -46,7 +47,7 @@ struct StorageTraits {
   MomentKind moments;
 };
 
-inline constexpr std::array<StorageTraits, 7> kStorageTable = {{
+inline constexpr std::array<StorageTraits, 8> kStorageTable = {{
     {Storage::linear_depth, "STORAGE_LINEAR_DEPTH", DistanceEncoding::linear_depth, false, true, 0, false,
      MomentKind::none},
     {Storage::r32f_distance, "STORAGE_R32F_DISTANCE", DistanceEncoding::colour_distance, true, false, 1, false,
@@ -61,6 +62,8 @@ inline constexpr std::array<StorageTraits, 7> kStorageTable = {{
      MomentKind::evsm},
     {Storage::evsm4_moments, "STORAGE_EVSM4_MOMENTS", DistanceEncoding::linear_depth, false, true, 4, true,
      MomentKind::evsm},
+    {Storage::msm_moments, "STORAGE_MSM_MOMENTS", DistanceEncoding::linear_depth, false, true, 4, true,
+     MomentKind::msm},
 }};
 
 // How the lighting pass samples what the filter reads.
@@ -84,7 +87,7 @@ struct FilterTraits {
   Prefilter prefilter;
 };
 
-inline constexpr std::array<FilterTraits, 9> kFilterTable = {{
+inline constexpr std::array<FilterTraits, 10> kFilterTable = {{
     {Filter::hard, "FILTER_HARD", false, FilterSampler::nearest, std::nullopt, Prefilter::none},
     {Filter::pcf_grid64, "FILTER_PCF_GRID64", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
     {Filter::pcf_disk20, "FILTER_PCF_DISK20", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
@@ -99,6 +102,7 @@ inline constexpr std::array<FilterTraits, 9> kFilterTable = {{
      Prefilter::separable_blur},
     {Filter::evsm4, "FILTER_EVSM4", true, FilterSampler::linear_moments, Storage::evsm4_moments,
      Prefilter::separable_blur},
+    {Filter::msm, "FILTER_MSM", true, FilterSampler::linear_moments, Storage::msm_moments, Prefilter::separable_blur},
 }};
 
 constexpr const StorageTraits& traits(Storage s) {
@@ -138,7 +142,9 @@ bool filter_reads(Filter filter, Storage storage);
 //        2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units) on a flat surface;
 //   esm: the exponent c, 0.9 of the natural log of the format's largest finite value (79.8 for 32-bit float, 9.98
 //        for 16-bit): exp(c z) of z <= 1 stays finite, and the blur's averages never exceed their inputs;
-//   evsm: the exponent c, half of esm's (39.9, 4.99), as e^(2cz) is stored.
+//   evsm: the exponent c, half of esm's (39.9, 4.99), as e^(2cz) is stored;
+//   msm:  the moment bias alpha towards (0.5, 0.5, 0.5, 0.5): 3e-5 for 32-bit float (Peters & Klein's), 1e-3 for
+//         16-bit (their 16-bit form needs a quantisation transform this storage does not apply).
 float moments_parameter(Storage s, ColourFormat f);
 // The value a moments cube is cleared to: the moments of z = 1 (nothing drawn: the far plane, as the depth's clear).
 std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format);

@@ -222,13 +222,16 @@ VkBackend::~VkBackend() {
 }
 
 // A moments storage renders its colour cube, blurs it as storage images and samples it bilinearly: its format must
-// do all three (linear filtering of 32-bit float formats is optional in Vulkan), and the shader's rg32f / rg16f
-// image format needs shaderStorageImageExtendedFormats.
+// do all three (linear filtering of 32-bit float formats is optional in Vulkan), and the shader's rg32f, rg16f and
+// r16f image formats need shaderStorageImageExtendedFormats (r32f, rgba32f and rgba16f do not).
 Support VkBackend::moments_support(const CaseConfig& c, const std::string& device) const {
   if (traits(c.storage).moments == MomentKind::none) return {};
-  if (!ctx_->has_storage_image_extended_formats())
-    return {false, "shaderStorageImageExtendedFormats not supported by " + device + " (the moments blur's rg formats)"};
-  const VkFormat format = colour_format_of(colour_format(c.storage, c.depth_format));
+  const ColourFormat colour = colour_format(c.storage, c.depth_format);
+  const bool extended = colour == ColourFormat::rg32f || colour == ColourFormat::rg16f || colour == ColourFormat::r16f;
+  if (extended && !ctx_->has_storage_image_extended_formats())
+    return {false, "shaderStorageImageExtendedFormats not supported by " + device + " (the moments blur's " +
+                       std::string(to_string(c.storage)) + " format)"};
+  const VkFormat format = colour_format_of(colour);
   const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
                                       VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
   if ((ctx_->format_properties(format).optimalTilingFeatures & needed) != needed)

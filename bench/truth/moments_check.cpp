@@ -39,6 +39,10 @@ double moment(MomentKind kind, int channel, double z, double c) {
       const double p = std::exp(c * std::min(z, 1.0)), n = std::exp(-c * std::min(z, 1.0));
       return channel == 0 ? p : channel == 1 ? p * p : channel == 2 ? -n : n * n;
     }
+    case MomentKind::msm: {
+      const double m = std::min(z, 1.0);
+      return channel == 0 ? m : channel == 1 ? m * m : channel == 2 ? m * m * m : m * m * m * m;
+    }
     case MomentKind::none: break;
   }
   return 0.0;
@@ -58,6 +62,7 @@ double moment_rounding(MomentKind kind, int channel, double z, double c) {
       const double x = std::abs(c * std::min(z, 1.0)), exp_error = x * kFloatUnit + (3.0 + 2.0 * x) * 0x1p-23;
       return channel % 2 == 0 ? exp_error : 2.0 * exp_error + 2.0 * kFloatUnit;
     }
+    case MomentKind::msm: return 2.0 * channel * kFloatUnit;  // z^2: one multiply; z^3 and z^4: two (doubled: generous)
     case MomentKind::none: break;
   }
   return 0.0;

@@ -28,7 +28,7 @@ MATRIX = ["--scene", "room,heavy,spot", "--cube", "256", "--frame", "400x300", "
           "--images", "none", "--check", "--benchmark_repetitions=1"]
 FACES = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"]
 # What the moments filters' mutants add to MATRIX: the default filters and the moments filters.
-MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm,esm,evsm2,evsm4"]
+MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm,esm,evsm2,evsm4,msm"]
 
 
 def flip_up(face):
@@ -101,6 +101,9 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("evsm_negative_warp_unsigned", "shaders/moments.glsl",
      replace("return vec4(p, p * p, -n, n * n);", "return vec4(p, p * p, n, n * n);"),
      "EVSM4's negative warp stored as +e^(-cz) instead of -e^(-cz)", MOMENTS_FILTERS),
+    ("msm_fourth_moment_cubed", "shaders/moments.glsl",
+     replace("return vec4(c, c2, c2 * c, c2 * c2);", "return vec4(c, c2, c2 * c, c2 * c);"),
+     "MSM's fourth moment stored as z^3", MOMENTS_FILTERS),
     ("blur_skips_face", "shaders/moments_blur.comp",
      replace("  vec4 sum = vec4(0.0);", "  if (id.z == 5) { imageStore(target, id, imageLoad(source, id)); return; }\n"
              "  vec4 sum = vec4(0.0);"),
