@@ -7,27 +7,9 @@ namespace omnishadow::vk {
 
 CubeSummarizer::CubeSummarizer(VkContext& ctx, ShaderModules& modules) : ctx_(ctx) {
   VkDevice d = ctx_.device();
-  VkDescriptorSetLayoutBinding bindings[2] = {
-      {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-      {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
-  VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  set_info.bindingCount = 2;
-  set_info.pBindings = bindings;
-  OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &set_layout_));
-  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 2 * sizeof(int32_t)};  // size, stride
-  VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_layout_;
-  layout_info.pushConstantRangeCount = 1;
-  layout_info.pPushConstantRanges = &push;
-  OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_));
-  VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  pipeline_info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  pipeline_info.stage.module = modules.get(gpu::variant_key("cube_summary.comp", gpu::kNoVariant));
-  pipeline_info.stage.pName = "main";
-  pipeline_info.layout = layout_;
-  OMNISHADOW_VK(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_));
+  compute_ = create_compute_pipeline(ctx_, modules, gpu::variant_key("cube_summary.comp", gpu::kNoVariant),
+                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                     2 * sizeof(int32_t));  // size, stride
   VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -38,16 +20,14 @@ CubeSummarizer::CubeSummarizer(VkContext& ctx, ShaderModules& modules) : ctx_(ct
   VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   alloc.descriptorPool = pool_;
   alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &set_layout_;
+  alloc.pSetLayouts = &compute_.set_layout;
   OMNISHADOW_VK(vkAllocateDescriptorSets(d, &alloc, &set_));
 }
 
 CubeSummarizer::~CubeSummarizer() {
   VkDevice d = ctx_.device();
   vkDestroyDescriptorPool(d, pool_, nullptr);
-  vkDestroyPipeline(d, pipeline_, nullptr);
-  vkDestroyPipelineLayout(d, layout_, nullptr);
-  vkDestroyDescriptorSetLayout(d, set_layout_, nullptr);
+  destroy(ctx_, compute_);
 }
 
 void CubeSummarizer::read(const Image& stored, VkSampler sampler, uint32_t cube_size, Images& img) {
@@ -82,9 +62,9 @@ void CubeSummarizer::read(const Image& stored, VkSampler sampler, uint32_t cube_
                            VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
                                VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
-      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
-      vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.pipeline);
+      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.layout, 0, 1, &set_, 0, nullptr);
+      vkCmdPushConstants(cb, compute_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
       // 16 x 16 invocations a group, each 16 rows of a column (shaders/cube_summary.comp).
       vkCmdDispatch(cb, (cube_size + 15) / 16, (cube_size + 255) / 256, 6);
       barrier_to_host(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);

@@ -20,34 +20,16 @@ MomentsBlur::MomentsBlur(VkContext& ctx, ShaderModules& modules, ColourFormat fo
     : ctx_(ctx) {
   VkDevice d = ctx_.device();
   try {
-    VkDescriptorSetLayoutBinding bindings[2] = {
-        {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
-    VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    set_info.bindingCount = 2;
-    set_info.pBindings = bindings;
-    OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &set_layout_));
-    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 2 * sizeof(int32_t)};  // size, axis
-    VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &set_layout_;
-    layout_info.pushConstantRangeCount = 1;
-    layout_info.pPushConstantRanges = &push;
-    OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_));
-    VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    pipeline_info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    pipeline_info.stage.module = modules.get(gpu::variant_key("moments_blur.comp", gpu::moments_blur_defines(format)));
-    pipeline_info.stage.pName = "main";
-    pipeline_info.layout = layout_;
-    OMNISHADOW_VK(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline_));
+    compute_ = create_compute_pipeline(ctx_, modules, gpu::variant_key("moments_blur.comp", gpu::moments_blur_defines(format)),
+                                       {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                       2 * sizeof(int32_t));  // size, axis
     VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = 2;
     pool_info.poolSizeCount = 1;
     pool_info.pPoolSizes = &size;
     OMNISHADOW_VK(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_));
-    const VkDescriptorSetLayout layouts[2] = {set_layout_, set_layout_};
+    const VkDescriptorSetLayout layouts[2] = {compute_.set_layout, compute_.set_layout};
     VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     alloc.descriptorPool = pool_;
     alloc.descriptorSetCount = 2;
@@ -86,9 +68,7 @@ void MomentsBlur::release() {
   for (VkImageView& v : views_)
     if (v) vkDestroyImageView(d, v, nullptr), v = VK_NULL_HANDLE;
   if (pool_) vkDestroyDescriptorPool(d, pool_, nullptr), pool_ = VK_NULL_HANDLE;
-  if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr), pipeline_ = VK_NULL_HANDLE;
-  if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr), layout_ = VK_NULL_HANDLE;
-  if (set_layout_) vkDestroyDescriptorSetLayout(d, set_layout_, nullptr), set_layout_ = VK_NULL_HANDLE;
+  destroy(ctx_, compute_);
 }
 
 void MomentsBlur::record(VkCommandBuffer cb, uint32_t size) const {
@@ -96,12 +76,12 @@ void MomentsBlur::record(VkCommandBuffer cb, uint32_t size) const {
   // intermediate's last readers and writers were the previous frame's dispatches.
   compute_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.pipeline);
   const uint32_t groups = (size + 7) / 8;
   for (int axis = 0; axis < 2; ++axis) {
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &sets_[axis], 0, nullptr);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.layout, 0, 1, &sets_[axis], 0, nullptr);
     const int32_t params[2] = {int32_t(size), axis};
-    vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
+    vkCmdPushConstants(cb, compute_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
     vkCmdDispatch(cb, groups, groups, 6);
     if (axis == 0)
       compute_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,

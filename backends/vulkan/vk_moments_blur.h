@@ -30,9 +30,7 @@ class MomentsBlur {
  private:
   void release();
   VkContext& ctx_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  ComputePipeline compute_;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet sets_[2] = {};          // [axis]: {source, target}
   VkImageView views_[2] = {};             // 2D array views: moments, intermediate

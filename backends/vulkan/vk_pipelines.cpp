@@ -107,4 +107,45 @@ VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const Pipelin
   return pipeline;
 }
 
+ComputePipeline create_compute_pipeline(VkContext& ctx, ShaderModules& modules, const std::string& key,
+                                        const std::vector<VkDescriptorType>& bindings, uint32_t push_bytes) {
+  VkDevice d = ctx.device();
+  ComputePipeline p;
+  try {
+    std::vector<VkDescriptorSetLayoutBinding> described;
+    for (uint32_t b = 0; b < bindings.size(); ++b)
+      described.push_back({b, bindings[b], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+    VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    set_info.bindingCount = static_cast<uint32_t>(described.size());
+    set_info.pBindings = described.data();
+    OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &p.set_layout));
+    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+    VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layout_info.setLayoutCount = 1;
+    layout_info.pSetLayouts = &p.set_layout;
+    layout_info.pushConstantRangeCount = push_bytes ? 1 : 0;
+    layout_info.pPushConstantRanges = &push;
+    OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &p.layout));
+    VkComputePipelineCreateInfo pipeline_info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    pipeline_info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    pipeline_info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    pipeline_info.stage.module = modules.get(key);
+    pipeline_info.stage.pName = "main";
+    pipeline_info.layout = p.layout;
+    OMNISHADOW_VK(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &p.pipeline));
+  } catch (...) {
+    destroy(ctx, p);
+    throw;
+  }
+  return p;
+}
+
+void destroy(VkContext& ctx, ComputePipeline& p) {
+  VkDevice d = ctx.device();
+  if (p.pipeline) vkDestroyPipeline(d, p.pipeline, nullptr);
+  if (p.layout) vkDestroyPipelineLayout(d, p.layout, nullptr);
+  if (p.set_layout) vkDestroyDescriptorSetLayout(d, p.set_layout, nullptr);
+  p = ComputePipeline{};
+}
+
 }  // namespace omnishadow::vk

@@ -38,4 +38,14 @@ struct PipelineDesc {
 
 VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc);
 
+// A compute pipeline with one descriptor set of `bindings` (compute stage) and `push_bytes` of push constants.
+struct ComputePipeline {
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+};
+ComputePipeline create_compute_pipeline(VkContext& ctx, ShaderModules& modules, const std::string& key,
+                                        const std::vector<VkDescriptorType>& bindings, uint32_t push_bytes);
+void destroy(VkContext& ctx, ComputePipeline& p);  // null handles are skipped
+
 }  // namespace omnishadow::vk
