@@ -10,13 +10,16 @@ layout(std140, binding = 0) uniform FrameUniforms {
   vec4 knobs;              // x = injected fragment work (iterations; 0 unless --inject-fragment-work);
                            // y = PCF radius scale (1 = the tutorials' kernels; --pcf-scale);
                            // z = the radius of the light PCSS imitates, world units (kPcssLightRadius x --pcf-scale);
-                           // w = the moments filters' parameter: VSM's variance floor (z^2 units), ESM's
-                           // exponent (moments_parameter)
+                           // w = the moments filters' parameter: VSM's variance floor (z^2 units), the
+                           // exponent c of ESM and EVSM, MSM's moment bias (moments_parameter)
   mat4 map_view_proj[4];   // spot / directional lights: one 2D map layer each (backends/common/map_lights.h)
   vec4 map_light[4];       // xyz: spot position, or unit vector towards a directional light; w: 1 spot, 2 dir.
   vec4 map_color[4];       // rgb; w: spot near plane
   vec4 map_range[4];       // x: spot far plane
   vec4 lights_info;        // x: number of map lights; y: 1 when the scene has a point light (a cube)
+  vec4 moments_knobs;      // the moments filters' tuning (MomentsTuning): x = bleed reduction a (0: none);
+                           // y = what z = distance / far is multiplied by before its moments (1, or far: world
+                           // units); z = the moments format's unit roundoff (2^-24 float, 2^-11 half)
 } frame;
 
 // Per draw of the shadow pass: the face a six_pass draw renders, and for vs_layer with face culling the faces

@@ -5,7 +5,11 @@
 
 #if defined(STORAGE_VSM_MOMENTS)
 #define MOMENTS_STORAGE
-vec4 distance_moments(float z) { return vec4(z, z * z, 0.0, 0.0); }
+// frame.moments_knobs.y = 1, or far for the world-units variant (MomentsTuning::world_units).
+vec4 distance_moments(float z) {
+  float d = z * frame.moments_knobs.y;
+  return vec4(d, d * d, 0.0, 0.0);
+}
 #elif defined(STORAGE_ESM_EXP)
 #define MOMENTS_STORAGE
 // z clamped to 1 as the depth is (a face corner is sqrt(3) x far away), so exp(c z) <= exp(c) stays finite.
@@ -25,25 +29,35 @@ vec4 distance_moments(float z) {
 }
 #endif
 
+#if defined(FILTER_VSM) || defined(FILTER_EVSM2) || defined(FILTER_EVSM4) || defined(FILTER_MSM)
+// Light-bleeding reduction (MomentsTuning::bleed_reduction, frame.moments_knobs.x = a): an upper bound p on the lit
+// fraction below a is taken as shadow, the rest rescaled to [0, 1]. a = 0 returns p unchanged (p / 1 is exact).
+float reduce_bleeding(float lit) {
+  float a = frame.moments_knobs.x;
+  return clamp((lit - a) / (1.0 - a), 0.0, 1.0);
+}
+#endif
+
 #if defined(FILTER_VSM)
 // Chebyshev's one-sided bound (Donnelly & Lauritzen 2006): with mean m1 and variance m2 - m1^2 of the occluders'
 // z over the filter's footprint, the fraction at or beyond t > m1 is at most var / (var + (t - m1)^2); that bound
 // is the lit fraction. The variance is floored at frame.knobs.w (4 ulps of the moments' format at z = 1:
-// below it m2 - m1^2 is rounding, and a flat surface would shadow itself). t is the receiver's z less the bias.
+// below it m2 - m1^2 is rounding, and a flat surface would shadow itself). t is the receiver's z less the bias, in
+// the stored moments' units (times far in world units, where the floor is not rescaled: the hazard it measures).
 float vsm_shadow(vec3 dir, float current, float bias) {
   vec2 m = texture(shadow_map, dir).rg;
-  float t = (current - bias) / light_far();
+  float t = (current - bias) / light_far() * frame.moments_knobs.y;
   if (t <= m.x) return 0.0;
   float variance = max(m.y - m.x * m.x, frame.knobs.w);
   float d = t - m.x;
-  return 1.0 - variance / (variance + d * d);
+  return 1.0 - reduce_bleeding(variance / (variance + d * d));
 }
 #endif
 
 #if defined(FILTER_EVSM2) || defined(FILTER_EVSM4)
 // Chebyshev's one-sided bound on warped moments (mean, mean of squares) at the warped receiver w, with the variance
-// floored at 4 units of the format's rounding of w^2 (frame.knobs.w's format: 2^-24 float, 2^-11 half; the warp
-// spreads z, so the floor scales with w^2 rather than being one constant).
+// floored at 4 units of the format's rounding of w^2 (unit = frame.moments_knobs.z: 2^-24 float, 2^-11 half; the
+// warp spreads z, so the floor scales with w^2 rather than being one constant).
 float chebyshev_lit(vec2 m, float w, float unit) {
   if (w <= m.x) return 1.0;
   float variance = max(m.y - m.x * m.x, 4.0 * unit * w * w);
@@ -51,17 +65,16 @@ float chebyshev_lit(vec2 m, float w, float unit) {
   return variance / (variance + d * d);
 }
 
-// Lauritzen & McCool 2008: VSM on e^(cz) (and, evsm4, on -e^(-cz)), the lesser bound. The moments' format decides
-// c and so its rounding unit: c > 10 only for 32-bit float.
+// Lauritzen & McCool 2008: VSM on e^(cz) (and, evsm4, on -e^(-cz)), the lesser bound.
 float evsm_shadow(vec3 dir, float current, float bias) {
   vec4 m = texture(shadow_map, dir);
   float c = frame.knobs.w, t = min((current - bias) / light_far(), 1.0);
-  float unit = c > 10.0 ? 5.96e-8 : 4.88e-4;
+  float unit = frame.moments_knobs.z;
   float lit = chebyshev_lit(m.xy, exp(c * t), unit);
 #if defined(FILTER_EVSM4)
   lit = min(lit, chebyshev_lit(m.zw, -exp(-c * t), unit));
 #endif
-  return 1.0 - lit;
+  return 1.0 - reduce_bleeding(lit);
 }
 #endif
 
@@ -83,8 +96,9 @@ float msm_shadow(vec3 dir, float current, float bias) {
   float r = sqrt(max(p * p * 0.25 - q, 0.0));
   float z2 = -0.5 * p - r, z3 = -0.5 * p + r;
   if (t <= z2) return 0.0;
-  if (t <= z3) return clamp((t * z3 - b.x * (t + z3) + b.y) / ((z3 - z2) * (t - z2)), 0.0, 1.0);
-  return clamp(1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((t - z2) * (t - z3)), 0.0, 1.0);
+  float shadow = t <= z3 ? (t * z3 - b.x * (t + z3) + b.y) / ((z3 - z2) * (t - z2))
+                         : 1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((t - z2) * (t - z3));
+  return 1.0 - reduce_bleeding(1.0 - clamp(shadow, 0.0, 1.0));
 }
 #endif
 

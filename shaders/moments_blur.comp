@@ -3,7 +3,9 @@
 // along one face axis of the moments cube: the shadow pass's moments along s into the second cube, then back along
 // t, in the timed frame between the shadow and lighting passes. Seams: a tap past a face's edge reads the adjacent
 // face as on the unfolded cube (shaders/cube_texel.glsl), so a kernel crossing an edge blurs across it. Each pass
-// sums its taps in a fixed order and scales by 1/16 (exact), which bench/truth/moments_check.cpp bounds.
+// sums its taps in a fixed order with the weights already divided by 16 (exact in binary), so no partial sum
+// exceeds the largest tap: a warped moment just below the format's largest value blurs without overflowing (with
+// integer weights the sum of 16 times it would be infinite). bench/truth/moments_check.cpp bounds the rounding.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #if defined(MOMENTS_RG16F)
@@ -33,7 +35,7 @@ layout(location = 1) uniform int u_axis;  // 0: along s, 1: along t
 
 #include "cube_texel.glsl"
 
-const float kWeights[5] = float[](1.0, 4.0, 6.0, 4.0, 1.0);
+const float kWeights[5] = float[](1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0, 1.0 / 16.0);
 
 void main() {
 #ifdef VULKAN
@@ -46,5 +48,5 @@ void main() {
   vec4 sum = vec4(0.0);
   for (int k = -2; k <= 2; ++k)
     sum += kWeights[k + 2] * imageLoad(source, neighbour_texel(id.z, id.x, id.y, axis, k, size));
-  imageStore(target, id, sum * (1.0 / 16.0));
+  imageStore(target, id, sum);
 }

@@ -439,6 +439,39 @@ TEST_P(BackendTest, StoredMomentsAreTheBlurOfTheStoredDepthsMoments) {
   }
 }
 
+// The extremes suite's tunings on the device: the moments check follows them (an exponent at 0.99 of the overflow
+// limit with the far plane fitted, so z reaches 1 and e^(-2cz) is subnormal; VSM in world units), and bleed
+// reduction only darkens: 1 - clamp((p - a) / (1 - a), 0, 1) >= 1 - p for every lit bound p, and somewhere in the
+// room's penumbrae strictly.
+TEST_P(BackendTest, MomentsTuningsKeepTheCheckAndBleedReductionOnlyDarkens) {
+  struct Tuned {
+    Filter filter;
+    const char* tuning;
+    bool fit;
+  };
+  for (const Tuned& t : {Tuned{Filter::evsm4, "exp0.99", true}, Tuned{Filter::esm, "exp0.99", true},
+                         Tuned{Filter::vsm, "world", false}}) {
+    CaseConfig c = room_case(Technique::six_pass, t.filter, 64, *traits(t.filter).own_storage);
+    c.moments = parse_moments_tuning(t.tuning);
+    c.optimizations.fit_range = t.fit;
+    if (Support s = backend_->supports(c); !s.ok) GTEST_SKIP() << c.id() << " unsupported: " << s.reason;
+    const Images img = render(c, 3);
+    const bench::MomentsReport r = bench::check_moments(img, c.storage, c.depth_format, c.moments);
+    EXPECT_TRUE(r.ok()) << c.id() << ": " << bench::describe(r);
+  }
+  CaseConfig plain = room_case(Technique::six_pass, Filter::vsm, 128, Storage::vsm_moments);
+  CaseConfig reduced = plain;
+  reduced.moments = parse_moments_tuning("lbr0.5");
+  const Images a = render(plain, 3), b = render(reduced, 3);
+  ASSERT_EQ(a.shadow_factor.size(), b.shadow_factor.size());
+  size_t darker = 0;
+  for (size_t i = 0; i < a.shadow_factor.size(); ++i) {
+    ASSERT_GE(b.shadow_factor[i], a.shadow_factor[i] - 1e-6f) << "pixel " << i;
+    darker += b.shadow_factor[i] > a.shadow_factor[i] + 0.01f;
+  }
+  EXPECT_GT(darker, 0u) << "the room's penumbrae have lit bounds below 0.5";
+}
+
 TEST_P(BackendTest, TimingRecordHasEveryField) {
   backend_->configure(room_case(Technique::geometry_shader));
   for (int frame = 0; frame < 3; ++frame) {

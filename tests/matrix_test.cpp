@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
+#include <stdexcept>
 #include <set>
 
 #include "bench/run/matrix.h"
@@ -47,6 +49,48 @@ TEST(Matrix, AMomentsFilterRunsOnceOnItsOwnStorage) {
   lookup_on_moments.filter = Filter::hard;
   EXPECT_FALSE(common_support(lookup_on_moments).ok);
   EXPECT_NE(common_support(lookup_on_moments).reason.find("hard reads a stored distance"), std::string::npos);
+}
+
+// The moments tunings (--moments-tuning): spelling round trip, one id segment per knob away from its default, a
+// one-line error naming a bad word, and each knob refused by the filters it means nothing to.
+TEST(Matrix, MomentsTuningsParseIntoTheIdAndOnlyTheirFilters) {
+  const MomentsTuning t = parse_moments_tuning("lbr0.4+exp1.01+floor0+world");
+  EXPECT_FLOAT_EQ(t.bleed_reduction, 0.4f);
+  EXPECT_FLOAT_EQ(t.exponent_fraction, 1.01f);
+  EXPECT_EQ(t.floor_scale, 0.0f);
+  EXPECT_TRUE(t.world_units);
+  EXPECT_EQ(to_string(t), "lbr0.4+exp1.01+floor0+world");
+  EXPECT_EQ(parse_moments_tuning(to_string(t)), t);
+  EXPECT_EQ(to_string(parse_moments_tuning("none")), "none");
+  EXPECT_EQ(parse_moments_tuning("exp0.9"), MomentsTuning{}) << "the default exponent is no tuning";
+  for (const char* bad : {"lbr1", "lbr", "exp0", "exp2.5", "floor-1", "lbr0.4x", "worlds", "lbr0.4+"}) {
+    try {
+      parse_moments_tuning(bad);
+      ADD_FAILURE() << bad << " parsed";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("moments tuning"), std::string::npos) << e.what();
+    }
+  }
+  MatrixSpec spec;
+  spec.scenes = {"room"};
+  spec.techniques = {Technique::six_pass};
+  spec.cube_sizes = {256};
+  spec.filters = {Filter::hard, Filter::vsm, Filter::esm, Filter::msm};
+  spec.moments_tunings = {MomentsTuning{}, parse_moments_tuning("lbr0.5+world"), parse_moments_tuning("exp1.01"),
+                          parse_moments_tuning("floor0")};
+  const auto cases = expand(spec, kSizes);
+  ASSERT_EQ(cases.size(), 16u);
+  std::map<std::string, bool> supported;
+  for (const auto& c : cases) supported[c.id()] = common_support(c).ok;
+  EXPECT_TRUE(supported.at("gl/room/c256/f800x600/six_pass/vsm/vsm_moments/d32f/lbr0.5/world"));
+  EXPECT_TRUE(supported.at("gl/room/c256/f800x600/six_pass/esm/esm_exp/d32f/exp1.01"));
+  EXPECT_TRUE(supported.at("gl/room/c256/f800x600/six_pass/msm/msm_moments/d32f/floor0"));
+  EXPECT_TRUE(supported.at("gl/room/c256/f800x600/six_pass/vsm/vsm_moments/d32f/floor0"));
+  EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/floor0"));
+  EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/esm/esm_exp/d32f/lbr0.5/world")) << "esm has no bleeding bound";
+  EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/msm/msm_moments/d32f/lbr0.5/world")) << "world is vsm's";
+  EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/vsm/vsm_moments/d32f/exp1.01"));
+  EXPECT_EQ(std::count_if(supported.begin(), supported.end(), [](const auto& kv) { return kv.second; }), 8);
 }
 
 TEST(Matrix, ExplicitFrameSizesOverrideTheScenes) {

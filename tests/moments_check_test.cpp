@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -47,10 +48,11 @@ TEST(NeighbourTexel, CrossesEachSeamOntoTheAdjacentTexelAndBack) {
 // fault into the replay.
 enum class Bug { none, not_squared, face_unblurred, shifted_tap, clamped_seam, nan, exponent_sign };
 
-// The storage's moments of z in float, as the shader computes them (esm: exp of the float product c z).
-std::vector<float> device_moments(Storage storage, float z, Bug bug) {
+// The storage's moments of z in float, as the shader computes them (esm: exp of the float product c z) with the
+// case's tuning (its exponent; vsm's distance scale `scale`).
+std::vector<float> device_moments(Storage storage, float z, Bug bug, const MomentsTuning& tuning, float scale) {
   if (storage == Storage::esm_exp) {
-    const float c = moments_parameter(storage, ColourFormat::r32f);
+    const float c = moments_parameter(storage, ColourFormat::r32f, tuning);
     return {std::exp((bug == Bug::exponent_sign ? -c : c) * std::min(z, 1.0f))};
   }
   if (storage == Storage::msm_moments) {
@@ -58,15 +60,24 @@ std::vector<float> device_moments(Storage storage, float z, Bug bug) {
     return {c, c2, c2 * c, c2 * c2};
   }
   if (storage == Storage::evsm2_moments || storage == Storage::evsm4_moments) {
-    const float c = moments_parameter(storage, colour_format(storage, DepthFormat::d32f));
+    const float c = moments_parameter(storage, colour_format(storage, DepthFormat::d32f), tuning);
     const float p = std::exp(c * std::min(z, 1.0f)), n = std::exp(-c * std::min(z, 1.0f));
     if (storage == Storage::evsm2_moments) return {p, p * p};
     return {p, p * p, -n, n * n};
   }
-  return {z, bug == Bug::not_squared ? z : z * z};
+  const float d = z * scale;
+  return {d, bug == Bug::not_squared ? d : d * d};
 }
 
-Images device_images(int size, Bug bug, Storage storage = Storage::vsm_moments) {
+// Flushes binary32 subnormals to zero, as a device may in and out of every operation.
+void flush_subnormals(std::array<std::vector<float>, 6>& m) {
+  for (auto& face : m)
+    for (float& v : face)
+      if (std::fpclassify(v) == FP_SUBNORMAL) v = 0.0f;
+}
+
+Images device_images(int size, Bug bug, Storage storage = Storage::vsm_moments, const MomentsTuning& tuning = {},
+                     bool flush = false) {
   Images img;
   img.cube_size = size;
   img.light_far = 25.0f;
@@ -82,12 +93,14 @@ Images device_images(int size, Bug bug, Storage storage = Storage::vsm_moments) 
         if (s > size / 3 && s < size / 2 && t > size / 4) z = 0.15f;
         if (f == 3) z = 1.0f;
         d.push_back(z * img.light_far);
-        for (float v : device_moments(storage, z, bug)) m[size_t(f)].push_back(v);
+        for (float v : device_moments(storage, z, bug, tuning, moments_distance_scale(tuning, img.light_far)))
+          m[size_t(f)].push_back(v);
       }
   }
+  if (flush) flush_subnormals(m);
   for (int axis = 0; axis < 2; ++axis) {
     std::array<std::vector<float>, 6> out = m;
-    const float w[5] = {1, 4, 6, 4, 1};
+    const float w[5] = {1.0f / 16, 4.0f / 16, 6.0f / 16, 4.0f / 16, 1.0f / 16};  // as moments_blur.comp: pre-scaled
     for (int f = 0; f < 6; ++f) {
       if (bug == Bug::face_unblurred && f == 2) continue;
       for (int t = 0; t < size; ++t)
@@ -103,10 +116,11 @@ Images device_images(int size, Bug bug, Storage storage = Storage::vsm_moments) 
               }
               sum += w[k + 2] * m[size_t(n.face)][(size_t(n.t) * size_t(size) + size_t(n.s)) * size_t(channels) + size_t(c)];
             }
-            out[size_t(f)][(size_t(t) * size_t(size) + size_t(s)) * size_t(channels) + size_t(c)] = sum * (1.0f / 16.0f);
+            out[size_t(f)][(size_t(t) * size_t(size) + size_t(s)) * size_t(channels) + size_t(c)] = sum;
           }
     }
     m = out;
+    if (flush) flush_subnormals(m);
   }
   if (bug == Bug::nan) m[4][10] = std::nanf("");
   img.moments = m;
@@ -162,6 +176,29 @@ TEST(MomentsCheck, SixteenBitMomentsAllowTheirRounding) {
     for (float& v : face) v *= 1.0f - 0x1p-11f;  // half a binary16 ulp: within one rounding, either mode
   EXPECT_TRUE(bench::check_moments(img, Storage::vsm_moments, DepthFormat::d16).ok());
   EXPECT_FALSE(bench::check_moments(img, Storage::vsm_moments, DepthFormat::d32f).ok());
+}
+
+// The extremes suite's tunings (MomentsTuning): the check replays the case's exponent and distance scale. EVSM at
+// 0.99 of the overflow limit: e^(-2cz) at z = 1 is subnormal (7e-39), which a device may flush to zero - allowed;
+// at 1.01 e^(2cz) is infinite - caught; a device that ignores the tuning (the default exponent, normalised
+// distances) fails it.
+TEST(MomentsCheck, FollowsTheTuningAllowsSubnormalFlushAndCatchesOverflow) {
+  const MomentsTuning below{.exponent_fraction = 0.99f}, above{.exponent_fraction = 1.01f};
+  const Images flushed = device_images(16, Bug::none, Storage::evsm4_moments, below, true);
+  size_t zeros = 0;
+  for (const auto& face : flushed.moments) zeros += size_t(std::count(face.begin(), face.end(), 0.0f));
+  EXPECT_GT(zeros, 0u) << "the scene reaches z = 1, where the negative warp is subnormal";
+  const bench::MomentsReport r = bench::check_moments(flushed, Storage::evsm4_moments, DepthFormat::d32f, below);
+  EXPECT_TRUE(r.ok()) << bench::describe(r);
+  EXPECT_FALSE(bench::check_moments(flushed, Storage::evsm4_moments, DepthFormat::d32f).ok()) << "default exponent";
+  const Images overflowed = device_images(16, Bug::none, Storage::evsm4_moments, above);
+  EXPECT_GT(bench::check_moments(overflowed, Storage::evsm4_moments, DepthFormat::d32f, above).non_finite, 0u);
+
+  const MomentsTuning world{.world_units = true};
+  const Images in_world = device_images(16, Bug::none, Storage::vsm_moments, world);
+  EXPECT_TRUE(bench::check_moments(in_world, Storage::vsm_moments, DepthFormat::d32f, world).ok());
+  EXPECT_FALSE(bench::check_moments(device_images(16, Bug::none), Storage::vsm_moments, DepthFormat::d32f, world).ok());
+  EXPECT_FALSE(bench::check_moments(in_world, Storage::vsm_moments, DepthFormat::d32f).ok());
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
+#include <optional>
 #include <cstdio>
 #include <stdexcept>
 #include <utility>
@@ -96,6 +98,26 @@ OMNISHADOW_INSTANTIATE(Storage)
 OMNISHADOW_INSTANTIATE(DepthFormat)
 #undef OMNISHADOW_INSTANTIATE
 
+namespace {
+// Each moments knob only means something to the filters that read it (parse_moments_tuning's list).
+Support moments_tuning_support(Filter filter, const MomentsTuning& t) {
+  const MomentsTuning d;
+  const std::optional<Storage> own = traits(filter).own_storage;
+  const MomentKind kind = own ? traits(*own).moments : MomentKind::none;
+  const std::string name(to_string(filter));
+  if (t.bleed_reduction != d.bleed_reduction && kind != MomentKind::vsm && kind != MomentKind::evsm &&
+      kind != MomentKind::msm)
+    return {false, "bleed reduction (lbr) applies to the Chebyshev and Hamburger bounds (vsm, evsm2, evsm4, msm), not " + name};
+  if (t.exponent_fraction != d.exponent_fraction && kind != MomentKind::esm && kind != MomentKind::evsm)
+    return {false, "an exponent (exp) belongs to the warped moments (esm, evsm2, evsm4), not " + name};
+  if (t.floor_scale != d.floor_scale && kind != MomentKind::vsm && kind != MomentKind::msm)
+    return {false, "a variance floor or moment bias (floor) belongs to vsm and msm, not " + name};
+  if (t.world_units && kind != MomentKind::vsm)
+    return {false, "world-unit distances (world) are a vsm storage variant (the warps and msm's bias assume z in [0, 1]), not " + name};
+  return {};
+}
+}  // namespace
+
 Support common_support(const CaseConfig& c) {
   if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
     return {false, "hw_compare2x2 compares against linear distance / far (storage linear_depth); " +
@@ -107,6 +129,7 @@ Support common_support(const CaseConfig& c) {
                        (traits(c.filter).own_storage ? std::string(to_string(*traits(c.filter).own_storage))
                                                      : std::string("a stored distance")) +
                        ", not " + std::string(to_string(c.storage))};
+  if (Support s = moments_tuning_support(c.filter, c.moments); !s.ok) return s;
   if (traits(c.filter).prefilter == Prefilter::separable_blur && c.cube_size < 4)
     return {false, "the moments blur needs a cube of at least 4 texels a side (a tap folds across one seam only)"};
   if (c.cube_size < 1 || c.width < 1 || c.height < 1) return {false, "cube and frame sizes must be at least 1"};
@@ -129,10 +152,11 @@ std::string CaseConfig::id() const {
     std::snprintf(buf, sizeof buf, "/pcf%g", static_cast<double>(pcf_scale));
     id += buf;
   }
-  if (remedies.any()) {  // one segment per remedy, as for optimisations: /rebase/bias0
-    std::string words = to_string(remedies);
-    std::replace(words.begin(), words.end(), '+', '/');
+  for (const std::string& words : {remedies.any() ? to_string(remedies) : std::string(),
+                                    moments.any() ? to_string(moments) : std::string()}) {
+    if (words.empty()) continue;  // one segment per word, as for optimisations: /rebase/bias0, /lbr0.5/world
     id += "/" + words;
+    std::replace(id.end() - static_cast<std::ptrdiff_t>(words.size()), id.end(), '+', '/');
   }
   if (!experiment.empty()) id += "/" + experiment;
   return id;
@@ -188,6 +212,61 @@ std::string to_string(const Remedies& r) {
   std::string out;
   for (const RemedyWord& w : kRemedyWords)
     if (w.is_set(r)) out += (out.empty() ? "" : "+") + std::string(w.word);
+  return out.empty() ? "none" : out;
+}
+
+namespace {
+// "lbr0.5" -> 0.5 when `word` starts with `prefix`; nullopt for another word; throws when the number is malformed
+// or outside [low, high].
+std::optional<float> tuning_number(std::string_view word, std::string_view prefix, float low, float high) {
+  if (word.substr(0, prefix.size()) != prefix) return std::nullopt;
+  const std::string digits(word.substr(prefix.size()));
+  size_t used = 0;
+  float v = 0.0f;
+  try {
+    v = std::stof(digits, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (digits.empty() || used != digits.size() || !(v >= low && v <= high))
+    throw std::invalid_argument("moments tuning '" + std::string(word) + "': " + std::string(prefix) +
+                                " takes a number in [" + std::to_string(low) + ", " + std::to_string(high) + "]");
+  return v;
+}
+}  // namespace
+
+MomentsTuning parse_moments_tuning(std::string_view text) {
+  MomentsTuning t;
+  if (text == "none") return t;
+  for_each_plus_word(text, [&](std::string_view word) {
+    if (word == "world") {
+      t.world_units = true;
+    } else if (auto a = tuning_number(word, "lbr", 0.0f, 0.99f)) {
+      t.bleed_reduction = *a;
+    } else if (auto f = tuning_number(word, "exp", 0.01f, 2.0f)) {
+      t.exponent_fraction = *f;
+    } else if (auto s = tuning_number(word, "floor", 0.0f, 1e6f)) {
+      t.floor_scale = *s;
+    } else {
+      throw std::invalid_argument("unknown moments tuning '" + std::string(word) +
+                                  "' (valid: none, lbr<a>, exp<f>, floor<s>, world, or a '+' join such as lbr0.4+floor0)");
+    }
+  });
+  return t;
+}
+
+std::string to_string(const MomentsTuning& t) {
+  const MomentsTuning d;
+  std::string out;
+  char buf[32];
+  auto add = [&](const char* prefix, float v) {
+    std::snprintf(buf, sizeof buf, "%s%s%g", out.empty() ? "" : "+", prefix, static_cast<double>(v));
+    out += buf;
+  };
+  if (t.bleed_reduction != d.bleed_reduction) add("lbr", t.bleed_reduction);
+  if (t.exponent_fraction != d.exponent_fraction) add("exp", t.exponent_fraction);
+  if (t.floor_scale != d.floor_scale) add("floor", t.floor_scale);
+  if (t.world_units) out += out.empty() ? "world" : "+world";
   return out.empty() ? "none" : out;
 }
 

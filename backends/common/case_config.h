@@ -104,6 +104,30 @@ struct Remedies {
 Remedies parse_remedies(std::string_view text);
 std::string to_string(const Remedies& r);  // the same spellings; "none" when all are off
 
+// The moments filters' knobs, swept by the extremes suite (docs/extremes.md, "Moments filters' hazards"); the
+// defaults are what every other run uses. Each knob that differs from its default appends its word to the id.
+//   bleed_reduction a (lbr<a>):   vsm, evsm2, evsm4, msm: the lit fraction p becomes clamp((p - a) / (1 - a), 0, 1),
+//                                 which removes light bleeding below a at the cost of darkening penumbrae;
+//   exponent_fraction f (exp<f>): esm, evsm2, evsm4: the exponent c as a fraction of the format's overflow limit
+//                                 (ln of its largest finite value; half of it for evsm, which stores e^(2cz));
+//                                 above 1 the moments of z near 1 are infinite;
+//   floor_scale s (floor<s>):     vsm's variance floor and msm's moment bias as a multiple of their defaults
+//                                 (moments_parameter); 0 turns them off;
+//   world_units (world):          vsm stores (d, d^2) of the distance d in world units rather than d / far, the
+//                                 variance floor left in z^2 units: what an engine that skips the normalisation gets.
+struct MomentsTuning {
+  float bleed_reduction = 0.0f;
+  float exponent_fraction = 0.9f;
+  float floor_scale = 1.0f;
+  bool world_units = false;
+  bool any() const { return *this != MomentsTuning{}; }
+  bool operator==(const MomentsTuning&) const = default;
+};
+// "none" or a '+' join of lbr<a> (0 <= a < 1), exp<f> (0 < f <= 2), floor<s> (0 <= s <= 1e6), world; throws
+// std::invalid_argument naming the word.
+MomentsTuning parse_moments_tuning(std::string_view text);
+std::string to_string(const MomentsTuning& t);  // the same spellings, numbers as %g; "none" at the defaults
+
 // "none", "cull", "fit", "cache" or a '+' join such as "cull+fit"; throws std::invalid_argument naming the word.
 Optimizations parse_optimizations(std::string_view text);
 std::string to_string(const Optimizations& o);  // the same spellings; "none" when all are off
@@ -124,6 +148,7 @@ struct CaseConfig {
   DepthFormat depth_format = DepthFormat::d32f;
   Optimizations optimizations;
   Remedies remedies;
+  MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default
   // Extra fragment work for sensitivity experiments (--inject-fragment-work). With one value it is not in the id,
   // so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;

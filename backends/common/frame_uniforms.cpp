@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 #include "backends/common/map_lights.h"
 #include "backends/common/shadow_plan.h"
@@ -33,8 +34,11 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
   u.camera_position = glm::vec4(cam.position, 1.0f);
   u.light_position = glm::vec4(light_position, far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);
+  const ColourFormat moments_format = colour_format(config.storage, config.depth_format);
   u.knobs = glm::vec4(static_cast<float>(injected_work), config.pcf_scale, kPcssLightRadius * config.pcf_scale,
-                      moments_parameter(config.storage, colour_format(config.storage, config.depth_format)));
+                      moments_parameter(config.storage, moments_format, config.moments));
+  u.moments_knobs = glm::vec4(config.moments.bleed_reduction, moments_distance_scale(config.moments, far_plane),
+                              std::ldexp(1.0f, is_half(moments_format) ? -11 : -24), 0.0f);
   for (size_t i = 0; i < scene.map_lights.size() && i < u.map_view_proj.size(); ++i) {
     const scene::MapLight& m = scene.map_lights[i];
     const bool spot = m.type == scene::MapLightType::spot;

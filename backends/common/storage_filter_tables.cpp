@@ -34,26 +34,40 @@ bool filter_reads(Filter filter, Storage storage) {
   return own ? *own == storage : traits(storage).moments == MomentKind::none;
 }
 
-float moments_parameter(Storage s, ColourFormat f) {
-  const bool half = f == ColourFormat::rg16f || f == ColourFormat::r16f || f == ColourFormat::rgba16f;
-  const float log_max = std::log(half ? 65504.0f : std::numeric_limits<float>::max());
+bool is_half(ColourFormat f) {
+  return f == ColourFormat::rg16f || f == ColourFormat::r16f || f == ColourFormat::rgba16f;
+}
+
+float exponent_overflow_limit(Storage s, ColourFormat f) {
+  const float log_max = std::log(is_half(f) ? 65504.0f : std::numeric_limits<float>::max());
+  return traits(s).moments == MomentKind::esm ? log_max : 0.5f * log_max;  // evsm stores e^(2cz)
+}
+
+float moments_parameter(Storage s, ColourFormat f, const MomentsTuning& t) {
+  const bool half = is_half(f);
   switch (traits(s).moments) {
-    case MomentKind::vsm: return 4.0f * std::ldexp(1.0f, half ? -11 : -24);
-    case MomentKind::esm: return 0.9f * log_max;
-    case MomentKind::evsm: return 0.45f * log_max;
-    case MomentKind::msm: return half ? 1e-3f : 3e-5f;
+    case MomentKind::vsm: return t.floor_scale * 4.0f * std::ldexp(1.0f, half ? -11 : -24);
+    case MomentKind::esm:
+    case MomentKind::evsm: return t.exponent_fraction * exponent_overflow_limit(s, f);
+    case MomentKind::msm: return t.floor_scale * (half ? 1e-3f : 3e-5f);
     case MomentKind::none: break;
   }
   return 0.0f;
 }
 
-std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format) {
+float moments_distance_scale(const MomentsTuning& t, float far_plane) { return t.world_units ? far_plane : 1.0f; }
+
+std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format, const MomentsTuning& t,
+                                         float far_plane) {
+  const float c = moments_parameter(s, colour_format(s, depth_format), t);
   switch (traits(s).moments) {
     case MomentKind::none: break;
-    case MomentKind::vsm: return {1.0f, 1.0f, 0.0f, 0.0f};  // z = 1, z^2 = 1
-    case MomentKind::esm: return {std::exp(moments_parameter(s, colour_format(s, depth_format))), 0.0f, 0.0f, 0.0f};
+    case MomentKind::vsm: {  // z = 1, z^2 = 1, in world units far and far^2
+      const float d = moments_distance_scale(t, far_plane);
+      return {d, d * d, 0.0f, 0.0f};
+    }
+    case MomentKind::esm: return {std::exp(c), 0.0f, 0.0f, 0.0f};
     case MomentKind::evsm: {
-      const float c = moments_parameter(s, colour_format(s, depth_format));
       const float p = std::exp(c), n = std::exp(-c);
       return {p, p * p, -n, n * n};  // a 2-channel cube keeps the first two
     }

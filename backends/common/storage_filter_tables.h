@@ -137,16 +137,25 @@ int colour_format_bytes(ColourFormat f);
 Storage storage_for(Filter filter, Storage storage);
 // Whether `filter` can read `storage` (a moments filter only its own moments; the others only distances).
 bool filter_reads(Filter filter, Storage storage);
-// The moments' one parameter (frame.knobs.w), by storage and format:
+bool is_half(ColourFormat f);  // a 16-bit float format
+// The largest exponent c an exponential warp may have before the moments of z = 1 overflow the format: ln of its
+// largest finite value for esm (88.7 float, 11.09 half), half of it for evsm, which stores e^(2cz).
+float exponent_overflow_limit(Storage s, ColourFormat f);
+// The moments' one parameter (frame.knobs.w), by storage and format, at the default tuning:
 //   vsm: the variance floor in z^2 units, four units of rounding of the format at z = 1 (2^-24 for 32-bit float,
 //        2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units) on a flat surface;
-//   esm: the exponent c, 0.9 of the natural log of the format's largest finite value (79.8 for 32-bit float, 9.98
-//        for 16-bit): exp(c z) of z <= 1 stays finite, and the blur's averages never exceed their inputs;
-//   evsm: the exponent c, half of esm's (39.9, 4.99), as e^(2cz) is stored;
+//   esm: the exponent c, 0.9 of exponent_overflow_limit (79.8 for 32-bit float, 9.98 for 16-bit): exp(c z) of
+//        z <= 1 stays finite, and the blur's averages never exceed their inputs;
+//   evsm: the exponent c, 0.9 of its limit (39.9, 4.99);
 //   msm:  the moment bias alpha towards (0.5, 0.5, 0.5, 0.5): 3e-5 for 32-bit float (Peters & Klein's), 1e-3 for
 //         16-bit (their 16-bit form needs a quantisation transform this storage does not apply).
-float moments_parameter(Storage s, ColourFormat f);
+// The tuning's floor_scale multiplies vsm's and msm's; its exponent_fraction replaces the 0.9.
+float moments_parameter(Storage s, ColourFormat f, const MomentsTuning& t = {});
+// What the stored distance is multiplied by before its moments are taken: 1 (z = distance / far), or far with
+// world_units (frame.moments_knobs.y).
+float moments_distance_scale(const MomentsTuning& t, float far_plane);
 // The value a moments cube is cleared to: the moments of z = 1 (nothing drawn: the far plane, as the depth's clear).
-std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format);
+std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format, const MomentsTuning& t,
+                                         float far_plane);
 
 }  // namespace omnishadow

@@ -315,7 +315,7 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   glUseProgram(shadow_program_);
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (int p = 0; p < passes.count; ++p) {
-    begin_shadow_pass(p, passes.count);
+    begin_shadow_pass(p, passes.count, frame.uniforms.light_position.w);
     bind_pass_uniforms(p);
     draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided);
   }
@@ -342,7 +342,7 @@ void GlBackend::blur_moments() {
 
 // Render pass p of `count`: six passes bind face p's framebuffer, one pass the layered framebuffer (whose clear
 // clears all six layers); depth cleared to 1, an r32f cube to FLT_MAX ("nothing here", docs/glossary.md).
-void GlBackend::begin_shadow_pass(int p, int count) {
+void GlBackend::begin_shadow_pass(int p, int count, float far_plane) {
   const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
   const GLfloat depth_one = 1.0f;
   const GLuint fbo = count == 6 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
@@ -350,12 +350,14 @@ void GlBackend::begin_shadow_pass(int p, int count) {
   glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
   if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
   if (traits(shadow_.storage).moments != MomentKind::none)
-    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, moments_clear_value(shadow_.storage, config_->depth_format).data());
+    glClearNamedFramebufferfv(
+        fbo, GL_COLOR, 0,
+        moments_clear_value(shadow_.storage, config_->depth_format, config_->moments, far_plane).data());
 }
 
-void GlBackend::clear_shadow_targets() {
+void GlBackend::clear_shadow_targets(float far_plane) {
   const int passes = traits(config_->technique).passes;
-  for (int p = 0; p < passes; ++p) begin_shadow_pass(p, passes);
+  for (int p = 0; p < passes; ++p) begin_shadow_pass(p, passes, far_plane);
 }
 
 GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLuint program) {
@@ -399,7 +401,7 @@ FrameTiming GlBackend::render_frame(int frame, FrameKind kind) {
   gpu::ShadowFrame plan = update_frame_uniforms(frame);
   queries_->begin_timer(kShadowPass);
   if (kind == FrameKind::floor) {
-    clear_shadow_targets();
+    clear_shadow_targets(plan.uniforms.light_position.w);
     planner_.reset();  // the cube no longer holds any light
   } else {
     shadow_pass(plan);

@@ -43,8 +43,9 @@ class GlBackend final : public Backend {
   DrawStats shadow_pass(const gpu::ShadowFrame& f);
   // The lighting pass into lighting_[targets] with `program` (lighting_programs_[v], or floor_program_).
   DrawStats lighting_pass(gpu::LightingVariant targets, GLuint program);
-  void begin_shadow_pass(int p, int count);  // binds and clears render pass p's framebuffer
-  void clear_shadow_targets();  // the floor frame's shadow pass: the case's framebuffers cleared, nothing drawn
+  // Binds and clears render pass p's framebuffer; far_plane: this frame's light far (a world-units moments clear).
+  void begin_shadow_pass(int p, int count, float far_plane);
+  void clear_shadow_targets(float far_plane);  // the floor frame's shadow pass: framebuffers cleared, nothing drawn
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   void bind_pass_uniforms(int entry);
   // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only).

@@ -487,16 +487,17 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   VkClearValue clears[2];
   clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (the multipass tutorial)
   if (traits(shadow_.storage).moments != MomentKind::none) {  // the moments of z = 1, as the depth's clear
-    const std::array<float, 4> m = moments_clear_value(shadow_.storage, config_->depth_format);
+    const std::array<float, 4> m = moments_clear_value(shadow_.storage, config_->depth_format, config_->moments,
+                                                       frame.uniforms.light_position.w);
     clears[0].color = {{m[0], m[1], m[2], m[3]}};
   }
   clears[1].depthStencil = {1.0f, 0};
-  const bool r32f = traits(shadow_.storage).colour_channels > 0;  // a colour attachment comes first
+  const bool colour_first = traits(shadow_.storage).colour_channels > 0;  // r32f or moments: a colour attachment
   VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   rp.renderPass = shadow_.render_pass;
   rp.renderArea = {{0, 0}, {shadow_.size, shadow_.size}};
-  rp.clearValueCount = r32f ? 2 : 1;
-  rp.pClearValues = r32f ? clears : clears + 1;
+  rp.clearValueCount = colour_first ? 2 : 1;
+  rp.pClearValues = colour_first ? clears : clears + 1;
   VkViewport viewport{0, 0, float(shadow_.size), float(shadow_.size), 0.0f, 1.0f};
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
   VkDeviceSize offset = 0;
@@ -640,9 +641,7 @@ std::vector<float> decode_texels(VkFormat format, const uint8_t* src, size_t cou
 // The blurred moments as floats, `moment_channels` a texel (binary16 widened exactly).
 void VkBackend::read_moments(Images& img) {
   const int channels = traits(shadow_.storage).colour_channels;
-  const VkFormat format = shadow_.color.format;
-  const bool half = format == VK_FORMAT_R16G16_SFLOAT || format == VK_FORMAT_R16_SFLOAT ||
-                    format == VK_FORMAT_R16G16B16A16_SFLOAT;
+  const bool half = is_half(colour_format(shadow_.storage, config_->depth_format));
   const uint32_t texel_bytes = uint32_t(channels) * (half ? 2u : 4u);
   const std::vector<uint8_t> bytes = read_image(*ctx_, shadow_.color, VK_IMAGE_LAYOUT_GENERAL, texel_bytes);
   const size_t values = size_t(shadow_.size) * shadow_.size * size_t(channels);

@@ -76,6 +76,12 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
               "comma list of numerical remedies, each none or a '+' join of rebase (scene loaded relative to its "
               "light in double precision), bias0, slope_bias (max(0.05 (1 - n.l), 0.005), docs/glossary.md), "
               "normal_offset (lookup 1.5 texels along the normal), two_sided (casters without back-face culling)");
+  list_option(r, "--moments-tuning", m.moments_tunings,
+              [](const std::string& s) { return parse_moments_tuning(s); },
+              [](const MomentsTuning& t) { return to_string(t); },
+              "comma list of moments-filter tunings, each none or a '+' join of lbr<a> (light-bleeding reduction, "
+              "vsm/evsm/msm), exp<f> (esm/evsm exponent as a fraction of the format's overflow limit; default 0.9), "
+              "floor<s> (vsm variance floor / msm moment bias times s), world (vsm in world units)");
   list_option(r, "--pcf-scale", m.pcf_scales, parse_pcf_scale, [](float v) { return std::to_string(int(v)); },
               "comma list of PCF radius scales (0 to 100; 1 = the reference kernels, 0 = one direction)");
 }

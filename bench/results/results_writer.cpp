@@ -67,6 +67,7 @@ json axes_to_json(const CaseConfig& c) {
           {"depth_format", to_string(c.depth_format)},
           {"optimizations", to_string(c.optimizations)},
           {"remedies", to_string(c.remedies)},
+          {"moments_tuning", to_string(c.moments)},
           {"pcf_scale", c.pcf_scale}};
   if (!c.experiment.empty()) {  // only in sensitivity experiments (bench/run/matrix.h experiment axes)
     axes["experiment"] = c.experiment;

@@ -74,6 +74,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
               for (Filter filter : spec.filters)
                 for (float pcf_scale : spec.pcf_scales)
                 for (const Remedies& remedies : spec.remedies)
+                for (const MomentsTuning& moments : spec.moments_tunings)
                 for (const Optimizations& optimizations : spec.optimizations)
                 for (Technique technique : spec.techniques)
                 for (int injected : spec.injected_work)
@@ -97,6 +98,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.technique = technique;
                   c.optimizations = optimizations;
                   c.remedies = remedies;
+                  c.moments = moments;
                   c.pcf_scale = pcf_scale;
                   c.raster_perturb_steps = spec.raster_perturb_steps;
                   cases.push_back(c);

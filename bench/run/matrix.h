@@ -27,6 +27,7 @@ struct MatrixSpec {
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
   std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
+  std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01
   std::vector<float> pcf_scales{1.0f};                        // --pcf-scale 0,1,20
   // Experiment axes (scripts/experiments/sensitivity_same_run.py): extra fragment work per case, and copies of every
   // case measured in the same rounds. Each is in the case id only when it has more than one value

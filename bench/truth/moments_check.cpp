@@ -13,6 +13,9 @@ namespace omnishadow::bench {
 namespace {
 
 constexpr double kFloatUnit = 0x1p-24;  // unit roundoff of binary32
+// The GLSL and SPIR-V environments let a device flush binary32 subnormals to zero in and out of every operation (a
+// warp's e^(-2cz) near the format's limit is one): up to 2^-126 absolute each time.
+constexpr double kFloatTiny = 0x1p-126;
 // binary16 conversions may round to nearest or toward zero (the APIs leave it to the implementation): up to one
 // ulp, 2^-10 of the value.
 constexpr double kHalfUnit = 0x1p-10;
@@ -30,10 +33,10 @@ double depth_step(DepthFormat f) {
 }
 
 // The storage's moment `channel` of z (the C++ form of shaders/moments.glsl's distance_moments); `c` is the
-// moments' parameter where they have an exponent (esm).
-double moment(MomentKind kind, int channel, double z, double c) {
+// moments' parameter where they have an exponent (esm, evsm), `scale` vsm's distance scale (1, or far in world units).
+double moment(MomentKind kind, int channel, double z, double c, double scale) {
   switch (kind) {
-    case MomentKind::vsm: return channel == 0 ? z : z * z;
+    case MomentKind::vsm: return channel == 0 ? z * scale : (z * scale) * (z * scale);
     case MomentKind::esm: return std::exp(c * std::min(z, 1.0));
     case MomentKind::evsm: {
       const double p = std::exp(c * std::min(z, 1.0)), n = std::exp(-c * std::min(z, 1.0));
@@ -49,11 +52,11 @@ double moment(MomentKind kind, int channel, double z, double c) {
 }
 
 // How far the device's float evaluation of that moment may be from it, relative: vsm's z^2 one correctly rounded
-// multiply; esm's exp(c z) the product's rounding (|x| 2^-24 of exp's argument x = c z) and exp's own (3 + 2|x|)
+// multiply (and with a scale, its product's rounding once in d and twice more in d^2); esm's exp(c z) the product's rounding (|x| 2^-24 of exp's argument x = c z) and exp's own (3 + 2|x|)
 // ulps (the GLSL and Vulkan precision tables), an ulp being at most 2^-23 of the value.
-double moment_rounding(MomentKind kind, int channel, double z, double c) {
+double moment_rounding(MomentKind kind, int channel, double z, double c, double scale) {
   switch (kind) {
-    case MomentKind::vsm: return channel == 0 ? 0.0 : kFloatUnit;
+    case MomentKind::vsm: return (channel == 0 ? 0.0 : kFloatUnit) + (scale != 1.0 ? (channel == 0 ? 1 : 3) * kFloatUnit : 0.0);
     case MomentKind::esm: {
       const double x = std::abs(c * std::min(z, 1.0));
       return x * kFloatUnit + (3.0 + 2.0 * x) * 0x1p-23;
@@ -68,14 +71,15 @@ double moment_rounding(MomentKind kind, int channel, double z, double c) {
   return 0.0;
 }
 
-// Rounding to the moments' format: exact for float (the shader's value is already float), else binary16's.
+// Rounding to the moments' format: for float only a subnormal's flush (the shader's value is already float), else
+// binary16's rounding.
 Interval stored(Interval v, bool half) {
-  if (!half) return v;
+  if (!half) return {v.low - kFloatTiny, v.high + kFloatTiny};
   return {v.low - std::abs(v.low) * kHalfUnit - kHalfTiny, v.high + std::abs(v.high) * kHalfUnit + kHalfTiny};
 }
 
 IntervalCube unblurred(const Images& img, MomentKind kind, int channels, DepthFormat depth_format, bool half,
-                       double c) {
+                       double c, double scale) {
   IntervalCube out;
   const double far_plane = img.light_far, step = depth_step(depth_format);
   for (int f = 0; f < 6; ++f) {
@@ -87,10 +91,11 @@ IntervalCube unblurred(const Images& img, MomentKind kind, int channels, DepthFo
       if (z >= 1.0 - step - 0x1p-23) high = std::sqrt(3.0) * (1.0 + 0x1p-23);  // clamped depth: any z beyond
       low = std::max(low, 0.0);
       for (int ch = 0; ch < channels; ++ch) {
-        Interval m{moment(kind, ch, low, c), moment(kind, ch, high, c)};
+        Interval m{moment(kind, ch, low, c, scale), moment(kind, ch, high, c, scale)};
         if (m.low > m.high) std::swap(m.low, m.high);
-        const double rounding = std::max(moment_rounding(kind, ch, low, c), moment_rounding(kind, ch, high, c));
-        m = {m.low - std::abs(m.low) * rounding, m.high + std::abs(m.high) * rounding};
+        const double rounding =
+            std::max(moment_rounding(kind, ch, low, c, scale), moment_rounding(kind, ch, high, c, scale));
+        m = {m.low - std::abs(m.low) * rounding - kFloatTiny, m.high + std::abs(m.high) * rounding + kFloatTiny};
         out[static_cast<size_t>(f)][i * size_t(channels) + size_t(ch)] = stored(m, half);
       }
     }
@@ -116,7 +121,7 @@ IntervalCube blur(const IntervalCube& in, int size, int channels, int axis, bool
             high += kBlurWeights[k + 2] * v.high;
             magnitude += kBlurWeights[k + 2] * std::max(std::abs(v.low), std::abs(v.high));
           }
-          const double rounding = kGamma5 * magnitude / 16.0;
+          const double rounding = kGamma5 * magnitude / 16.0 + 5.0 * kFloatTiny;  // five products may flush
           out[static_cast<size_t>(f)][(size_t(t) * size_t(size) + size_t(s)) * size_t(channels) + size_t(c)] =
               stored({low / 16.0 - rounding, high / 16.0 + rounding}, half);
         }
@@ -126,7 +131,7 @@ IntervalCube blur(const IntervalCube& in, int size, int channels, int axis, bool
 
 }  // namespace
 
-MomentsReport check_moments(const Images& img, Storage storage, DepthFormat depth_format) {
+MomentsReport check_moments(const Images& img, Storage storage, DepthFormat depth_format, const MomentsTuning& tuning) {
   MomentsReport r;
   const StorageTraits& row = traits(storage);
   const int channels = row.colour_channels, size = img.cube_size;
@@ -134,9 +139,10 @@ MomentsReport check_moments(const Images& img, Storage storage, DepthFormat dept
       img.moment_channels != channels)
     return r;
   const ColourFormat format = colour_format(storage, depth_format);
-  const bool half = format == ColourFormat::rg16f || format == ColourFormat::r16f || format == ColourFormat::rgba16f;
-  IntervalCube bound =
-      unblurred(img, row.moments, channels, depth_format, half, double(moments_parameter(storage, format)));
+  const bool half = is_half(format);
+  IntervalCube bound = unblurred(img, row.moments, channels, depth_format, half,
+                                 double(moments_parameter(storage, format, tuning)),
+                                 double(moments_distance_scale(tuning, float(img.light_far))));
   bound = blur(bound, size, channels, 0, half);
   bound = blur(bound, size, channels, 1, half);
   double worst = -1.0;

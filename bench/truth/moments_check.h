@@ -15,6 +15,8 @@
 //   each blur pass: the weighted sum (1 4 6 4 1) / 16 of the neighbours' intervals (cube::neighbour_texel, the
 //                shader's addressing), widened by the float sum's rounding in any order or fused form, gamma_5 =
 //                5 u / (1 - 5 u) of the sum of magnitudes, then the format's rounding again.
+//   subnormals:  binary32 subnormals may be flushed to zero by any operation (GLSL 4.60 4.7.1, the Vulkan
+//                environment's precision rules): 2^-126 absolute per value and per product.
 // Nothing here depends on how a device rasterises: the check holds on every conformant implementation and fails a
 // device that stores other moments (not squared, a wrong warp), skips or misplaces a blur tap, or blurs one face
 // less than the others.
@@ -36,8 +38,10 @@ struct MomentsReport {
   bool ok() const { return outside == 0 && non_finite == 0; }
 };
 
-// Needs a full read-back (Images::has_full_cube and Images::moments); `storage` a moments storage.
-MomentsReport check_moments(const Images& images, Storage storage, DepthFormat depth_format);
+// Needs a full read-back (Images::has_full_cube and Images::moments); `storage` a moments storage, `tuning` the
+// case's (its exponent, floor and distance scale decide the moments).
+MomentsReport check_moments(const Images& images, Storage storage, DepthFormat depth_format,
+                            const MomentsTuning& tuning = {});
 std::string describe(const MomentsReport& r);
 
 }  // namespace omnishadow::bench

@@ -48,7 +48,7 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
 // Not a texel limit: the bound is rounding only, so one moment outside it is a device storing other moments.
 void Harness::check_moment_cube(CaseResult& r, const Images& images) {
   if (traits(r.config.storage).moments == MomentKind::none || images.moments[0].empty()) return;
-  r.moments = check_moments(images, r.config.storage, r.config.depth_format);
+  r.moments = check_moments(images, r.config.storage, r.config.depth_format, r.config.moments);
   if (r.moments->ok()) return;
   r.add({Status::failed_check, "moments", describe(*r.moments),
          {{"outside", double(r.moments->outside)}, {"non_finite", double(r.moments->non_finite)},

@@ -36,7 +36,75 @@ def cell(c):
         text += f" ~{flick:.1f}"
     if bad:
         text += f" **NaN/Inf {bad}**"
+    moments = c.get("moments", {})
+    if moments.get("non_finite"):
+        text += f" **moments NaN/Inf {moments['non_finite']}**"
+    if moments.get("outside"):
+        text += f" **moments outside {moments['outside']}**"
     return text
+
+
+def pivot(doc, row_of, column_of, fmt=cell):
+    """A table of fmt(case) with rows row_of(axes) and columns column_of(axes), both in first-seen order."""
+    rows, columns, cells = [], [], {}
+    for c in doc["omnishadow"]["cases"]:
+        a = c["axes"]
+        row, col = row_of(a), column_of(a)
+        rows += [] if row in rows else [row]
+        columns += [] if col in columns else [col]
+        cells[(row, col)] = fmt(c)
+    return (["| " + " | ".join(["backend / case"] + columns) + " |", "|---|" + "---|" * len(columns)] +
+            [f"| {row} | " + " | ".join(cells.get((row, col), "") for col in columns) + " |" for row in rows])
+
+
+def bleeding_cell(c):
+    """missed-shadow % (bleeding) / false-shadow % (darkening) and the mean |shadow - exact|, in %."""
+    acc = c.get("accuracy")
+    if c["status"] == "unsupported" or not acc:
+        return cell(c)
+    text = f"{acc['missed_shadow_percent']:.2f} / {acc['false_shadow_percent']:.2f} ({100 * acc['mae_point']:.2f})"
+    return f"**{text}**" if c["status"] in ("failed_check", "failed_quality") else text
+
+
+MOMENTS_SECTIONS = [
+    ("moments_bleeding", "Light bleeding and its reduction (`bleeding`, D32F)",
+     "Cells: missed-shadow % (light bleeding: lit where the light is hidden) / false-shadow % (darkening), and in "
+     "brackets the mean |shadow - exact| in %. lbr<a>: lit fractions below a taken as shadow, the rest rescaled "
+     "(the Chebyshev and Hamburger bounds only; n/a for the others).",
+     lambda a: f"{a['backend']} / {a['filter']}", lambda a: a.get("moments_tuning", "none"), bleeding_cell),
+    ("moments_exponents", "Exponents about the overflow limit (`nf_25`, far fitted so that z reaches 1)",
+     "Columns: the exponent as a fraction of the format's limit ln(max) (half of it for evsm); none = the default "
+     "0.9. Above 1 the moments of z near 1 are infinite (D32F) or saturate (a 16-bit conversion may clamp); the "
+     "moments check (`--check`) fails both.",
+     lambda a: f"{a['backend']} / {a['filter']} {a['depth_format']}", lambda a: a.get("moments_tuning", "none"), cell),
+    ("moments_floor", "Singular moments: variance floor and moment bias off and on",
+     "`flat_moments`: the light at a sphere's centre, every texel nearly one distance; floor<s>: vsm's variance "
+     "floor and msm's moment bias times s (floor0: none; none: the defaults).",
+     lambda a: f"{a['backend']} / `{a['scene']}` {a['filter']} {a['depth_format']}",
+     lambda a: a.get("moments_tuning", "none"), cell),
+    ("moments_world", "VSM with distances in world units",
+     "world: (d, d^2) of the distance in world units instead of d / far, the variance floor left in z^2 units "
+     "(an engine that skips the normalisation); at 16 bits d^2 also overflows beyond 256 units.",
+     lambda a: f"{a['backend']} / `{a['scene']}` {a['depth_format']}", lambda a: a.get("moments_tuning", "none"),
+     cell),
+    ("moments_seams", "Filtering across face seams",
+     "`seams` puts casters on the light's diagonals (face seams and corners) in `nf_25`'s room: the moments blur "
+     "folds its taps across each seam (shaders/cube_texel.glsl), so the filters should lose no more there than "
+     "in the plain room.",
+     lambda a: f"{a['backend']} / {a['filter']}", lambda a: f"`{a['scene']}`", cell),
+]
+
+
+def moments_sections(root):
+    lines = ["", "## Moments filters' hazards (`--moments-tuning`, cube 512, `--check`)"]
+    for folder, title, text, row_of, column_of, fmt in MOMENTS_SECTIONS:
+        path = os.path.join(root, folder)
+        if not os.path.isdir(path):
+            continue
+        doc = load(path)
+        lines += ["", f"### {title}", "", text, "", f"Run: `{command(doc)}`", ""]
+        lines += pivot(doc, row_of, column_of, fmt)
+    return lines
 
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -82,6 +150,7 @@ def main():
     parser.add_argument("cube_sizes", nargs="?")
     parser.add_argument("--remedies", help="a run with --remedy variants (scripts/experiments/run_extremes.sh makes one)")
     parser.add_argument("--pcf", help="a run with --pcf-scale variants")
+    parser.add_argument("--moments", help="the folder holding the moments_* runs of scripts/experiments/run_extremes.sh")
     parser.add_argument("--out")
     args = parser.parse_args()
     doc = load(args.matrix)
@@ -111,6 +180,8 @@ def main():
                   "Columns: filter and --pcf-scale (0 = every sample in one direction, 1 = the tutorials' kernels).", "",
                   f"Run: `{command(pcf)}`", ""]
         lines += table(pcf, lambda a: f"{a['filter'].replace('pcf_', '')} x{a.get('pcf_scale', 1):g}", False)
+    if args.moments:
+        lines += moments_sections(args.moments)
     if args.cube_sizes:
         sizes = load(args.cube_sizes)
         lines += ["", "## Cube sizes (nf_25)", "", "| case | status | misclassified % | reason / limit |",

@@ -2,8 +2,9 @@
 # The numerical-stability suite: every scene of scenes/extremes/ (each names its purpose) across storages, depth
 # formats and both filter kinds, with the error against the ray-cast reference, NaN/Inf counts and flicker
 # (--stability: the next frame compared), then cube sizes 1, 2, 16 and beyond what memory allows on one scene.
-# Then every remedy on and off (--remedy). Writes OUT/matrix, OUT/remedies and OUT/cube_sizes (run folders) and
-# OUT/extremes.md (scripts/analysis/extremes_table.py).
+# Then every remedy on and off (--remedy), PCF radii, and the moments filters' hazards. Writes OUT/matrix,
+# OUT/remedies, OUT/pcf, OUT/cube_sizes and OUT/moments_* (run folders) and OUT/extremes.md
+# (scripts/analysis/extremes_table.py).
 # Usage: scripts/experiments/run_extremes.sh OUT [extra omnishadow run arguments, e.g. --backend gl,vulkan]
 set -euo pipefail
 out="${1:?usage: scripts/experiments/run_extremes.sh OUT [run arguments]}"; shift
@@ -26,5 +27,20 @@ mkdir -p "$out"
 "$bin" run --scenes-dir "$here/scenes/extremes" --scene nf_25 --cube 1,2,16,4096,16384 \
   --technique six_pass,geometry_shader --filter hard --frames 1 --warmup 0 --benchmark_repetitions=1 \
   --light-radius 0 --no-images --out "$out/cube_sizes" "$@"
+# The moments filters' hazards (--moments-tuning, docs/extremes.md "Moments filters' hazards"), each with --check:
+# light bleeding and its reduction swept; exponents about the format's overflow limit, with the far plane fitted so
+# that z reaches 1; the variance floor and moment bias off on nearly singular moments; VSM in world units; seams.
+moments=(--cube 512 --technique six_pass --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --check
+  --no-images --scenes-dir "$here/scenes/extremes")
+"$bin" run "${moments[@]}" --scene bleeding --filter hard,pcf_disk20,vsm,evsm2,evsm4,msm \
+  --moments-tuning none,lbr0.2,lbr0.4,lbr0.6,lbr0.8 --out "$out/moments_bleeding" "$@"
+"$bin" run "${moments[@]}" --scene nf_25 --optimize fit --filter esm,evsm2,evsm4 --depth-format d32f,d16 \
+  --moments-tuning exp0.5,none,exp0.99,exp1.01 --out "$out/moments_exponents" "$@"
+"$bin" run "${moments[@]}" --scene flat_moments,nf_25 --filter vsm,msm --depth-format d32f,d16 \
+  --moments-tuning floor0,none,floor10 --out "$out/moments_floor" "$@"
+"$bin" run "${moments[@]}" --scene nf_25,nf_1e3 --filter vsm --depth-format d32f,d16 --moments-tuning none,world \
+  --out "$out/moments_world" "$@"
+"$bin" run "${moments[@]}" --scene nf_25,seams --filter hard,pcf_disk20,vsm,esm,evsm2,evsm4,msm \
+  --out "$out/moments_seams" "$@"
 /usr/bin/python3 "$here/scripts/analysis/extremes_table.py" "$out/matrix" "$out/cube_sizes" --remedies "$out/remedies" \
-  --pcf "$out/pcf" --out "$out/extremes.md"
+  --pcf "$out/pcf" --moments "$out" --out "$out/extremes.md"
