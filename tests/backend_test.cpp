@@ -579,8 +579,9 @@ TEST_P(BackendTest, EveryCaseIsCleanInTheCheckingMode) {
   const int all = int(all_values<Technique>().size() * all_values<Storage>().size() * all_values<Filter>().size() *
                       all_values<DepthFormat>().size());
   EXPECT_EQ(rendered + refused, all);
-  if (checked->device().shares_host_memory)
+  if (checked->device().shares_host_memory) {
     EXPECT_EQ(rendered, kCpuDriverCheckedCases.at(GetParam())) << "what llvmpipe/lavapipe do";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Api, BackendTest, ::testing::Values("gl", "vulkan"),

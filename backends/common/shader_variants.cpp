@@ -87,8 +87,8 @@ std::vector<std::string> spirv_variant_keys() {
         keys.insert(variant_key("moments_blur.comp", moments_blur_defines(colour_format(storage, format))));
   }
   for (Storage storage : all_values<Storage>())
-    for (Filter filter : all_values<Filter>())
-      if (filter_reads(filter, storage))
+    for (Filter filter : all_values<Filter>()) {
+      if (!filter_reads(filter, storage)) continue;
       for (BiasMode bias : {BiasMode::tutorial, BiasMode::zero, BiasMode::slope})
         for (bool normal_offset : {false, true})
           for (LightingVariant v : {LightingVariant::timed, LightingVariant::check}) {
@@ -98,6 +98,7 @@ std::vector<std::string> spirv_variant_keys() {
             c.remedies.normal_offset = normal_offset;
             keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
           }
+    }
   return {keys.begin(), keys.end()};
 }
 

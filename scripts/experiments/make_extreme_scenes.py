@@ -4,7 +4,8 @@
 All are the point-shadow tutorial's room (a 10-unit room, five cubes, a point light) pushed to one extreme at a time, so that an
 error can be attributed to that extreme: near/far ratios from 1:25 to 1:1e6, the whole scene translated far from
 the origin, the light on a surface and inside a caster, receivers at grazing angles, casters on cube-face seams and
-corners, zero-area triangles, and a light moving by tiny steps (for flicker). Regenerate after changing this
+corners, zero-area triangles, and a light moving by tiny steps (for flicker); and two for the moments filters'
+hazards: light bleeding between two occluders, and nearly singular moments (the light at a sphere's centre). Regenerate after changing this
 script: scripts/experiments/make_extreme_scenes.py (the files are committed so the suite needs no generation step).
 """
 import copy
@@ -22,6 +23,14 @@ CUBES = [
     {"name": "cube5", "type": "box", "translate": [-1.5, 2, -3], "rotate": {"degrees": 60, "axis": [1, 0, 1]},
      "scale": 0.75},
 ]
+
+
+BLEEDING_DESCRIPTION = ("light bleeding: a small box near the light casts its shadow across the foot of a thin wall; behind the wall's "
+                        "foot the receiver is barely beyond the wall, so wherever the filter's footprint spans both occluders' depths t"
+                        "he moments' variance dwarfs that gap and the Chebyshev / Hamburger bounds let light through (bleed reduction lbr<a> trades it for darker penumbrae)")
+FLAT_DESCRIPTION = ("the light at the centre of a sphere of radius 4: every cube texel holds nearly one distance, so the moments' v"
+                    "ariance (vsm) and Hankel matrix (msm) are singular up to rounding; the variance floor and moment bias (floor<s"
+                    ">) are what keep the bounds finite; one box casts a shadow")
 
 
 def room(description, light, objects=None, camera=None):
@@ -86,6 +95,20 @@ def main():
     scenes["stability_tiny_steps"] = room(
         "the light moving by about 1e-5 units per frame (amplitude 1e-3): shadows must not flicker between frames",
         point(path={"amplitude": [0.001, 0.0007, 0.0013], "frequency": 0.5, "seconds_per_frame": 0.0166666667}))
+    # The moments filters' hazards (run_extremes.sh's moments runs). Bleeding: a small box near the light casts across
+    # the foot of a thin wall, where the receiver is barely beyond the wall.
+    scenes["bleeding"] = room(BLEEDING_DESCRIPTION, point(position=(0, 1, 0), near=0.5, far=12.0), objects=[
+        {"name": "near_occluder", "type": "box", "translate": [0.65, -0.5, 0.3], "scale": 0.2},
+        {"name": "thin_wall", "type": "box", "translate": [2.2, -3, 0], "scale": [0.05, 2, 1.5]}],
+        camera={"position": [4.5, 0.5, -4.0], "target": [2.4, -5, 0.3], "fov_y_degrees": 70, "near": 0.05,
+                "far": 100, "size": [400, 300]})
+    # Singular moments: the light at the centre of a sphere (no room), one box casting.
+    flat = room(FLAT_DESCRIPTION, point(near=0.5, far=6.0), camera={
+        "position": [0, 0, 0.5], "target": [0, -1, -3], "fov_y_degrees": 70, "near": 0.05, "far": 100,
+        "size": [400, 300]})
+    flat["objects"] = [{"name": "shell", "type": "sphere", "segments": [192, 96], "scale": 4, "inside": True},
+                       {"name": "box", "type": "box", "translate": [0.6, -1.2, -2], "scale": 0.3}]
+    scenes["flat_moments"] = flat
     for name, scene in scenes.items():
         with open(os.path.join(OUT, name + ".json"), "w") as f:
             json.dump(scene, f, indent=1)
