@@ -10,7 +10,7 @@ layout(std140, binding = 0) uniform FrameUniforms {
   vec4 knobs;              // x = injected fragment work (iterations; 0 unless --inject-fragment-work);
                            // y = PCF radius scale (1 = the tutorials' kernels; --pcf-scale);
                            // z = the radius of the light PCSS imitates, world units (kPcssLightRadius x --pcf-scale);
-                           // w = the moments filters' parameter: VSM's variance floor (z^2 units), the
+                           // w = the moments filters' parameter: VSM's variance floor (a fraction of m2), the
                            // exponent c of ESM and EVSM, MSM's moment bias (moments_parameter)
   mat4 map_view_proj[4];   // spot / directional lights: one 2D map layer each (backends/common/map_lights.h)
   vec4 map_light[4];       // xyz: spot position, or unit vector towards a directional light; w: 1 spot, 2 dir.

@@ -41,14 +41,15 @@ float reduce_bleeding(float lit) {
 #if defined(FILTER_VSM)
 // Chebyshev's one-sided bound (Donnelly & Lauritzen 2006): with mean m1 and variance m2 - m1^2 of the occluders'
 // z over the filter's footprint, the fraction at or beyond t > m1 is at most var / (var + (t - m1)^2); that bound
-// is the lit fraction. The variance is floored at frame.knobs.w (4 ulps of the moments' format at z = 1:
-// below it m2 - m1^2 is rounding, and a flat surface would shadow itself). t is the receiver's z less the bias, in
-// the stored moments' units (times far in world units, where the floor is not rescaled: the hazard it measures).
+// is the lit fraction. The variance is floored at frame.knobs.w x m2 (4 units of the moments' format's rounding of
+// m2: below it m2 - m1^2 is rounding, and a flat surface would shadow itself). Relative to m2, the floor holds for
+// any range of z and any units (a floor fixed at z = 1 blurs a scene that spans z < 0.1 by 100 times too much at
+// 16 bits). t is the receiver's z less the bias, in the stored moments' units (times far in world units).
 float vsm_shadow(vec3 dir, float current, float bias) {
   vec2 m = texture(shadow_map, dir).rg;
   float t = (current - bias) / light_far() * frame.moments_knobs.y;
   if (t <= m.x) return 0.0;
-  float variance = max(m.y - m.x * m.x, frame.knobs.w);
+  float variance = max(m.y - m.x * m.x, frame.knobs.w * m.y);
   float d = t - m.x;
   return 1.0 - reduce_bleeding(variance / (variance + d * d));
 }

@@ -228,9 +228,12 @@ std::optional<float> tuning_number(std::string_view word, std::string_view prefi
   } catch (const std::exception&) {
     used = 0;
   }
-  if (digits.empty() || used != digits.size() || !(v >= low && v <= high))
+  if (digits.empty() || used != digits.size() || !(v >= low && v <= high)) {
+    char range[64];
+    std::snprintf(range, sizeof range, "[%g, %g]", static_cast<double>(low), static_cast<double>(high));
     throw std::invalid_argument("moments tuning '" + std::string(word) + "': " + std::string(prefix) +
-                                " takes a number in [" + std::to_string(low) + ", " + std::to_string(high) + "]");
+                                " takes a number in " + range);
+  }
   return v;
 }
 }  // namespace

@@ -113,8 +113,9 @@ std::string to_string(const Remedies& r);  // the same spellings; "none" when al
 //                                 above 1 the moments of z near 1 are infinite;
 //   floor_scale s (floor<s>):     vsm's variance floor and msm's moment bias as a multiple of their defaults
 //                                 (moments_parameter); 0 turns them off;
-//   world_units (world):          vsm stores (d, d^2) of the distance d in world units rather than d / far, the
-//                                 variance floor left in z^2 units: what an engine that skips the normalisation gets.
+//   world_units (world):          vsm stores (d, d^2) of the distance d in world units rather than d / far (the
+//                                 floor is relative to m2, so only the format's range differs: d^2 overflows a
+//                                 16-bit float beyond 256 units).
 struct MomentsTuning {
   float bleed_reduction = 0.0f;
   float exponent_fraction = 0.9f;

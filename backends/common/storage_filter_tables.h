@@ -142,8 +142,8 @@ bool is_half(ColourFormat f);  // a 16-bit float format
 // largest finite value for esm (88.7 float, 11.09 half), half of it for evsm, which stores e^(2cz).
 float exponent_overflow_limit(Storage s, ColourFormat f);
 // The moments' one parameter (frame.knobs.w), by storage and format, at the default tuning:
-//   vsm: the variance floor in z^2 units, four units of rounding of the format at z = 1 (2^-24 for 32-bit float,
-//        2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units) on a flat surface;
+//   vsm: the variance floor as a fraction of m2, four units of the format's rounding (2^-24 for 32-bit float,
+//        2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units of m2) on a flat surface;
 //   esm: the exponent c, 0.9 of exponent_overflow_limit (79.8 for 32-bit float, 9.98 for 16-bit): exp(c z) of
 //        z <= 1 stays finite, and the blur's averages never exceed their inputs;
 //   evsm: the exponent c, 0.9 of its limit (39.9, 4.99);

@@ -31,6 +31,9 @@ def cell(c):
     text = f"{acc['misclassified_percent']:.2f}" if "misclassified_percent" in acc else "-"
     if c["status"] in ("failed_check", "failed_quality"):
         text = f"**{text}**"  # beyond --max-error (or another check failed): the variant breaks here
+        failed = c.get("reason", "").split(":")[0]
+        if c["status"] == "failed_check" and failed and " " not in failed and failed != "moments":
+            text += f" ({failed})"  # e.g. cross_backend_shadow_factor
     flick = c.get("stability", {}).get("flicker_percent")
     if flick is not None and flick > 0.5:
         text += f" ~{flick:.1f}"
@@ -66,6 +69,10 @@ def bleeding_cell(c):
     return f"**{text}**" if c["status"] in ("failed_check", "failed_quality") else text
 
 
+def remedy_suffix(a):
+    return "" if a.get("remedies", "none") == "none" else f" + {a['remedies']}"
+
+
 MOMENTS_SECTIONS = [
     ("moments_bleeding", "Light bleeding and its reduction (`bleeding`, D32F)",
      "Cells: missed-shadow % (light bleeding: lit where the light is hidden) / false-shadow % (darkening), and in "
@@ -77,16 +84,19 @@ MOMENTS_SECTIONS = [
      "0.9. Above 1 the moments of z near 1 are infinite (D32F) or saturate (a 16-bit conversion may clamp); the "
      "moments check (`--check`) fails both.",
      lambda a: f"{a['backend']} / {a['filter']} {a['depth_format']}", lambda a: a.get("moments_tuning", "none"), cell),
-    ("moments_floor", "Singular moments: variance floor and moment bias off and on",
-     "`flat_moments`: the light at a sphere's centre, every texel nearly one distance; floor<s>: vsm's variance "
-     "floor and msm's moment bias times s (floor0: none; none: the defaults).",
-     lambda a: f"{a['backend']} / `{a['scene']}` {a['filter']} {a['depth_format']}",
+    ("moments_floor", "Singular moments and variance cancellation: variance floor and moment bias off and on",
+     "`flat_moments`: the light at a sphere's centre, every texel nearly one distance; `nf_25`: the room. floor<s>: "
+     "vsm's variance floor (4 units of the format's rounding of m2) and msm's moment bias times s (floor0: none; "
+     "none: the defaults); + bias0: the lookup's bias off too, so that nothing else keeps a surface from shadowing "
+     "itself where m2 - m1^2 cancels.",
+     lambda a: f"{a['backend']} / `{a['scene']}` {a['filter']} {a['depth_format']}" + remedy_suffix(a),
      lambda a: a.get("moments_tuning", "none"), cell),
     ("moments_world", "VSM with distances in world units",
-     "world: (d, d^2) of the distance in world units instead of d / far, the variance floor left in z^2 units "
-     "(an engine that skips the normalisation); at 16 bits d^2 also overflows beyond 256 units.",
-     lambda a: f"{a['backend']} / `{a['scene']}` {a['depth_format']}", lambda a: a.get("moments_tuning", "none"),
-     cell),
+     "world: (d, d^2) of the distance in world units instead of d / far (near/far 1:25 and 1:1000). The floor is "
+     "relative to m2, so the units change only the format's range (d^2 overflows a 16-bit float beyond 256 units, "
+     "which these rooms do not reach).",
+     lambda a: f"{a['backend']} / `{a['scene']}` {a['depth_format']}" + remedy_suffix(a),
+     lambda a: a.get("moments_tuning", "none"), cell),
     ("moments_seams", "Filtering across face seams",
      "`seams` puts casters on the light's diagonals (face seams and corners) in `nf_25`'s room: the moments blur "
      "folds its taps across each seam (shaders/cube_texel.glsl), so the filters should lose no more there than "

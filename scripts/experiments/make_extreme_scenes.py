@@ -25,12 +25,14 @@ CUBES = [
 ]
 
 
-BLEEDING_DESCRIPTION = ("light bleeding: a small box near the light casts its shadow across the foot of a thin wall; behind the wall's "
-                        "foot the receiver is barely beyond the wall, so wherever the filter's footprint spans both occluders' depths t"
-                        "he moments' variance dwarfs that gap and the Chebyshev / Hamburger bounds let light through (bleed reduction lbr<a> trades it for darker penumbrae)")
-FLAT_DESCRIPTION = ("the light at the centre of a sphere of radius 4: every cube texel holds nearly one distance, so the moments' v"
-                    "ariance (vsm) and Hankel matrix (msm) are singular up to rounding; the variance floor and moment bias (floor<s"
-                    ">) are what keep the bounds finite; one box casts a shadow")
+BLEEDING_DESCRIPTION = ("light bleeding: a small box near the light casts its shadow across the foot of a thin wall; behind "
+                        "the wall's foot the receiver is barely beyond the wall, so wherever the filter's footprint spans "
+                        "both occluders' depths the moments' variance dwarfs that gap and the Chebyshev / Hamburger bounds "
+                        "let light through (bleed reduction lbr<a> trades it for darker penumbrae)")
+FLAT_DESCRIPTION = ("the light at the centre of a sphere of radius 4: every cube texel holds nearly one distance, so the "
+                    "moments' variance (vsm) and Hankel matrix (msm) are singular up to rounding; with the lookup bias "
+                    "off (bias0) only the variance floor and moment bias (floor<s>) keep the sphere from shadowing "
+                    "itself; one box casts a shadow")
 
 
 def room(description, light, objects=None, camera=None):

@@ -39,8 +39,9 @@ hazard "${moments[@]}" --scene bleeding --filter hard,pcf_disk20,vsm,evsm2,evsm4
 hazard "${moments[@]}" --scene nf_25 --optimize fit --filter esm,evsm2,evsm4 --depth-format d32f,d16 \
   --moments-tuning exp0.5,none,exp0.99,exp1.01 --out "$out/moments_exponents" "$@"
 hazard "${moments[@]}" --scene flat_moments,nf_25 --filter vsm,msm --depth-format d32f,d16 \
-  --moments-tuning floor0,none,floor10 --out "$out/moments_floor" "$@"
+  --moments-tuning floor0,none,floor10 --remedy none,bias0 --out "$out/moments_floor" "$@"
 hazard "${moments[@]}" --scene nf_25,nf_1e3 --filter vsm --depth-format d32f,d16 --moments-tuning none,world \
+  --remedy none,bias0 \
   --out "$out/moments_world" "$@"
 hazard "${moments[@]}" --scene nf_25,seams --filter hard,pcf_disk20,vsm,esm,evsm2,evsm4,msm \
   --out "$out/moments_seams" "$@"
