@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "bench/results/compare.h"
+#include "scenes/obj_loader.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::fuzz {
@@ -64,6 +65,23 @@ std::string check_results_input(const uint8_t* data, size_t size) {
     return "";
   } catch (const std::exception& e) {
     return std::string("escaped exception: ") + e.what();
+  }
+  return "";
+}
+
+std::string check_obj_input(const uint8_t* data, size_t size) {
+  std::vector<scene::MeshVertex> mesh;
+  try {
+    mesh = scene::load_obj_text(std::string(reinterpret_cast<const char*>(data), size), "fuzz.obj");
+  } catch (const std::runtime_error&) {
+    return "";
+  } catch (const std::exception& e) {
+    return std::string("escaped exception: ") + e.what();
+  }
+  if (mesh.empty() || mesh.size() % 3 != 0) return "vertex count not a positive multiple of 3";
+  for (const scene::MeshVertex& v : mesh) {
+    if (!finite(v.position)) return "non-finite vertex position";
+    if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f) return "normal not finite and unit";
   }
   return "";
 }

@@ -25,4 +25,7 @@ std::string check_scene_input(const uint8_t* data, size_t size);
 // the JSON summary all handle without throwing (compared with itself: no timing, work or image change).
 std::string check_results_input(const uint8_t* data, size_t size);
 
+// The OBJ loader (tinyobjloader): std::runtime_error, or whole triangles with finite positions and unit normals.
+std::string check_obj_input(const uint8_t* data, size_t size);
+
 }  // namespace omnishadow::fuzz

@@ -18,8 +18,5 @@ struct MeshVertex {
 std::vector<MeshVertex> make_box();                                   // [-1,1]^3, 12 triangles
 std::vector<MeshVertex> make_plane();                                 // [-1,1]^2 in XZ, normal +Y, 2 triangles
 std::vector<MeshVertex> make_sphere(int longitude_segments, int latitude_segments);  // radius 1
-// Triangulated OBJ (v, vn optional, f with any polygon size fanned). Throws std::runtime_error on bad lines,
-// naming the line number; the caller adds the scene file and pointer.
-std::vector<MeshVertex> load_obj(const std::string& path);
 
 }  // namespace omnishadow::scene

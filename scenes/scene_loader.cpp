@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "scenes/mesh_builders.h"
+#include "scenes/obj_loader.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::scene {

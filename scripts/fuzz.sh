@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Fuzz the readers of untrusted files with libFuzzer (clang): the scene loader and the results reader that
-# compare/merge use. Usage: scripts/fuzz.sh [seconds per target, default 600] [target ...]
+# Fuzz the readers of untrusted files with libFuzzer (clang): the scene loader, the results reader that
+# compare/merge use, and the OBJ loader (tinyobjloader). Usage: scripts/fuzz.sh [seconds per target, default 600] [target ...]
 # Builds fuzz/ with clang into build/fuzz, grows a corpus in build/fuzz/corpus/<target> from fuzz/seeds/ and the
 # committed scenes, and writes build/fuzz/report.md (executions, time, findings). A finding is saved under
 # build/fuzz/artifacts/<target>/; commit it to tests/fuzz_regressions/<target>/ once fixed (ctest replays those).
@@ -19,7 +19,7 @@ else
   limit=(-max_total_time="$seconds")
 fi
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(scene results)
+[ ${#targets[@]} -eq 0 ] && targets=(scene results obj)
 bash scripts/setup.sh --fuzz >/dev/null
 clangxx=$(command -v clang++ || command -v clang++-14 || true)
 [ -n "$clangxx" ] || { echo "fuzz.sh: clang++ not found (bash scripts/setup.sh --fuzz installs it)" >&2; exit 2; }
@@ -44,10 +44,12 @@ for t in "${targets[@]}"; do
   seeds=()
   for d in "fuzz/seeds/$t" "tests/fuzz_regressions/$t"; do [ -d "$d" ] && seeds+=("$d"); done
   [ "$t" = scene ] && seeds+=(scenes)
+  dict=fuzz/json.dict
+  [ "$t" = obj ] && dict=fuzz/obj.dict
   # Seed folders hold non-inputs too (README.md, .obj files): libFuzzer only reads them, never writes there.
   log="$out/$t.log"
   set +e
-  "$out/${t}_fuzzer" "${limit[@]}" -dict=fuzz/json.dict -max_len=65536 -rss_limit_mb=4096 \
+  "$out/${t}_fuzzer" "${limit[@]}" -dict="$dict" -max_len=65536 -rss_limit_mb=4096 \
     -timeout=10 -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" "${seeds[@]}" > "$log" 2>&1
   rc=$?
   set -e

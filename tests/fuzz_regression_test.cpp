@@ -44,6 +44,11 @@ TEST(FuzzRegressions, ResultsReaderInputsKeepTheContract) {
   EXPECT_GE(n, 2) << "regression inputs and seeds went missing";
 }
 
+TEST(FuzzRegressions, ObjLoaderInputsKeepTheContract) {
+  int n = replay({kRoot / "tests/fuzz_regressions/obj", kRoot / "fuzz/seeds/obj"}, omnishadow::fuzz::check_obj_input);
+  EXPECT_GE(n, 3) << "regression inputs and seeds went missing";
+}
+
 // The contract itself must be able to fail, or the replay proves nothing.
 TEST(FuzzRegressions, InvariantsCatchABrokenScene) {
   std::string text = R"({"light": {}, "objects": [{"type": "box"}]})";
