@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "bench/results/compare.h"
+#include "scenes/gltf_loader.h"
 #include "scenes/obj_loader.h"
 #include "scenes/scene.h"
 
@@ -82,6 +83,28 @@ std::string check_obj_input(const uint8_t* data, size_t size) {
   for (const scene::MeshVertex& v : mesh) {
     if (!finite(v.position)) return "non-finite vertex position";
     if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f) return "normal not finite and unit";
+  }
+  return "";
+}
+
+std::string check_gltf_input(const uint8_t* data, size_t size) {
+  scene::GltfModel model;
+  try {
+    model = scene::load_gltf_bytes(std::string(reinterpret_cast<const char*>(data), size), "fuzz.glb", 1u << 20);
+  } catch (const std::runtime_error&) {
+    return "";
+  } catch (const std::exception& e) {
+    return std::string("escaped exception: ") + e.what();
+  }
+  if (model.triangles.empty() || model.triangles.size() % 3 != 0) return "vertex count not a positive multiple of 3";
+  if (model.colors.size() != model.triangles.size()) return "not one colour per vertex";
+  for (size_t i = 0; i < model.triangles.size(); ++i) {
+    const scene::MeshVertex& v = model.triangles[i];
+    if (!finite(v.position)) return "non-finite vertex position";
+    if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f) return "normal not finite and unit";
+    const glm::vec3 c = model.colors[i];
+    if (!finite(c) || glm::any(glm::lessThan(c, glm::vec3(0.0f))) || glm::any(glm::greaterThan(c, glm::vec3(1.0f))))
+      return "colour not finite in [0, 1]";
   }
   return "";
 }

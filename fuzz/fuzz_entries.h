@@ -28,4 +28,8 @@ std::string check_results_input(const uint8_t* data, size_t size);
 // The OBJ loader (tinyobjloader): std::runtime_error, or whole triangles with finite positions and unit normals.
 std::string check_obj_input(const uint8_t* data, size_t size);
 
+// The glTF loader (tinygltf, glTF JSON or GLB; no external files): std::runtime_error, or whole triangles with
+// finite positions, unit normals and one finite colour in [0, 1] per vertex.
+std::string check_gltf_input(const uint8_t* data, size_t size);
+
 }  // namespace omnishadow::fuzz

@@ -1,5 +1,7 @@
 #include "scenes/obj_loader.h"
 
+#include "scenes/model_util.h"
+
 #include <tiny_obj_loader.h>
 
 #include <cmath>
@@ -10,25 +12,9 @@
 namespace omnishadow::scene {
 namespace {
 
-// The library's error text is several lines ("...\n\n"); a one-line error keeps the first.
-std::string first_line(const std::string& text) {
-  const size_t start = text.find_first_not_of("\n ");
-  if (start == std::string::npos) return "unreadable";
-  const size_t end = text.find('\n', start);
-  return text.substr(start, end == std::string::npos ? std::string::npos : end - start);
-}
-
 glm::vec3 triple(const std::vector<tinyobj::real_t>& values, int index) {
   const size_t i = size_t(index) * 3;
   return {values[i], values[i + 1], values[i + 2]};
-}
-
-// In double: edges and their cross product of float coordinates up to 3.4e38 neither overflow nor underflow there.
-// A degenerate (zero-area) triangle gets any unit normal; it rasterises to nothing.
-glm::vec3 face_normal(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-  const glm::dvec3 n = glm::cross(glm::dvec3(b) - glm::dvec3(a), glm::dvec3(c) - glm::dvec3(a));
-  const double length = glm::length(n);
-  return length > 0.0 && std::isfinite(length) ? glm::vec3(n / length) : glm::vec3(0.0f, 1.0f, 0.0f);
 }
 
 }  // namespace
@@ -52,7 +38,8 @@ std::vector<MeshVertex> load_obj_text(const std::string& text, const std::string
   config.vertex_color = false;
   tinyobj::ObjReader reader;
   // Materials are not read (no .mtl text): a mesh's colour comes from the scene file.
-  if (!reader.ParseFromString(text, "", config)) throw std::runtime_error(path + ": " + first_line(reader.Error()));
+  if (!reader.ParseFromString(text, "", config))
+    throw std::runtime_error(path + ": " + first_line(reader.Error(), "unreadable"));
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   for (tinyobj::real_t v : attrib.vertices)
     if (!std::isfinite(v)) throw std::runtime_error(path + ": a vertex coordinate is not finite");

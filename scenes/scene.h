@@ -27,7 +27,7 @@ struct Vertex {
 // One scene object after baking: a contiguous range of triangles in Scene::vertices.
 struct Object {
   std::string name;
-  std::string kind;        // box, plane, sphere, obj
+  std::string kind;        // box, plane, sphere, obj, gltf
   uint32_t first_vertex = 0;
   uint32_t vertex_count = 0;
   bool cull_back_faces = false;  // closed convex meshes seen from outside; false for rooms and quads
@@ -83,6 +83,9 @@ struct Scene {
   glm::dvec3 origin{0.0};
   std::string name;    // file stem: "room"
   std::string source;  // file the scene came from, for error messages
+  // What loading left out, one line each (a glTF model's point and line primitives): said once when the scene
+  // is first loaded for a run.
+  std::vector<std::string> notes;
   std::vector<Vertex> vertices;  // non-indexed triangle list, all objects back to back
   std::vector<Object> objects;
   // The point light (a cube map); a scene may have none when it only holds spot/directional lights.

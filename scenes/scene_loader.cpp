@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "scenes/mesh_builders.h"
+#include "scenes/gltf_loader.h"
 #include "scenes/obj_loader.h"
 #include "scenes/scene.h"
 
@@ -195,9 +196,26 @@ PointLight parse_light(const Node& n, const glm::dvec3& origin) {
   return l;
 }
 
-std::vector<MeshVertex> build_shape(const Node& n, const std::string& type, const std::string& scene_dir) {
-  if (type == "box") return make_box();
-  if (type == "plane") return make_plane();
+// A shape's triangles, and for a glTF model its materials' base colours per vertex (empty: the object's colour).
+struct Shape {
+  std::vector<MeshVertex> mesh;
+  std::vector<glm::vec3> colors;
+  std::string note;  // for Scene::notes
+};
+
+// A model file named by the object's "file", relative to the scene; the loader's error names the file.
+std::string model_path(const Node& n, const std::string& scene_dir, const char* format) {
+  std::filesystem::path file = n.at("file").string();
+  if (file.is_relative()) file = std::filesystem::path(scene_dir) / file;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec))
+    n.at("file").fail(std::string("cannot open ") + format + " file " + file.string() + " (missing or not a regular file)");
+  return file.string();
+}
+
+Shape build_shape(const Node& n, const std::string& type, const std::string& scene_dir) {
+  if (type == "box") return {make_box(), {}};
+  if (type == "plane") return {make_plane(), {}};
   if (type == "sphere") {
     int lon = 32, lat = 16;
     if (n.has("segments")) {
@@ -207,27 +225,31 @@ std::vector<MeshVertex> build_shape(const Node& n, const std::string& type, cons
       lon = s.at(size_t{0}).integer_in(3, 1024);
       lat = s.at(size_t{1}).integer_in(2, 1024);
     }
-    return make_sphere(lon, lat);
+    return {make_sphere(lon, lat), {}};
   }
-  if (type == "obj") {
-    std::filesystem::path file = n.at("file").string();
-    if (file.is_relative()) file = std::filesystem::path(scene_dir) / file;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) n.at("file").fail("cannot open OBJ file " + file.string() + " (missing or not a regular file)");
+  if (type == "obj" || type == "gltf") {
+    const std::string file = model_path(n, scene_dir, type == "obj" ? "OBJ" : "glTF");
     try {
-      return load_obj(file.string());
+      if (type == "obj") return {load_obj(file), {}};
+      GltfModel model = load_gltf(file, kMaxSceneVertices);
+      std::string note;
+      if (model.skipped_primitives > 0)
+        note = n.pointer() + " (" + file + "): skipped " + model.skipped_modes + " (not triangles; shadows need surfaces)";
+      return {std::move(model.triangles), std::move(model.colors), note};
     } catch (const std::exception& e) {
       n.at("file").fail(e.what());
     }
   }
-  n.at("type").fail("unknown object type '" + type + "' (valid: box, plane, sphere, obj)");
+  n.at("type").fail("unknown object type '" + type + "' (valid: box, plane, sphere, obj, gltf)");
 }
 
 void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_t index) {
   const glm::dvec3& origin = scene.origin;
   n.expect_object({"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file", "array"});
   std::string type = n.at("type").string();
-  std::vector<MeshVertex> mesh = build_shape(n, type, scene_dir);
+  const Shape shape = build_shape(n, type, scene_dir);
+  if (!shape.note.empty()) scene.notes.push_back(shape.note);
+  const std::vector<MeshVertex>& mesh = shape.mesh;
 
   glm::vec3 translate(0.0f), scale(1.0f), color(0.8f);
   glm::mat4 rotation(1.0f);
@@ -283,12 +305,13 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
         obj.cull_back_faces = !inside && (type == "box" || type == "sphere");
         obj.bounds_min = glm::vec3(INFINITY);
         obj.bounds_max = glm::vec3(-INFINITY);
-        for (const MeshVertex& mv : mesh) {
+        for (size_t i = 0; i < mesh.size(); ++i) {
+          const MeshVertex& mv = mesh[i];
           Vertex v;
           v.position = glm::vec3(model * glm::vec4(mv.position, 1.0f));
           v.normal = normalize_wide(normal_rotation * (mv.normal / scale));
           if (inside) v.normal = -v.normal;  // seen from inside: the tutorial's reverseNormals
-          v.color = color;
+          v.color = shape.colors.empty() || n.has("color") ? color : shape.colors[i];  // "color" overrides a model's
           // Defensive: inputs are bounded by 1e30, but a subnormal scale makes normal / scale overflow. Such
           // geometry would put NaN/Inf into every buffer.
           if (!finite(v.position) || !finite(v.normal))

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzz the readers of untrusted files with libFuzzer (clang): the scene loader, the results reader that
-# compare/merge use, and the OBJ loader (tinyobjloader). Usage: scripts/fuzz.sh [seconds per target, default 600] [target ...]
+# compare/merge use, and the OBJ and glTF loaders (tinyobjloader, tinygltf). Usage: scripts/fuzz.sh [seconds per target, default 600] [target ...]
 # Builds fuzz/ with clang into build/fuzz, grows a corpus in build/fuzz/corpus/<target> from fuzz/seeds/ and the
 # committed scenes, and writes build/fuzz/report.md (executions, time, findings). A finding is saved under
 # build/fuzz/artifacts/<target>/; commit it to tests/fuzz_regressions/<target>/ once fixed (ctest replays those).
@@ -19,7 +19,7 @@ else
   limit=(-max_total_time="$seconds")
 fi
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(scene results obj)
+[ ${#targets[@]} -eq 0 ] && targets=(scene results obj gltf)
 bash scripts/setup.sh --fuzz >/dev/null
 clangxx=$(command -v clang++ || command -v clang++-14 || true)
 [ -n "$clangxx" ] || { echo "fuzz.sh: clang++ not found (bash scripts/setup.sh --fuzz installs it)" >&2; exit 2; }

@@ -49,6 +49,11 @@ TEST(FuzzRegressions, ObjLoaderInputsKeepTheContract) {
   EXPECT_GE(n, 3) << "regression inputs and seeds went missing";
 }
 
+TEST(FuzzRegressions, GltfLoaderInputsKeepTheContract) {
+  int n = replay({kRoot / "tests/fuzz_regressions/gltf", kRoot / "fuzz/seeds/gltf"}, omnishadow::fuzz::check_gltf_input);
+  EXPECT_GE(n, 2) << "regression inputs and seeds went missing";
+}
+
 // The contract itself must be able to fail, or the replay proves nothing.
 TEST(FuzzRegressions, InvariantsCatchABrokenScene) {
   std::string text = R"({"light": {}, "objects": [{"type": "box"}]})";

@@ -153,6 +153,7 @@ const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin) 
   load.rebase_origin = rebase_origin;
   scene::Scene s = scene::load_scene_file(scene_path(name), load);
   s.name = name;
+  for (const std::string& note : s.notes) std::fprintf(stderr, "scene %s: %s\n", name.c_str(), note.c_str());
   return scenes_.emplace(key, std::move(s)).first->second;
 }
 
