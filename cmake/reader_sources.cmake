@@ -8,6 +8,7 @@ set(OMNISHADOW_READER_SOURCES
   scenes/obj_loader.cpp
   scenes/gltf_loader.cpp
   scenes/gltf_geometry.cpp
+  scenes/model_scene.cpp
   bench/results/file_io.cpp
   bench/results/image_io.cpp
   bench/truth/image_compare.cpp

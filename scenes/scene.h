@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,6 +45,8 @@ struct LightPath {
   float seconds_per_frame = 1.0f / 60.0f;
   glm::vec3 at(int frame) const;
 };
+// The tutorials' sway (seeds 000/001), and that of lights placed by rule or by --light.
+inline constexpr float kSeedLightFrequency = 0.5f;  // rad/s
 
 struct PointLight {
   LightPath path;
@@ -96,13 +99,36 @@ struct Scene {
   uint64_t triangle_count() const { return vertices.size() / 3; }
 };
 
+// 2^24 vertices (5.6 M triangles, ~600 MB baked): 50x the heavy scene, and a bound on what a file can ask for.
+inline constexpr uint64_t kMaxSceneVertices = uint64_t(1) << 24;
+
+// `--light X,Y,Z[,AX,AY,AZ]`: the point light placed by hand, in world units of the file (before any rebase):
+// position = base + amplitude * sin(0.5 t), the seeds' frequency; no amplitude = a light standing still.
+struct LightPlacement {
+  glm::dvec3 base{0.0};
+  glm::vec3 amplitude{0.0f};
+};
+// `--camera X,Y,Z[,TX,TY,TZ]`: the camera's position, and the point it looks at (default: the scene's target).
+struct CameraPlacement {
+  glm::dvec3 position{0.0};
+  std::optional<glm::dvec3> target;
+};
+
 struct LoadOptions {
   // The far-from-origin remedy: subtract the light's position (the point light's, else the first spot light's)
   // from every position in double precision before baking to float.
   bool rebase_origin = false;
+  // Overrides of the file's point light and camera (a scene file's, or a model's placement rule). The light's
+  // near and far planes stay the file's; a model's are fitted to the placed light.
+  std::optional<LightPlacement> light;
+  std::optional<CameraPlacement> camera;
 };
 
-// Loads and validates a scene file. Throws SceneError("file: /objects/3/scale: must be > 0") on any defect.
+// Whether `path` names a model (.obj, .gltf, .glb, any case) rather than a scene file: load_scene_file runs a
+// model as a scene of its own (scenes/model_scene.h).
+bool is_model_file(const std::string& path);
+
+// Loads and validates a scene file, or a model by the placement rule (is_model_file). Throws SceneError("file: /objects/3/scale: must be > 0") on any defect.
 Scene load_scene_file(const std::string& path, const LoadOptions& options = {});
 // Same from text already in memory; `source` is only used to name errors.
 Scene load_scene_text(const std::string& text, const std::string& source, const LoadOptions& options = {});

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "scenes/mesh_builders.h"
+#include "scenes/model_scene.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/obj_loader.h"
 #include "scenes/scene.h"
@@ -26,9 +27,6 @@ glm::vec3 LightPath::at(int frame) const {
 namespace {
 
 using nlohmann::json;
-
-// 2^24 vertices (5.6 M triangles, ~600 MB baked): 50x the heavy scene, and a bound on what a file can ask for.
-constexpr uint64_t kMaxSceneVertices = 1ull << 24;
 
 bool finite(const glm::vec3& v) { return !glm::any(glm::isnan(v)) && !glm::any(glm::isinf(v)); }
 
@@ -209,7 +207,8 @@ std::string model_path(const Node& n, const std::string& scene_dir, const char* 
   if (file.is_relative()) file = std::filesystem::path(scene_dir) / file;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec))
-    n.at("file").fail(std::string("cannot open ") + format + " file " + file.string() + " (missing or not a regular file)");
+    n.at("file").fail(std::string("cannot open ") + format + " file " + file.string() + " (missing or not a regular file" +
+                      (file.string().starts_with("/usr/share/") ? "; a Debian package's file: bash scripts/setup.sh installs it)" : ")"));
   return file.string();
 }
 
@@ -324,6 +323,26 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
       }
 }
 
+// --light / --camera on a scene file: the point light's path and the camera replaced, the file's planes kept.
+void apply_placement(Scene& scene, const LoadOptions& options, const std::string& source) {
+  if (options.light) {
+    if (!scene.has_point_light)
+      throw SceneError(source + ": --light moves the point light, and this scene has none (only spot/directional)");
+    scene.light.path.base = glm::vec3(options.light->base - scene.origin);
+    scene.light.path.amplitude = options.light->amplitude;
+    scene.light.path.frequency = kSeedLightFrequency;  // irrelevant for a light standing still
+  }
+  if (options.camera) {
+    Camera& c = scene.camera;
+    c.position = glm::vec3(options.camera->position - scene.origin);
+    if (options.camera->target) c.target = glm::vec3(*options.camera->target - scene.origin);
+    if (!(glm::length(c.target - c.position) > 0.0f))
+      throw SceneError(source + ": --camera position coincides with the camera's target");
+    if (!(glm::length(glm::cross(glm::normalize(c.target - c.position), c.up)) > 1e-6f))
+      throw SceneError(source + ": --camera looks along the scene's up vector; give another position or target");
+  }
+}
+
 }  // namespace
 
 // The position the rebase remedy subtracts: the point light's, else the first spot light's, else 0. Read from
@@ -363,7 +382,8 @@ Scene load_scene_text(const std::string& text, const std::string& source, const 
     root.at("format").fail("unsupported format (expected \"omnishadow-scene/1\")");
 
   Scene scene;
-  if (options.rebase_origin && doc.is_object()) scene.origin = rebase_origin_of(doc);
+  if (options.rebase_origin && doc.is_object())
+    scene.origin = options.light ? options.light->base : rebase_origin_of(doc);
   scene.source = source;
   scene.name = std::filesystem::path(source).stem().string();
   scene.camera = parse_camera(root.has("camera") ? root.at("camera") : Node(json::object(), "/camera", source),
@@ -401,10 +421,18 @@ Scene load_scene_text(const std::string& text, const std::string& source, const 
   if (objects.value().empty()) objects.fail("a scene needs at least one object");
   std::string scene_dir = std::filesystem::path(source).parent_path().string();
   for (size_t i = 0; i < objects.value().size(); ++i) add_object(scene, objects.at(i), scene_dir, i);
+  apply_placement(scene, options, source);
   return scene;
 }
 
+bool is_model_file(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".obj" || ext == ".gltf" || ext == ".glb";
+}
+
 Scene load_scene_file(const std::string& path, const LoadOptions& options) {
+  if (is_model_file(path)) return load_model_scene(path, options);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot open scene file");
   std::stringstream buffer;

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 
 #include "backends/common/cube_summary.h"
 #include "bench/run/case_runner.h"
@@ -331,6 +332,24 @@ TEST_F(HarnessTest, PrecisionRepeatsUntilTheIntervalIsNarrowOrTheCap) {
   EXPECT_LT(stability_percent(results[0].repetition_frame_ms), 97.0);
   const std::string summary = summary_markdown(results, {}, policy);
   EXPECT_NE(summary.find("cases hit the cap of 9"), std::string::npos) << summary;
+}
+
+// Case ids name a scene file by its stem (ids read gl/bunny/c512/..., not gl//tmp/x.json/...); two files that would
+// share a name in one run are refused; a bundled name stays itself.
+TEST_F(HarnessTest, ScenesGivenByPathAreNamedByTheirStem) {
+  const fs::path dir = out_ / "models";
+  fs::create_directories(dir / "b");
+  const std::string box = R"({"light": {}, "objects": [{"type": "box"}]})";
+  std::ofstream(dir / "My Model.json") << box;
+  std::ofstream(dir / "b" / "room.json") << box;
+  std::ofstream(dir / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  EXPECT_EQ(harness_->add_scene("room"), "room");
+  EXPECT_EQ(harness_->add_scene((dir / "My Model.json").string()), "My_Model");
+  EXPECT_EQ(harness_->add_scene((dir / "tri.obj").string()), "tri");
+  EXPECT_EQ(harness_->scene("tri").objects[0].kind, "obj") << "the name loads the file";
+  EXPECT_EQ(harness_->scene("My_Model").source, (dir / "My Model.json").string());
+  EXPECT_EQ(harness_->add_scene((dir / "tri.obj").string()), "tri") << "the same file again is no clash";
+  EXPECT_THROW(harness_->add_scene((dir / "b" / "room.json").string()), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "bench/cli/cli_options.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -42,7 +43,15 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
   auto text = [](const std::string& s) { return s; };
   auto same = [](const std::string& s) { return s; };
   list_option(r, "--backend", m.backends, same, text, "comma list of backends: gl, vulkan");
-  list_option(r, "--scene", m.scenes, same, text, "comma list of scene names (scenes/<name>.json) or .json paths");
+  r.add_option_function<std::string>(
+       "--scene",
+       [&m, same](const std::string& t) {
+         m.scenes = parse_list_with(t, "--scene", same);
+         m.scenes_given = true;
+       },
+       "comma list of scene names (scenes/<name>.json), scene file paths, or model files (.glb, .gltf, .obj: "
+       "floor, light and camera placed by rule, README \"Your own model\"); case ids name a file by its stem")
+      ->default_str(join(m.scenes, text));
   r.add_option_function<std::string>(
        "--cube", [&m](const std::string& t) { m.cube_sizes = parse_int_list(t, "--cube"); },
        "comma list of cube face sizes in texels")
@@ -178,8 +187,62 @@ void add_common_options(CLI::App& sub, CommonOptions& o) {
                "fails its case (slower: not for timing)");
 }
 
+// "X,Y,Z" or "X,Y,Z,A,B,C": world units, finite, below 1e30 like a scene file's numbers.
+std::vector<double> parse_placement(const std::string& text, const std::string& option, const char* expected) {
+  std::vector<double> v;
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t end = text.find(',', start);
+    std::string item = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    size_t used = 0;
+    double x = NAN;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(x) || std::fabs(x) > 1e30)
+      throw std::invalid_argument(option + ": '" + item + "' is not a finite number below 1e30 (expected " +
+                                  expected + ")");
+    v.push_back(x);
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  if (v.size() != 3 && v.size() != 6)
+    throw std::invalid_argument(option + ": expected " + expected + ", got " + std::to_string(v.size()) + " numbers");
+  return v;
+}
+
+void add_placement_options(CLI::App& r, RunOptions& o) {
+  r.add_option_function<std::string>(
+      "--light",
+      [&o](const std::string& t) {
+        std::vector<double> v = parse_placement(t, "--light", "X,Y,Z or X,Y,Z,AX,AY,AZ");
+        scene::LightPlacement l;
+        l.base = glm::dvec3(v[0], v[1], v[2]);
+        if (v.size() == 6) l.amplitude = glm::vec3(v[3], v[4], v[5]);
+        o.light = l;
+        o.light_text = t;
+      },
+      "the point light at X,Y,Z (world units) in every scene of the run, standing still; with AX,AY,AZ it sways, "
+      "position = X,Y,Z + A sin(0.5 t). A model's light planes are fitted to it, a scene file's stay (README "
+      "\"Your own model\")");
+  r.add_option_function<std::string>(
+      "--camera",
+      [&o](const std::string& t) {
+        std::vector<double> v = parse_placement(t, "--camera", "X,Y,Z or X,Y,Z,TX,TY,TZ");
+        scene::CameraPlacement c;
+        c.position = glm::dvec3(v[0], v[1], v[2]);
+        if (v.size() == 6) c.target = glm::dvec3(v[3], v[4], v[5]);
+        o.camera = c;
+        o.camera_text = t;
+      },
+      "the camera at X,Y,Z looking at TX,TY,TZ (default: the scene's target; a model's centre) in every scene");
+}
+
 void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
   add_matrix_options(r, run.matrix);
+  add_placement_options(r, run.harness);
   add_frame_options(r, run.harness);
   add_check_options(r, run.harness);
   r.add_option_function<std::string>(

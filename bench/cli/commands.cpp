@@ -118,10 +118,25 @@ std::vector<CaseConfig> drop_techniques_a_backend_cannot_do(const std::vector<Ca
 // sizes fit the devices, the matrix is not empty. Throws std::invalid_argument (or the loaders' errors).
 std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness, RunInfo& info) {
   std::map<std::string, std::pair<int, int>> scene_sizes;
-  for (const std::string& name : cmd.matrix.scenes) {
-    const scene::Scene& s = harness.scene(name);
-    scene_sizes[name] = {s.camera.width, s.camera.height};
+  MatrixSpec matrix = cmd.matrix;
+  matrix.scenes.clear();
+  for (const std::string& given : cmd.matrix.scenes) {
+    const std::string name = harness.add_scene(given);
+    if (!scene_sizes.count(name)) {
+      auto start = std::chrono::steady_clock::now();
+      try {
+        const scene::Scene& s = harness.scene(name);
+        info.phases.scene_loads.push_back({name, s.source, s.triangle_count(), seconds_since(start)});
+        scene_sizes[name] = {s.camera.width, s.camera.height};
+      } catch (const scene::SceneError& e) {
+        if (cmd.matrix.scenes_given) throw;
+        std::fprintf(stderr, "omnishadow: scene %s left out (not asked for by name): %s\n", name.c_str(), e.what());
+        continue;
+      }
+    }
+    matrix.scenes.push_back(name);
   }
+  if (matrix.scenes.empty()) throw std::invalid_argument("--scene: no scene of the default matrix loads");
   for (const std::string& name : cmd.matrix.backends) {
     Backend& b = harness.backend(name);
     info.devices[name] = b.device();
@@ -137,7 +152,7 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
                                     " is above the largest render target " + b.device().renderer + " supports (" +
                                     std::to_string(max_2d) + ")");
   }
-  std::vector<CaseConfig> cases = expand(cmd.matrix, scene_sizes);
+  std::vector<CaseConfig> cases = expand(matrix, scene_sizes);
   if (!cmd.matrix.techniques_given) cases = drop_techniques_a_backend_cannot_do(cases, harness);
   cases = shard(cases, cmd.shard_index, cmd.shard_count);
   cases = apply_benchmark_filter(cases, cmd.benchmark_args);

@@ -78,6 +78,13 @@ json axes_to_json(const CaseConfig& c) {
 }
 
 // The run's injected fragment work: one number, or the sorted values when it was an experiment axis.
+json scene_loads_json(const std::vector<SceneLoad>& loads) {
+  json a = json::array();
+  for (const SceneLoad& l : loads)
+    a.push_back({{"scene", l.name}, {"source", l.source}, {"triangles", l.triangles}, {"seconds", l.seconds}});
+  return a;
+}
+
 json injected_work_values(const std::vector<CaseResult>& results) {
   std::set<int> values;
   for (const CaseResult& r : results) values.insert(r.config.injected_work);
@@ -301,7 +308,8 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                        {"command_line", run.command_line},
                        {"phases",
                         {{"untimed_seconds", run.phases.untimed_seconds < 0 ? json(nullptr) : json(run.phases.untimed_seconds)},
-                         {"timed_seconds", run.phases.timed_seconds < 0 ? json(nullptr) : json(run.phases.timed_seconds)}}},
+                         {"timed_seconds", run.phases.timed_seconds < 0 ? json(nullptr) : json(run.phases.timed_seconds)},
+                         {"scene_loads", scene_loads_json(run.phases.scene_loads)}}},
                        {"repetition_policy",
                         {{"repetitions", run.repetitions.repetitions},
                          {"precision_percent", run.repetitions.precision_percent},
@@ -325,7 +333,10 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                          {"cross_max_percent", o.cross_max_percent},
                          {"accuracy", o.accuracy},
                          {"light_radius", o.truth.light_radius},
-                         {"light_samples", o.truth.samples_per_axis * o.truth.samples_per_axis}}},
+                         {"light_samples", o.truth.samples_per_axis * o.truth.samples_per_axis},
+                         // --light / --camera: every scene's point light and camera were placed by hand
+                         {"light", o.light_text.empty() ? json(nullptr) : json(o.light_text)},
+                         {"camera", o.camera_text.empty() ? json(nullptr) : json(o.camera_text)}}},
                        {"system", system_info()},
                        {"devices", devices},
                        {"cases", cases}};

@@ -148,6 +148,16 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
                   phases.timed_seconds > 0 ? phases.untimed_seconds / phases.timed_seconds : 0.0);
     md << buf;
   }
+  if (!phases.scene_loads.empty()) {
+    md << "Scenes loaded before the untimed part (parse, bake, bounds):";
+    for (const SceneLoad& load : phases.scene_loads) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, " %.2f s for %llu triangles", load.seconds,
+                    static_cast<unsigned long long>(load.triangles));
+      md << " " << load.name << buf << (&load == &phases.scene_loads.back() ? "" : ";");
+    }
+    md << "\n\n";
+  }
   std::map<std::string, double> steps;  // the untimed part's seconds per step, all cases
   for (const CaseResult& r : results)
     for (const auto& [name, ms] : r.untimed_ms) steps[name] += ms / 1000.0;

@@ -13,9 +13,18 @@ namespace omnishadow::bench {
 
 // Wall seconds of a run's two parts: the untimed part (check frames, read-backs, checks, the reference, image
 // files) and the timed part (warm-up and timed frames of every repetition). Negative: not reached.
+// One scene's loading, before the untimed part: a model's parse and bake is the user's own figure to know.
+struct SceneLoad {
+  std::string name;    // as in case ids
+  std::string source;  // the file
+  uint64_t triangles = 0;
+  double seconds = 0.0;
+};
+
 struct RunPhases {
   double untimed_seconds = -1.0;
   double timed_seconds = -1.0;
+  std::vector<SceneLoad> scene_loads;  // in --scene order
 };
 
 std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases = {},

@@ -1,5 +1,6 @@
 #include "bench/run/case_runner.h"
 
+#include <cctype>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -137,9 +138,37 @@ void Harness::add_backend(const std::string& name, std::unique_ptr<Backend> back
   loaded_scene_.erase(name);
 }
 
+// A name without '/' or a file extension is a bundled scene, anything else a file.
+static std::string file_of_scene(const std::string& name, const std::string& scenes_dir) {
+  if (name.find('/') != std::string::npos || name.ends_with(".json") || scene::is_model_file(name)) return name;
+  return (fs::path(scenes_dir) / (name + ".json")).string();
+}
+
 std::string Harness::scene_path(const std::string& name) const {
-  if (name.find('/') != std::string::npos || name.ends_with(".json")) return name;
-  return (fs::path(options_.scenes_dir) / (name + ".json")).string();
+  if (auto it = scene_files_.find(name); it != scene_files_.end()) return it->second;
+  return file_of_scene(name, options_.scenes_dir);
+}
+
+std::string Harness::add_scene(const std::string& name_or_path) {
+  const std::string file = file_of_scene(name_or_path, options_.scenes_dir);
+  std::string name = name_or_path;
+  if (file != (fs::path(options_.scenes_dir) / (name_or_path + ".json")).string()) {
+    name = fs::path(file).stem().string();
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') c = '_';
+    if (name.empty()) throw std::invalid_argument("--scene: '" + name_or_path + "' names no file");
+  }
+  std::error_code ec;
+  auto same_file = [&](const std::string& a, const std::string& b) {
+    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+  };
+  // `--scene room,other/room.json` would give one id to two scenes. (A file named like a bundled scene that this
+  // run does not use is fine: ids are per run.)
+  if (auto it = scene_files_.find(name); it != scene_files_.end() && !same_file(it->second, file))
+    throw std::invalid_argument("--scene: " + file + " and " + it->second + " would both be named '" + name +
+                                "' in case ids; rename one of them");
+  scene_files_[name] = file;
+  return name;
 }
 
 // Scenes are cached per name and load option: the rebased room is another scene.
@@ -151,6 +180,8 @@ const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin) 
   if (it != scenes_.end()) return it->second;
   scene::LoadOptions load;
   load.rebase_origin = rebase_origin;
+  load.light = options_.light;
+  load.camera = options_.camera;
   scene::Scene s = scene::load_scene_file(scene_path(name), load);
   s.name = name;
   for (const std::string& note : s.notes) std::fprintf(stderr, "scene %s: %s\n", name.c_str(), note.c_str());

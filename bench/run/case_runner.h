@@ -37,6 +37,10 @@ inline bool has_hard_error_limit(Filter f) { return !traits(f).soft; }
 struct RunOptions {
   std::string out_dir;                // results/<run>; images go under out_dir/images/<case id>/
   std::string scenes_dir;             // where `--scene room` finds room.json
+  // --light / --camera: the point light and camera of every scene, as given (text kept for results.json).
+  std::optional<scene::LightPlacement> light;
+  std::optional<scene::CameraPlacement> camera;
+  std::string light_text, camera_text;
   int warmup_frames = 2;              // rendered before timing, excluded from every figure
   // Warm-up by time as well (--warmup-ms): after the warm-up frames, more of them (the same frame indices again, so
   // the timed frames are the same frames whatever the count) until this much time has passed, so that a GPU's
@@ -219,7 +223,12 @@ class Harness {
   std::string device_state_source(const std::string& name);
   // Locks `name`'s device clock until the harness is destroyed (run --lock-clocks); "" or why it cannot.
   std::string lock_clocks(const std::string& name);
-  // Loads (and caches) a scene by name or path; throws scene::SceneError.
+  // The name cases use for a scene given by name or path: a bundled name is itself; a file (a scene file or a
+  // model) is named by its stem, with characters other than letters, digits, '.', '_' and '-' made '_', so that
+  // ids read gl/bunny/c512/... Later calls with that name load the file. Throws std::invalid_argument when two
+  // different files would share a name.
+  std::string add_scene(const std::string& name_or_path);
+  // Loads (and caches) a scene by name or path (with --light / --camera applied); throws scene::SceneError.
   const scene::Scene& scene(const std::string& name_or_path, bool rebase_origin = false);
   // The scene a case renders (its remedies decide how it is loaded).
   const scene::Scene& scene_of(const CaseConfig& c) { return scene(c.scene, c.remedies.rebase_origin); }
@@ -260,6 +269,7 @@ class Harness {
   std::map<std::string, std::unique_ptr<DeviceStateProbe>> probes_;  // by backend
   std::map<std::string, std::string> loaded_scene_;  // backend -> scene name it holds
   std::map<std::string, scene::Scene> scenes_;
+  std::map<std::string, std::string> scene_files_;  // add_scene's names -> the files they stand for
   // The six_pass images of the latest case group (same case but technique), kept for the checks.
   std::string reference_key_;
   std::optional<Images> reference_;

@@ -1,0 +1,174 @@
+// A model run as a scene: the placement rule (model_scene.h) and the baking of the model and its floor.
+
+#include "scenes/model_scene.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "scenes/gltf_loader.h"
+#include "scenes/mesh_builders.h"
+#include "scenes/obj_loader.h"
+
+namespace omnishadow::scene {
+
+namespace {
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Farthest distance from either end of `light`'s path to any of `points`.
+double farthest_from_path(const LightPlacement& light, const std::vector<glm::dvec3>& points) {
+  double d = 0.0;
+  for (double side : {-1.0, 1.0}) {
+    const glm::dvec3 at = light.base + side * glm::dvec3(light.amplitude);
+    for (const glm::dvec3& p : points) d = std::max(d, glm::length(p - at));
+  }
+  return d;
+}
+
+}  // namespace
+
+ModelPlacement place_model(const glm::dvec3& lo, const glm::dvec3& hi, const LoadOptions& overrides,
+                           const std::string& source) {
+  if (!finite(lo) || !finite(hi) || glm::any(glm::greaterThan(lo, hi)))
+    throw SceneError(source + ": the model has no finite bounds to place a light and camera from");
+  ModelPlacement p;
+  const double file_radius = 0.5 * glm::length(hi - lo);
+  if (!(file_radius > 0.0) || !std::isfinite(file_radius))
+    throw SceneError(source + ": the model is a single point (its bounds have no extent)");
+  p.scale = kModelRadius / file_radius;
+  p.center = p.scale * 0.5 * (lo + hi);
+  p.radius = kModelRadius;
+  const double r = p.radius;
+  const glm::dvec3& c = p.center;
+  const glm::dvec3 world_lo = p.scale * lo, world_hi = p.scale * hi;
+  p.floor_y = world_lo.y - 0.01 * r;
+  p.floor_half_size = 2.0 * r;
+
+  if (overrides.light) {
+    p.light.base = p.scale * overrides.light->base;
+    p.light.amplitude = glm::vec3(p.scale * glm::dvec3(overrides.light->amplitude));
+  } else {
+    p.light.base = c + r * glm::dvec3(0.5, 1.25, 0.35);
+    p.light.amplitude = glm::vec3(static_cast<float>(0.25 * r), 0.0f, 0.0f);
+  }
+  std::vector<glm::dvec3> corners;
+  for (int i = 0; i < 8; ++i)
+    corners.emplace_back(i & 1 ? world_hi.x : world_lo.x, i & 2 ? world_hi.y : world_lo.y,
+                         i & 4 ? world_hi.z : world_lo.z);
+  for (int i = 0; i < 4; ++i)
+    corners.emplace_back(c.x + (i & 1 ? 1 : -1) * p.floor_half_size, p.floor_y,
+                         c.z + (i & 2 ? 1 : -1) * p.floor_half_size);
+  p.light_near = 0.01 * r;
+  p.light_far = 1.01 * farthest_from_path(p.light, corners);
+  if (!(p.light_far > p.light_near))  // a light placed by hand far beyond float's range
+    throw SceneError(source + ": --light leaves no depth range between near " + std::to_string(p.light_near) +
+                     " and far " + std::to_string(p.light_far));
+
+  if (overrides.camera) {
+    p.camera.position = p.scale * overrides.camera->position;
+    p.camera.target = overrides.camera->target ? p.scale * *overrides.camera->target : c;
+  } else {
+    p.camera.position = c + 3.0 * r * glm::normalize(glm::dvec3(0.55, 0.45, 1.0));
+    p.camera.target = c;
+  }
+  p.camera_near = 0.01 * r;
+  p.camera_far = glm::length(p.camera.position - *p.camera.target) + 3.0 * r;
+  return p;
+}
+
+Scene load_model_scene(const std::string& path, const LoadOptions& options) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(path + ": cannot open model (missing or not a regular file)");
+
+  Scene scene;
+  scene.source = path;
+  scene.name = std::filesystem::path(path).stem().string();
+  std::vector<MeshVertex> mesh;
+  std::vector<glm::vec3> colors;
+  std::string kind = ext == ".obj" ? "obj" : "gltf";
+  try {
+    if (kind == "obj") {
+      mesh = load_obj(path);
+    } else {
+      GltfModel model = load_gltf(path, kMaxSceneVertices);
+      mesh = std::move(model.triangles);
+      colors = std::move(model.colors);
+      if (model.skipped_primitives > 0)
+        scene.notes.push_back(path + ": skipped " + model.skipped_modes + " (not triangles; shadows need surfaces)");
+    }
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw SceneError(e.what());
+  }
+  if (mesh.size() + 6 > kMaxSceneVertices)
+    throw SceneError(path + ": model too large: more than " + std::to_string(kMaxSceneVertices) + " vertices");
+
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const MeshVertex& v : mesh) {
+    lo = glm::min(lo, glm::dvec3(v.position));
+    hi = glm::max(hi, glm::dvec3(v.position));
+  }
+  const ModelPlacement place = place_model(lo, hi, options, path);
+  // The rebase remedy subtracts the light's base position, in double, as for scene files.
+  if (options.rebase_origin) scene.origin = place.light.base;
+  auto stored = [&](const glm::dvec3& world) { return glm::vec3(world - scene.origin); };
+
+  auto add_object = [&](std::string name, std::string object_kind, const std::vector<MeshVertex>& vertices,
+                        auto world_of, auto color_of) {
+    Object obj;
+    obj.name = std::move(name);
+    obj.kind = std::move(object_kind);
+    obj.first_vertex = static_cast<uint32_t>(scene.vertices.size());
+    obj.vertex_count = static_cast<uint32_t>(vertices.size());
+    obj.bounds_min = glm::vec3(INFINITY);
+    obj.bounds_max = glm::vec3(-INFINITY);
+    for (size_t i = 0; i < vertices.size(); ++i) {
+      Vertex v{stored(world_of(vertices[i].position)), vertices[i].normal, color_of(i)};
+      obj.bounds_min = glm::min(obj.bounds_min, v.position);
+      obj.bounds_max = glm::max(obj.bounds_max, v.position);
+      scene.vertices.push_back(v);
+    }
+    scene.objects.push_back(obj);
+  };
+  scene.vertices.reserve(mesh.size() + 6);
+  add_object(
+      scene.name, kind, mesh, [&](const glm::vec3& p) { return place.scale * glm::dvec3(p); },
+      [&](size_t i) { return colors.empty() ? glm::vec3(0.8f) : colors[i]; });
+  // make_plane is [-1, 1]^2 at y = 0, normal +Y: scaled and moved under the model.
+  const glm::dvec3 floor_at(place.center.x, place.floor_y, place.center.z);
+  add_object(
+      "floor", "plane", make_plane(),
+      [&](const glm::vec3& p) { return floor_at + place.floor_half_size * glm::dvec3(p); },
+      [](size_t) { return glm::vec3(0.8f); });
+
+  scene.light.path.base = stored(place.light.base);
+  scene.light.path.amplitude = place.light.amplitude;
+  scene.light.path.frequency = kSeedLightFrequency;
+  scene.light.near_plane = static_cast<float>(place.light_near);
+  scene.light.far_plane = static_cast<float>(place.light_far);
+  scene.camera.position = stored(place.camera.position);
+  scene.camera.target = stored(*place.camera.target);
+  scene.camera.near_plane = static_cast<float>(place.camera_near);
+  scene.camera.far_plane = static_cast<float>(place.camera_far);
+  // A camera looking straight down or up: lookAt's +Y up is parallel to the view, so take -Z (the model's back).
+  const glm::vec3 view = scene.camera.target - scene.camera.position;
+  if (!(glm::length(view) > 0.0f)) throw SceneError(path + ": --camera position and target coincide");
+  if (!(glm::length(glm::cross(glm::normalize(view), scene.camera.up)) > 1e-6f)) scene.camera.up = glm::vec3(0, 0, -1);
+  char placed[256];
+  std::snprintf(placed, sizeof placed,
+                "placed by rule: scaled by %.6g (bounding radius %.6g file units -> %g), light %s at (%.6g, %.6g, "
+                "%.6g), far %.6g; camera %s",
+                place.scale, kModelRadius / place.scale, kModelRadius, options.light ? "by --light" : "by rule",
+                place.light.base.x, place.light.base.y, place.light.base.z, place.light_far,
+                options.camera ? "by --camera" : "by rule");
+  scene.notes.push_back(path + ": " + placed);
+  return scene;
+}
+
+}  // namespace omnishadow::scene
