@@ -7,7 +7,8 @@ packages=(
   cmake g++ make pkg-config git
   libepoxy-dev libegl-dev libgl-dev libglm-dev nlohmann-json3-dev libcli11-dev libstb-dev
   libtinyobjloader-dev libtinygltf-dev     # OBJ and glTF 2.0 models (scenes/obj_loader.cpp, gltf_loader.cpp)
-  assimp-testmodels                        # tests/gltf_loader_test.cpp: third-party glTF 2.0 models
+  assimp-testmodels                        # tests/gltf_loader_test.cpp, model_scene_test.cpp: third-party glTF 2.0 models
+  glmark2-data                             # scenes/bunny.json (the default matrix): the Stanford bunny, bunny.obj
   libbenchmark-dev libbenchmark-tools libgtest-dev
   libegl-mesa0 libgl1-mesa-dri            # Mesa: llvmpipe through EGL surfaceless on machines without a GPU
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers  # Vulkan loader, SPIR-V compiler, lavapipe

@@ -112,6 +112,18 @@ TEST_P(CliBadInput, OneLineErrorAndExitCodeTwo) {
     { std::ofstream(dir / "results.json") << "{}"; }
     args.replace(at, 14, dir.string());
   }
+  // Files whose name or extension matters: a model cut short, and a scene named like a bundled one.
+  if (size_t at = args.find("@TRUNCATED_GLB@"); at != std::string::npos) {
+    fs::path file = scratch("truncated.glb");
+    { std::ofstream(file) << std::string("glTF\x02\0\0\0\xff\xff\0\0", 12); }
+    args.replace(at, 15, file.string());
+  }
+  if (size_t at = args.find("@OTHER_ROOM@"); at != std::string::npos) {
+    fs::path dir = scratch("elsewhere");
+    fs::create_directories(dir);
+    { std::ofstream(dir / "room.json") << R"({"light": {}, "objects": [{"type": "box"}]})"; }
+    args.replace(at, 12, (dir / "room.json").string());
+  }
   if (size_t at = args.find("@OUT@"); at != std::string::npos) args.replace(at, 5, scratch("out").string());
   Outcome o = run(args);
   EXPECT_EQ(o.exit_code, 2) << o.err;
@@ -165,7 +177,13 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"run --precision 2 --sustain 5 --out @OUT@", "--precision and --sustain: choose one"},
                       BadInput{"run --precision 0 --out @OUT@", "--precision"},
                       BadInput{"run --precision 2 --precision-metric vram --out @OUT@", "--precision-metric"},
-                      BadInput{"run --out @OUT@ --benchmark_repetitions=zero", "--benchmark_repetitions: expected"}),
+                      BadInput{"run --out @OUT@ --benchmark_repetitions=zero", "--benchmark_repetitions: expected"},
+                      BadInput{"run --scene /nonexistent/model.glb --out @OUT@", "model.glb: cannot open model"},
+                      BadInput{"run --scene @TRUNCATED_GLB@ --out @OUT@", "truncated.glb: "},
+                      BadInput{"run --scene room,@OTHER_ROOM@ --out @OUT@", "would both be named 'room' in case ids"},
+                      BadInput{"run --light 1,2 --out @OUT@", "--light: expected X,Y,Z or X,Y,Z,AX,AY,AZ, got 2"},
+                      BadInput{"run --camera 1,nan,3 --out @OUT@", "--camera: 'nan' is not a finite number"},
+                      BadInput{"run --scene spot --light 0,1,0 --out @OUT@", "spot.json: --light moves the point light"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
 
 class CliRun : public ::testing::Test {
@@ -343,6 +361,75 @@ TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
   if (!multiview_supported) {
     EXPECT_EQ(k["omnishadow"]["cases"][0]["status"], "unsupported");
   }
+}
+
+// Issue 26: a model file runs directly, placed by the stated rule, and passes --check on both APIs; ids name it by
+// its file stem; the loader's time is in the results and the summary.
+TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
+  const std::string engine = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+  const std::string bunny = "/usr/share/glmark2/models/bunny.obj";
+  if (!fs::exists(engine) || !fs::exists(bunny))
+    GTEST_SKIP() << engine << " or " << bunny << " missing: bash scripts/setup.sh installs assimp-testmodels and glmark2-data";
+  std::string why;
+  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  fs::path out = scratch("models");
+  Outcome o = run("run --backend " + backends + " --scene " + engine + "," + bunny +
+                  " --cube 256 --frame 400x300 --technique six_pass,geometry_shader --filter hard,pcf_disk20 --frames 1"
+                  " --warmup 0 --images none --check --benchmark_repetitions=1 --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  std::map<std::string, int> by_scene;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["status"], "ok") << c.dump();
+    ++by_scene[c["id"].get<std::string>().substr(0, c["id"].get<std::string>().find("/c256"))];
+  }
+  EXPECT_EQ(by_scene["gl/2CylinderEngine"], 4);
+  EXPECT_EQ(by_scene["gl/bunny"], 4);
+  if (backends == "gl,vulkan") {
+    EXPECT_EQ(by_scene["vulkan/bunny"], 4);
+  }
+  const auto& loads = j["omnishadow"]["phases"]["scene_loads"];
+  ASSERT_EQ(loads.size(), 2u) << loads.dump();
+  EXPECT_EQ(loads[1]["scene"], "bunny");
+  EXPECT_EQ(loads[1]["triangles"], 69666 + 2) << "the bunny and its floor";
+  EXPECT_GE(loads[1]["seconds"].get<double>(), 0.0);
+  EXPECT_NE(omnishadow::bench::read_file((out / "summary.md").string()).find("Scenes loaded"), std::string::npos);
+  size_t placed = 0;
+  for (size_t at = o.err.find("placed by rule"); at != std::string::npos; at = o.err.find("placed by rule", at + 1))
+    ++placed;
+  EXPECT_EQ(placed, 2u) << "said once per scene, not per backend or case:\n" << o.err;
+
+  // Placed by hand: recorded in the results, and still checked.
+  fs::path hand = scratch("models_by_hand");
+  Outcome h = run("run --backend gl --scene " + bunny + " --light 0.2,1.6,0.9,0.3,0,0 --camera 2,1,3,0,0,0 --cube 256 "
+                  "--frame 400x300 --technique six_pass --filter hard --frames 1 --warmup 0 --images none --check "
+                  "--benchmark_repetitions=1 --out " + hand.string());
+  ASSERT_EQ(h.exit_code, 0) << h.err;
+  auto k = nlohmann::json::parse(omnishadow::bench::read_file((hand / "results.json").string()));
+  EXPECT_EQ(k["omnishadow"]["options"]["light"], "0.2,1.6,0.9,0.3,0,0");
+  EXPECT_EQ(k["omnishadow"]["options"]["camera"], "2,1,3,0,0,0");
+  EXPECT_NE(h.err.find("light by --light"), std::string::npos) << h.err;
+}
+
+// A default scene that cannot load (bunny.json without glmark2-data) is left out in one line and the matrix goes
+// on; the same scene asked for by name is an error.
+TEST_F(CliRun, DefaultSceneThatCannotLoadIsLeftOutInOneLine) {
+  fs::path dir = scratch("scenes_without_packages");
+  fs::create_directories(dir);
+  const std::string box = R"({"light": {}, "objects": [{"type": "box", "scale": 5, "inside": true}]})";
+  for (const char* name : {"room.json", "heavy.json"}) std::ofstream(dir / name) << box;
+  std::ofstream(dir / "bunny.json") << R"({"light": {}, "objects": [{"type": "obj", "file": "/nonexistent/bunny.obj"}]})";
+  const std::string common = " --cube 32 --frame 64x48 --technique six_pass --filter hard --frames 1 --warmup 0 "
+                             "--no-accuracy --images none --benchmark_repetitions=1 --scenes-dir " + dir.string();
+  const fs::path out = scratch("default_left_out");
+  Outcome o = run("run" + common + " --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  EXPECT_NE(o.err.find("scene bunny left out (not asked for by name)"), std::string::npos) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  EXPECT_EQ(j["omnishadow"]["cases"].size(), 2u);
+  Outcome named = run("run --scene bunny" + common + " --out " + scratch("named_bunny").string());
+  EXPECT_EQ(named.exit_code, 2) << named.err;
+  EXPECT_NE(named.err.find("/nonexistent/bunny.obj"), std::string::npos) << named.err;
 }
 
 TEST_F(CliRun, ListShowsWhatThisMachineSupports) {

@@ -12,7 +12,7 @@
 namespace omnishadow::bench {
 namespace {
 
-const std::map<std::string, std::pair<int, int>> kSizes = {{"room", {800, 600}}, {"heavy", {640, 480}}};
+const std::map<std::string, std::pair<int, int>> kSizes = {{"room", {800, 600}}, {"heavy", {640, 480}}, {"bunny", {800, 600}}};
 
 TEST(Matrix, ExpandsEveryCombinationOnceWithTechniqueInnermost) {
   MatrixSpec spec;
