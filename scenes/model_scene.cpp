@@ -79,74 +79,68 @@ ModelPlacement place_model(const glm::dvec3& lo, const glm::dvec3& hi, const Loa
   return p;
 }
 
-Scene load_model_scene(const std::string& path, const LoadOptions& options) {
+namespace {
+
+// The model's triangles and (glTF) per-vertex colours, in the file's units; loader errors become SceneError.
+struct ModelMesh {
+  std::string kind;  // obj, gltf
+  std::vector<MeshVertex> mesh;
+  std::vector<glm::vec3> colors;  // empty: the default grey
+  std::string note;               // skipped primitives, for Scene::notes
+};
+
+ModelMesh read_model(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(path + ": cannot open model (missing or not a regular file)");
-
-  Scene scene;
-  scene.source = path;
-  scene.name = std::filesystem::path(path).stem().string();
-  std::vector<MeshVertex> mesh;
-  std::vector<glm::vec3> colors;
-  std::string kind = ext == ".obj" ? "obj" : "gltf";
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw SceneError(path + ": cannot open model (missing or not a regular file)");
+  ModelMesh m;
+  m.kind = ext == ".obj" ? "obj" : "gltf";
   try {
-    if (kind == "obj") {
-      mesh = load_obj(path);
+    if (m.kind == "obj") {
+      m.mesh = load_obj(path);
     } else {
       GltfModel model = load_gltf(path, kMaxSceneVertices);
-      mesh = std::move(model.triangles);
-      colors = std::move(model.colors);
+      m.mesh = std::move(model.triangles);
+      m.colors = std::move(model.colors);
       if (model.skipped_primitives > 0)
-        scene.notes.push_back(path + ": skipped " + model.skipped_modes + " (not triangles; shadows need surfaces)");
+        m.note = path + ": skipped " + model.skipped_modes + " (not triangles; shadows need surfaces)";
     }
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {
     throw SceneError(e.what());
   }
-  if (mesh.size() + 6 > kMaxSceneVertices)
+  if (m.mesh.size() + 6 > kMaxSceneVertices)
     throw SceneError(path + ": model too large: more than " + std::to_string(kMaxSceneVertices) + " vertices");
+  return m;
+}
 
-  glm::dvec3 lo(INFINITY), hi(-INFINITY);
-  for (const MeshVertex& v : mesh) {
-    lo = glm::min(lo, glm::dvec3(v.position));
-    hi = glm::max(hi, glm::dvec3(v.position));
+// Appends `vertices` as one object: world_of(file position) in double, stored relative to the scene's origin.
+template <typename WorldOf, typename ColorOf>
+void add_baked_object(Scene& scene, std::string name, std::string kind, const std::vector<MeshVertex>& vertices,
+                      WorldOf world_of, ColorOf color_of) {
+  Object obj;
+  obj.name = std::move(name);
+  obj.kind = std::move(kind);
+  obj.first_vertex = static_cast<uint32_t>(scene.vertices.size());
+  obj.vertex_count = static_cast<uint32_t>(vertices.size());
+  obj.bounds_min = glm::vec3(INFINITY);
+  obj.bounds_max = glm::vec3(-INFINITY);
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    Vertex v{glm::vec3(world_of(vertices[i].position) - scene.origin), vertices[i].normal, color_of(i)};
+    obj.bounds_min = glm::min(obj.bounds_min, v.position);
+    obj.bounds_max = glm::max(obj.bounds_max, v.position);
+    scene.vertices.push_back(v);
   }
-  const ModelPlacement place = place_model(lo, hi, options, path);
-  // The rebase remedy subtracts the light's base position, in double, as for scene files.
-  if (options.rebase_origin) scene.origin = place.light.base;
+  scene.objects.push_back(obj);
+}
+
+// The placed light and camera, stored relative to the scene's origin; the note that says how they were placed.
+void set_light_and_camera(Scene& scene, const ModelPlacement& place, const LoadOptions& options,
+                          const std::string& path) {
   auto stored = [&](const glm::dvec3& world) { return glm::vec3(world - scene.origin); };
-
-  auto add_object = [&](std::string name, std::string object_kind, const std::vector<MeshVertex>& vertices,
-                        auto world_of, auto color_of) {
-    Object obj;
-    obj.name = std::move(name);
-    obj.kind = std::move(object_kind);
-    obj.first_vertex = static_cast<uint32_t>(scene.vertices.size());
-    obj.vertex_count = static_cast<uint32_t>(vertices.size());
-    obj.bounds_min = glm::vec3(INFINITY);
-    obj.bounds_max = glm::vec3(-INFINITY);
-    for (size_t i = 0; i < vertices.size(); ++i) {
-      Vertex v{stored(world_of(vertices[i].position)), vertices[i].normal, color_of(i)};
-      obj.bounds_min = glm::min(obj.bounds_min, v.position);
-      obj.bounds_max = glm::max(obj.bounds_max, v.position);
-      scene.vertices.push_back(v);
-    }
-    scene.objects.push_back(obj);
-  };
-  scene.vertices.reserve(mesh.size() + 6);
-  add_object(
-      scene.name, kind, mesh, [&](const glm::vec3& p) { return place.scale * glm::dvec3(p); },
-      [&](size_t i) { return colors.empty() ? glm::vec3(0.8f) : colors[i]; });
-  // make_plane is [-1, 1]^2 at y = 0, normal +Y: scaled and moved under the model.
-  const glm::dvec3 floor_at(place.center.x, place.floor_y, place.center.z);
-  add_object(
-      "floor", "plane", make_plane(),
-      [&](const glm::vec3& p) { return floor_at + place.floor_half_size * glm::dvec3(p); },
-      [](size_t) { return glm::vec3(0.8f); });
-
   scene.light.path.base = stored(place.light.base);
   scene.light.path.amplitude = place.light.amplitude;
   scene.light.path.frequency = kSeedLightFrequency;
@@ -168,6 +162,37 @@ Scene load_model_scene(const std::string& path, const LoadOptions& options) {
                 place.light.base.x, place.light.base.y, place.light.base.z, place.light_far,
                 options.camera ? "by --camera" : "by rule");
   scene.notes.push_back(path + ": " + placed);
+}
+
+}  // namespace
+
+Scene load_model_scene(const std::string& path, const LoadOptions& options) {
+  const ModelMesh m = read_model(path);
+  Scene scene;
+  scene.source = path;
+  scene.name = std::filesystem::path(path).stem().string();
+  if (!m.note.empty()) scene.notes.push_back(m.note);
+
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const MeshVertex& v : m.mesh) {
+    lo = glm::min(lo, glm::dvec3(v.position));
+    hi = glm::max(hi, glm::dvec3(v.position));
+  }
+  const ModelPlacement place = place_model(lo, hi, options, path);
+  // The rebase remedy subtracts the light's base position, in double, as for scene files.
+  if (options.rebase_origin) scene.origin = place.light.base;
+
+  scene.vertices.reserve(m.mesh.size() + 6);
+  add_baked_object(
+      scene, scene.name, m.kind, m.mesh, [&](const glm::vec3& p) { return place.scale * glm::dvec3(p); },
+      [&](size_t i) { return m.colors.empty() ? glm::vec3(0.8f) : m.colors[i]; });
+  // make_plane is [-1, 1]^2 at y = 0, normal +Y: scaled and moved under the model.
+  const glm::dvec3 floor_at(place.center.x, place.floor_y, place.center.z);
+  add_baked_object(
+      scene, "floor", "plane", make_plane(),
+      [&](const glm::vec3& p) { return floor_at + place.floor_half_size * glm::dvec3(p); },
+      [](size_t) { return glm::vec3(0.8f); });
+  set_light_and_camera(scene, place, options, path);
   return scene;
 }
 
