@@ -46,7 +46,7 @@ float reduce_bleeding(float lit) {
 // any range of z and any units (a floor fixed at z = 1 blurs a scene that spans z < 0.1 by 100 times too much at
 // 16 bits). t is the receiver's z less the bias, in the stored moments' units (times far in world units).
 float vsm_shadow(vec3 dir, float current, float bias) {
-  vec2 m = texture(shadow_map, dir).rg;
+  vec2 m = texture(shadow_map, shadow_coord(dir)).rg;
   float t = (current - bias) / light_far() * frame.moments_knobs.y;
   if (t <= m.x) return 0.0;
   float variance = max(m.y - m.x * m.x, frame.knobs.w * m.y);
@@ -68,7 +68,7 @@ float chebyshev_lit(vec2 m, float w, float unit) {
 
 // Lauritzen & McCool 2008: VSM on e^(cz) (and, evsm4, on -e^(-cz)), the lesser bound.
 float evsm_shadow(vec3 dir, float current, float bias) {
-  vec4 m = texture(shadow_map, dir);
+  vec4 m = texture(shadow_map, shadow_coord(dir));
   float c = frame.knobs.w, t = min((current - bias) / light_far(), 1.0);
   float unit = frame.moments_knobs.z;
   float lit = chebyshev_lit(m.xy, exp(c * t), unit);
@@ -85,7 +85,7 @@ float evsm_shadow(vec3 dir, float current, float bias) {
 // points: t and the two roots z2 < z3 of c3 x^2 + c2 x + c1, where c solves the Hankel system
 // [1 b1 b2; b1 b2 b3; b2 b3 b4] c = (1, t, t^2) (by its LDL^T factorisation). Bias alpha = frame.knobs.w.
 float msm_shadow(vec3 dir, float current, float bias) {
-  vec4 b = mix(texture(shadow_map, dir), vec4(0.5), frame.knobs.w);
+  vec4 b = mix(texture(shadow_map, shadow_coord(dir)), vec4(0.5), frame.knobs.w);
   float t = min((current - bias) / light_far(), 1.0);
   float d22 = b.y - b.x * b.x;
   float l32 = (b.z - b.x * b.y) / d22;
@@ -108,7 +108,7 @@ float msm_shadow(vec3 dir, float current, float bias) {
 // most 1 where lit and falls off exponentially behind an occluder; clamped to [0, 1] it is the lit fraction.
 // c = frame.knobs.w; the product is formed as exp(log(m) - c t) so that neither factor overflows.
 float esm_shadow(vec3 dir, float current, float bias) {
-  float m = texture(shadow_map, dir).r;
+  float m = texture(shadow_map, shadow_coord(dir)).r;
   float t = (current - bias) / light_far();
   return 1.0 - clamp(exp(log(max(m, 1e-30)) - frame.knobs.w * t), 0.0, 1.0);
 }

@@ -2,10 +2,45 @@
 // hard 0.05 (the point-shadow tutorial), 4x4x4 grid of +-0.1 with bias 0.05 and the 20-direction disk with bias 0.15 (the point-shadow tutorial).
 // Requires common.glsl.
 
+#if defined(LAYOUT_FACE_ARRAY)
+// Layout face_array (backends/common/layouts.h): the six faces are layers of a 2D array, as a renderer that treats a
+// point light as six spot maps stores them. The shader picks the layer and (s, t) by the cube-map rule (GL 4.5
+// table 8.19, as cube::direction_to_face: ties to x, then y), and filtering clamps at each face's edge.
+#if defined(FILTER_HW_COMPARE2X2)
+layout(binding = 2) uniform sampler2DArrayShadow shadow_map;  // LINEAR + compare, clamped to the face
+#else
+layout(binding = 2) uniform sampler2DArray shadow_map;        // NEAREST, no compare; LINEAR for moments
+#endif
+// (s, t, layer) of the face `dir` selects: what a samplerCube computes before it reads a texel.
+vec3 shadow_coord(vec3 dir) {
+  vec3 a = abs(dir);
+  float face, sc, tc, ma;
+  if (a.x >= a.y && a.x >= a.z) {
+    face = dir.x >= 0.0 ? 0.0 : 1.0;
+    ma = a.x;
+    sc = dir.x >= 0.0 ? -dir.z : dir.z;
+    tc = -dir.y;
+  } else if (a.y >= a.z) {
+    face = dir.y >= 0.0 ? 2.0 : 3.0;
+    ma = a.y;
+    sc = dir.x;
+    tc = dir.y >= 0.0 ? dir.z : -dir.z;
+  } else {
+    face = dir.z >= 0.0 ? 4.0 : 5.0;
+    ma = a.z;
+    sc = dir.z >= 0.0 ? dir.x : -dir.x;
+    tc = -dir.y;
+  }
+  return vec3(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0), face);
+}
+#else
 #if defined(FILTER_HW_COMPARE2X2)
 layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 2x2 bilinear PCF in hardware
 #else
 layout(binding = 2) uniform samplerCube shadow_map;        // NEAREST, no compare; LINEAR for a moments cube
+#endif
+// A cube is sampled by the direction itself.
+vec3 shadow_coord(vec3 dir) { return dir; }
 #endif
 #include "moments.glsl"
 
@@ -38,7 +73,7 @@ float stored_to_distance(float stored, vec3 dir) {
     !defined(FILTER_EVSM4) && !defined(FILTER_MSM)
 // 1 when `current` lies behind what the light saw in direction `dir` (shadowed), else 0.
 float occluded(vec3 dir, float current, float bias) {
-  return current - bias > stored_to_distance(texture(shadow_map, dir).r, dir) ? 1.0 : 0.0;
+  return current - bias > stored_to_distance(texture(shadow_map, shadow_coord(dir)).r, dir) ? 1.0 : 0.0;
 }
 #endif
 
@@ -76,7 +111,7 @@ float pcss_shadow(vec3 frag_to_light, float current, float bias) {
   float blockers = 0.0, blocker_sum = 0.0;
   for (int i = 0; i < 20; ++i) {
     vec3 dir = frag_to_light + kDiskDirections[i] * radius;
-    float stored = stored_to_distance(texture(shadow_map, dir).r, dir);
+    float stored = stored_to_distance(texture(shadow_map, shadow_coord(dir)).r, dir);
     // The stored distance is along `dir`; its length differs from `current` by the offset, within the bias.
     if (current - bias > stored) {
       blockers += 1.0;
@@ -135,7 +170,7 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
   return msm_shadow(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
 #elif defined(FILTER_HW_COMPARE2X2)
   // Reference value in the stored units (distance / far); the sampler returns the lit fraction.
-  return 1.0 - texture(shadow_map, vec4(frag_to_light, (current - lookup_bias(0.05, normal, frag_to_light)) / light_far()));
+  return 1.0 - texture(shadow_map, vec4(shadow_coord(frag_to_light), (current - lookup_bias(0.05, normal, frag_to_light)) / light_far()));
 #else
 #error "no FILTER_* defined"
 #endif

@@ -171,6 +171,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadInput{"run --pcf-scale -1 --out @OUT@", "--pcf-scale: '-1' is not a scale"},
                       BadInput{"run --remedy bias0+slope_bias --out @OUT@", "--remedy: bias0 and slope_bias exclude"},
                       BadInput{"run --optimize cull+warp --out @OUT@", "--optimize: unknown optimisation 'warp'"},
+                      BadInput{"run --layout octahedral --out @OUT@", "--layout: unknown layout 'octahedral'"},
                       BadInput{"run --moments-tuning lbr0.4+blur9 --out @OUT@",
                                "--moments-tuning: unknown moments tuning 'blur9'"},
                       BadInput{"run --moments-tuning exp3 --out @OUT@", "--moments-tuning: moments tuning 'exp3'"},
@@ -363,7 +364,32 @@ TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
   }
 }
 
-// Issue 26: a model file runs directly, placed by the stated rule, and passes --check on both APIs; ids name it by
+// Issue 27: the face_array layout runs with --check on both APIs (truth, timing, the technique checks within the
+// layout), beside the cube; its cases carry the layout in the id and the JSON axes.
+TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {
+  std::string why;
+  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  fs::path out = scratch("layouts");
+  Outcome o = run("run --backend " + backends + " --scene room --cube 128 --frame 400x300 --layout cube,face_array"
+                  " --technique six_pass,geometry_shader --filter hard,pcf_disk20,hw_compare2x2,vsm --frames 1"
+                  " --warmup 0 --images none --check --benchmark_repetitions=1 --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  int face_array_ok = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    const std::string id = c["id"];
+    const bool face_array = id.find("/face_array") != std::string::npos;
+    EXPECT_EQ(c["axes"]["layout"], face_array ? "face_array" : "cube") << id;
+    if (c["status"] == "unsupported") continue;  // lavapipe's D32F has no linear filtering (hw_compare2x2)
+    EXPECT_EQ(c["status"], "ok") << c.dump();
+    if (!face_array || c["status"] != "ok") continue;
+    ++face_array_ok;
+    EXPECT_TRUE(c["accuracy"].contains("misclassified_percent")) << id;
+  }
+  EXPECT_GE(face_array_ok, backends == "gl,vulkan" ? 14 : 8);
+}
+
+
 // its file stem; the loader's time is in the results and the summary.
 TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
   const std::string engine = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <set>
 
+#include "backends/common/shader_variants.h"
 #include "bench/run/matrix.h"
 
 namespace omnishadow::bench {
@@ -198,6 +199,53 @@ TEST(Matrix, EnumNamesRoundTrip) {
   for (Filter f : all_values<Filter>()) EXPECT_EQ(parse_enum<Filter>(to_string(f)), f);
   for (Storage s : all_values<Storage>()) EXPECT_EQ(parse_enum<Storage>(to_string(s)), s);
   for (DepthFormat d : all_values<DepthFormat>()) EXPECT_EQ(parse_enum<DepthFormat>(to_string(d)), d);
+  for (Layout l : all_values<Layout>()) EXPECT_EQ(parse_enum<Layout>(to_string(l)), l);
+}
+
+// The layout axis (issue 27): a cube case keeps the id it had before layouts existed (baselines and histories
+// still match), another layout appends its name after the depth format; each layout's six_pass is its own
+// reference, so the equality checks apply within a layout; a bad name is one line naming --layout.
+TEST(Matrix, LayoutsExpandIntoTheIdAfterTheDepthFormat) {
+  MatrixSpec spec;
+  spec.scenes = {"room"};
+  spec.cube_sizes = {256};
+  spec.filters = {Filter::hard};
+  spec.techniques = {Technique::six_pass, Technique::vs_layer};
+  spec.layouts = parse_enum_list<Layout>("cube,face_array", "--layout");
+  spec.optimizations = {Optimizations{}, parse_optimizations("cull")};
+  auto cases = expand(spec, kSizes);
+  ASSERT_EQ(cases.size(), 8u);
+  EXPECT_EQ(cases[0].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f");
+  EXPECT_EQ(cases[4].layout, Layout::face_array);
+  EXPECT_EQ(cases[4].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/face_array");
+  EXPECT_EQ(cases[7].id(), "gl/room/c256/f800x600/vs_layer/hard/linear_depth/d32f/face_array/cull");
+  std::string m;
+  try {
+    parse_enum_list<Layout>("cube,octahedral", "--layout");
+  } catch (const std::invalid_argument& e) {
+    m = e.what();
+  }
+  EXPECT_NE(m.find("--layout: unknown layout 'octahedral' (valid: cube, face_array"), std::string::npos) << m;
+}
+
+// A layout's lookup is a variant of the lighting shader: face_array's define is in its defines and the build
+// compiles its SPIR-V for every storage and filter the cube has (the Vulkan backend finds it by the same key).
+TEST(Matrix, EachLayoutHasItsLightingVariants) {
+  CaseConfig c;
+  c.layout = Layout::face_array;
+  const auto defines = gpu::lighting_defines(c, gpu::LightingVariant::timed);
+  EXPECT_EQ(gpu::variant_key("lighting.frag", defines), "lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD,LAYOUT_FACE_ARRAY");
+  c.layout = Layout::cube;
+  EXPECT_EQ(gpu::variant_key("lighting.frag", gpu::lighting_defines(c, gpu::LightingVariant::timed)),
+            "lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD");
+  const std::vector<std::string> keys = gpu::spirv_variant_keys();
+  size_t cube = 0, face_array = 0;
+  for (const std::string& k : keys) {
+    if (k.rfind("lighting.frag:", 0) != 0) continue;
+    (k.find("LAYOUT_FACE_ARRAY") != std::string::npos ? face_array : cube) += 1;
+  }
+  EXPECT_GT(cube, 0u);
+  EXPECT_EQ(face_array, cube);
 }
 
 }  // namespace

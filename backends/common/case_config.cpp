@@ -1,5 +1,6 @@
 #include "backends/common/case_config.h"
 
+#include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 
@@ -24,6 +25,13 @@ constexpr Names<Technique, kTechniques.size()> technique_names() {
   return names;
 }
 constexpr auto kTechniqueNames = technique_names();
+// Layout spellings come from the layout table (backends/common/layouts.h).
+constexpr Names<Layout, kLayouts.size()> layout_names() {
+  Names<Layout, kLayouts.size()> names{};
+  for (size_t i = 0; i < kLayouts.size(); ++i) names[i] = {kLayouts[i].layout, kLayouts[i].name};
+  return names;
+}
+constexpr auto kLayoutNames = layout_names();
 constexpr Names<Filter, 10> kFilters = {{{Filter::hard, "hard"},
                                         {Filter::pcf_grid64, "pcf_grid64"},
                                         {Filter::pcf_disk20, "pcf_disk20"},
@@ -51,6 +59,7 @@ template <> struct Table<Technique> { static constexpr auto& names = kTechniqueN
 template <> struct Table<Filter> { static constexpr auto& names = kFilters; static constexpr const char* what = "filter"; };
 template <> struct Table<Storage> { static constexpr auto& names = kStorages; static constexpr const char* what = "storage"; };
 template <> struct Table<DepthFormat> { static constexpr auto& names = kDepthFormats; static constexpr const char* what = "depth format"; };
+template <> struct Table<Layout> { static constexpr auto& names = kLayoutNames; static constexpr const char* what = "layout"; };
 
 template <typename E>
 std::string_view name_of(E v) {
@@ -65,6 +74,7 @@ std::string_view to_string(Technique v) { return name_of(v); }
 std::string_view to_string(Filter v) { return name_of(v); }
 std::string_view to_string(Storage v) { return name_of(v); }
 std::string_view to_string(DepthFormat v) { return name_of(v); }
+std::string_view to_string(Layout v) { return name_of(v); }
 
 template <typename E>
 std::string valid_values() {
@@ -96,6 +106,7 @@ OMNISHADOW_INSTANTIATE(Technique)
 OMNISHADOW_INSTANTIATE(Filter)
 OMNISHADOW_INSTANTIATE(Storage)
 OMNISHADOW_INSTANTIATE(DepthFormat)
+OMNISHADOW_INSTANTIATE(Layout)
 #undef OMNISHADOW_INSTANTIATE
 
 namespace {
@@ -144,6 +155,7 @@ std::string CaseConfig::id() const {
                    std::to_string(height) + "/" + std::string(to_string(technique)) + "/" +
                    std::string(to_string(filter)) + "/" + std::string(to_string(storage)) + "/" +
                    std::string(to_string(depth_format));
+  if (layout != Layout::cube) id += "/" + std::string(to_string(layout));  // cube ids stay as they were before layouts
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";

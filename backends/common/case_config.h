@@ -50,11 +50,18 @@ enum class Storage {
   msm_moments,    // the depth plus (z, z^2, z^3, z^4) of min(z, 1), RGBA32F (RGBA16F with d16): the msm filter's storage
 };
 enum class DepthFormat { d16, d24, d32f };
+// How the point light's depth is stored and looked up (issue 27; backends/common/layouts.h holds each layout's row).
+enum class Layout {
+  cube,        // a cube map sampled by direction: the hardware picks the face and filters across seams (seamless)
+  face_array,  // the six faces as layers of a 2D array (Filament's six 2D maps): the shader picks the layer and
+               // (s, t) by the cube-map rule, and filtering clamps at each face's edge
+};
 
 std::string_view to_string(Technique v);
 std::string_view to_string(Filter v);
 std::string_view to_string(Storage v);
 std::string_view to_string(DepthFormat v);
+std::string_view to_string(Layout v);
 
 // Parse a spelling; throws std::invalid_argument("unknown technique 'x' (valid: six_pass, ...)").
 template <typename E>
@@ -147,6 +154,7 @@ struct CaseConfig {
   Filter filter = Filter::hard;
   Storage storage = Storage::linear_depth;
   DepthFormat depth_format = DepthFormat::d32f;
+  Layout layout = Layout::cube;  // in the id as /face_array after the depth format; nothing for the cube
   Optimizations optimizations;
   Remedies remedies;
   MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default

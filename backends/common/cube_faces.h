@@ -49,7 +49,8 @@ float stored_to_distance(Storage storage, float stored, int s, int t, int size, 
                          DepthRange range);
 
 // Cube-map addressing as the samplers do it (spec table 8.19): which face a direction selects and the
-// face coordinates (s, t) in [0, 1]. Ties between equal major axes go to x, then y, as in Mesa.
+// face coordinates (s, t) in [0, 1]. Ties between equal major axes go to x, then y, as in Mesa. Layout face_array's
+// lookup (shaders/shadow_filters.glsl, shadow_coord) is the same arithmetic in GLSL: change both together.
 struct FaceCoord {
   int face;
   float s;

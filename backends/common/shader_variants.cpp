@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 
@@ -59,6 +60,7 @@ std::vector<std::string> moments_blur_defines(ColourFormat format) {
 
 std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant variant) {
   std::vector<std::string> d{storage_define(c.storage), filter_define(c.filter)};
+  if (!traits(c.layout).lighting_define.empty()) d.emplace_back(traits(c.layout).lighting_define);
   if (c.remedies.bias == BiasMode::zero) d.push_back("BIAS_ZERO");
   if (c.remedies.bias == BiasMode::slope) d.push_back("BIAS_SLOPE");
   if (c.remedies.normal_offset) d.push_back("NORMAL_OFFSET");
@@ -89,11 +91,13 @@ std::vector<std::string> spirv_variant_keys() {
   for (Storage storage : all_values<Storage>())
     for (Filter filter : all_values<Filter>()) {
       if (!filter_reads(filter, storage)) continue;
+      for (const LayoutTraits& layout : kLayouts)
       for (BiasMode bias : {BiasMode::tutorial, BiasMode::zero, BiasMode::slope})
         for (bool normal_offset : {false, true})
           for (LightingVariant v : {LightingVariant::timed, LightingVariant::check}) {
             c.storage = storage;
             c.filter = filter;
+            c.layout = layout.layout;
             c.remedies.bias = bias;
             c.remedies.normal_offset = normal_offset;
             keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));

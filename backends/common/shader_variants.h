@@ -39,7 +39,7 @@ std::vector<std::string> moments_blur_defines(ColourFormat format);
 enum class LightingVariant { timed, check };
 inline constexpr int kLightingColorOutputs[2] = {1, 3};  // by LightingVariant
 
-// The lighting fragment stage: storage, filter, for the bias remedies BIAS_ZERO / BIAS_SLOPE / NORMAL_OFFSET, and
+// The lighting fragment stage: storage, filter, the layout's lookup (LAYOUT_FACE_ARRAY), for the bias remedies BIAS_ZERO / BIAS_SLOPE / NORMAL_OFFSET, and
 // CHECK_OUTPUTS for the check variant (CMakeLists.txt compiles one SPIR-V per combination).
 std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant variant);
 

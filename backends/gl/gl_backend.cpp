@@ -379,7 +379,8 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
   glUseProgram(program);
   glBindVertexArray(lighting_vao_);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
-  glBindTextureUnit(gpu::kShadowMapBinding, shadow_.sampled);
+  glBindTextureUnit(gpu::kShadowMapBinding,
+                    config_->layout == Layout::face_array ? shadow_.sampled_layers : shadow_.sampled);
   const FilterSampler sampler = traits(config_->filter).sampler;
   glBindSampler(gpu::kShadowMapBinding, sampler == FilterSampler::linear_compare   ? compare_sampler_
                                         : sampler == FilterSampler::linear_moments ? linear_sampler_

@@ -122,6 +122,7 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t.blur_layers);  // the blur's first pass writes here
     glTextureStorage3D(t.blur_layers, 1, colour_internal, size, size, 6);
   }
+  t.sampled_layers = traits(storage).moments != MomentKind::none ? t.colour_layers : t.stored_layers;
   check_allocation("the shadow cube");
   const GLuint depth_target = multiview ? t.depth_array : t.depth;
   const GLuint colour_target = multiview ? t.colour_array : t.colour;

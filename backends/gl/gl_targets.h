@@ -26,6 +26,9 @@ struct ShadowTargets {
   // and their internal format; 0 otherwise.
   GLuint colour_layers = 0, blur_layers = 0;
   GLenum colour_format = 0;
+  // What the lighting pass samples for layout face_array: `sampled` as a 2D array (stored_layers, or colour_layers
+  // for moments); views, not copies, so both layouts read the very texels the shadow pass wrote.
+  GLuint sampled_layers = 0;
   std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face, built once
   GLuint layered_fbo = 0;             // single-pass techniques: the whole cube, gl_Layer (or the view) picks the face
   Storage storage = Storage::linear_depth;

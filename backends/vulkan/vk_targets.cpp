@@ -121,7 +121,10 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT | storage_usage);
     if (moments) t.blur = create_image(ctx, colour, t.size, t.size, 6, false, VK_IMAGE_USAGE_STORAGE_BIT);
-    t.sampled_view = create_view(ctx, moments ? t.color : t.stored(), VK_IMAGE_VIEW_TYPE_CUBE, 0, 6);
+    // Layout face_array samples the same six layers as a 2D array (the shader picks the layer).
+    t.sampled_view = create_view(ctx, moments ? t.color : t.stored(),
+                                 c.layout == Layout::face_array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE,
+                                 0, 6);
 
     // The moments stay in GENERAL: the blur reads and writes them as storage images, the lighting pass samples them.
     std::vector<VkAttachmentDescription> attachments;

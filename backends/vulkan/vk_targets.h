@@ -19,7 +19,7 @@ struct ShadowTargets {
   Image depth;  // the depth test's cube; what the checks read unless r32f_distance
   Image color;  // the colour cube beside it: r32f_distance's distances or the moments (GENERAL after the pass)
   Image blur;   // moments filters: the blur's intermediate, six layers (GENERAL)
-  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE view of what the lighting pass samples (the moments for VSM)
+  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE (2D_ARRAY for face_array) view of what the lighting pass samples (the moments for VSM)
   std::vector<VkImageView> attachment_views;  // owned; referenced by the framebuffers
   VkRenderPass render_pass = VK_NULL_HANDLE;  // multiview pass for Technique::multiview
   std::vector<VkFramebuffer> framebuffers;    // six_pass: one per face; otherwise one, all six layers

@@ -75,6 +75,10 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
               "comma list: " + valid_values<Storage>());
   list_option(r, "--depth-format", m.depth_formats, [](const std::string& s) { return parse_enum<DepthFormat>(s); },
               named, "comma list: " + valid_values<DepthFormat>());
+  list_option(r, "--layout", m.layouts, [](const std::string& s) { return parse_enum<Layout>(s); }, named,
+              "comma list: " + valid_values<Layout>() +
+                  " (how the light's depth is stored and looked up: a cube map, or its six faces as a 2D array "
+                  "whose layer the shader picks)");
   list_option(r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
               [](const Optimizations& o) { return to_string(o); },
               "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "

@@ -410,6 +410,7 @@ int list_command(const std::string& scenes_dir, const std::map<std::string, std:
   std::cout << "filters: " << valid_values<Filter>() << "\n";
   std::cout << "storages: " << valid_values<Storage>() << "\n";
   std::cout << "depth formats: " << valid_values<DepthFormat>() << "\n";
+  std::cout << "layouts: " << valid_values<Layout>() << "\n";
   for (const std::string& name : available) {
     std::cout << "unsupported on " << name << ":";
     Backend& b = harness.backend(name);

@@ -65,6 +65,7 @@ json axes_to_json(const CaseConfig& c) {
           {"filter", to_string(c.filter)},
           {"storage", to_string(c.storage)},
           {"depth_format", to_string(c.depth_format)},
+          {"layout", to_string(c.layout)},
           {"optimizations", to_string(c.optimizations)},
           {"remedies", to_string(c.remedies)},
           {"moments_tuning", to_string(c.moments)},

@@ -71,6 +71,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
         for (const auto& [w, h] : sizes)
           for (Storage storage : spec.storages)
             for (DepthFormat depth : spec.depth_formats)
+            for (Layout layout : spec.layouts)
               for (Filter filter : spec.filters)
                 for (float pcf_scale : spec.pcf_scales)
                 for (const Remedies& remedies : spec.remedies)
@@ -94,6 +95,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.height = h;
                   c.storage = storage_for(filter, storage);
                   c.depth_format = depth;
+                  c.layout = layout;
                   c.filter = filter;
                   c.technique = technique;
                   c.optimizations = optimizations;

@@ -1,6 +1,6 @@
 #pragma once
 // The benchmark matrix: lists per axis, expanded into cases in a fixed order (backend, scene, cube size,
-// frame size, storage, depth format, filter, optimisations, technique). Technique is innermost so that each
+// frame size, storage, depth format, layout, filter, optimisations, technique). Technique is innermost so that each
 // single-pass case runs right after the six_pass case it is checked against.
 
 #include <functional>
@@ -25,6 +25,7 @@ struct MatrixSpec {
   std::vector<Filter> filters{Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20};
   std::vector<Storage> storages{Storage::linear_depth};
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
+  std::vector<Layout> layouts{Layout::cube};                  // --layout cube,face_array
   std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01

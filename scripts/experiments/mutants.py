@@ -29,6 +29,8 @@ MATRIX = ["--scene", "room,heavy,spot", "--cube", "256", "--frame", "400x300", "
 FACES = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"]
 # What the moments filters' mutants add to MATRIX: the default filters and the moments filters.
 MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm,esm,evsm2,evsm4,msm"]
+# What the layout mutants add: the face_array layout, every default filter and a moments one (bilinear per face).
+FACE_ARRAY = ["--layout", "face_array", "--filter", "hard,pcf_grid64,pcf_disk20,vsm"]
 
 
 def flip_up(face):
@@ -66,8 +68,8 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
              "length(world_position - frame.light_position.xyz);  // the point-shadow tutorial"),
      "linear depth stored without the divide by far"),
     ("lookup_x_flipped", "shaders/shadow_filters.glsl",
-     replace("bias > stored_to_distance(texture(shadow_map, dir).r",
-             "bias > stored_to_distance(texture(shadow_map, dir * vec3(-1.0, 1.0, 1.0)).r"),
+     replace("bias > stored_to_distance(texture(shadow_map, shadow_coord(dir)).r",
+             "bias > stored_to_distance(texture(shadow_map, shadow_coord(dir * vec3(-1.0, 1.0, 1.0))).r"),
      "the lookup direction's x negated"),
     ("pcf_grid_x10", "shaders/shadow_filters.glsl",
      replace("float offset = 0.1 * frame.knobs.y;", "float offset = 1.0 * frame.knobs.y;"),
@@ -79,9 +81,9 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("/ light_far();  // the point-shadow tutorial", "/ (light_far() * 1.01);  // the point-shadow tutorial"),
      "the shadow pass divides by a far plane 1% larger than the lighting pass multiplies by"),
     ("lookup_half_texel", "shaders/shadow_filters.glsl",
-     replace("bias > stored_to_distance(texture(shadow_map, dir).r",
-             "bias > stored_to_distance(texture(shadow_map, dir + vec3(0.0, max(max(abs(dir.x), abs(dir.y)), abs(dir.z)) / "
-             "float(textureSize(shadow_map, 0).x), 0.0)).r"),
+     replace("bias > stored_to_distance(texture(shadow_map, shadow_coord(dir)).r",
+             "bias > stored_to_distance(texture(shadow_map, shadow_coord(dir + vec3(0.0, max(max(abs(dir.x), abs(dir.y)), "
+             "abs(dir.z)) / float(textureSize(shadow_map, 0).x), 0.0))).r"),
      "the hard lookup's direction moved by half a texel along y (faces other than +-Y)"),
     ("spot_view_transposed", "backends/common/map_lights.cpp",
      replace("glm::mat4 view = glm::lookAtRH(position, position + light.direction, map_up(light.direction));",
@@ -116,6 +118,13 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("  ivec3 p = texel_point(face, s, t, size);",
              "  return ivec3(clamp(s, 0, size - 1), clamp(t, 0, size - 1), face);\n  ivec3 p = texel_point(face, s, t, size);"),
      "the moments blur clamps at a face's edge instead of reading the adjacent face", MOMENTS_FILTERS),
+    # Layouts (issue 27): the face_array lookup picks the layer and (s, t) in the shader; its matrix names the layout.
+    ("face_array_y_layers_swapped", "shaders/shadow_filters.glsl",
+     replace("face = dir.y >= 0.0 ? 2.0 : 3.0;", "face = dir.y >= 0.0 ? 3.0 : 2.0;"),
+     "the face_array lookup reads the -Y layer for +Y directions and the +Y layer for -Y", FACE_ARRAY),
+    ("face_array_t_flipped_on_z", "shaders/shadow_filters.glsl",
+     replace("    sc = dir.z >= 0.0 ? dir.x : -dir.x;\n    tc = -dir.y;", "    sc = dir.z >= 0.0 ? dir.x : -dir.x;\n    tc = dir.y;"),
+     "the face_array lookup's t flipped on the +-Z faces", FACE_ARRAY),
 ]
 
 
