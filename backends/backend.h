@@ -29,6 +29,10 @@ struct DeviceInfo {
   // The rasteriser's sub-pixel precision: vertices are snapped to 1 / 2^bits of a pixel (GL_SUBPIXEL_BITS,
   // VkPhysicalDeviceLimits::subPixelPrecisionBits; both APIs require at least 4). The texel truths' bounds read it.
   int subpixel_bits = 4;
+  // The sampler's sub-texel precision: a texel coordinate may be quantised to 1 / 2^bits of a texel before a texel is
+  // chosen (VkPhysicalDeviceLimits::subTexelPrecisionBits, at least 4; GL states none, so 4 is assumed there). The
+  // lookup check (bench/truth/lookup_check.h) reads it.
+  int subtexel_bits = 4;
   std::map<std::string, std::string> extra;  // anything else worth recording (extensions that matter, ...)
 };
 

@@ -8,7 +8,8 @@
 #              timed repetition and every case's first and last repetitions agree within 5%; and the default run's
 #              untimed part (checks, reference, read-backs, images) at most 0.5x its timed part
 #   checks     no false alarm on correct code: the small-cube matrix that failed 124 of 156 cases at 3387fa1, the
-#              grazing scene in every storage and depth format, the moments filters at 32 and 16 bits, and ctest;
+#              grazing scene in every storage and depth format, the moments filters at 32 and 16 bits, the face_array
+#              layout, and ctest;
 #              PASS or FAIL per part
 #   multiview  GL and Vulkan multiview against six_pass with --check
 #   matrix     the untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
@@ -138,6 +139,13 @@ step_checks() {
     --out "$out/checks/moments" >"$out/checks/moments.log" 2>&1
   note "- moments filters run --check: exit $? (1 expected: 16-bit moments on heavy fail their quality limit)"
   judge_checks "$out/checks/moments" '/d16' || failed=1
+  # Layouts (issue 27): face_array's shader-side face selection and per-face clamped filtering against exact
+  # visibility and within the layout across techniques, on the GPU's own sampler rounding; any failed check a FAIL.
+  "$bin" run --backend gl,vulkan --scene room,heavy --cube 256 --layout face_array \
+    --technique six_pass,geometry_shader,multiview --filter hard,pcf_disk20,hw_compare2x2,vsm --check --frames 2 \
+    --warmup 1 --benchmark_repetitions=1 --out "$out/checks/layouts" >"$out/checks/layouts.log" 2>&1
+  exit_note $? "layout face_array run --check"
+  judge_checks "$out/checks/layouts" || failed=1
   (cd "$here" && ctest --test-dir build/release -j8 --output-on-failure) >"$out/checks/ctest.log" 2>&1
   exit_note $? ctest
   grep -E "tests passed|tests failed" "$out/checks/ctest.log" | tee -a "$summary"

@@ -84,6 +84,7 @@ void VkBackend::describe_device(bool validation) {
   info_.platform = "headless (no surface)";
   info_.max_cube_size = static_cast<int>(p.limits.maxImageDimensionCube);
   info_.subpixel_bits = static_cast<int>(p.limits.subPixelPrecisionBits);
+  info_.subtexel_bits = static_cast<int>(p.limits.subTexelPrecisionBits);
   info_.shares_host_memory = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
   VkPhysicalDeviceMemoryProperties memory{};
   vkGetPhysicalDeviceMemoryProperties(ctx_->physical(), &memory);

@@ -113,7 +113,7 @@ json checks_to_json(const std::vector<CheckResult>& checks) {
 // What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
 json plan_to_json(const CaseResult& r) {
   json j = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces}, {"light_far", r.light_far},
-            {"storage_bytes", shadow_storage_bytes(r.config)}};
+            {"storage_bytes", shadow_storage_bytes(r.config)}, {"texels", shadow_texels(r.config)}};
   if (traits(r.config.storage).checked == DistanceEncoding::linear_depth) {
     // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
     const int bits = r.config.depth_format == DepthFormat::d16 ? 16 : 24;
@@ -258,6 +258,15 @@ json case_to_json(const CaseResult& r) {
                                       "direction", kCubeTexelLimitPercent);
     j["cube_texels"]["bad_per_face"] = r.cube_texels->bad_per_face;
   }
+  if (r.lookups)
+    j["lookups"] = {{"bound", "every texel within the sampler's sub-texel precision and the direction's rounding "
+                              "of the cube-map rule's, comparisons within 1e-4 (bench/truth/lookup_check.h)"},
+                    {"pixels", r.lookups->pixels},
+                    {"outside", r.lookups->outside},
+                    {"taps", r.lookups->taps},
+                    {"ambiguous_taps", r.lookups->ambiguous_taps}};
+  else if (!r.lookups_skipped.empty())
+    j["lookups"] = {{"skipped", r.lookups_skipped}};
   if (r.map_texels) {
     j["map_texels"] = texels_to_json(*r.map_texels, "exact window depth of the first kept surface along each "
                                      "checked texel's ray", kMapTexelLimitPercent);

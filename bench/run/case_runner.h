@@ -14,6 +14,7 @@
 #include "bench/truth/accuracy.h"
 #include "bench/run/async_writer.h"
 #include "bench/truth/cube_truth.h"
+#include "bench/truth/lookup_check.h"
 #include "bench/truth/moments_check.h"
 #include "bench/truth/map_truth.h"
 #include "bench/run/device_state.h"
@@ -191,6 +192,10 @@ struct CaseResult {
   std::optional<MomentsReport> moments;  // a moments storage read back in full: its moments against its depths
   std::optional<CubeTexelReport> cube_texels;  // the cube against exact first-hit distances (bench/truth/cube_truth.h)
   std::optional<MapTexelReport> map_texels;    // spot/directional maps against exact depths (bench/truth/map_truth.h)
+  // The lighting pass's lookups replayed from the read-back cube (bench/truth/lookup_check.h); the reason it was
+  // not replayed otherwise (a technique other than six_pass is held to six_pass's shadow factor bit for bit).
+  std::optional<LookupReport> lookups;
+  std::string lookups_skipped;
   // Milliseconds of the untimed part per step (configure, check_frame, read_back, cube_and_map_truth, accuracy,
   // comparisons, images, ...); a truth or reference shared with earlier cases costs only the case that computed it.
   std::map<std::string, double> untimed_ms;
@@ -247,6 +252,7 @@ class Harness {
   void check_cube(CaseResult& result, const Images& images);
   void check_moment_cube(CaseResult& result, const Images& images);  // moments storages (bench/truth/moments_check.h)
   void check_maps(CaseResult& result, const Images& images);
+  void check_lookups_of(CaseResult& result, const Images& images);  // bench/truth/lookup_check.h
   void check_timed_variant(CaseResult& result, const Images& images);
   void check_against_six_pass(CaseResult& result, Images& images);  // may read the cube again in full
   CubeReadBack cube_read_back_for(const CaseConfig& config) const;

@@ -1,5 +1,6 @@
 #include "bench/run/memory_budget.h"
 
+#include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 
 #include <sys/resource.h>
@@ -50,15 +51,19 @@ std::string format_bytes(uint64_t bytes) {
   return buf;
 }
 
+uint64_t shadow_texels(const CaseConfig& c) {
+  return uint64_t(traits(c.layout).layers) * uint64_t(c.cube_size) * uint64_t(c.cube_size);
+}
+
 uint64_t shadow_storage_bytes(const CaseConfig& c) {
-  const uint64_t texels = 6ull * uint64_t(c.cube_size) * uint64_t(c.cube_size);
+  const uint64_t texels = shadow_texels(c);
   const uint64_t colour = uint64_t(colour_format_bytes(colour_format(c.storage, c.depth_format)));
   const uint64_t colour_cubes = traits(c.filter).prefilter == Prefilter::separable_blur ? 2 : 1;
   return texels * (depth_bytes(c.depth_format) + colour * colour_cubes);
 }
 
 MemoryNeed estimate_case_memory(const CaseConfig& c, CubeReadBack cube) {
-  const uint64_t texels = 6ull * uint64_t(c.cube_size) * uint64_t(c.cube_size);
+  const uint64_t texels = shadow_texels(c);
   const uint64_t pixels = uint64_t(c.width) * uint64_t(c.height);
   MemoryNeed need;
   need.device_bytes = shadow_storage_bytes(c);

@@ -17,6 +17,8 @@ struct MemoryNeed {
 };
 // The point light's shadow storage on the device: the depth cube, the colour cube beside it (r32f distances,
 // moments) and the blur's intermediate for a moments filter. The memory column of the filter table.
+// Texels of the point light's stored image: the layout's layers x size^2 (the equal-memory axis of layouts).
+uint64_t shadow_texels(const CaseConfig& config);
 uint64_t shadow_storage_bytes(const CaseConfig& config);
 MemoryNeed estimate_case_memory(const CaseConfig& config, CubeReadBack cube = CubeReadBack::full);
 

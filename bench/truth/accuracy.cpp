@@ -1,6 +1,7 @@
 #include "bench/truth/accuracy.h"
 
 #include "backends/common/map_lights.h"
+#include "bench/truth/parallel_rows.h"
 
 #include <algorithm>
 #include <atomic>
@@ -38,17 +39,6 @@ glm::vec2 concentric(float u, float v) {
     phi = 2.0f * quarter_pi - quarter_pi * (a / b);
   }
   return {r * std::cos(phi), r * std::sin(phi)};
-}
-
-template <typename Body>
-void parallel_rows(int height, Body body) {
-  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      for (int y = static_cast<int>(t); y < height; y += static_cast<int>(threads)) body(y);
-    });
-  for (auto& th : pool) th.join();
 }
 
 double psnr(double squared_error_sum, uint64_t values) {

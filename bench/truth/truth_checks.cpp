@@ -73,6 +73,31 @@ void Harness::check_maps(CaseResult& r, const Images& images) {
   add_texel_finding(r, "map_texels", *r.map_texels, kMapTexelLimitPercent);
 }
 
+// What the lighting pass read, replayed on six_pass (the reference of its group: every other technique must match
+// its shadow factor bit for bit, so one replay covers the group).
+void Harness::check_lookups_of(CaseResult& r, const Images& images) {
+  const scene::Scene& sc = scene_of(r.config);
+  if (!(r.config == reference_config(r.config))) {
+    r.lookups_skipped = "held to six_pass's shadow factor, which is replayed";
+    return;
+  }
+  r.lookups_skipped = lookup_check_skip_reason(r.config, images, sc.has_point_light);
+  if (!r.lookups_skipped.empty()) return;
+  LookupInputs in;
+  in.filter = r.config.filter;
+  in.bias = r.config.remedies.bias;
+  in.light = glm::dvec3(sc.light.path.at(options_.check_frame));
+  in.camera = glm::dvec3(sc.camera.position);
+  in.far_plane = images.light_far;
+  in.pcf_scale = r.config.pcf_scale;
+  in.subtexel_bits = backend(r.config.backend).device().subtexel_bits;
+  r.lookups = check_lookups(images, in);
+  if (!r.lookups->ok())
+    r.add({Status::failed_check, "lookups", describe(*r.lookups),
+           {{"outside", double(r.lookups->outside)}, {"pixels", double(r.lookups->pixels)},
+            {"outside_percent", r.lookups->outside_percent()}}});
+}
+
 // The error against exact visibility, the --max-error limit, and the error heatmap.
 void Harness::check_accuracy(CaseResult& r, const Images& images) {
   const Truth& truth = truth_for(r.config, images);
