@@ -2,6 +2,30 @@
 // hard 0.05 (the point-shadow tutorial), 4x4x4 grid of +-0.1 with bias 0.05 and the 20-direction disk with bias 0.15 (the point-shadow tutorial).
 // Requires common.glsl.
 
+// Test only (--lookup-perturb, CaseConfig::lookup_perturb_texels): every cube lookup moved by this many texels along
+// both axes of its face, as a sampler that quantises texel coordinates more coarsely may read. 0 in every real run,
+// and perturb_lookup() folds to its argument. Vulkan: specialisation constant 3 (gpu::LightingConstants).
+#ifdef VULKAN
+layout(constant_id = 3) const float kLookupPerturbTexels = 0.0;
+#else
+const float kLookupPerturbTexels = LOOKUP_PERTURB_TEXELS;
+#endif
+
+// The direction moved by kLookupPerturbTexels texels of a face of `size` along both minor axes (a texel spans
+// 2 |major| / size of a minor component), clamped to its face: a sampler picks the face first, then the texel.
+vec3 perturb_lookup(vec3 dir, float size) {
+  if (kLookupPerturbTexels == 0.0) return dir;
+  vec3 a = abs(dir);
+  float major = max(a.x, max(a.y, a.z));
+  // Minor components stay strictly inside the face (a tie would let the face change, which a sampler never does).
+  float inside = major * (1.0 - 1e-6);
+  vec3 moved = clamp(dir + vec3(2.0 * major * kLookupPerturbTexels / size), -vec3(inside), vec3(inside));
+  if (a.x == major) moved.x = dir.x;
+  else if (a.y == major) moved.y = dir.y;
+  else moved.z = dir.z;
+  return moved;
+}
+
 #if defined(LAYOUT_FACE_ARRAY)
 // Layout face_array (backends/common/layouts.h): the six faces are layers of a 2D array, as a renderer that treats a
 // point light as six spot maps stores them. The shader picks the layer and (s, t) by the cube-map rule (GL 4.5
@@ -13,6 +37,7 @@ layout(binding = 2) uniform sampler2DArray shadow_map;        // NEAREST, no com
 #endif
 // (s, t, layer) of the face `dir` selects: what a samplerCube computes before it reads a texel.
 vec3 shadow_coord(vec3 dir) {
+  dir = perturb_lookup(dir, float(textureSize(shadow_map, 0).x));
   vec3 a = abs(dir);
   float face, sc, tc, ma;
   if (a.x >= a.y && a.x >= a.z) {
@@ -40,7 +65,7 @@ layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 
 layout(binding = 2) uniform samplerCube shadow_map;        // NEAREST, no compare; LINEAR for a moments cube
 #endif
 // A cube is sampled by the direction itself.
-vec3 shadow_coord(vec3 dir) { return dir; }
+vec3 shadow_coord(vec3 dir) { return perturb_lookup(dir, float(textureSize(shadow_map, 0).x)); }
 #endif
 #include "moments.glsl"
 

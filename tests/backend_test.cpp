@@ -18,6 +18,7 @@
 #include "backends/reference/ray_caster.h"
 #include "bench/truth/accuracy.h"
 #include "bench/truth/cube_truth.h"
+#include "bench/truth/lookup_check.h"
 #include "bench/run/case_runner.h"
 #include "tests/backend_availability.h"
 #include "tests/optimization_checks.h"
@@ -216,6 +217,39 @@ TEST_P(BackendTest, PerturbedRasterPassesTheSubPixelBoundOnly) {
     EXPECT_GT(bench::check_cube_texels(truth, swapped, Storage::linear_depth, DepthFormat::d32f,
                                        room_->light.near_plane, bits).bad_percent(), 5.0);
   }
+}
+
+// The lookup check's bound (bench/truth/lookup_check.h), both sides: lookups moved by 0.8 of the sampler's sub-texel
+// step (the device's subTexelPrecisionBits; 4 assumed for GL) along both face axes, as a coarser sampler may read,
+// pass on both layouts; moved by half a texel, or replayed against a cube whose +Y and -Y faces are swapped (what a
+// face_array lookup that reads the wrong layer sees), they fail.
+TEST_P(BackendTest, PerturbedLookupsPassTheSubTexelBoundOnly) {
+  const int bits = backend_->device().subtexel_bits;
+  ASSERT_GE(bits, 4) << "Vulkan requires at least 4 sub-texel bits";
+  bench::LookupInputs in;
+  in.light = glm::dvec3(room_->light.path.at(0));
+  in.camera = glm::dvec3(room_->camera.position);
+  in.subtexel_bits = bits;
+  for (Layout layout : {Layout::cube, Layout::face_array})
+    for (Filter f : {Filter::hard, Filter::pcf_disk20}) {
+      CaseConfig c = room_case(Technique::six_pass, f, 256);
+      c.layout = layout;
+      in.filter = f;
+      const std::string what = std::string(to_string(layout)) + "/" + std::string(to_string(f));
+      c.lookup_perturb_texels = 0.8f * std::ldexp(1.0f, -bits);
+      Images within = render(c, 0);
+      in.far_plane = within.light_far;
+      bench::LookupReport ok = bench::check_lookups(within, in);
+      EXPECT_TRUE(ok.ok()) << what << ": " << bench::describe(ok);
+      EXPECT_GT(ok.pixels, 100000u) << what;
+      c.lookup_perturb_texels = 0.5f;
+      bench::LookupReport half = bench::check_lookups(render(c, 0), in);
+      EXPECT_GT(half.outside, 0u) << what << ": half a texel off went unseen";
+      c.lookup_perturb_texels = 0.0f;
+      Images swapped = render(c, 0);
+      std::swap(swapped.cube_distance[2], swapped.cube_distance[3]);
+      EXPECT_GT(bench::check_lookups(swapped, in).outside, 0u) << what << ": +Y and -Y swapped went unseen";
+    }
 }
 
 // timed_lit's tolerance (bench/run/case_runner.h kTimedLitMaxPercent), both sides: a compiler's float contraction

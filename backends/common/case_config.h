@@ -172,6 +172,10 @@ struct CaseConfig {
   // vertices move alike, meshes stay closed, and clipping cannot amplify it). It makes a CPU rasteriser place edges
   // as another conformant one may, to prove the texel truths' bounds (bench/truth/texel_bounds.h) hold there. 0 in every real run: the shaders then fold it away. Not in the id.
   float raster_perturb_steps = 0.0f;
+  // Test only (--lookup-perturb): every cube lookup of the lighting pass moved by this many texels along both of its
+  // face's axes (shaders/shadow_filters.glsl, shadow_coord), as a sampler that quantises texel coordinates more
+  // coarsely may read; proves the lookup check's bound (bench/truth/lookup_check.h). 0 in every real run. Not in the id.
+  float lookup_perturb_texels = 0.0f;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
   // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are on

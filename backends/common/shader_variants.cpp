@@ -1,6 +1,7 @@
 #include "backends/common/shader_variants.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
@@ -107,12 +108,23 @@ std::vector<std::string> spirv_variant_keys() {
 }
 
 LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s) {
-  return {static_cast<int32_t>(s.map_lights.size()), s.has_point_light ? 1 : 0, c.injected_work};
+  return {static_cast<int32_t>(s.map_lights.size()), s.has_point_light ? 1 : 0, c.injected_work,
+          c.lookup_perturb_texels};
 }
+
+namespace {
+std::string float_literal(float v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(v));
+  std::string s = buf;
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";  // a GLSL float, not an int
+  return s;
+}
+}  // namespace
 
 std::vector<std::string> lighting_constant_defines(const LightingConstants& k) {
   return {"MAP_LIGHTS=" + std::to_string(k.map_lights), "POINT_LIGHT=" + std::to_string(k.point_light),
-          "INJECTED_WORK=" + std::to_string(k.injected_work)};
+          "INJECTED_WORK=" + std::to_string(k.injected_work), "LOOKUP_PERTURB_TEXELS=" + float_literal(k.lookup_perturb_texels)};
 }
 
 float raster_perturb_ndc(const CaseConfig& c, int subpixel_bits) {

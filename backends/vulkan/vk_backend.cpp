@@ -369,7 +369,8 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
     lighting.layout = lighting_layout_;
     lighting.render_pass = lighting_[size_t(v)].render_pass;
     lighting.color_attachments = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(v)]);
-    lighting.fragment_constants = {constants.map_lights, constants.point_light, constants.injected_work};
+    lighting.fragment_constants = {constants.map_lights, constants.point_light, constants.injected_work,
+                                   std::bit_cast<int32_t>(constants.lookup_perturb_texels)};
     for (int cull = 0; cull < 2; ++cull) {
       lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
       lighting_pipelines_[size_t(v)][static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);

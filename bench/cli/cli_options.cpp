@@ -280,6 +280,10 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
                "tests of the checks only: move every shadow- and map-pass vertex by up to STEPS of the device's "
                "sub-pixel steps (deterministic per world position), as another conformant rasteriser may snap")
       ->capture_default_str()->check(CLI::Range(0.0, 4.0));
+  r.add_option("--lookup-perturb", run.matrix.lookup_perturb_texels,
+               "tests of the checks only: move every cube lookup of the lighting pass by TEXELS along each of the "
+               "face's two axes, as a sampler with coarser sub-texel precision may (the lookup check's bound)")
+      ->capture_default_str()->check(CLI::Range(0.0, 4.0));
   r.add_flag("--no-accuracy", flags.no_accuracy, "skip the shadow error against the ray-cast reference");
   r.add_option("--memory-budget", run.harness.memory_budget,
                "plan as if the device had BYTES (1G, 512M, ...; on CPU drivers: host memory): a case that would not "

@@ -47,7 +47,7 @@ json pass_timing_to_json(const std::vector<FrameTiming>& frames, PassTiming Fram
 json device_to_json(const DeviceInfo& d) {
   json j{{"api", d.api},          {"vendor", d.vendor},     {"renderer", d.renderer},
          {"version", d.version},  {"platform", d.platform}, {"max_cube_size", d.max_cube_size},
-         {"subpixel_bits", d.subpixel_bits},
+         {"subpixel_bits", d.subpixel_bits},      {"subtexel_bits", d.subtexel_bits},
          {"device_memory_bytes", d.device_memory_bytes}, {"shares_host_memory", d.shares_host_memory}};
   for (const auto& [k, v] : d.extra) j["extra"][k] = v;
   return j;
@@ -75,6 +75,7 @@ json axes_to_json(const CaseConfig& c) {
     axes["injected_fragment_work"] = c.injected_work;
   }
   if (c.raster_perturb_steps != 0.0f) axes["raster_perturb_steps"] = c.raster_perturb_steps;
+  if (c.lookup_perturb_texels != 0.0f) axes["lookup_perturb_texels"] = c.lookup_perturb_texels;
   return axes;
 }
 

@@ -305,8 +305,8 @@ void Harness::prepare(CaseResult& r) {
         check_maps(r, images);
       });
       step("accuracy", [&] { check_accuracy(r, images); });
-      step("lookups", [&] { check_lookups_of(r, images); });
     }
+    step("lookups", [&] { check_lookups_of(r, images); });
     step("floor", [&] { measure_floor(r, b); });
     const bool is_reference = r.config == reference_config(r.config);
     step("comparisons", [&] {

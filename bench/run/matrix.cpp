@@ -103,6 +103,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.moments = moments;
                   c.pcf_scale = pcf_scale;
                   c.raster_perturb_steps = spec.raster_perturb_steps;
+                  c.lookup_perturb_texels = spec.lookup_perturb_texels;
                   cases.push_back(c);
                 }
     }

@@ -36,6 +36,7 @@ struct MatrixSpec {
   std::vector<int> injected_work{0};  // --inject-fragment-work 0,18
   int replicas = 1;                   // --replicas 2
   float raster_perturb_steps = 0.0f;  // --raster-perturb 1 (test only: CaseConfig::raster_perturb_steps)
+  float lookup_perturb_texels = 0.0f;  // --lookup-perturb 0.05 (test only: CaseConfig::lookup_perturb_texels)
   // --technique not given: techniques a backend cannot do at all are left out of its cases (said once on stderr)
   // rather than reported unsupported case by case; a technique asked for by name is always reported.
   bool techniques_given = false;
