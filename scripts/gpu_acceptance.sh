@@ -14,6 +14,8 @@
 #   multiview  GL and Vulkan multiview against six_pass with --check
 #   matrix     the untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
 #              (the untimed part at most a quarter of the run); clock samples recorded
+#   layouts    the equal-memory layout table (scripts/analysis/layout_table.py) on the GPU: cube and face_array, room
+#              and heavy, cubes 512 and 1024, GL and Vulkan, with --check
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
 #              depth format, wall and GPU time: PASS where the harness is within 1.1x
 #   precision  a 2% slowdown found at <= 1% false alarms in GPU time on the GPU-sized CI-style matrix, injected work
@@ -208,6 +210,20 @@ step_clocks() {
   fi
 }
 
+# Issue 27's equal-memory table on this GPU: each layout against the cube at the same texels, room and heavy, GL and
+# Vulkan, with --check (a failed check is a FAIL; the table is scripts/analysis/layout_table.py's).
+step_layouts() {
+  note "## layouts"
+  "$bin" run --backend gl,vulkan --scene room,heavy --cube 512,1024 --layout cube,face_array --technique six_pass \
+    --filter hard,pcf_disk20,hw_compare2x2,vsm --check --benchmark_repetitions=5 \
+    --benchmark_enable_random_interleaving=true --images none --out "$out/layouts/run" >"$out/layouts/run.log" 2>&1
+  exit_note $? "layouts run --check"
+  judge_checks "$out/layouts/run" || failed=1
+  /usr/bin/python3 "$here/scripts/analysis/layout_table.py" "$out/layouts/run" --out "$out/layouts/layouts.md" \
+    >/dev/null 2>&1
+  exit_note $? "layout_table.py ($out/layouts/layouts.md)"
+}
+
 step_tutorial() {
   note "## tutorial"
   /usr/bin/python3 "$here/scripts/experiments/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
@@ -256,7 +272,7 @@ step_precision() {
   fi
 }
 
-steps="exits checks clocks multiview matrix tutorial precision"
+steps="exits checks clocks multiview matrix tutorial precision layouts"
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] ($steps)" >&2; exit 2; }
 for step in "$@"; do
   case " $steps " in
