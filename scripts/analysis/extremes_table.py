@@ -105,6 +105,17 @@ MOMENTS_SECTIONS = [
 ]
 
 
+LAYOUT_SECTIONS = [
+    ("layouts_seams", "Layouts where faces meet (`--layout cube,face_array`, D32F)",
+     "`face_array` stores the cube's texels as six layers of a 2D array and picks the layer in the shader, so its "
+     "filtering clamps at each face's edge where the cube's crosses the seam. `seams` puts casters on the light's "
+     "diagonals, `grazing` lights surfaces at grazing angles, `nf_25` is the plain room. The NEAREST filters (hard, "
+     "pcf_disk20) must read the same texels in both layouts (the lookup check holds each to the cube-map rule); "
+     "hw_compare2x2 (2x2 bilinear compare) and vsm (bilinear moments) may differ at seams.",
+     lambda a: f"{a['backend']} / {a['filter']}", lambda a: f"`{a['scene']}` {a.get('layout', 'cube')}", cell),
+]
+
+
 def moments_sections(root):
     lines = ["", "## Moments filters' hazards (`--moments-tuning`, cube 512, `--check`)"]
     for folder, title, text, row_of, column_of, fmt in MOMENTS_SECTIONS:
@@ -113,6 +124,18 @@ def moments_sections(root):
             continue
         doc = load(path)
         lines += ["", f"### {title}", "", text, "", f"Run: `{command(doc)}`", ""]
+        lines += pivot(doc, row_of, column_of, fmt)
+    return lines
+
+
+def layout_sections(root):
+    lines = []
+    for folder, title, text, row_of, column_of, fmt in LAYOUT_SECTIONS:
+        path = os.path.join(root, folder)
+        if not os.path.isdir(path):
+            continue
+        doc = load(path)
+        lines += ["", f"## {title}", "", text, "", f"Run: `{command(doc)}`", ""]
         lines += pivot(doc, row_of, column_of, fmt)
     return lines
 
@@ -192,6 +215,7 @@ def main():
         lines += table(pcf, lambda a: f"{a['filter'].replace('pcf_', '')} x{a.get('pcf_scale', 1):g}", False)
     if args.moments:
         lines += moments_sections(args.moments)
+        lines += layout_sections(args.moments)
     if args.cube_sizes:
         sizes = load(args.cube_sizes)
         lines += ["", "## Cube sizes (nf_25)", "", "| case | status | misclassified % | reason / limit |",

@@ -80,8 +80,9 @@ def render(doc):
           "the storage's device memory. Misclassified: pixels whose shadow factor is on the other side of 0.5 from "
           "exact visibility. MAE: mean abs shadow-factor error against the point light. Shadow and lighting: median "
           "wall time of the timed frames (six_pass), as a multiple of the cube's at the same size in the same run.\n"]
+    md.append("\n## The equal-memory table")
     for (backend, scene, filt, depth), group in sorted(groups.items()):
-        md.append(f"\n## {backend} / {scene} / {filt} / {depth}"
+        md.append(f"\n### {backend} / {scene} / {filt} / {depth}"
                   f"{' (' + device[backend] + ')' if device.get(backend) else ''}\n")
         md.append("| layout | size | texels | memory | misclassified % | MAE point | shadow pass (x cube) | "
                   "lighting (x cube) | status |")

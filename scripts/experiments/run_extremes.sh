@@ -2,7 +2,7 @@
 # The numerical-stability suite: every scene of scenes/extremes/ (each names its purpose) across storages, depth
 # formats and both filter kinds, with the error against the ray-cast reference, NaN/Inf counts and flicker
 # (--stability: the next frame compared), then cube sizes 1, 2, 16 and beyond what memory allows on one scene.
-# Then every remedy on and off (--remedy), PCF radii, and the moments filters' hazards. Writes OUT/matrix,
+# Then every remedy on and off (--remedy), PCF radii, the moments filters' hazards and the layouts at seams. Writes OUT/matrix,
 # OUT/remedies, OUT/pcf, OUT/cube_sizes and OUT/moments_* (run folders) and OUT/extremes.md
 # (scripts/analysis/extremes_table.py).
 # Usage: scripts/experiments/run_extremes.sh OUT [extra omnishadow run arguments, e.g. --backend gl,vulkan]
@@ -45,5 +45,10 @@ hazard "${moments[@]}" --scene nf_25,nf_1e3 --filter vsm --depth-format d32f,d16
   --out "$out/moments_world" "$@"
 hazard "${moments[@]}" --scene nf_25,seams --filter hard,pcf_disk20,vsm,esm,evsm2,evsm4,msm \
   --out "$out/moments_seams" "$@"
+# Layouts at their extremes (issue 27): the face_array layout against the cube where faces meet (seams: casters on the
+# light's diagonals) and at grazing angles, with the filters that read across a seam (hw_compare2x2's 2x2, vsm's
+# bilinear) beside the NEAREST ones; --check holds each layout's lookups to the cube-map rule.
+hazard "${moments[@]}" --scene nf_25,seams,grazing --layout cube,face_array --filter hard,pcf_disk20,hw_compare2x2,vsm \
+  --out "$out/layouts_seams" "$@"
 /usr/bin/python3 "$here/scripts/analysis/extremes_table.py" "$out/matrix" "$out/cube_sizes" --remedies "$out/remedies" \
   --pcf "$out/pcf" --moments "$out" --out "$out/extremes.md"
