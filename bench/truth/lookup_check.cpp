@@ -60,9 +60,14 @@ unsigned tap_outcomes(const TapContext& ctx, const glm::dvec3& d, double error) 
   const double major = std::max({a.x, a.y, a.z});
   if (major <= 2.0 * error) return kLit | kOccluded;  // no direction to speak of
   const int size = ctx.images.cube_size;
+  // A face is a candidate when its axis is the major one however the components round, or when the point lies
+  // within the sub-texel step of the edge it shares with the major face: a seamless cube's NEAREST lookup that
+  // rounds a coordinate onto the edge reads the adjacent face's texel there (GL 4.5 8.13.1, Vulkan "Cube Map Edge
+  // Handling").
+  const double edge_band = major * 2.0 * ctx.subtexel / size;
   unsigned outcomes = 0;
   for (int axis = 0; axis < 3; ++axis) {
-    if (a[axis] < major - 2.0 * error) continue;  // not the major axis however the components round
+    if (a[axis] < major - 2.0 * error - edge_band) continue;
     const int face = 2 * axis + (d[axis] >= 0.0 ? 0 : 1);
     double sc, tc, ma;
     face_terms(d, face, sc, tc, ma);
