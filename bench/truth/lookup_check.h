@@ -10,7 +10,8 @@
 //     (Vulkan's limit; its minimum, 4 bits, is assumed for GL, which states none) plus the float rounding of the
 //     direction (two roundings of its largest component) and of the division (2.5 ulp, GLSL's precision);
 //     every texel within that of the exact point is allowed, and both faces where the major axis is that close to
-//     a tie (the seams: a face_array lookup picks its own face, as a cube sampler does);
+//     a tie or the point that close to the edge between them (a seamless cube's NEAREST lookup that rounds onto an
+//     edge reads the adjacent face's texel);
 //   - comparison: current - bias > stored may go either way within 1e-4 of the operands' size (the GL rule's 1 part
 //     in 1e5 per operation, about ten operations from position to comparison).
 // Anything else is a lookup that reads other texels than the rule's: a flipped axis, a face read from another
