@@ -67,7 +67,7 @@ unsigned tap_outcomes(const TapContext& ctx, const glm::dvec3& d, double error) 
   const double edge_band = major * 2.0 * ctx.subtexel / size;
   unsigned outcomes = 0;
   for (int axis = 0; axis < 3; ++axis) {
-    if (a[axis] < major - 2.0 * error - edge_band) continue;
+    if (a[axis] < major - 2.0 * error - edge_band || a[axis] <= 2.0 * error) continue;
     const int face = 2 * axis + (d[axis] >= 0.0 ? 0 : 1);
     double sc, tc, ma;
     face_terms(d, face, sc, tc, ma);
@@ -76,7 +76,8 @@ unsigned tap_outcomes(const TapContext& ctx, const glm::dvec3& d, double error) 
     const double slack_s = 0.5 * size * (error / ma * (1.0 + std::abs(sc / ma)) + 4.0 * kFloatUlp * (std::abs(sc / ma) + 1.0));
     const double slack_t = 0.5 * size * (error / ma * (1.0 + std::abs(tc / ma)) + 4.0 * kFloatUlp * (std::abs(tc / ma) + 1.0));
     const double u = 0.5 * (sc / ma + 1.0) * size, v = 0.5 * (tc / ma + 1.0) * size;
-    auto first = [size](double x) { return std::clamp(int(std::floor(x)), 0, size - 1); };
+    // Clamped as a double first: the conversion of an out-of-range value to int would be undefined.
+    auto first = [size](double x) { return int(std::clamp(std::floor(x), 0.0, double(size - 1))); };
     const double ds = slack_s + ctx.subtexel, dt = slack_t + ctx.subtexel;
     for (int t = first(v - dt); t <= first(v + dt); ++t)
       for (int s = first(u - ds); s <= first(u + ds); ++s) {
