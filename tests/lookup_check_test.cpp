@@ -3,6 +3,8 @@
 // shader's own table.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "bench/truth/lookup_check.h"
 
 namespace omnishadow::bench {
@@ -74,6 +76,22 @@ TEST(LookupCheck, KernelsAreTheShadersOwn) {
   in.filter = Filter::pcf_grid64;
   EXPECT_TRUE(check_lookups(one_pixel({10, 1, 2}, 30.0f, 0.0f), in).ok());
   EXPECT_FALSE(check_lookups(one_pixel({10, 1, 2}, 30.0f, 1.0f / 64.0f), in).ok());
+}
+
+// A read-back the check cannot make sense of (no far plane, positions at the light, non-finite values) allows
+// any texel rather than reading outside the cube.
+TEST(LookupCheck, DegenerateInputsAllowAnyTexel) {
+  LookupInputs in;
+  in.filter = Filter::pcf_disk20;
+  in.far_plane = 0.0;  // the radius divides by it
+  in.camera = {10, 1, 2};  // at the pixel: 0 / 0
+  EXPECT_TRUE(check_lookups(one_pixel({10, 1, 2}, 6.0f, 0.25f), in).ok());
+  in.filter = Filter::hard;
+  in.far_plane = 100.0;
+  EXPECT_TRUE(check_lookups(one_pixel({0, 0, 0}, 6.0f, 1.0f), in).ok()) << "the pixel at the light";
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_TRUE(check_lookups(one_pixel({10, nan, 2}, 6.0f, 1.0f), in).ok());
+  EXPECT_FALSE(check_lookups(one_pixel({10, 1, 2}, 6.0f, nan), in).ok()) << "a NaN shadow factor is no value";
 }
 
 TEST(LookupCheck, SaysWhyItDoesNotApply) {

@@ -58,7 +58,10 @@ unsigned texel_outcomes(const TapContext& ctx, int face, int s, int t) {
 unsigned tap_outcomes(const TapContext& ctx, const glm::dvec3& d, double error) {
   const glm::dvec3 a = glm::abs(d);
   const double major = std::max({a.x, a.y, a.z});
-  if (major <= 2.0 * error) return kLit | kOccluded;  // no direction to speak of
+  // No direction to speak of, or none at all (a non-finite position or far plane): any texel.
+  if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z) || !std::isfinite(error) ||
+      major <= 2.0 * error)
+    return kLit | kOccluded;
   const int size = ctx.images.cube_size;
   // A face is a candidate when its axis is the major one however the components round, or when the point lies
   // within the sub-texel step of the edge it shares with the major face: a seamless cube's NEAREST lookup that
@@ -76,8 +79,8 @@ unsigned tap_outcomes(const TapContext& ctx, const glm::dvec3& d, double error) 
     const double slack_s = 0.5 * size * (error / ma * (1.0 + std::abs(sc / ma)) + 4.0 * kFloatUlp * (std::abs(sc / ma) + 1.0));
     const double slack_t = 0.5 * size * (error / ma * (1.0 + std::abs(tc / ma)) + 4.0 * kFloatUlp * (std::abs(tc / ma) + 1.0));
     const double u = 0.5 * (sc / ma + 1.0) * size, v = 0.5 * (tc / ma + 1.0) * size;
-    // Clamped as a double first: the conversion of an out-of-range value to int would be undefined.
-    auto first = [size](double x) { return int(std::clamp(std::floor(x), 0.0, double(size - 1))); };
+    // Clamped as a double first (NaN to 0): the conversion of an out-of-range value to int would be undefined.
+    auto first = [size](double x) { return x >= 0.0 ? int(std::min(std::floor(x), double(size - 1))) : 0; };
     const double ds = slack_s + ctx.subtexel, dt = slack_t + ctx.subtexel;
     for (int t = first(v - dt); t <= first(v + dt); ++t)
       for (int s = first(u - ds); s <= first(u + ds); ++s) {
