@@ -116,28 +116,26 @@ LAYOUT_SECTIONS = [
 ]
 
 
-def moments_sections(root):
-    lines = ["", "## Moments filters' hazards (`--moments-tuning`, cube 512, `--check`)"]
-    for folder, title, text, row_of, column_of, fmt in MOMENTS_SECTIONS:
+def sections(root, table, heading):
+    """One pivot per (folder, title, text, row_of, column_of, fmt) of `table` whose run exists under root."""
+    lines = []
+    for folder, title, text, row_of, column_of, fmt in table:
         path = os.path.join(root, folder)
         if not os.path.isdir(path):
             continue
         doc = load(path)
-        lines += ["", f"### {title}", "", text, "", f"Run: `{command(doc)}`", ""]
+        lines += ["", f"{heading} {title}", "", text, "", f"Run: `{command(doc)}`", ""]
         lines += pivot(doc, row_of, column_of, fmt)
     return lines
+
+
+def moments_sections(root):
+    return ["", "## Moments filters' hazards (`--moments-tuning`, cube 512, `--check`)"] + \
+        sections(root, MOMENTS_SECTIONS, "###")
 
 
 def layout_sections(root):
-    lines = []
-    for folder, title, text, row_of, column_of, fmt in LAYOUT_SECTIONS:
-        path = os.path.join(root, folder)
-        if not os.path.isdir(path):
-            continue
-        doc = load(path)
-        lines += ["", f"## {title}", "", text, "", f"Run: `{command(doc)}`", ""]
-        lines += pivot(doc, row_of, column_of, fmt)
-    return lines
+    return sections(root, LAYOUT_SECTIONS, "##")
 
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

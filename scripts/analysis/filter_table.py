@@ -20,16 +20,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "lib"))
-from results_io import load_results  # noqa: E402
-
-
-def median_ms(case, pass_name):
-    m = case.get("timing", {}).get(pass_name, {}).get("cpu_wall_ms") or {}
-    return m.get("median")
-
-
-def ratio(value, base):
-    return f"{value / base:.2f}x" if value is not None and base else "-"
+from results_io import load_results, median_ms, ratio  # noqa: E402
 
 
 def mib(n):
