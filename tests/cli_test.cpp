@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdlib>
 
 #include <filesystem>
 #include <fstream>
@@ -557,9 +558,43 @@ TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
   EXPECT_NE(bad.err.find("--warmup-ms"), std::string::npos) << bad.err;
 }
 
+// --repetition-ms sizes each case's repetitions by time (gbench_glue.cpp, size_repetitions): at least --frames
+// timed frames, more until a repetition lasts that long; off by default on a CPU driver, so CI's counts stay put.
+// The work per frame and the images are those of a run without it.
+TEST_F(CliRun, RepetitionLengthInTimeAddsTimedFrames) {
+  const std::string args = "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
+                           "--frames 2 --warmup 1 --no-accuracy --benchmark_repetitions=2 --out ";
+  fs::path plain = scratch("repetition_plain"), sized = scratch("repetition_sized");
+  Outcome a = run(args + plain.string());
+  Outcome b = run(args + sized.string() + " --repetition-ms 60");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  auto timing = [](const fs::path& out) {
+    auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+    return j["omnishadow"]["cases"][0]["timing"];
+  };
+  EXPECT_EQ(timing(plain)["frames_per_repetition"], 2) << "a CPU driver keeps --frames by default";
+  EXPECT_EQ(timing(plain)["timed_frames"], 4);
+  const int sized_frames = timing(sized)["frames_per_repetition"].get<int>();
+  EXPECT_GT(sized_frames, 2) << "60 ms of a 64x48 frame is more than two frames";
+  EXPECT_EQ(timing(sized)["timed_frames"].get<int>(), 2 * sized_frames) << "every repetition the same length";
+  Outcome same = run("compare " + plain.string() + " " + sized.string() + " --no-timing --out " +
+                     scratch("repetition_cmp").string());
+  EXPECT_EQ(same.exit_code, 0) << same.out;
+  Outcome bad = run(args + scratch("repetition_bad").string() + " --repetition-ms -1");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--repetition-ms"), std::string::npos) << bad.err;
+}
+
 // --lock-clocks locks through NVML where this process may (then says so and the run goes on), and is a one-line
 // refusal naming the option and the backend anywhere else (here: llvmpipe's clock is the CPUs'), before any case.
 TEST_F(CliRun, LockClocksLocksThroughNvmlOrRefusesInOneLine) {
+  // On an NVIDIA machine this would lock the GPU's clock, which is the machine owner's call (a lent or shared GPU's
+  // settings are not ours): only where OMNISHADOW_TEST_LOCK_CLOCKS=1 says so.
+  const char* allowed = std::getenv("OMNISHADOW_TEST_LOCK_CLOCKS");
+  if (fs::exists("/dev/nvidiactl") && !(allowed && std::string(allowed) == "1"))
+    GTEST_SKIP() << "an NVIDIA GPU is present and --lock-clocks would lock its clock: set "
+                    "OMNISHADOW_TEST_LOCK_CLOCKS=1 on a machine whose clock settings are yours";
   fs::path out = scratch("lock_clocks");
   Outcome o = run("run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
                   "--frames 1 --warmup 0 --no-accuracy --no-images --lock-clocks --out " + out.string());

@@ -100,12 +100,28 @@ TEST(DeviceState, ClockWarningOnlyWhenTheClockMovedOrThrottled) {
   EXPECT_EQ(to_json(hot)["clock_mhz"], 1980);
 }
 
-TEST(DeviceState, ClockSteadyWhenTheLastReadingsAgree) {
-  EXPECT_FALSE(clock_steady({1980, 1980})) << "fewer readings than the window";
-  EXPECT_FALSE(clock_steady({345, 1125, 1755, 1980}));
-  EXPECT_TRUE(clock_steady({345, 1125, 1980, 1965, 1980})) << "within 2%";
-  EXPECT_FALSE(clock_steady({1980, 1980, 1890})) << "4.5% apart";
-  EXPECT_FALSE(clock_steady({-1, -1, -1})) << "an unknown clock never settles";
+// Readings 50 ms apart, as settle_clock takes them.
+std::vector<ClockReading> every_50ms(const std::vector<double>& mhz) {
+  std::vector<ClockReading> out;
+  for (size_t i = 0; i < mhz.size(); ++i) out.push_back({0.05 * static_cast<double>(i), mhz[i]});
+  return out;
+}
+
+TEST(DeviceState, ClockSteadyWhenTheReadingsAgreeForTheWholeWindow) {
+  EXPECT_FALSE(clock_steady(every_50ms({345, 345, 345})))
+      << "the H200's idle clock over its first 0.1 s of rendering is not steady: the readings must span the window";
+  EXPECT_FALSE(clock_steady(every_50ms(std::vector<double>(20, 1980)))) << "0.95 s: short of the 1 s window";
+  EXPECT_TRUE(clock_steady(every_50ms(std::vector<double>(21, 1980))));
+  std::vector<double> ramp{345, 630, 1125, 1755};
+  ramp.insert(ramp.end(), 20, 1980);
+  EXPECT_FALSE(clock_steady(every_50ms(ramp))) << "the last 1755 MHz reading is inside the window";
+  ramp.push_back(1965);
+  EXPECT_TRUE(clock_steady(every_50ms(ramp))) << "within 2% over the last second";
+  std::vector<double> drop(21, 1980);
+  drop[10] = 1890;
+  EXPECT_FALSE(clock_steady(every_50ms(drop))) << "4.5% below inside the window";
+  EXPECT_FALSE(clock_steady(every_50ms(std::vector<double>(30, -1)))) << "an unknown clock never settles";
+  EXPECT_TRUE(clock_steady({{0.0, 1125}, {2.0, 1125}}, 1.0)) << "sparse readings spanning the window";
 }
 
 // Here (no GPU) the probe reads the CPUs' frequency; on any machine it names its source and never throws.

@@ -109,6 +109,10 @@ void add_frame_options(CLI::App& r, RunOptions& o) {
                "untimed warm-up time per repetition as well as frames: the warm-up frames repeat until this long "
                "(default: 100 on a GPU, whose clock must ramp after each pause; 0 on a CPU driver)")
       ->check(CLI::Range(0.0, 600000.0));
+  r.add_option("--repetition-ms", o.repetition_ms,
+               "a repetition's length in time as well as frames: each case gets as many more timed frames as "
+               "this takes (default: 100 on a GPU, whose sub-millisecond frames vary a lot; 0 on a CPU driver)")
+      ->check(CLI::Range(0.0, 600000.0));
   r.add_option("--settle-s", o.settle_s,
                "before a backend's first timed repetition, render until the device clock is steady, at most this "
                "many seconds (0: don't)")

@@ -210,6 +210,7 @@ json timing_to_json(const CaseResult& r) {
   for (const FrameTiming& f : r.frames) frame_wall.push_back(f.frame_wall_ms);
   return {{"repetitions", r.repetitions},
           {"timed_frames", r.frames.size()},
+          {"frames_per_repetition", r.frames_per_repetition},
           {"warmup_frames", r.warmup.size()},
           {"frame_wall_ms", summary_to_json(frame_wall)},
           {"per_repetition", repetitions_to_json(r)},
@@ -334,6 +335,7 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
                         {{"warmup_frames", o.warmup_frames},
                          {"warmup_ms", o.warmup_ms},  // negative: automatic (100 on a GPU, 0 on a CPU driver)
                          {"settle_s", o.settle_s},
+                         {"repetition_ms", o.repetition_ms},  // negative: automatic (100 on a GPU, 0 on a CPU driver)
                          {"injected_fragment_work", injected_work_values(results)},
                          {"frames", o.frames},
                          {"check_frame", o.check_frame},

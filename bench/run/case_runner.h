@@ -50,10 +50,18 @@ struct RunOptions {
   double warmup_ms = -1.0;
   static constexpr double kGpuWarmupMs = 100.0;
   // Before a backend's first timed repetition, render its first case until the device clock reads steady
-  // (clock_steady: three readings 50 ms apart within 2%), at most this long; 0 skips it.
+  // (clock_steady: within 2% for a second of continuous rendering), at most this long; 0 skips it.
   double settle_s = 10.0;
   bool lock_clocks = false;  // --lock-clocks: NVML locked clocks for the run, a one-line refusal elsewhere
-  int frames = 10;                    // timed frames per repetition (Google Benchmark iterations)
+  int frames = 10;                    // timed frames per repetition (Google Benchmark iterations), at least
+  // A repetition's length in time as well (--repetition-ms): before the first round each case renders a few frames
+  // and gets as many more timed frames per repetition as this takes (CaseResult::frames_per_repetition). On a GPU
+  // a few sub-millisecond frames vary by 20-60% from one repetition to the next at a steady clock (an H200: 33 of
+  // 120 default cases' first and last repetitions more than 5% apart at 4 frames); Google Benchmark sizes its
+  // iterations by time for the same reason. Negative: kGpuRepetitionMs on a GPU, 0 on a CPU driver (its frames
+  // are long already, and the count stays the same from run to run, as instruction counts need).
+  double repetition_ms = -1.0;
+  static constexpr double kGpuRepetitionMs = 100.0;
   int check_frame = 0;                // the frame whose images are written and compared
   double face_tolerance = 0.0;        // world units; single-pass faces are expected bit-identical to six_pass
   double lit_tolerance = 0.0;         // 8-bit levels per channel
@@ -154,6 +162,7 @@ struct CaseResult {
   std::vector<FrameTiming> frames;            // every timed frame of every repetition
   GpuTimerCheck gpu_timer;
   int repetitions = 0;
+  int frames_per_repetition = 0;  // timed frames in each of its repetitions (RunOptions::repetition_ms); 0 untimed
   // Per repetition: the mean frame wall time and process CPU time of its timed frames (what Google Benchmark
   // reports per repetition and `compare` tests); the precision and stability figures are computed over these.
   std::vector<double> repetition_frame_ms, repetition_cpu_ms;

@@ -271,13 +271,16 @@ std::string clock_warning(const std::vector<DeviceState>& samples, double tolera
   return out;
 }
 
-bool clock_steady(const std::vector<double>& clocks_mhz, size_t window, double tolerance) {
-  if (window == 0 || clocks_mhz.size() < window) return false;
-  double lo = clocks_mhz.back(), hi = clocks_mhz.back();
-  for (size_t i = clocks_mhz.size() - window; i < clocks_mhz.size(); ++i) {
-    if (clocks_mhz[i] <= 0) return false;
-    lo = std::min(lo, clocks_mhz[i]);
-    hi = std::max(hi, clocks_mhz[i]);
+bool clock_steady(const std::vector<ClockReading>& readings, double window_s, double tolerance) {
+  if (readings.empty() || readings.back().seconds - readings.front().seconds < window_s) return false;
+  const double from = readings.back().seconds - window_s;
+  double lo = readings.back().mhz, hi = readings.back().mhz;
+  // Back to the last reading at or before the window's start, so that the readings cover all of it.
+  for (size_t i = readings.size(); i-- > 0;) {
+    if (readings[i].mhz <= 0) return false;
+    lo = std::min(lo, readings[i].mhz);
+    hi = std::max(hi, readings[i].mhz);
+    if (readings[i].seconds <= from) break;
   }
   return hi - lo <= tolerance * hi;
 }

@@ -50,9 +50,15 @@ std::unique_ptr<DeviceStateProbe> make_device_state_probe(const DeviceInfo& devi
 // (each sample is in results.json) but is no warning: each figure was measured at one clock.
 std::string clock_warning(const std::vector<DeviceState>& samples, double tolerance = 0.05);
 
-// Whether the last `window` clock readings agree within `tolerance` of the highest (the device has settled);
-// false while fewer are known.
-bool clock_steady(const std::vector<double>& clocks_mhz, size_t window = 3, double tolerance = 0.02);
+// One clock reading `seconds` after rendering began.
+struct ClockReading {
+  double seconds = 0.0;
+  double mhz = -1.0;
+};
+// Whether the clock held within `tolerance` of the highest reading over the last `window_s` seconds (the device has
+// settled): false until the readings span the window. A span, not a count of readings: an H200 read 345 MHz for
+// the first 0.1 s of continuous rendering, and three readings 50 ms apart called that idle clock steady.
+bool clock_steady(const std::vector<ClockReading>& readings, double window_s = 1.0, double tolerance = 0.02);
 // "1410-1980 MHz, 41-63 C" over the samples (the parts known); "-" when nothing is.
 std::string clock_range(const std::vector<DeviceState>& samples);
 

@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <functional>
 #include <set>
 
 namespace omnishadow::bench {
@@ -58,34 +60,60 @@ struct Progress {
 
 constexpr int kMaxTimedWarmupFrames = 100000;  // --warmup-ms ends at this many frames whatever the time
 
-// Renders `config`'s frames until the device clock reads steady (clock_steady over readings >= 50 ms apart) or
-// `limit_s` passed; one line on stderr either way. Frame 0 again and again: untimed, nothing recorded.
+// Renders `config`'s frames without a pause until the device clock reads steady (clock_steady: within 2% for a
+// second, readings 50 ms apart) or `limit_s` passed; one line on stderr either way. Frame 0 again and again:
+// untimed, nothing recorded.
 void settle_clock(Harness& harness, const CaseConfig& config, double limit_s) {
   Backend& b = harness.activate(config);
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  std::vector<double> clocks{harness.sample_device(config.backend).clock_mhz};
+  std::vector<ClockReading> clocks{{0.0, harness.sample_device(config.backend).clock_mhz}};
   const std::string source = harness.device_state_source(config.backend);
-  if (clocks.back() <= 0) {
+  if (clocks.back().mhz <= 0) {
     std::fprintf(stderr, "[settle] %s: no clock reading (%s): timing without waiting for one\n", config.backend.c_str(),
                  source.c_str());
     return;
   }
-  auto last = std::chrono::steady_clock::now();
   while (!clock_steady(clocks) && seconds() < limit_s) {
     b.render(0, FrameKind::timed);
-    if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - last).count() < 50.0) continue;
-    last = std::chrono::steady_clock::now();
-    clocks.push_back(harness.sample_device(config.backend).clock_mhz);
+    if (seconds() - clocks.back().seconds < 0.05) continue;
+    clocks.push_back({seconds(), harness.sample_device(config.backend).clock_mhz});
   }
-  const auto [lo, hi] = std::minmax_element(clocks.end() - std::min<size_t>(clocks.size(), 3), clocks.end());
-  std::fprintf(stderr, "[settle] %s: clock %s at %.0f-%.0f MHz after %.1f s (%s, started at %.0f MHz)\n",
-               config.backend.c_str(), clock_steady(clocks) ? "steady" : "NOT steady", *lo, *hi, seconds(),
-               source.c_str(), clocks.front());
+  double lo = clocks.back().mhz, hi = lo;
+  for (const ClockReading& c : clocks)
+    if (c.seconds >= clocks.back().seconds - 1.0) lo = std::min(lo, c.mhz), hi = std::max(hi, c.mhz);
+  std::fprintf(stderr, "[settle] %s: clock %s at %.0f-%.0f MHz over the last second, after %.1f s (%s, started at %.0f MHz)\n",
+               config.backend.c_str(), clock_steady(clocks) ? "steady" : "NOT steady", lo, hi, seconds(),
+               source.c_str(), clocks.front().mhz);
 }
 
 // Cases whose checks ran (passed or not) are timed; cases that could not be prepared are not.
 bool is_timed(Status s) { return s == Status::ok || s == Status::failed_check || s == Status::failed_quality; }
+
+// Timed frames per repetition for each case: RunOptions::frames, or more where a repetition of that many frames
+// would last less than RunOptions::repetition_ms (measured here over a few frames after warm-up frames).
+void size_repetitions(Harness& harness, std::vector<CaseResult>& results, const std::function<bool()>& stop) {
+  const RunOptions& o = harness.options();
+  for (CaseResult& r : results) {
+    if (!is_timed(r.status) || stop()) continue;
+    r.frames_per_repetition = o.frames;
+    try {
+      Backend& b = harness.activate(r.config);
+      const double target_ms = o.repetition_ms >= 0 ? o.repetition_ms
+                                                    : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuRepetitionMs);
+      if (target_ms <= 0) continue;
+      for (int i = 0; i < std::max(o.warmup_frames, 1); ++i) b.render(i, FrameKind::timed);
+      double ms = 0.0;
+      int n = 0;
+      while (n < 3 || (ms < 10.0 && n < 100)) ms += b.render(n++ % std::max(o.warmup_frames, 1), FrameKind::timed).frame_wall_ms;
+      const double per_frame = std::max(ms / n, 1e-3);
+      r.frames_per_repetition =
+          std::clamp(static_cast<int>(std::ceil(target_ms / per_frame)), o.frames, kMaxTimedWarmupFrames);
+    } catch (const std::exception&) {  // the case's own repetition reports the failure
+    }
+  }
+}
+
 
 // One repetition of one case: warm-up frames, then the timed frames Google Benchmark iterates over.
 void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
@@ -218,6 +246,7 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, const Repetit
         }
       }
   }
+  size_repetitions(harness, results, stop_requested);
   for (;;) {
     std::vector<CaseResult*> round = next_round(results, policy, progress.elapsed());
     if (round.empty() || stop_requested()) break;
@@ -237,7 +266,7 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, const Repetit
                                      after_case();
                                    })
           ->UseManualTime()
-          ->Iterations(frames)
+          ->Iterations(r->frames_per_repetition > 0 ? r->frames_per_repetition : frames)
           ->Unit(benchmark::kMillisecond);
     benchmark::RunSpecifiedBenchmarks(&reporter);
     benchmark::ClearRegisteredBenchmarks();

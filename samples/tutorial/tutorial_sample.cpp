@@ -6,9 +6,11 @@
 //
 // Usage: omnishadow_tutorial_sample [--filter hard|pcf_grid64|pcf_disk20] [--albedo texture|constant]
 //                                   [--depth-format d32f|d24|unsized] [--cube 1024] [--size 800x600]
-//                                   [--frames 30] [--warmup 5] [--png FILE]
+//                                   [--camera-depth d24s8|d32f] [--frames 30] [--warmup 5] [--png FILE]
 // --depth-format: the cube's depth format, d32f by default as the harness's (the tutorial's unsized
 // GL_DEPTH_COMPONENT is 24-bit on NVIDIA: a different format costs differently, so A/B runs name one).
+// --camera-depth: the window's depth buffer, d24s8 by default (GLFW's default framebuffer); d32f is the harness's
+// lighting target's (gl_targets.cpp), to tell a difference in the lighting pass's cost by that format alone.
 // Prints one JSON object: per pass the median wall time from the first command to glFinish (as the harness times
 // its passes) and the median GPU time (GL_TIME_ELAPSED around the pass), in milliseconds.
 
@@ -36,6 +38,7 @@ namespace {
 struct Options {
   std::string filter = "hard", albedo = "texture", png;  // png: write the last frame there (to look at it)
   std::string depth_format = "d32f";
+  std::string camera_depth = "d24s8";
   int cube = 1024, width = 800, height = 600, frames = 30, warmup = 5;
 };
 
@@ -48,6 +51,7 @@ Options parse(int argc, char** argv) {
     if (arg == "--filter") o.filter = value;
     else if (arg == "--albedo") o.albedo = value;
     else if (arg == "--depth-format") o.depth_format = value;
+    else if (arg == "--camera-depth") o.camera_depth = value;
     else if (arg == "--png") o.png = value;
     else if (arg == "--cube") o.cube = std::stoi(value);
     else if (arg == "--frames") o.frames = std::stoi(value);
@@ -58,6 +62,8 @@ Options parse(int argc, char** argv) {
   if (o.filter != "hard" && o.filter != "pcf_grid64" && o.filter != "pcf_disk20")
     throw std::invalid_argument("--filter: hard, pcf_grid64 or pcf_disk20, not " + o.filter);
   if (o.albedo != "texture" && o.albedo != "constant") throw std::invalid_argument("--albedo: texture or constant");
+  if (o.camera_depth != "d24s8" && o.camera_depth != "d32f")
+    throw std::invalid_argument("--camera-depth: d24s8 or d32f, not " + o.camera_depth);
   if (o.depth_format != "d32f" && o.depth_format != "d24" && o.depth_format != "unsized")
     throw std::invalid_argument("--depth-format: d32f, d24 or unsized, not " + o.depth_format);
   if (o.cube < 1 || o.frames < 1 || o.warmup < 0 || o.width < 1 || o.height < 1)
@@ -193,18 +199,19 @@ GLuint depth_cube_framebuffer(int size, const std::string& format, GLuint& depth
   return fbo;
 }
 
-// The window's framebuffer, headless: RGBA8 colour and 24-bit depth (with stencil, as GLFW's default).
-GLuint window_framebuffer(int width, int height) {
+// The window's framebuffer, headless: RGBA8 colour and 24-bit depth with stencil (GLFW's default), or D32F.
+GLuint window_framebuffer(int width, int height, bool d32f) {
   GLuint fbo = 0, buffers[2] = {};
   glGenFramebuffers(1, &fbo);
   glGenRenderbuffers(2, buffers);
   glBindRenderbuffer(GL_RENDERBUFFER, buffers[0]);
   glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
   glBindRenderbuffer(GL_RENDERBUFFER, buffers[1]);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
+  glRenderbufferStorage(GL_RENDERBUFFER, d32f ? GL_DEPTH_COMPONENT32F : GL_DEPTH24_STENCIL8, width, height);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, d32f ? GL_DEPTH_ATTACHMENT : GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                            buffers[1]);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("the headless window framebuffer is incomplete");
   return fbo;
@@ -223,7 +230,7 @@ class TutorialRenderer {
         vao_(cube_vao()),
         wood_(wood_texture()),
         depth_fbo_(depth_cube_framebuffer(o.cube, o.depth_format, depth_cube_)),
-        window_fbo_(window_framebuffer(o.width, o.height)) {
+        window_fbo_(window_framebuffer(o.width, o.height, o.camera_depth == "d32f")) {
     glEnable(GL_DEPTH_TEST);
     const glm::mat4 shadow_proj = glm::perspective(glm::radians(90.0f), 1.0f, kNear, kFar);
     const glm::vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};

@@ -6,7 +6,9 @@ Alternates, in one sitting, the harness (`run --backend gl --scene room --cube 1
 geometry_shader --filter hard,pcf_grid64,pcf_disk20`) with samples/tutorial (the same room, camera and light
 rendered as the tutorial renders it: one RGBA8 colour buffer and a depth buffer, cleared each frame, the chapter's
 shaders; with its diffuse texture, and with the harness's constant albedo). Both time a pass from its first command
-to glFinish. Reports per filter the median over rounds of each program's median lighting and shadow pass, and the
+to glFinish. Same formats in both: the cube D32F, and the camera's depth buffer D32F as the harness's lighting
+target (the sample's GLFW-default D24S8 is measured beside it: a cheaper depth buffer makes a cheaper lighting
+pass). Reports per filter the median over rounds of each program's median lighting and shadow pass, and the
 harness's passes as multiples of the sample's, wall and GPU time (timer queries in both): PASS where at most
 1.1x, exit 1 otherwise.
 
@@ -49,10 +51,10 @@ def run_harness(out, frames):
     return out
 
 
-def run_sample(filter_name, albedo, frames):
-    # The harness's depth format (D32F), named: the tutorial's unsized format is 24-bit on NVIDIA.
+def run_sample(filter_name, albedo, camera_depth, frames):
+    # The harness's cube format (D32F), named: the tutorial's unsized format is 24-bit on NVIDIA.
     cmd = [os.path.join(BUILD, "omnishadow_tutorial_sample"), "--filter", filter_name, "--albedo", albedo,
-           "--depth-format", "d32f", "--frames", str(frames), "--warmup", "5"]
+           "--depth-format", "d32f", "--camera-depth", camera_depth, "--frames", str(frames), "--warmup", "5"]
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode != 0:
         sys.exit(f"tutorial_ab: {' '.join(cmd)} failed: {done.stderr.strip()}")
@@ -74,7 +76,9 @@ def main():
     if os.path.exists(args.out):
         shutil.rmtree(args.out)  # the harness refuses a folder that already holds a run
     os.makedirs(args.out)
-    arms = ["harness", "sample_texture", "sample_constant"]
+    # sample_texture: the tutorial's shaders and texture at the harness's formats (the verdict's reference);
+    # sample_constant: the harness's albedo; sample_d24s8: the camera depth of GLFW's default framebuffer.
+    arms = ["harness", "sample_texture", "sample_constant", "sample_d24s8"]
     passes = ("shadow", "lighting", "shadow_gpu", "lighting_gpu")
     samples = {arm: {f: {p: [] for p in passes} for f in FILTERS} for arm in arms}
     renderer = ""
@@ -87,7 +91,8 @@ def main():
             else:
                 got = {}
                 for f in FILTERS:
-                    got[f] = run_sample(f, arm.split("_")[1], args.frames)
+                    albedo = "constant" if arm == "sample_constant" else "texture"
+                    got[f] = run_sample(f, albedo, "d24s8" if arm == "sample_d24s8" else "d32f", args.frames)
                     renderer = got[f]["renderer"]
             for f in FILTERS:
                 for p in passes:
@@ -101,18 +106,23 @@ def main():
           f"`scripts/experiments/tutorial_ab.py --rounds {args.rounds} --frames {args.frames}` on {renderer}: the room at "
           "800x600, cube 1024, geometry-shader shadow pass, light at the origin. Rounds alternate the harness and "
           "`omnishadow_tutorial_sample` (the tutorial's framebuffer, shaders and texture; `constant`: the harness's "
-          "albedo instead of the texture). Medians over rounds of each run's median pass time (ms, first command to "
-          "glFinish) and GPU time (timer queries around the pass). The harness's passes against the sample's at the "
-          f"same depth format (D32F), wall and GPU: PASS where at most {LIMIT}x.\n",
-          "| filter | harness lighting | sample lighting (texture) | sample lighting (constant) | harness / sample "
-          "(texture) | harness / sample (constant) | harness shadow | sample shadow |",
-          "|---|---|---|---|---|---|---|---|"]
+          "albedo instead of the texture; `d24s8`: GLFW's default camera depth instead of the harness's D32F). "
+          "Medians over rounds of each run's median pass time (ms, first command to glFinish) and GPU time (timer "
+          "queries around the pass). The harness's passes against the sample's at the same depth formats (cube and "
+          f"camera D32F), wall and GPU: PASS where at most {LIMIT}x.\n",
+          "| filter | harness lighting | sample lighting (texture) | sample lighting (constant) | sample lighting "
+          "(texture, D24S8 camera) | harness / sample (texture) | harness / sample (constant) | harness / sample "
+          "(D24S8 camera) | harness lighting GPU | sample lighting GPU | sample lighting GPU (D24S8 camera) | "
+          "harness shadow | sample shadow |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     result = {"rounds": args.rounds, "frames": args.frames, "renderer": renderer, "medians": med, "samples": samples}
     for f in FILTERS:
-        h, t, c = med["harness"][f], med["sample_texture"][f], med["sample_constant"][f]
-        md.append(f"| {f} | {h['lighting']:.2f} | {t['lighting']:.2f} | {c['lighting']:.2f} | "
-                  f"{h['lighting'] / t['lighting']:.2f}x | {h['lighting'] / c['lighting']:.2f}x | {h['shadow']:.2f} | "
-                  f"{t['shadow']:.2f} |")
+        h, t, c, d = (med[a][f] for a in ("harness", "sample_texture", "sample_constant", "sample_d24s8"))
+        gpu = lambda v: "-" if v is None else f"{v:.3f}"
+        md.append(f"| {f} | {h['lighting']:.2f} | {t['lighting']:.2f} | {c['lighting']:.2f} | {d['lighting']:.2f} | "
+                  f"{h['lighting'] / t['lighting']:.2f}x | {h['lighting'] / c['lighting']:.2f}x | "
+                  f"{h['lighting'] / d['lighting']:.2f}x | {gpu(h['lighting_gpu'])} | {gpu(t['lighting_gpu'])} | "
+                  f"{gpu(d['lighting_gpu'])} | {h['shadow']:.2f} | {t['shadow']:.2f} |")
     # The apples-to-apples verdict: the harness's pass against the sample's, the sample as the tutorial ships it
     # (texture), wall and GPU time; a pass above LIMIT says what the harness adds there.
     md += ["", "| filter | pass | time | harness ms | sample ms | ratio | verdict |", "|---|---|---|---|---|---|---|"]
