@@ -95,7 +95,8 @@ class HarnessTest : public ::testing::Test {
   // warmup_ms 0: the scripted device is a GPU (it does not share host memory), whose automatic 100 ms of warm-up
   // by time would render thousands of scripted frames; the test of that default asks for it (-1).
   void start(RunOptions::ImagePolicy images,
-             RunOptions::CubeReadBackPolicy cube = RunOptions::CubeReadBackPolicy::automatic, double warmup_ms = 0) {
+             RunOptions::CubeReadBackPolicy cube = RunOptions::CubeReadBackPolicy::automatic, double warmup_ms = 0,
+             double repetition_ms = 0) {
     out_ = fs::temp_directory_path() / ("omnishadow_harness_" + std::to_string(::getpid()));
     fs::remove_all(out_);
     fs::create_directories(out_);
@@ -107,6 +108,7 @@ class HarnessTest : public ::testing::Test {
     o.frames = 3;
     o.warmup_frames = 1;
     o.warmup_ms = warmup_ms;
+    o.repetition_ms = repetition_ms;  // 0: the counts these tests assert; the scripted device passes for a GPU
     o.settle_s = 0;  // the scripted device has no clock to settle
     harness_ = std::make_unique<Harness>(o);
     auto backend = std::make_unique<ScriptedBackend>();
@@ -269,6 +271,24 @@ TEST_F(HarnessTest, GpuWarmupGoesOnByTime) {
   }
   ASSERT_GT(timed, 0);
   EXPECT_GE(seconds, 0.1 * timed) << "each timed repetition warmed up for at least 100 ms";
+}
+
+// On a GPU (the scripted device: 5 ms frames) a repetition lasts --repetition-ms, 100 by default: 20 frames, the
+// same in every repetition; --frames stays the least.
+TEST_F(HarnessTest, GpuRepetitionsLastLongEnoughInTime) {
+  start(RunOptions::ImagePolicy::none, RunOptions::CubeReadBackPolicy::automatic, 0.0, -1.0);
+  std::vector<CaseResult> results = prepare_all({Filter::hard});
+  RepetitionPolicy two;
+  two.repetitions = 2;
+  run_timed(*harness_, results, two, (out_ / "raw.json").string(), [] {}, [] { return false; });
+  int timed = 0;
+  for (const CaseResult& r : results) {
+    if (r.frames.empty()) continue;
+    ++timed;
+    EXPECT_EQ(r.frames_per_repetition, 20) << r.config.id() << ": 100 ms of 5 ms frames";
+    EXPECT_EQ(r.frames.size(), 40u) << r.config.id();
+  }
+  ASSERT_GT(timed, 0);
 }
 
 TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {
