@@ -2,6 +2,12 @@
 // Layered single pass: each triangle is sent to the six faces through gl_Layer.
 #include "common.glsl"
 #include "raster_perturb.glsl"
+#if defined(LAYOUT_DUAL_PARABOLOID)
+// The vertex stage warped each vertex into both layers (shadow_depth.vert says why there): routed, not recomputed.
+layout(location = 1) in vec4 layer_clip0[];
+layout(location = 2) in vec4 layer_clip1[];
+layout(location = 3) in vec2 layer_forward[];
+#endif
 
 #if defined(GS_INSTANCED)
 layout(triangles, invocations = 6) in;      // one invocation per face
@@ -33,7 +39,16 @@ bool beyond_one_plane(vec4 c0, vec4 c1, vec4 c2) {
 
 void emit_face(int face) {
   vec4 clip[3];
+#if defined(LAYOUT_DUAL_PARABOLOID)
+  // Layer `face` of the two; the other hemisphere is clipped away (gl_ClipDistance, per vertex below).
+  float forward[3];
+  for (int i = 0; i < 3; ++i) {
+    clip[i] = face == 0 ? layer_clip0[i] : layer_clip1[i];
+    forward[i] = face == 0 ? layer_forward[i].x : layer_forward[i].y;
+  }
+#else
   for (int i = 0; i < 3; ++i) clip[i] = perturb_raster(frame.face_view_proj[face] * gl_in[i].gl_Position);
+#endif
 #if defined(FACE_CULLING)
   if (beyond_one_plane(clip[0], clip[1], clip[2])) return;
 #endif
@@ -43,6 +58,9 @@ void emit_face(int face) {
     world_position = gl_in[i].gl_Position.xyz;
 #endif
     gl_Position = clip[i];
+#if defined(LAYOUT_DUAL_PARABOLOID)
+    gl_ClipDistance[0] = forward[i];
+#endif
     EmitVertex();
   }
   EndPrimitive();
@@ -52,6 +70,10 @@ void main() {
 #if defined(GS_INSTANCED)
   emit_face(gl_InvocationID);
 #else
+#if defined(LAYOUT_DUAL_PARABOLOID)
+  for (int layer = 0; layer < 2; ++layer) emit_face(layer);
+#else
   for (int face = 0; face < 6; ++face) emit_face(face);
+#endif
 #endif
 }

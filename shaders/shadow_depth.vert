@@ -10,6 +10,9 @@ layout(num_views = 6) in;  // GL: the framebuffer's six views of the cube's arra
 #endif
 #include "common.glsl"
 #include "raster_perturb.glsl"
+#if defined(LAYOUT_DUAL_PARABOLOID)
+#include "paraboloid.glsl"
+#endif
 
 layout(location = 0) in vec3 in_position;
 
@@ -19,12 +22,28 @@ layout(location = 0) in vec3 in_position;
 layout(location = 0) out vec3 world_position;
 #endif
 
+#if defined(LAYOUT_DUAL_PARABOLOID) && defined(TECHNIQUE_GEOMETRY_SHADER)
+// Both layers' warped positions, computed here and only routed by the GS: the same vertex-stage arithmetic as
+// six_pass's (the warp's sqrt and division round as the stage that runs them does, and a GS's may differ: llvmpipe's
+// did by an ulp on 0.6% of texels), so every technique stores the same values.
+layout(location = 1) out vec4 layer_clip0;
+layout(location = 2) out vec4 layer_clip1;
+layout(location = 3) out vec2 layer_forward;
+#endif
+
 void main() {
 #if defined(TECHNIQUE_SIX_PASS)
 #ifdef WRITE_WORLD_POSITION
   world_position = in_position;
 #endif
+#if defined(LAYOUT_DUAL_PARABOLOID)
+  // One pass per layer: pass.face is the layer, and the other hemisphere is clipped away.
+  float forward;
+  gl_Position = perturb_raster(paraboloid_clip(pass.face, in_position, forward));
+  gl_ClipDistance[0] = forward;
+#else
   gl_Position = perturb_raster(frame.face_view_proj[pass.face] * vec4(in_position, 1.0));
+#endif
 #elif defined(TECHNIQUE_VS_LAYER)
 #ifdef VULKAN
   int instance = gl_InstanceIndex;
@@ -58,5 +77,9 @@ void main() {
 #else
   // Geometry-shader techniques transform per face in the GS.
   gl_Position = vec4(in_position, 1.0);
+#if defined(LAYOUT_DUAL_PARABOLOID)
+  layer_clip0 = perturb_raster(paraboloid_clip(0, in_position, layer_forward.x));
+  layer_clip1 = perturb_raster(paraboloid_clip(1, in_position, layer_forward.y));
+#endif
 #endif
 }

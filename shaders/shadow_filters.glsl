@@ -58,6 +58,15 @@ vec3 shadow_coord(vec3 dir) {
   }
   return vec3(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0), face);
 }
+#elif defined(LAYOUT_DUAL_PARABOLOID)
+// Layout dual_paraboloid (shaders/paraboloid.glsl): two layers of a 2D array, each a hemisphere's paraboloid.
+#include "paraboloid.glsl"
+#if defined(FILTER_HW_COMPARE2X2)
+layout(binding = 2) uniform sampler2DArrayShadow shadow_map;  // LINEAR + compare, clamped to the layer
+#else
+layout(binding = 2) uniform sampler2DArray shadow_map;        // NEAREST, no compare
+#endif
+vec3 shadow_coord(vec3 dir) { return paraboloid_coord(dir); }
 #else
 #if defined(FILTER_HW_COMPARE2X2)
 layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 2x2 bilinear PCF in hardware

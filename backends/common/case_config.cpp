@@ -1,6 +1,7 @@
 #include "backends/common/case_config.h"
 
 #include "backends/common/layouts.h"
+#include "backends/common/paraboloid.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 
@@ -129,7 +130,21 @@ Support moments_tuning_support(Filter filter, const MomentsTuning& t) {
 }
 }  // namespace
 
+int layer_size(Layout layout, int cube_size) {
+  return traits(layout).texel_map == TexelMap::paraboloid ? paraboloid::layer_size_for_cube(cube_size) : cube_size;
+}
+
 Support common_support(const CaseConfig& c) {
+  if (traits(c.layout).texel_map == TexelMap::paraboloid) {
+    if (c.technique != Technique::six_pass && c.technique != Technique::geometry_shader)
+      return {false, "dual_paraboloid is drawn by six_pass (one pass per layer) and geometry_shader so far"};
+    if (c.storage != Storage::linear_depth && c.storage != Storage::r32f_distance)
+      return {false, "dual_paraboloid stores a distance (linear_depth or r32f_distance): its warp has no projective "
+                     "depth, and its moments filters are not built yet"};
+    if (c.optimizations.face_culling)
+      return {false, "face culling: the plans cull against cube faces' frusta, not hemispheres"};
+    if (c.lookup_perturb_texels != 0.0f) return {false, "--lookup-perturb moves cube lookups only"};
+  }
   if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
     return {false, "hw_compare2x2 compares against linear distance / far (storage linear_depth); " +
                        std::string(to_string(c.storage)) +
@@ -156,6 +171,7 @@ std::string CaseConfig::id() const {
                    std::string(to_string(filter)) + "/" + std::string(to_string(storage)) + "/" +
                    std::string(to_string(depth_format));
   if (layout != Layout::cube) id += "/" + std::string(to_string(layout));  // cube ids stay as they were before layouts
+  if (tessellation != 1) id += "/t" + std::to_string(tessellation);
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";

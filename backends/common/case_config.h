@@ -55,6 +55,8 @@ enum class Layout {
   cube,        // a cube map sampled by direction: the hardware picks the face and filters across seams (seamless)
   face_array,  // the six faces as layers of a 2D array (Filament's six 2D maps): the shader picks the layer and
                // (s, t) by the cube-map rule, and filtering clamps at each face's edge
+  dual_paraboloid,  // two hemispheres, each a paraboloid warped in the shadow pass's vertex stage (Godot's "faster,
+                    // lower quality"; backends/common/paraboloid.h), layers sized to a cube's memory
 };
 
 std::string_view to_string(Technique v);
@@ -155,6 +157,9 @@ struct CaseConfig {
   Storage storage = Storage::linear_depth;
   DepthFormat depth_format = DepthFormat::d32f;
   Layout layout = Layout::cube;  // in the id as /face_array after the depth format; nothing for the cube
+  // Every triangle of the scene subdivided into tessellation^2 (--tessellate; scenes/tessellate.h): the same
+  // surfaces in more, smaller triangles, for layouts whose error depends on it. In the id as /t<n> unless 1.
+  int tessellation = 1;
   Optimizations optimizations;
   Remedies remedies;
   MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default

@@ -49,6 +49,8 @@ void summarize_on_host(Images& img) {
   img.cube_summary_on_device = false;
   for (size_t f = 0; f < 6; ++f) {
     const std::vector<float>& face = img.cube_distance[f];
+    img.cube_sample[f].clear();
+    if (face.empty()) continue;  // a layout of fewer layers (dual_paraboloid: 2) leaves the rest empty
     uint32_t low = 0, high = 0;
     uint64_t non_finite = 0;
     for (size_t i = 0; i < face.size(); ++i) {
@@ -59,7 +61,6 @@ void summarize_on_host(Images& img) {
       non_finite += !std::isfinite(face[i]);
     }
     img.cube_summary[f] = {uint64_t(high) << 32 | low, non_finite};
-    img.cube_sample[f].clear();
     for (int y = 0; y < grid; ++y)
       for (int x = 0; x < grid; ++x)
         img.cube_sample[f].push_back(face[size_t(y * stride + stride / 2) * size_t(n) + size_t(x * stride + stride / 2)]);

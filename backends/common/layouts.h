@@ -15,6 +15,7 @@ namespace omnishadow {
 enum class TexelMap {
   cube_faces,  // layer f is cube face f (face order and up vectors in cube_faces.h), texel <-> direction by the
                // cube-map rule (GL 4.5 table 8.19): the cube's own map
+  paraboloid,  // layer 0 the hemisphere z >= 0, layer 1 z < 0, each a paraboloid (backends/common/paraboloid.h)
 };
 
 // How the lighting pass turns a direction into a stored value.
@@ -22,6 +23,7 @@ enum class LayoutLookup {
   hardware_cube,  // samplerCube: the sampler selects the face; LINEAR filtering crosses seams (Vulkan's cubes are
                   // seamless; the GL backend enables GL_TEXTURE_CUBE_MAP_SEAMLESS)
   shader_face,    // sampler2DArray: the shader selects layer and (s, t) by the same rule; filtering clamps per face
+  shader_paraboloid,  // sampler2DArray: the shader selects the hemisphere's layer and its paraboloid point
 };
 
 struct LayoutTraits {
@@ -33,9 +35,11 @@ struct LayoutTraits {
   LayoutLookup lookup;
 };
 
-inline constexpr std::array<LayoutTraits, 2> kLayouts = {{
+inline constexpr std::array<LayoutTraits, 3> kLayouts = {{
     {Layout::cube, "cube", "", 6, TexelMap::cube_faces, LayoutLookup::hardware_cube},
     {Layout::face_array, "face_array", "LAYOUT_FACE_ARRAY", 6, TexelMap::cube_faces, LayoutLookup::shader_face},
+    {Layout::dual_paraboloid, "dual_paraboloid", "LAYOUT_DUAL_PARABOLOID", 2, TexelMap::paraboloid,
+     LayoutLookup::shader_paraboloid},
 }};
 
 constexpr const LayoutTraits& traits(Layout l) {
@@ -49,5 +53,9 @@ constexpr bool every_layout_has_its_row() {
   return true;
 }
 static_assert(every_layout_has_its_row(), "kLayouts lists the layouts in enum order");
+
+// A layer's edge in texels for `--cube N`: the size axis is memory, so every layout stores about 6 N^2 texels (the
+// equal-memory comparison of issue 27): a cube face N, a paraboloid layer round(N sqrt 3).
+int layer_size(Layout layout, int cube_size);
 
 }  // namespace omnishadow

@@ -16,6 +16,7 @@ std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
   std::vector<std::string> d{std::string(t.vertex_define)};
   if (t.culling == CullingForm::per_object_masks && c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
+  if (traits(c.layout).texel_map == TexelMap::paraboloid) d.push_back("LAYOUT_DUAL_PARABOLOID");
   return d;
 }
 
@@ -26,10 +27,15 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   if (t.gs_instanced) d.push_back("GS_INSTANCED");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
+  if (traits(c.layout).texel_map == TexelMap::paraboloid) d.push_back("LAYOUT_DUAL_PARABOLOID");
   return d;
 }
 
-std::vector<std::string> shadow_fragment_defines(const CaseConfig& c) { return {storage_define(c.storage)}; }
+std::vector<std::string> shadow_fragment_defines(const CaseConfig& c) {
+  std::vector<std::string> d{storage_define(c.storage)};
+  if (traits(c.layout).texel_map == TexelMap::paraboloid) d.push_back("LAYOUT_DUAL_PARABOLOID");
+  return d;
+}
 
 std::string variant_key(const std::string& file, const std::vector<std::string>& defines) {
   std::string key = file + ":";
@@ -84,6 +90,20 @@ std::vector<std::string> spirv_variant_keys() {
         if (t.geometry_stage) keys.insert(variant_key("shadow_depth.geom", shadow_geometry_defines(c)));
         keys.insert(variant_key("shadow_depth.frag", shadow_fragment_defines(c)));
       }
+  // The layouts' own shadow passes where they differ from the cube's (the warp), for what common_support admits.
+  for (const LayoutTraits& layout : kLayouts)
+    for (const TechniqueTraits& t : kTechniques)
+      for (Storage storage : all_values<Storage>()) {
+        c = CaseConfig{};
+        c.layout = layout.layout;
+        c.technique = t.technique;
+        c.storage = storage;
+        if (layout.texel_map == TexelMap::cube_faces || !common_support(c).ok) continue;
+        keys.insert(variant_key("shadow_depth.vert", shadow_vertex_defines(c)));
+        if (t.geometry_stage) keys.insert(variant_key("shadow_depth.geom", shadow_geometry_defines(c)));
+        keys.insert(variant_key("shadow_depth.frag", shadow_fragment_defines(c)));
+      }
+  c = CaseConfig{};
   for (Storage storage : all_values<Storage>()) {
     if (traits(storage).moments != MomentKind::none)
       for (DepthFormat format : all_values<DepthFormat>())
@@ -101,6 +121,7 @@ std::vector<std::string> spirv_variant_keys() {
             c.layout = layout.layout;
             c.remedies.bias = bias;
             c.remedies.normal_offset = normal_offset;
+            if (layout.texel_map != TexelMap::cube_faces && !common_support(c).ok) continue;
             keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
           }
     }

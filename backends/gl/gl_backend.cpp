@@ -12,6 +12,7 @@
 #include "backends/common/cube_summary.h"
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
+#include "backends/common/layouts.h"
 #include "backends/common/shader_variants.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
@@ -146,6 +147,9 @@ Support GlBackend::supports(const CaseConfig& c) const {
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
+  if (const int layer = layer_size(c.layout, c.cube_size); layer > info_.max_cube_size)
+    return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) + " texels for cube " +
+                       std::to_string(c.cube_size) + " exceed " + std::to_string(info_.max_cube_size)};
   return {};
 }
 
@@ -232,7 +236,8 @@ void GlBackend::configure_case(const CaseConfig& c) {
   if (traits(c.filter).prefilter == Prefilter::separable_blur)
     blur_program_ = program({{GL_COMPUTE_SHADER, "moments_blur.comp"}},
                             gpu::moments_blur_defines(colour_format(c.storage, c.depth_format)));
-  shadow_ = create_shadow_targets(c.cube_size, c.storage, c.depth_format, traits(c.technique).multiview);
+  shadow_ = create_shadow_targets(layer_size(c.layout, c.cube_size), c.storage, c.depth_format,
+                                  traits(c.technique).multiview, traits(c.layout).layers);
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
   lighting_[size_t(gpu::LightingVariant::timed)] = create_lighting_targets(c.width, c.height, false);
@@ -314,11 +319,15 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   glViewport(0, 0, shadow_.size, shadow_.size);
   glUseProgram(shadow_program_);
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
+  // dual_paraboloid: each layer's pass clips the other hemisphere away (gl_ClipDistance[0], shaders/paraboloid.glsl).
+  const bool clip_hemisphere = traits(config_->layout).texel_map == TexelMap::paraboloid;
+  if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
   for (int p = 0; p < passes.count; ++p) {
     begin_shadow_pass(p, passes.count, frame.uniforms.light_position.w);
     bind_pass_uniforms(p);
     draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided);
   }
+  if (clip_hemisphere) glDisable(GL_CLIP_DISTANCE0);
   if (blur_program_) blur_moments();
   return stats;
 }
@@ -345,7 +354,7 @@ void GlBackend::blur_moments() {
 void GlBackend::begin_shadow_pass(int p, int count, float far_plane) {
   const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
   const GLfloat depth_one = 1.0f;
-  const GLuint fbo = count == 6 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
+  const GLuint fbo = count > 1 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
   if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
@@ -356,7 +365,7 @@ void GlBackend::begin_shadow_pass(int p, int count, float far_plane) {
 }
 
 void GlBackend::clear_shadow_targets(float far_plane) {
-  const int passes = traits(config_->technique).passes;
+  const int passes = traits(config_->technique).passes == 6 ? shadow_.layers : 1;
   for (int p = 0; p < passes; ++p) begin_shadow_pass(p, passes, far_plane);
 }
 
@@ -380,7 +389,8 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
   glBindVertexArray(lighting_vao_);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
   glBindTextureUnit(gpu::kShadowMapBinding,
-                    config_->layout == Layout::face_array ? shadow_.sampled_layers : shadow_.sampled);
+                    traits(config_->layout).lookup != LayoutLookup::hardware_cube ? shadow_.sampled_layers
+                                                                                  : shadow_.sampled);
   const FilterSampler sampler = traits(config_->filter).sampler;
   glBindSampler(gpu::kShadowMapBinding, sampler == FilterSampler::linear_compare   ? compare_sampler_
                                         : sampler == FilterSampler::linear_moments ? linear_sampler_
@@ -477,7 +487,7 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
     cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane,
                              cube::DepthRange::minus_one_to_one);
   }
-  for (int f = 0; f < 6 && cube_read_back == CubeReadBack::full; ++f) {
+  for (int f = 0; f < shadow_.layers && cube_read_back == CubeReadBack::full; ++f) {
     auto& face = img.cube_distance[static_cast<size_t>(f)];
     face.resize(texels);
     glGetTextureSubImage(shadow_.stored, 0, 0, 0, f, shadow_.size, shadow_.size, 1,

@@ -48,10 +48,16 @@ GLuint create_cube(GLenum internal_format, int size) {
 
 // Six layers of a 2D array (what multiview renders into) and a cube-map view of them (what is sampled): layer f is
 // face f in both, so the face order is the cube's.
-GLuint create_cube_array(GLenum internal_format, int size, GLuint& cube_view) {
+// With `layers` other than 6 (a layout that is no cube) there is no cube view: `cube_view` is the array itself.
+GLuint create_cube_array(GLenum internal_format, int size, GLuint& cube_view, int layers = 6) {
   GLuint array = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &array);
-  glTextureStorage3D(array, 1, internal_format, size, size, 6);
+  glTextureStorage3D(array, 1, internal_format, size, size, layers);
+  if (layers != 6) {
+    cube_parameters(array);
+    cube_view = array;
+    return array;
+  }
   glGenTextures(1, &cube_view);  // a view needs a name never bound (glCreateTextures would give it a target)
   glTextureView(cube_view, GL_TEXTURE_CUBE_MAP, array, internal_format, 0, 1, 0, 6);
   cube_parameters(cube_view);
@@ -89,16 +95,18 @@ GLenum colour_internal_format(ColourFormat format) {
   return GL_NONE;
 }
 
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview) {
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview, int layers) {
   ShadowTargets t;
   t.storage = storage;
   t.size = size;
+  t.layers = layers;
+  const bool arrays = multiview || layers != 6;  // rendered into 2D arrays (and sampled through cube views of six)
   const ColourFormat colour_format = omnishadow::colour_format(storage, depth_format);
   const GLenum colour_internal = colour_internal_format(colour_format);
   const bool has_colour = colour_format != ColourFormat::none;
-  if (multiview) {
-    t.depth_array = create_cube_array(depth_internal_format(depth_format), size, t.depth);
-    if (has_colour) t.colour_array = create_cube_array(colour_internal, size, t.colour);
+  if (arrays) {
+    t.depth_array = create_cube_array(depth_internal_format(depth_format), size, t.depth, layers);
+    if (has_colour) t.colour_array = create_cube_array(colour_internal, size, t.colour, layers);
   } else {
     t.depth = create_cube(depth_internal_format(depth_format), size);
     if (has_colour) t.colour = create_cube(colour_internal, size);
@@ -109,7 +117,7 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
   t.sampled = traits(storage).moments != MomentKind::none ? t.colour : t.stored;
   // 2D array views for the compute passes (a cube sampler has no texelFetch; image units bind layers).
   auto layers_of = [&](GLuint cube, GLuint array, GLenum format) {
-    if (multiview) return array;
+    if (arrays) return array;
     GLuint view = 0;
     glGenTextures(1, &view);
     glTextureView(view, GL_TEXTURE_2D_ARRAY, cube, format, 0, 1, 0, 6);
@@ -124,8 +132,8 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
   }
   t.sampled_layers = traits(storage).moments != MomentKind::none ? t.colour_layers : t.stored_layers;
   check_allocation("the shadow cube");
-  const GLuint depth_target = multiview ? t.depth_array : t.depth;
-  const GLuint colour_target = multiview ? t.colour_array : t.colour;
+  const GLuint depth_target = arrays ? t.depth_array : t.depth;
+  const GLuint colour_target = arrays ? t.colour_array : t.colour;
 
   // A cube map texture is layered: attaching it whole gives a layered framebuffer, attaching one layer
   // (glNamedFramebufferTextureLayer, layer = face) gives the per-face framebuffer of six_pass.
@@ -151,8 +159,8 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
     }
     glNamedFramebufferReadBuffer(fbo, GL_NONE);
   };
-  glCreateFramebuffers(6, t.face_fbos.data());
-  for (int f = 0; f < 6; ++f) {
+  glCreateFramebuffers(layers, t.face_fbos.data());
+  for (int f = 0; f < layers; ++f) {
     attach(t.face_fbos[f], f);
     check_complete(t.face_fbos[f], "per-face shadow");
   }
@@ -163,12 +171,14 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
 }
 
 void destroy(ShadowTargets& t) {
-  glDeleteFramebuffers(6, t.face_fbos.data());
+  glDeleteFramebuffers(t.layers, t.face_fbos.data());
   glDeleteFramebuffers(1, &t.layered_fbo);
   // Views first (multiview's layers are the arrays themselves); zero names are ignored.
   if (t.stored_layers != t.stored_array) glDeleteTextures(1, &t.stored_layers);
   if (t.colour_layers != t.colour_array) glDeleteTextures(1, &t.colour_layers);
-  const GLuint textures[] = {t.blur_layers, t.colour, t.depth, t.colour_array, t.depth_array};
+  // Without cube views (layers != 6) depth and colour are the arrays: each name deleted once.
+  const GLuint textures[] = {t.blur_layers, t.colour != t.colour_array ? t.colour : 0u,
+                             t.depth != t.depth_array ? t.depth : 0u, t.colour_array, t.depth_array};
   glDeleteTextures(5, textures);
   t = ShadowTargets{};
 }

@@ -29,7 +29,9 @@ struct ShadowTargets {
   // What the lighting pass samples for layout face_array: `sampled` as a 2D array (stored_layers, or colour_layers
   // for moments); views, not copies, so both layouts read the very texels the shadow pass wrote.
   GLuint sampled_layers = 0;
-  std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face, built once
+  std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face (per layer), built once
+  int layers = 6;                     // 6 for a cube's faces; a layout of other layers (dual_paraboloid: 2) is a plain
+                                      // 2D array, with no cube view: depth == depth_array, colour == colour_array
   GLuint layered_fbo = 0;             // single-pass techniques: the whole cube, gl_Layer (or the view) picks the face
   Storage storage = Storage::linear_depth;
   int size = 0;
@@ -59,7 +61,8 @@ struct LightingTargets {
 GLenum depth_internal_format(DepthFormat format);
 // Throw std::runtime_error naming the incomplete framebuffer, or GL_OUT_OF_MEMORY for allocations that failed.
 // multiview: the layered framebuffer holds six views of the arrays (glFramebufferTextureMultiviewOVR).
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview = false);
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview = false,
+                                    int layers = 6);
 void destroy(ShadowTargets& t);
 LightingTargets create_lighting_targets(int width, int height, bool check_outputs);
 void destroy(LightingTargets& t);

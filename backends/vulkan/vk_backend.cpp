@@ -12,6 +12,7 @@
 #include "backends/common/cube_summary.h"
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/gpu_layout.h"
+#include "backends/common/layouts.h"
 #include "backends/common/shader_variants.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
@@ -242,6 +243,9 @@ Support VkBackend::moments_support(const CaseConfig& c, const std::string& devic
 }
 
 Support VkBackend::supports(const CaseConfig& c) const {
+  if (traits(c.layout).texel_map == TexelMap::paraboloid && !ctx_->has_clip_distance())
+    return {false, "dual_paraboloid clips each layer's other hemisphere: shaderClipDistance is not supported by " +
+                       std::string(ctx_->properties().deviceName)};
   if (Support s = common_support(c); !s.ok) return s;
   const std::string device = info_.renderer;
   switch (traits(c.technique).feature) {
@@ -259,6 +263,11 @@ Support VkBackend::supports(const CaseConfig& c) const {
   if (c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " above maxImageDimensionCube " +
                        std::to_string(info_.max_cube_size)};
+  if (const int layer = layer_size(c.layout, c.cube_size);
+      layer > static_cast<int>(ctx_->properties().limits.maxImageDimension2D))
+    return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) + " texels for cube " +
+                       std::to_string(c.cube_size) + " above maxImageDimension2D " +
+                       std::to_string(ctx_->properties().limits.maxImageDimension2D)};
   if (Support s = moments_support(c, device); !s.ok) return s;
   VkFormat format = depth_format_of(c.depth_format);
   VkFormatFeatureFlags features = ctx_->format_properties(format).optimalTilingFeatures;
@@ -693,7 +702,7 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
   if (cube_read_back == CubeReadBack::full)
     bytes = read_image(*ctx_, stored, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, texel_bytes);
   const size_t texels = size_t(shadow_.size) * shadow_.size;
-  for (size_t f = 0; f < 6 && !bytes.empty(); ++f) {
+  for (size_t f = 0; f < shadow_.layers && !bytes.empty(); ++f) {
     auto& face = img.cube_distance[f];
     face = decode_texels(stored.format, bytes.data() + f * texels * texel_bytes, texels);
     for (size_t i = 0; i < texels; ++i)

@@ -207,6 +207,7 @@ void VkContext::read_properties() {
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f11};
   vkGetPhysicalDeviceFeatures2(physical_, &features);
   geometry_shader_ = features.features.geometryShader;
+  clip_distance_ = features.features.shaderClipDistance;
   pipeline_statistics_ = features.features.pipelineStatisticsQuery;
   storage_image_extended_formats_ = features.features.shaderStorageImageExtendedFormats;
   multiview_ = f11.multiview;
@@ -221,6 +222,7 @@ void VkContext::create_device() {
   e11.multiview = multiview_;
   VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &e11};
   enable.features.geometryShader = geometry_shader_;
+  enable.features.shaderClipDistance = clip_distance_;
   enable.features.pipelineStatisticsQuery = pipeline_statistics_;
   enable.features.shaderStorageImageExtendedFormats = storage_image_extended_formats_;
 

@@ -1,5 +1,6 @@
 #include "backends/vulkan/vk_targets.h"
 
+#include "backends/common/layouts.h"
 #include "backends/common/techniques.h"
 
 namespace omnishadow::vk {
@@ -106,25 +107,30 @@ VkFormat colour_format_of(ColourFormat format) {
 ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
   ShadowTargets t;
   t.storage = c.storage;
-  t.size = static_cast<uint32_t>(c.cube_size);
+  t.size = static_cast<uint32_t>(layer_size(c.layout, c.cube_size));
+  // Six cube-compatible layers, or a layout's own (dual_paraboloid: two of a plain 2D array).
+  const uint32_t layers = static_cast<uint32_t>(traits(c.layout).layers);
+  const bool cube = layers == 6;
+  t.layers = layers;
   const VkFormat colour = colour_format_of(colour_format(c.storage, c.depth_format));
   const bool has_colour = colour != VK_FORMAT_UNDEFINED, colour_checked = traits(c.storage).colour_checked;
   const bool moments = traits(c.storage).moments != MomentKind::none;
   const VkFormat depth_format = depth_format_of(c.depth_format);
   try {
-    t.depth = create_image(ctx, depth_format, t.size, t.size, 6, true,
+    t.depth = create_image(ctx, depth_format, t.size, t.size, layers, cube,
                            VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                                (colour_checked ? 0 : VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
     const VkImageUsageFlags storage_usage = moments ? VK_IMAGE_USAGE_STORAGE_BIT : 0;
     if (has_colour)
-      t.color = create_image(ctx, colour, t.size, t.size, 6, true,
+      t.color = create_image(ctx, colour, t.size, t.size, layers, cube,
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT | storage_usage);
     if (moments) t.blur = create_image(ctx, colour, t.size, t.size, 6, false, VK_IMAGE_USAGE_STORAGE_BIT);
-    // Layout face_array samples the same six layers as a 2D array (the shader picks the layer).
+    // Layouts other than the cube sample their layers as a 2D array (the shader picks the layer).
     t.sampled_view = create_view(ctx, moments ? t.color : t.stored(),
-                                 c.layout == Layout::face_array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE,
-                                 0, 6);
+                                 traits(c.layout).lookup == LayoutLookup::hardware_cube ? VK_IMAGE_VIEW_TYPE_CUBE
+                                                                                        : VK_IMAGE_VIEW_TYPE_2D_ARRAY,
+                                 0, layers);
 
     // The moments stay in GENERAL: the blur reads and writes them as storage images, the lighting pass samples them.
     std::vector<VkAttachmentDescription> attachments;
@@ -154,12 +160,12 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
       t.attachment_views.insert(t.attachment_views.end(), views.begin(), views.end());
       return views;
     };
-    if (technique.passes == 6) {
-      for (uint32_t f = 0; f < 6; ++f)
+    if (technique.passes == 6) {  // one pass per face, or per layer
+      for (uint32_t f = 0; f < layers; ++f)
         t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(f, 1), t.size, t.size, 1));
     } else {
-      uint32_t layers = technique.multiview ? 1 : 6;
-      t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(0, 6), t.size, t.size, layers));
+      t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(0, layers), t.size, t.size,
+                                                  technique.multiview ? 1 : layers));
     }
   } catch (...) {
     destroy(ctx, t);

@@ -77,8 +77,18 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
               named, "comma list: " + valid_values<DepthFormat>());
   list_option(r, "--layout", m.layouts, [](const std::string& s) { return parse_enum<Layout>(s); }, named,
               "comma list: " + valid_values<Layout>() +
-                  " (how the light's depth is stored and looked up: a cube map, or its six faces as a 2D array "
-                  "whose layer the shader picks)");
+                  " (how the light's depth is stored and looked up: a cube map, its six faces as a 2D array "
+                  "whose layer the shader picks, or two paraboloids warped per vertex, sized to the cube's memory)");
+  r.add_option_function<std::string>(
+       "--tessellate",
+       [&m](const std::string& t) {
+         m.tessellations = parse_int_list(t, "--tessellate");
+         for (int n : m.tessellations)
+           if (n > 64) throw std::invalid_argument("--tessellate: " + std::to_string(n) + " is more than 64 a side");
+       },
+       "comma list of subdivisions, 1 to 64: every triangle split into n^2 (1 = as loaded; the same surfaces in "
+       "smaller triangles, for a layout whose warp bends edges: dual_paraboloid)")
+      ->default_str(join(m.tessellations, [](int v) { return std::to_string(v); }));
   list_option(r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
               [](const Optimizations& o) { return to_string(o); },
               "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "

@@ -66,6 +66,7 @@ json axes_to_json(const CaseConfig& c) {
           {"storage", to_string(c.storage)},
           {"depth_format", to_string(c.depth_format)},
           {"layout", to_string(c.layout)},
+          {"tessellation", c.tessellation},
           {"optimizations", to_string(c.optimizations)},
           {"remedies", to_string(c.remedies)},
           {"moments_tuning", to_string(c.moments)},

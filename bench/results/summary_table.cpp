@@ -35,7 +35,8 @@ std::string pass_group(const CaseConfig& c) {
   return c.backend + "/" + c.scene + "/c" + std::to_string(c.cube_size) + "/f" + std::to_string(c.width) + "x" +
          std::to_string(c.height) + "/" + std::string(to_string(c.storage)) + "/" +
          std::string(to_string(c.depth_format)) +
-         (c.layout == Layout::cube ? std::string() : "/" + std::string(to_string(c.layout)));
+         (c.layout == Layout::cube ? std::string() : "/" + std::string(to_string(c.layout))) +
+         (c.tessellation == 1 ? std::string() : "/t" + std::to_string(c.tessellation));
 }
 
 // One row per pass group, one column per value of `axis`: the median of `metric` over all timed frames of the

@@ -1,5 +1,8 @@
 #include "bench/run/case_runner.h"
 
+#include "backends/common/layouts.h"
+#include "scenes/tessellate.h"
+
 #include <cctype>
 #include <algorithm>
 #include <chrono>
@@ -49,6 +52,8 @@ std::vector<float> concat_faces(const Images& img) {
 
 CubeReadBack Harness::cube_read_back_for(const CaseConfig& c) const {
   using P = RunOptions::CubeReadBackPolicy;
+  // The cube summary's compute shader walks six cube faces; other layouts' layers are read in full.
+  if (traits(c.layout).texel_map != TexelMap::cube_faces) return CubeReadBack::full;
   switch (options_.cube_read_back) {
     case P::full: return CubeReadBack::full;
     case P::sampled: return CubeReadBack::sampled;
@@ -172,10 +177,13 @@ std::string Harness::add_scene(const std::string& name_or_path) {
 }
 
 // Scenes are cached per name and load option: the rebased room is another scene.
-std::string scene_key(const std::string& name, bool rebase_origin) { return name + (rebase_origin ? "#rebase" : ""); }
+std::string scene_key(const std::string& name, bool rebase_origin, int tessellation) {
+  return name + (rebase_origin ? "#rebase" : "") + (tessellation != 1 ? "#t" + std::to_string(tessellation) : "");
+}
+std::string scene_key(const CaseConfig& c) { return scene_key(c.scene, c.remedies.rebase_origin, c.tessellation); }
 
-const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin) {
-  const std::string key = scene_key(name, rebase_origin);
+const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin, int tessellation) {
+  const std::string key = scene_key(name, rebase_origin, tessellation);
   auto it = scenes_.find(key);
   if (it != scenes_.end()) return it->second;
   scene::LoadOptions load;
@@ -184,13 +192,14 @@ const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin) 
   load.camera = options_.camera;
   scene::Scene s = scene::load_scene_file(scene_path(name), load);
   s.name = name;
+  scene::tessellate(s, tessellation);
   for (const std::string& note : s.notes) std::fprintf(stderr, "scene %s: %s\n", name.c_str(), note.c_str());
   return scenes_.emplace(key, std::move(s)).first->second;
 }
 
 Backend& Harness::activate(const CaseConfig& config) {
   Backend& b = backend(config.backend);
-  const std::string key = scene_key(config.scene, config.remedies.rebase_origin);
+  const std::string key = scene_key(config);
   if (loaded_scene_[config.backend] != key) {
     loaded_scene_[config.backend].clear();
     b.load(scene_of(config));
@@ -237,7 +246,7 @@ void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
 // What a case's floor depends on: backend, scene, cube, frame size, storage and depth format. Not the filter,
 // remedies or PCF scale (the floor's lighting has no lookup), nor the optimisations (no draws).
 static std::string floor_key(const CaseConfig& c) {
-  return c.backend + "/" + c.scene + (c.remedies.rebase_origin ? "#rebase" : "") + "/c" + std::to_string(c.cube_size) +
+  return c.backend + "/" + scene_key(c) + "/c" + std::to_string(c.cube_size) +
          "/f" + std::to_string(c.width) + "x" + std::to_string(c.height) + "/" + std::string(to_string(c.technique)) +
          "/" + std::string(to_string(c.storage)) + "/" + std::string(to_string(c.depth_format));
 }

@@ -220,7 +220,9 @@ std::vector<float> concat_faces(const Images& img);  // the full cube's faces, o
 int face_edge(const Images& img);                     // texels a face edge in concat_faces
 
 // The key of a loaded scene: its name, and whether the rebase remedy moved it (truth caches are per key).
-std::string scene_key(const std::string& name, bool rebase_origin);
+std::string scene_key(const std::string& name, bool rebase_origin, int tessellation = 1);
+// The key of the scene a case renders (its name, load options and tessellation).
+std::string scene_key(const CaseConfig& c);
 
 class Harness {
  public:
@@ -243,9 +245,9 @@ class Harness {
   // different files would share a name.
   std::string add_scene(const std::string& name_or_path);
   // Loads (and caches) a scene by name or path (with --light / --camera applied); throws scene::SceneError.
-  const scene::Scene& scene(const std::string& name_or_path, bool rebase_origin = false);
+  const scene::Scene& scene(const std::string& name_or_path, bool rebase_origin = false, int tessellation = 1);
   // The scene a case renders (its remedies decide how it is loaded).
-  const scene::Scene& scene_of(const CaseConfig& c) { return scene(c.scene, c.remedies.rebase_origin); }
+  const scene::Scene& scene_of(const CaseConfig& c) { return scene(c.scene, c.remedies.rebase_origin, c.tessellation); }
   // Makes `config` the backend's current case (loading its scene first if needed).
   Backend& activate(const CaseConfig& config);
   // The untimed part of a case. Never throws: failures become the result's status and reason.

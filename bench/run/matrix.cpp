@@ -72,6 +72,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
           for (Storage storage : spec.storages)
             for (DepthFormat depth : spec.depth_formats)
             for (Layout layout : spec.layouts)
+            for (int tessellation : spec.tessellations)
               for (Filter filter : spec.filters)
                 for (float pcf_scale : spec.pcf_scales)
                 for (const Remedies& remedies : spec.remedies)
@@ -96,6 +97,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.storage = storage_for(filter, storage);
                   c.depth_format = depth;
                   c.layout = layout;
+                  c.tessellation = tessellation;
                   c.filter = filter;
                   c.technique = technique;
                   c.optimizations = optimizations;

@@ -26,6 +26,7 @@ struct MatrixSpec {
   std::vector<Storage> storages{Storage::linear_depth};
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
   std::vector<Layout> layouts{Layout::cube};                  // --layout cube,face_array
+  std::vector<int> tessellations{1};                          // --tessellate 1,4,16
   std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01

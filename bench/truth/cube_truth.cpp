@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/paraboloid.h"
 #include "backends/common/storage_filter_tables.h"
 
 namespace omnishadow::bench {
@@ -40,15 +41,26 @@ double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& sc
 }
 
 CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene, const glm::vec3& light,
-                             float near_plane, float far_plane, int cube_size, bool two_sided) {
+                             float near_plane, float far_plane, int cube_size, bool two_sided, TexelMap map) {
   auto culled = std::make_shared<const std::vector<uint8_t>>(
       culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back));
   CubeTruth t;
+  t.map = map;
+  t.layers = map == TexelMap::paraboloid ? paraboloid::kLayerCount : 6;
   t.size = cube_size;
   t.stride = cube_sample_stride(cube_size);
   t.far_plane = far_plane;
-  t.cast = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size](int face, double s,
-                                                                                              double tt) {
+  t.cast = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size, map](int face, double s,
+                                                                                                   double tt) {
+    if (map == TexelMap::paraboloid) {
+      // A layer clips the other hemisphere (forward < 0: outside the unit disk) and its near and far are radial.
+      const glm::dvec3 d = paraboloid::texel_point_direction(face, s, tt, cube_size);
+      if ((face == 0 ? d.z : -d.z) < 0.0) return -1.0;
+      const glm::vec3 unit(d);
+      const double start = double(near_plane) * (1.0 - 1e-5), end = double(far_plane);
+      const double hit = first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
+      return hit >= 0.0 ? start + hit : -1.0;
+    }
     const glm::dvec3 d = cube::face_point_direction(face, s, tt, cube_size);
     const double len = glm::length(d);  // the face axis component is 1: axis distance = distance / len
     const glm::vec3 unit(d / len);
@@ -70,8 +82,8 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
     return out;
   };
   std::array<std::future<std::vector<float>>, 6> faces;
-  for (int f = 0; f < 6; ++f) faces[size_t(f)] = std::async(std::launch::async, face_truth, f);
-  for (int f = 0; f < 6; ++f) t.distance[size_t(f)] = faces[size_t(f)].get();
+  for (int f = 0; f < t.layers; ++f) faces[size_t(f)] = std::async(std::launch::async, face_truth, f);
+  for (int f = 0; f < t.layers; ++f) t.distance[size_t(f)] = faces[size_t(f)].get();
   return t;
 }
 
@@ -105,7 +117,7 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
   if (!images.has_full_cube() && (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
     return r;
   const double far_plane = images.light_far;
-  for (int f = 0; f < 6; ++f) {
+  for (int f = 0; f < truth.layers; ++f) {
     // The check grid is the truth's grid: read from the device's sample, or from the full cube where it came back.
     const bool full = images.has_full_cube();
     const auto& stored = full ? images.cube_distance[size_t(f)] : images.cube_sample[size_t(f)];
@@ -113,13 +125,15 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const int s = x * truth.stride + truth.stride / 2, t = y * truth.stride + truth.stride / 2;
+        if (truth.map == TexelMap::paraboloid && !paraboloid::texel_in_disk(s, t, truth.size)) continue;
         const double got = full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
         const double want = exact[size_t(y) * size_t(n) + size_t(x)];
         // "Nothing here": the clear value, far (depth storages) or FLT_MAX (r32f).
         const bool got_surface = got < far_plane * (1.0 - 1e-6) && got != double(FLT_MAX);
         ++r.texels;
         if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
-        const double len = glm::length(cube::texel_direction(f, s, t, truth.size));
+        // Axis distance over distance: 1 where the depth is radial (the paraboloid's).
+        const double len = truth.map == TexelMap::paraboloid ? 1.0 : glm::length(cube::texel_direction(f, s, t, truth.size));
         auto agree = [&](double stored_distance, double exact_distance) {
           return std::fabs(stored_distance - exact_distance) <=
                  2.0 * storage_step(storage, format, exact_distance, exact_distance / len, near_plane, far_plane) +
@@ -158,7 +172,7 @@ std::string describe(const CubeTexelReport& r) {
                 static_cast<unsigned long long>(r.texels), r.stride, r.stride == 1 ? "" : "th in s and t");
   std::string out = buf;
   std::string faces;
-  const uint64_t per_face = r.texels / 6;
+  const uint64_t per_face = r.texels / 6;  // a cube's (a paraboloid's layers are reported by count only)
   for (int f = 0; f < 6; ++f)
     if (r.bad_per_face[size_t(f)] && per_face) {
       std::snprintf(buf, sizeof buf, "%s %.3g%%", cube::kFaceNames[size_t(f)],

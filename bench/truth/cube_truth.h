@@ -16,6 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "backends/backend.h"
+#include "backends/common/layouts.h"
 #include "backends/reference/ray_caster.h"
 #include "bench/truth/texel_bounds.h"
 
@@ -38,7 +39,9 @@ double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& sc
 inline constexpr double kCubeTexelLimitPercent = 0.1;
 
 struct CubeTruth {
-  int size = 0;    // the cube's face size
+  TexelMap map = TexelMap::cube_faces;  // how a layer's texels map to directions (backends/common/layouts.h)
+  int layers = 6;
+  int size = 0;    // the cube's face size (a layer's edge)
   int stride = 1;  // every stride-th texel in s and t (size / stride texels a face edge)
   float far_plane = 0.0f;
   std::array<std::vector<float>, 6> distance;  // per checked texel, row-major; -1 where the ray hits nothing
@@ -49,8 +52,11 @@ struct CubeTruth {
 };
 // Closed objects (Object::cull_back_faces) are drawn with back faces culled unless `two_sided`, so a ray that meets
 // one of their back faces (a caster cut by the near plane) goes on, as the rasteriser's does.
+// Layouts whose texels are no cube faces (`map`: dual_paraboloid's hemispheres) cast along their own texel
+// directions, from the radial near distance; texels outside a paraboloid's unit disk are never read and not cast.
 CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene, const glm::vec3& light,
-                             float near_plane, float far_plane, int cube_size, bool two_sided);
+                             float near_plane, float far_plane, int cube_size, bool two_sided,
+                             TexelMap map = TexelMap::cube_faces);
 
 struct CubeTexelReport {
   int stride = 1;

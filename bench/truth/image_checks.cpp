@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/layouts.h"
 #include "bench/run/case_runner.h"
 #include "bench/results/image_io.h"
 
@@ -129,6 +130,16 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
   // value, read in full if they were not (the case's own, and six_pass's, rendered again: frames are deterministic).
   CheckResult faces_check{"cube_faces", ref_config.id()};
   faces_check.tolerance = options_.face_tolerance;
+  // A paraboloid layer's stored distance comes from the world position interpolated across a triangle warped with
+  // w = 1; pipelines with and without a geometry stage may set that interpolation up from window coordinates that
+  // round differently (llvmpipe's differed by 2-19 ulps of the distance, on whole triangles). GL asks of each float
+  // operation a relative error of 1e-5 (GL 4.5, 2.3.4.1); the interpolation and the length are about ten of them,
+  // so stored distances may differ by 1e-4 of the far plane, the bound the cube texel check allows for the same
+  // interpolation. A lookup whose receiver sits within that of a stored distance may then compare the other way:
+  // the shadow factor and the lit image may differ in as few values as across backends (cross_max_percent), whose
+  // pipelines differ in the same last bits.
+  const bool paraboloid = traits(r.config.layout).texel_map == TexelMap::paraboloid;
+  if (paraboloid) faces_check.tolerance = std::max(faces_check.tolerance, 1e-4 * double(reference_->light_far));
   if (images.cube_summary_on_device == reference_->cube_summary_on_device &&
       images.cube_summary == reference_->cube_summary && reference_->light_far == images.light_far) {
     const uint64_t texels = 6ull * uint64_t(images.cube_size) * uint64_t(images.cube_size);
@@ -146,7 +157,7 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
       activate(r.config);
     }
     std::vector<float> faces = concat_faces(images), ref_faces = concat_faces(*reference_);
-    faces_check.difference = compare_values(faces, ref_faces, options_.face_tolerance);
+    faces_check.difference = compare_values(faces, ref_faces, faces_check.tolerance);
     record_check(r, faces_check, faces, ref_faces, scaled(ref_faces, 1.0f / far_plane), images.cube_size * 6,
                  images.cube_size, far_plane * 0.05, false);
   }
@@ -154,12 +165,14 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
 
   CheckResult shadow_check{"shadow_factor", ref_config.id()};
   shadow_check.tolerance = 0.0;
+  if (paraboloid) shadow_check.max_percent = options_.cross_max_percent;
   shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, 0.0);
   record_check(r, shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height, 1.0,
          true);
 
   CheckResult lit_check{"lit", ref_config.id()};
   lit_check.tolerance = options_.lit_tolerance;
+  if (paraboloid) lit_check.max_percent = options_.cross_max_percent;
   lit_check.difference = compare_values(images.lit_rgba8, ref.lit_rgba8, options_.lit_tolerance);
   std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit_rgba8);
   record_check(r, lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8), images.width,

@@ -30,18 +30,23 @@ void Harness::check_cube(CaseResult& r, const Images& images) {
   if (!sc.has_point_light || images.cube_size < 1) return;
   const glm::vec3 light = sc.light.path.at(options_.check_frame);
   char key[256];
-  std::snprintf(key, sizeof key, "%s/%.9g,%.9g,%.9g/%.9g/%.9g/%d/%d",
-                scene_key(r.config.scene, r.config.remedies.rebase_origin).c_str(), light.x, light.y, light.z,
-                sc.light.near_plane, images.light_far, images.cube_size, int(r.config.remedies.two_sided));
+  const TexelMap map = traits(r.config.layout).texel_map;
+  std::snprintf(key, sizeof key, "%s/%.9g,%.9g,%.9g/%.9g/%.9g/%d/%d/%d",
+                scene_key(r.config).c_str(), light.x, light.y, light.z,
+                sc.light.near_plane, images.light_far, images.cube_size, int(r.config.remedies.two_sided), int(map));
   auto it = cube_truths_.find(key);
   if (it == cube_truths_.end()) {
     it = cube_truths_
              .emplace(key, compute_cube_truth(caster_of(r.config), sc, light, sc.light.near_plane, images.light_far,
-                                              images.cube_size, r.config.remedies.two_sided))
+                                              images.cube_size, r.config.remedies.two_sided, map))
              .first;
   }
   r.cube_texels = check_cube_texels(it->second, images, r.config.storage, r.config.depth_format, sc.light.near_plane,
                                     backend(r.config.backend).device().subpixel_bits);
+  // A paraboloid's rasterised triangles have straight edges where the exact map draws curves: its texels differ
+  // from the exact ones by the layout's own error, which depends on tessellation. That is a figure (results.json
+  // cube_texels), not a failed check; its technique checks (equal to six_pass) and exact visibility still judge.
+  if (map == TexelMap::paraboloid) return;
   add_texel_finding(r, "cube_texels", *r.cube_texels, kCubeTexelLimitPercent);
 }
 
@@ -60,7 +65,7 @@ void Harness::check_maps(CaseResult& r, const Images& images) {
   if (images.map_depth.empty() || images.map_size < 1) return;
   const cube::DepthRange range =
       images.map_depth_zero_to_one ? cube::DepthRange::zero_to_one : cube::DepthRange::minus_one_to_one;
-  const std::string key = scene_key(r.config.scene, r.config.remedies.rebase_origin) + "/" +
+  const std::string key = scene_key(r.config) + "/" +
                           std::to_string(options_.check_frame) + "/" + std::to_string(images.map_size) + "/" +
                           std::to_string(int(range));
   auto it = map_truths_.find(key);
@@ -126,7 +131,7 @@ void Harness::check_accuracy(CaseResult& r, const Images& images) {
 
 // One ray caster per loaded scene, shared by the pixel truth and the cube truth.
 const reference::RayCaster& Harness::caster_of(const CaseConfig& c) {
-  auto& caster = casters_[scene_key(c.scene, c.remedies.rebase_origin)];
+  auto& caster = casters_[scene_key(c)];
   if (!caster) caster = std::make_unique<reference::RayCaster>(scene_of(c));
   return *caster;
 }
@@ -134,7 +139,7 @@ const reference::RayCaster& Harness::caster_of(const CaseConfig& c) {
 // One truth per scene and frame, whichever API or technique asks: identical positions share it whole, and positions
 // that differ by rounding (the other API's) share every pixel on the same surface point, cast again elsewhere.
 const Truth& Harness::truth_for(const CaseConfig& c, const Images& images) {
-  const std::string shared = scene_key(c.scene, c.remedies.rebase_origin) + "/" +
+  const std::string shared = scene_key(c) + "/" +
                              std::to_string(options_.check_frame) + "/" + std::to_string(images.width) + "x" +
                              std::to_string(images.height);
   std::string key = shared + "/" + std::to_string(positions_fingerprint(images));
