@@ -10,13 +10,14 @@
 #              untimed part (checks, reference, read-backs, images) at most 0.5x its timed part
 #   checks     no false alarm on correct code: the small-cube matrix that failed 124 of 156 cases at 3387fa1, the
 #              grazing scene in every storage and depth format, the moments filters at 32 and 16 bits, the face_array
-#              layout, and ctest;
+#              and dual_paraboloid layouts, and ctest;
 #              PASS or FAIL per part
 #   multiview  GL and Vulkan multiview against six_pass with --check
 #   matrix     the untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
 #              (the untimed part at most a quarter of the run); clock samples recorded
 #   layouts    the equal-memory layout table (scripts/analysis/layout_table.py) on the GPU: cube and face_array, room
-#              and heavy, cubes 512 and 1024, GL and Vulkan, with --check
+#              and heavy, cubes 512 and 1024, GL and Vulkan, with --check; and dual_paraboloid beside the cube at
+#              tessellations 1, 4 and 16 on room and mixed
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
 #              depth format, wall and GPU time: PASS where the harness is within 1.1x
 #   precision  a 2% slowdown found at <= 1% false alarms in GPU time on the GPU-sized CI-style matrix, injected work
@@ -149,6 +150,14 @@ step_checks() {
     --warmup 1 --benchmark_repetitions=1 --out "$out/checks/layouts" >"$out/checks/layouts.log" 2>&1
   exit_note $? "layout face_array run --check"
   judge_checks "$out/checks/layouts" || failed=1
+  # dual_paraboloid: its techniques against its six_pass (stored distances within 1e-4 of far, the shadow factor in
+  # all but --cross-max-percent of pixels) and both APIs against each other; --max-error 100: its error against
+  # exact visibility is the layout's own (the table's business), not a false alarm.
+  "$bin" run --backend gl,vulkan --scene room,mixed --cube 256 --layout dual_paraboloid --tessellate 1,8 \
+    --technique six_pass,geometry_shader --filter hard,pcf_disk20,hw_compare2x2 --check --max-error 100 --frames 2 \
+    --warmup 1 --benchmark_repetitions=1 --out "$out/checks/paraboloid" >"$out/checks/paraboloid.log" 2>&1
+  exit_note $? "layout dual_paraboloid run --check"
+  judge_checks "$out/checks/paraboloid" || failed=1
   # GPU_ACCEPTANCE_CTEST=0 leaves ctest out (a device call too short for the whole suite); said in the summary.
   if [ "${GPU_ACCEPTANCE_CTEST:-1}" = 0 ]; then
     note "- ctest: not run (GPU_ACCEPTANCE_CTEST=0)"; return
@@ -230,6 +239,16 @@ step_layouts() {
   /usr/bin/python3 "$here/scripts/analysis/layout_table.py" "$out/layouts/run" --out "$out/layouts/layouts.md" \
     >/dev/null 2>&1
   exit_note $? "layout_table.py ($out/layouts/layouts.md)"
+  # dual_paraboloid beside the cube, untessellated and tessellated (its error is its warp's straight edges).
+  "$bin" run --backend gl,vulkan --scene room,mixed --cube 512,1024 --layout cube,dual_paraboloid --tessellate 1,4,16 \
+    --technique six_pass --filter hard,pcf_disk20,hw_compare2x2 --check --max-error 100 --benchmark_repetitions=5 \
+    --benchmark_enable_random_interleaving=true --images none --out "$out/layouts/paraboloid" \
+    >"$out/layouts/paraboloid.log" 2>&1
+  exit_note $? "dual_paraboloid run --check"
+  judge_checks "$out/layouts/paraboloid" || failed=1
+  /usr/bin/python3 "$here/scripts/analysis/layout_table.py" "$out/layouts/paraboloid" \
+    --out "$out/layouts/paraboloid.md" >/dev/null 2>&1
+  exit_note $? "layout_table.py ($out/layouts/paraboloid.md)"
 }
 
 step_tutorial() {

@@ -113,6 +113,13 @@ LAYOUT_SECTIONS = [
      "pcf_disk20) must read the same texels in both layouts (the lookup check holds each to the cube-map rule); "
      "hw_compare2x2 (2x2 bilinear compare) and vsm (bilinear moments) may differ at seams.",
      lambda a: f"{a['backend']} / {a['filter']}", lambda a: f"`{a['scene']}` {a.get('layout', 'cube')}", cell),
+    ("layouts_paraboloid", "dual_paraboloid at the equator and at coarse tessellation (D32F)",
+     "`dual_paraboloid` warps each vertex into its hemisphere's paraboloid and rasterises straight edges where the "
+     "exact map draws curves, so its error depends on the casters' tessellation (`--tessellate n`: every triangle "
+     "split into n^2); its two layers meet at the equator (the light's z), which `seams`' diagonal casters cross and "
+     "`grazing`'s receivers run along. The cube beside it at the same memory.",
+     lambda a: f"{a['backend']} / {a['filter']}",
+     lambda a: f"`{a['scene']}` {a.get('layout', 'cube')} t{a.get('tessellation', 1)}", cell),
 ]
 
 

@@ -31,6 +31,8 @@ FACES = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"]
 MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm,esm,evsm2,evsm4,msm"]
 # What the layout mutants add: the face_array layout, every default filter and a moments one (bilinear per face).
 FACE_ARRAY = ["--layout", "face_array", "--filter", "hard,pcf_grid64,pcf_disk20,vsm"]
+# dual_paraboloid, tessellated so that its own error is small next to a planted bug's.
+PARABOLOID = ["--layout", "dual_paraboloid", "--tessellate", "8", "--filter", "hard,pcf_disk20"]
 
 
 def flip_up(face):
@@ -125,6 +127,14 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("face_array_t_flipped_on_z", "shaders/shadow_filters.glsl",
      replace("    sc = dir.z >= 0.0 ? dir.x : -dir.x;\n    tc = -dir.y;", "    sc = dir.z >= 0.0 ? dir.x : -dir.x;\n    tc = dir.y;"),
      "the face_array lookup's t flipped on the +-Z faces", FACE_ARRAY),
+    # dual_paraboloid: the warp (shadow pass) and the lookup (lighting) are separate GLSL; both must follow
+    # backends/common/paraboloid.h. Its texels are a figure, not a check, so exact visibility must catch these.
+    ("paraboloid_lookup_layers_swapped", "shaders/paraboloid.glsl",
+     replace("float layer = dir.z >= 0.0 ? 0.0 : 1.0;", "float layer = dir.z >= 0.0 ? 1.0 : 0.0;"),
+     "the paraboloid lookup reads the -Z layer for +Z directions and the +Z layer for -Z", PARABOLOID),
+    ("paraboloid_warp_x_unmirrored", "shaders/paraboloid.glsl",
+     replace("float vx = layer == 0 ? -v.x : v.x;", "float vx = v.x;"),
+     "the shadow pass's warp does not mirror x in layer 0 (seen along +Z), so that layer is stored mirrored", PARABOLOID),
 ]
 
 

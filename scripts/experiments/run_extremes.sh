@@ -50,5 +50,9 @@ hazard "${moments[@]}" --scene nf_25,seams --filter hard,pcf_disk20,vsm,esm,evsm
 # bilinear) beside the NEAREST ones; --check holds each layout's lookups to the cube-map rule.
 hazard "${moments[@]}" --scene nf_25,seams,grazing --layout cube,face_array --filter hard,pcf_disk20,hw_compare2x2,vsm \
   --out "$out/layouts_seams" "$@"
+# dual_paraboloid at its own extremes: the equator where its two layers meet (seams' diagonal casters cross it, grazing's
+# receivers lie along it) and coarse tessellation (1: each of the room's walls two triangles), beside the cube.
+hazard "${moments[@]}" --scene nf_25,seams,grazing --layout cube,dual_paraboloid --tessellate 1,4,16 \
+  --filter hard,pcf_disk20 --max-error 100 --out "$out/layouts_paraboloid" "$@"
 /usr/bin/python3 "$here/scripts/analysis/extremes_table.py" "$out/matrix" "$out/cube_sizes" --remedies "$out/remedies" \
   --pcf "$out/pcf" --moments "$out" --out "$out/extremes.md"
