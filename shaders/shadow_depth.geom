@@ -72,6 +72,8 @@ void main() {
 #else
 #if defined(LAYOUT_DUAL_PARABOLOID)
   for (int layer = 0; layer < 2; ++layer) emit_face(layer);
+#elif defined(LAYOUT_TETRAHEDRAL)
+  for (int face = 0; face < 4; ++face) emit_face(face);  // the tetrahedron's four frusta (frame.face_view_proj[0..3])
 #else
   for (int face = 0; face < 6; ++face) emit_face(face);
 #endif

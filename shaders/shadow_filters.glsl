@@ -26,15 +26,20 @@ vec3 perturb_lookup(vec3 dir, float size) {
   return moved;
 }
 
+#if defined(LAYOUT_FACE_ARRAY) || defined(LAYOUT_DUAL_PARABOLOID) || defined(LAYOUT_TETRAHEDRAL)
+// Every layout but the cube stores layers of a 2D array and picks the layer and (s, t) in the shader (shadow_coord,
+// per layout below); filtering clamps at each layer's edge.
+#if defined(FILTER_HW_COMPARE2X2)
+layout(binding = 2) uniform sampler2DArrayShadow shadow_map;  // LINEAR + compare, clamped to the layer
+#else
+layout(binding = 2) uniform sampler2DArray shadow_map;        // NEAREST, no compare; LINEAR for moments
+#endif
+#endif
+
 #if defined(LAYOUT_FACE_ARRAY)
 // Layout face_array (backends/common/layouts.h): the six faces are layers of a 2D array, as a renderer that treats a
 // point light as six spot maps stores them. The shader picks the layer and (s, t) by the cube-map rule (GL 4.5
 // table 8.19, as cube::direction_to_face: ties to x, then y), and filtering clamps at each face's edge.
-#if defined(FILTER_HW_COMPARE2X2)
-layout(binding = 2) uniform sampler2DArrayShadow shadow_map;  // LINEAR + compare, clamped to the face
-#else
-layout(binding = 2) uniform sampler2DArray shadow_map;        // NEAREST, no compare; LINEAR for moments
-#endif
 // (s, t, layer) of the face `dir` selects: what a samplerCube computes before it reads a texel.
 vec3 shadow_coord(vec3 dir) {
   dir = perturb_lookup(dir, float(textureSize(shadow_map, 0).x));
@@ -61,12 +66,32 @@ vec3 shadow_coord(vec3 dir) {
 #elif defined(LAYOUT_DUAL_PARABOLOID)
 // Layout dual_paraboloid (shaders/paraboloid.glsl): two layers of a 2D array, each a hemisphere's paraboloid.
 #include "paraboloid.glsl"
-#if defined(FILTER_HW_COMPARE2X2)
-layout(binding = 2) uniform sampler2DArrayShadow shadow_map;  // LINEAR + compare, clamped to the layer
-#else
-layout(binding = 2) uniform sampler2DArray shadow_map;        // NEAREST, no compare
-#endif
 vec3 shadow_coord(vec3 dir) { return paraboloid_coord(dir); }
+#elif defined(LAYOUT_TETRAHEDRAL)
+// Layout tetrahedral (backends/common/tetrahedron.h holds the same rule in C++: change both together): four
+// perspective faces along a regular tetrahedron's vertices, each a layer of a 2D array. A direction reads the face
+// whose axis is nearest (ties to the lower face), projected onto that face's plane one unit along its axis, whose
+// frustum is the box x in [-sqrt 6, sqrt 6], y in [-sqrt 2, 2 sqrt 2] (the cell's bounding box).
+const vec3 kTetraAxes[4] = vec3[](normalize(vec3(1, 1, 1)), normalize(vec3(1, -1, -1)), normalize(vec3(-1, 1, -1)),
+                                  normalize(vec3(-1, -1, 1)));
+vec3 shadow_coord(vec3 dir) {
+  int face = 0;
+  float best = dot(dir, kTetraAxes[0]);
+  for (int f = 1; f < 4; ++f) {
+    float d = dot(dir, kTetraAxes[f]);
+    if (d > best) {
+      best = d;
+      face = f;
+    }
+  }
+  // up: towards the cell's corner opposite the next face; right = axis x up (a GL camera's, as lookAt builds it).
+  vec3 axis = kTetraAxes[face], corner = -kTetraAxes[(face + 1) % 4];
+  vec3 up = normalize(corner - dot(corner, axis) * axis);
+  vec3 right = cross(axis, up);
+  vec2 xy = vec2(dot(dir, right), dot(dir, up)) / best;
+  const float kSqrt2 = 1.41421356, kSqrt6 = 2.44948974;
+  return vec3((xy.x + kSqrt6) / (2.0 * kSqrt6), (xy.y + kSqrt2) / (3.0 * kSqrt2), float(face));
+}
 #else
 #if defined(FILTER_HW_COMPARE2X2)
 layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 2x2 bilinear PCF in hardware

@@ -432,6 +432,29 @@ TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
     EXPECT_NEAR(fine, cube, 1.0) << "tessellated 8x, the paraboloid comes within a point of the cube";
   }
 }
+// tetrahedral (issue 27): four perspective faces, so its texels are held to the exact ray-cast truth as the cube's
+// are (cube_texels is a check here, not a figure), its techniques agree with its six_pass, and both APIs agree.
+TEST_F(CliRun, TetrahedralPassesItsChecksAndItsExactTexelTruth) {
+  std::string why;
+  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  fs::path out = scratch("tetrahedral");
+  Outcome o = run("run --backend " + backends + " --scene room,mixed --cube 128 --frame 400x300 --layout tetrahedral"
+                  " --technique six_pass,geometry_shader --filter hard,pcf_disk20 --frames 1 --warmup 0 --images none"
+                  " --check --max-error 100 --benchmark_repetitions=1 --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  int ok = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["axes"]["layout"], "tetrahedral");
+    EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+    ok += c["status"] == "ok";
+    if (c["axes"]["technique"] != "six_pass") continue;
+    EXPECT_EQ(c["shadow_plan"]["texels"], 4 * 157 * 157) << "four faces of round(128 sqrt 1.5)";
+    EXPECT_GT(c["cube_texels"]["texels"].get<int>(), 0);
+    EXPECT_LE(c["cube_texels"]["bad_percent"].get<double>(), 0.1) << "the cube's limit";
+  }
+  EXPECT_EQ(ok, backends == "gl,vulkan" ? 16 : 8);
+}
 
 // its file stem; the loader's time is in the results and the summary.
 TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {

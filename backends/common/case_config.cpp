@@ -2,6 +2,7 @@
 
 #include "backends/common/layouts.h"
 #include "backends/common/paraboloid.h"
+#include "backends/common/tetrahedron.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 
@@ -131,15 +132,21 @@ Support moments_tuning_support(Filter filter, const MomentsTuning& t) {
 }  // namespace
 
 int layer_size(Layout layout, int cube_size) {
-  return traits(layout).texel_map == TexelMap::paraboloid ? paraboloid::layer_size_for_cube(cube_size) : cube_size;
+  switch (traits(layout).texel_map) {
+    case TexelMap::paraboloid: return paraboloid::layer_size_for_cube(cube_size);
+    case TexelMap::tetrahedral: return tetra::layer_size_for_cube(cube_size);
+    case TexelMap::cube_faces: break;
+  }
+  return cube_size;
 }
 
 Support common_support(const CaseConfig& c) {
-  if (traits(c.layout).texel_map == TexelMap::paraboloid) {
+  if (traits(c.layout).texel_map != TexelMap::cube_faces) {
+    const std::string name(to_string(c.layout));
     if (c.technique != Technique::six_pass && c.technique != Technique::geometry_shader)
-      return {false, "dual_paraboloid is drawn by six_pass (one pass per layer) and geometry_shader so far"};
+      return {false, name + " is drawn by six_pass (one pass per layer) and geometry_shader so far"};
     if (c.storage != Storage::linear_depth && c.storage != Storage::r32f_distance)
-      return {false, "dual_paraboloid stores a distance (linear_depth or r32f_distance): its warp has no projective "
+      return {false, name + " stores a distance (linear_depth or r32f_distance): its read-back converts no projective "
                      "depth, and its moments filters are not built yet"};
     if (c.optimizations.face_culling)
       return {false, "face culling: the plans cull against cube faces' frusta, not hemispheres"};

@@ -57,6 +57,8 @@ enum class Layout {
                // (s, t) by the cube-map rule, and filtering clamps at each face's edge
   dual_paraboloid,  // two hemispheres, each a paraboloid warped in the shadow pass's vertex stage (Godot's "faster,
                     // lower quality"; backends/common/paraboloid.h), layers sized to a cube's memory
+  tetrahedral,      // four perspective faces along a tetrahedron's vertices (bgfx's point light; backends/common/
+                    // tetrahedron.h), each a layer of a 2D array sized to a cube's memory
 };
 
 std::string_view to_string(Technique v);

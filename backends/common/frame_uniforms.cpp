@@ -1,5 +1,8 @@
 #include "backends/common/frame_uniforms.h"
 
+#include "backends/common/layouts.h"
+#include "backends/common/tetrahedron.h"
+
 #include "backends/common/storage_filter_tables.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -31,6 +34,9 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
                               : light.far_plane;
   auto faces = cube::face_view_projections(light_position, light.near_plane, far_plane, range);
   std::copy(faces.begin(), faces.end(), u.face_view_proj.begin());
+  if (traits(config.layout).texel_map == TexelMap::tetrahedral)  // its four faces' own frusta, the rest unused
+    for (int f = 0; f < tetra::kFaceCount; ++f)
+      u.face_view_proj[size_t(f)] = tetra::face_view_projection(f, light_position, light.near_plane, far_plane, range);
   u.camera_position = glm::vec4(cam.position, 1.0f);
   u.light_position = glm::vec4(light_position, far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);

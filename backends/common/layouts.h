@@ -16,6 +16,7 @@ enum class TexelMap {
   cube_faces,  // layer f is cube face f (face order and up vectors in cube_faces.h), texel <-> direction by the
                // cube-map rule (GL 4.5 table 8.19): the cube's own map
   paraboloid,  // layer 0 the hemisphere z >= 0, layer 1 z < 0, each a paraboloid (backends/common/paraboloid.h)
+  tetrahedral, // layer f a perspective face along a tetrahedron vertex (backends/common/tetrahedron.h)
 };
 
 // How the lighting pass turns a direction into a stored value.
@@ -24,6 +25,7 @@ enum class LayoutLookup {
                   // seamless; the GL backend enables GL_TEXTURE_CUBE_MAP_SEAMLESS)
   shader_face,    // sampler2DArray: the shader selects layer and (s, t) by the same rule; filtering clamps per face
   shader_paraboloid,  // sampler2DArray: the shader selects the hemisphere's layer and its paraboloid point
+  shader_tetrahedral, // sampler2DArray: the shader selects the nearest face axis and projects onto that face
 };
 
 struct LayoutTraits {
@@ -35,11 +37,13 @@ struct LayoutTraits {
   LayoutLookup lookup;
 };
 
-inline constexpr std::array<LayoutTraits, 3> kLayouts = {{
+inline constexpr std::array<LayoutTraits, 4> kLayouts = {{
     {Layout::cube, "cube", "", 6, TexelMap::cube_faces, LayoutLookup::hardware_cube},
     {Layout::face_array, "face_array", "LAYOUT_FACE_ARRAY", 6, TexelMap::cube_faces, LayoutLookup::shader_face},
     {Layout::dual_paraboloid, "dual_paraboloid", "LAYOUT_DUAL_PARABOLOID", 2, TexelMap::paraboloid,
      LayoutLookup::shader_paraboloid},
+    {Layout::tetrahedral, "tetrahedral", "LAYOUT_TETRAHEDRAL", 4, TexelMap::tetrahedral,
+     LayoutLookup::shader_tetrahedral},
 }};
 
 constexpr const LayoutTraits& traits(Layout l) {
@@ -55,7 +59,8 @@ constexpr bool every_layout_has_its_row() {
 static_assert(every_layout_has_its_row(), "kLayouts lists the layouts in enum order");
 
 // A layer's edge in texels for `--cube N`: the size axis is memory, so every layout stores about 6 N^2 texels (the
-// equal-memory comparison of issue 27): a cube face N, a paraboloid layer round(N sqrt 3).
+// equal-memory comparison of issue 27): a cube face N, a paraboloid layer round(N sqrt 3), a tetrahedron's face
+// round(N sqrt 1.5).
 int layer_size(Layout layout, int cube_size);
 
 }  // namespace omnishadow

@@ -16,7 +16,7 @@ std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
   std::vector<std::string> d{std::string(t.vertex_define)};
   if (t.culling == CullingForm::per_object_masks && c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
-  if (traits(c.layout).texel_map == TexelMap::paraboloid) d.push_back("LAYOUT_DUAL_PARABOLOID");
+  if (traits(c.layout).texel_map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
   return d;
 }
 
@@ -27,13 +27,13 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   if (t.gs_instanced) d.push_back("GS_INSTANCED");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
-  if (traits(c.layout).texel_map == TexelMap::paraboloid) d.push_back("LAYOUT_DUAL_PARABOLOID");
+  if (traits(c.layout).texel_map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
   return d;
 }
 
 std::vector<std::string> shadow_fragment_defines(const CaseConfig& c) {
   std::vector<std::string> d{storage_define(c.storage)};
-  if (traits(c.layout).texel_map == TexelMap::paraboloid) d.push_back("LAYOUT_DUAL_PARABOLOID");
+  if (traits(c.layout).texel_map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
   return d;
 }
 

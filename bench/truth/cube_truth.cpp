@@ -1,5 +1,6 @@
 #include "bench/truth/cube_truth.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,7 @@
 
 #include "backends/common/cube_faces.h"
 #include "backends/common/paraboloid.h"
+#include "backends/common/tetrahedron.h"
 #include "backends/common/storage_filter_tables.h"
 
 namespace omnishadow::bench {
@@ -46,7 +48,7 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
       culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back));
   CubeTruth t;
   t.map = map;
-  t.layers = map == TexelMap::paraboloid ? paraboloid::kLayerCount : 6;
+  t.layers = map == TexelMap::paraboloid ? paraboloid::kLayerCount : map == TexelMap::tetrahedral ? tetra::kFaceCount : 6;
   t.size = cube_size;
   t.stride = cube_sample_stride(cube_size);
   t.far_plane = far_plane;
@@ -61,7 +63,9 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
       const double hit = first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
       return hit >= 0.0 ? start + hit : -1.0;
     }
-    const glm::dvec3 d = cube::face_point_direction(face, s, tt, cube_size);
+    // A perspective face (the cube's, a tetrahedron's): its near and far are axis distances.
+    const glm::dvec3 d = map == TexelMap::tetrahedral ? tetra::face_point_direction(face, s, tt, cube_size)
+                                                      : cube::face_point_direction(face, s, tt, cube_size);
     const double len = glm::length(d);  // the face axis component is 1: axis distance = distance / len
     const glm::vec3 unit(d / len);
     // The face frustum clips at the axis distances near and far. A surface lying exactly on the near plane is
@@ -109,6 +113,8 @@ double storage_step(Storage storage, DepthFormat format, double distance, double
 CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
                                   DepthFormat format, float near_plane, int subpixel_bits) {
   CubeTexelReport r;
+  r.map = truth.map;
+  r.layers = truth.layers;
   r.stride = truth.stride;
   r.reach_texels = raster_reach_texels(subpixel_bits);
   WorstTexels worst;
@@ -133,7 +139,9 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
         ++r.texels;
         if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
         // Axis distance over distance: 1 where the depth is radial (the paraboloid's).
-        const double len = truth.map == TexelMap::paraboloid ? 1.0 : glm::length(cube::texel_direction(f, s, t, truth.size));
+        const double len = truth.map == TexelMap::paraboloid    ? 1.0
+                           : truth.map == TexelMap::tetrahedral ? glm::length(tetra::face_point_direction(f, s + 0.5, t + 0.5, truth.size))
+                                                                : glm::length(cube::texel_direction(f, s, t, truth.size));
         auto agree = [&](double stored_distance, double exact_distance) {
           return std::fabs(stored_distance - exact_distance) <=
                  2.0 * storage_step(storage, format, exact_distance, exact_distance / len, near_plane, far_plane) +
@@ -172,10 +180,15 @@ std::string describe(const CubeTexelReport& r) {
                 static_cast<unsigned long long>(r.texels), r.stride, r.stride == 1 ? "" : "th in s and t");
   std::string out = buf;
   std::string faces;
-  const uint64_t per_face = r.texels / 6;  // a cube's (a paraboloid's layers are reported by count only)
-  for (int f = 0; f < 6; ++f)
+  static const char* const kHemispheres[] = {"+Z half", "-Z half"};
+  static const char* const kTetraFaces[] = {"T0", "T1", "T2", "T3"};
+  const char* const* names = r.map == TexelMap::paraboloid    ? kHemispheres
+                             : r.map == TexelMap::tetrahedral ? kTetraFaces
+                                                              : cube::kFaceNames.data();
+  const uint64_t per_face = r.texels / uint64_t(std::max(r.layers, 1));  // a paraboloid's: texels of the disk
+  for (int f = 0; f < r.layers; ++f)
     if (r.bad_per_face[size_t(f)] && per_face) {
-      std::snprintf(buf, sizeof buf, "%s %.3g%%", cube::kFaceNames[size_t(f)],
+      std::snprintf(buf, sizeof buf, "%s %.3g%%", names[f],
                     100.0 * double(r.bad_per_face[size_t(f)]) / double(per_face));
       faces += (faces.empty() ? "" : ", ") + std::string(buf);
     }
@@ -183,7 +196,7 @@ std::string describe(const CubeTexelReport& r) {
   std::snprintf(buf, sizeof buf, ": %llu beyond the depth step, %llu spurious, %llu missing, max error %.4g units",
                 static_cast<unsigned long long>(r.wrong), static_cast<unsigned long long>(r.spurious),
                 static_cast<unsigned long long>(r.missing), r.max_error);
-  return out + buf + describe_worst(r.worst, "", cube::kFaceNames.data());
+  return out + buf + describe_worst(r.worst, "", names);
 }
 
 }  // namespace omnishadow::bench

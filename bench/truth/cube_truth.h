@@ -59,6 +59,8 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
                              TexelMap map = TexelMap::cube_faces);
 
 struct CubeTexelReport {
+  TexelMap map = TexelMap::cube_faces;  // the layout's texel map: names its layers in describe()
+  int layers = 6;
   int stride = 1;
   uint64_t texels = 0;        // checked
   uint64_t wrong = 0;         // both say "surface", |stored - exact| beyond the bound
