@@ -10,12 +10,12 @@
 #              untimed part (checks, reference, read-backs, images) at most 0.5x its timed part
 #   checks     no false alarm on correct code: the small-cube matrix that failed 124 of 156 cases at 3387fa1, the
 #              grazing scene in every storage and depth format, the moments filters at 32 and 16 bits, the face_array
-#              and dual_paraboloid layouts, and ctest;
+#              tetrahedral and dual_paraboloid layouts, and ctest;
 #              PASS or FAIL per part
 #   multiview  GL and Vulkan multiview against six_pass with --check
 #   matrix     the untimed/timed matrix: room, heavy and a 4.2 M-triangle scene x cubes 512-4096, GL
 #              (the untimed part at most a quarter of the run); clock samples recorded
-#   layouts    the equal-memory layout table (scripts/analysis/layout_table.py) on the GPU: cube and face_array, room
+#   layouts    the equal-memory layout table (scripts/analysis/layout_table.py) on the GPU: cube, face_array, tetrahedral, room
 #              and heavy, cubes 512 and 1024, GL and Vulkan, with --check; and dual_paraboloid beside the cube at
 #              tessellations 1, 4 and 16 on room and mixed
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
@@ -145,10 +145,10 @@ step_checks() {
   judge_checks "$out/checks/moments" '/d16' || failed=1
   # Layouts (issue 27): face_array's shader-side face selection and per-face clamped filtering against exact
   # visibility and within the layout across techniques, on the GPU's own sampler rounding; any failed check a FAIL.
-  "$bin" run --backend gl,vulkan --scene room,heavy --cube 256 --layout face_array \
+  "$bin" run --backend gl,vulkan --scene room,heavy --cube 256 --layout face_array,tetrahedral \
     --technique six_pass,geometry_shader,multiview --filter hard,pcf_disk20,hw_compare2x2,vsm --check --frames 2 \
     --warmup 1 --benchmark_repetitions=1 --out "$out/checks/layouts" >"$out/checks/layouts.log" 2>&1
-  exit_note $? "layout face_array run --check"
+  exit_note $? "layouts face_array and tetrahedral run --check"
   judge_checks "$out/checks/layouts" || failed=1
   # dual_paraboloid: its techniques against its six_pass (stored distances within 1e-4 of far, the shadow factor in
   # all but --cross-max-percent of pixels) and both APIs against each other; --max-error 100: its error against
@@ -231,7 +231,7 @@ step_clocks() {
 # Vulkan, with --check (a failed check is a FAIL; the table is scripts/analysis/layout_table.py's).
 step_layouts() {
   note "## layouts"
-  "$bin" run --backend gl,vulkan --scene room,heavy --cube 512,1024 --layout cube,face_array --technique six_pass \
+  "$bin" run --backend gl,vulkan --scene room,heavy --cube 512,1024 --layout cube,face_array,tetrahedral --technique six_pass \
     --filter hard,pcf_disk20,hw_compare2x2,vsm --check --benchmark_repetitions=5 \
     --benchmark_enable_random_interleaving=true --images none --out "$out/layouts/run" >"$out/layouts/run.log" 2>&1
   exit_note $? "layouts run --check"

@@ -106,9 +106,10 @@ MOMENTS_SECTIONS = [
 
 
 LAYOUT_SECTIONS = [
-    ("layouts_seams", "Layouts where faces meet (`--layout cube,face_array`, D32F)",
+    ("layouts_seams", "Layouts where faces meet (`--layout cube,face_array,tetrahedral`, D32F)",
      "`face_array` stores the cube's texels as six layers of a 2D array and picks the layer in the shader, so its "
-     "filtering clamps at each face's edge where the cube's crosses the seam. `seams` puts casters on the light's "
+     "filtering clamps at each face's edge where the cube's crosses the seam; `tetrahedral`'s four faces meet along "
+     "other great circles, with wider texels toward their corners (vsm is not built for it). `seams` puts casters on the light's "
      "diagonals, `grazing` lights surfaces at grazing angles, `nf_25` is the plain room. The NEAREST filters (hard, "
      "pcf_disk20) must read the same texels in both layouts (the lookup check holds each to the cube-map rule); "
      "hw_compare2x2 (2x2 bilinear compare) and vsm (bilinear moments) may differ at seams.",

@@ -33,6 +33,7 @@ MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm,esm,evsm2,evsm4,m
 FACE_ARRAY = ["--layout", "face_array", "--filter", "hard,pcf_grid64,pcf_disk20,vsm"]
 # dual_paraboloid, tessellated so that its own error is small next to a planted bug's.
 PARABOLOID = ["--layout", "dual_paraboloid", "--tessellate", "8", "--filter", "hard,pcf_disk20"]
+TETRA = ["--layout", "tetrahedral", "--filter", "hard,pcf_disk20"]
 
 
 def flip_up(face):
@@ -135,6 +136,10 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("paraboloid_warp_x_unmirrored", "shaders/paraboloid.glsl",
      replace("float vx = layer == 0 ? -v.x : v.x;", "float vx = v.x;"),
      "the shadow pass's warp does not mirror x in layer 0 (seen along +Z), so that layer is stored mirrored", PARABOLOID),
+    # tetrahedral: the GLSL lookup rebuilds each face's camera from the same rule as backends/common/tetrahedron.h.
+    ("tetra_lookup_up_to_wrong_corner", "shaders/shadow_filters.glsl",
+     replace("corner = -kTetraAxes[(face + 1) % 4];", "corner = -kTetraAxes[(face + 2) % 4];"),
+     "the tetrahedral lookup turns each face's up towards another corner than the shadow pass's camera", TETRA),
 ]
 
 

@@ -48,7 +48,8 @@ hazard "${moments[@]}" --scene nf_25,seams --filter hard,pcf_disk20,vsm,esm,evsm
 # Layouts at their extremes (issue 27): the face_array layout against the cube where faces meet (seams: casters on the
 # light's diagonals) and at grazing angles, with the filters that read across a seam (hw_compare2x2's 2x2, vsm's
 # bilinear) beside the NEAREST ones; --check holds each layout's lookups to the cube-map rule.
-hazard "${moments[@]}" --scene nf_25,seams,grazing --layout cube,face_array --filter hard,pcf_disk20,hw_compare2x2,vsm \
+hazard "${moments[@]}" --scene nf_25,seams,grazing --layout cube,face_array,tetrahedral \
+  --filter hard,pcf_disk20,hw_compare2x2,vsm \
   --out "$out/layouts_seams" "$@"
 # dual_paraboloid at its own extremes: the equator where its two layers meet (seams' diagonal casters cross it, grazing's
 # receivers lie along it) and coarse tessellation (1: each of the room's walls two triangles), beside the cube.
