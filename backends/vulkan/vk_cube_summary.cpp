@@ -6,22 +6,11 @@
 namespace omnishadow::vk {
 
 CubeSummarizer::CubeSummarizer(VkContext& ctx, ShaderModules& modules) : ctx_(ctx) {
-  VkDevice d = ctx_.device();
   compute_ = create_compute_pipeline(ctx_, modules, gpu::variant_key("cube_summary.comp", gpu::kNoVariant),
                                      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                                      2 * sizeof(int32_t));  // size, stride
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
-                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
-  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = 2;
-  pool_info.pPoolSizes = sizes;
-  OMNISHADOW_VK(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_));
-  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  alloc.descriptorPool = pool_;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &compute_.set_layout;
-  OMNISHADOW_VK(vkAllocateDescriptorSets(d, &alloc, &set_));
+  allocate_sets(ctx_, {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}},
+                compute_.set_layout, 1, pool_, &set_);
 }
 
 CubeSummarizer::~CubeSummarizer() {

@@ -23,18 +23,7 @@ MomentsBlur::MomentsBlur(VkContext& ctx, ShaderModules& modules, ColourFormat fo
     compute_ = create_compute_pipeline(ctx_, modules, gpu::variant_key("moments_blur.comp", gpu::moments_blur_defines(format)),
                                        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                        2 * sizeof(int32_t));  // size, axis
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4};
-    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pool_info.maxSets = 2;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &size;
-    OMNISHADOW_VK(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_));
-    const VkDescriptorSetLayout layouts[2] = {compute_.set_layout, compute_.set_layout};
-    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    alloc.descriptorPool = pool_;
-    alloc.descriptorSetCount = 2;
-    alloc.pSetLayouts = layouts;
-    OMNISHADOW_VK(vkAllocateDescriptorSets(d, &alloc, sets_));
+    allocate_sets(ctx_, {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}}, compute_.set_layout, 2, pool_, sets_);
     views_[0] = create_view(ctx_, moments, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
     views_[1] = create_view(ctx_, intermediate, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
     VkDescriptorImageInfo infos[2] = {{VK_NULL_HANDLE, views_[0], VK_IMAGE_LAYOUT_GENERAL},

@@ -45,6 +45,21 @@ void destroy(VkContext& ctx, Buffer& b) {
   b = Buffer{};
 }
 
+void allocate_sets(VkContext& ctx, const std::vector<VkDescriptorPoolSize>& sizes, VkDescriptorSetLayout layout,
+                   uint32_t sets, VkDescriptorPool& pool, VkDescriptorSet* out) {
+  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool_info.maxSets = sets;
+  pool_info.poolSizeCount = static_cast<uint32_t>(sizes.size());
+  pool_info.pPoolSizes = sizes.data();
+  OMNISHADOW_VK(vkCreateDescriptorPool(ctx.device(), &pool_info, nullptr, &pool));
+  const std::vector<VkDescriptorSetLayout> layouts(sets, layout);
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = pool;
+  alloc.descriptorSetCount = sets;
+  alloc.pSetLayouts = layouts.data();
+  OMNISHADOW_VK(vkAllocateDescriptorSets(ctx.device(), &alloc, out));
+}
+
 Buffer upload_buffer(VkContext& ctx, const void* data, VkDeviceSize size, VkBufferUsageFlags usage) {
   Buffer staging = create_buffer(ctx, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
   std::memcpy(staging.mapped, data, size);

@@ -31,6 +31,11 @@ void destroy(VkContext& ctx, Buffer& b);
 // A device-local buffer filled from `data` through a staging copy.
 Buffer upload_buffer(VkContext& ctx, const void* data, VkDeviceSize size, VkBufferUsageFlags usage);
 
+// A descriptor pool holding exactly `sizes`, and one set of `layout` for each of `sets` allocated from it.
+// The pool is returned in `pool` (destroying it frees the sets).
+void allocate_sets(VkContext& ctx, const std::vector<VkDescriptorPoolSize>& sizes, VkDescriptorSetLayout layout,
+                   uint32_t sets, VkDescriptorPool& pool, VkDescriptorSet* out);
+
 // layers == 6 with cube = true gives a cube-compatible image (six_pass views its layers one by one, layered
 // techniques view all six as a 2D array, the lighting pass samples it as a cube).
 Image create_image(VkContext& ctx, VkFormat format, uint32_t width, uint32_t height, uint32_t layers, bool cube,
