@@ -12,6 +12,8 @@ packages=(
   libbenchmark-dev libbenchmark-tools libgtest-dev
   libegl-mesa0 libgl1-mesa-dri            # Mesa: llvmpipe through EGL surfaceless on machines without a GPU
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers  # Vulkan loader, SPIR-V compiler, lavapipe
+  libmeshoptimizer-dev                     # mesh_shader's meshlets (backends/common/meshlets.cpp)
+  glslang-tools                            # tests: the GL-only shader variants (NV extensions) compile with glslang
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
   python3-yaml                             # tests/workflows_test.py: the fleet workflow files parse
   chromium                                 # tests/report_test.sh: the HTML report rendered in a real browser

@@ -25,8 +25,15 @@ layout(std140, binding = 0) uniform FrameUniforms {
 // Per draw of the shadow pass: the face a six_pass draw renders, and for vs_layer with face culling the faces
 // the object's bounds touch (bit f = face f). Vulkan pushes them; GL binds one of 64 prebuilt ranges (entry k
 // holds face k and mask k). Mirrors gpu::PassUniforms.
+// mesh_shader's Vulkan draws also push their first task group (GL passes it to glDrawMeshTasksNV instead).
 #ifdef VULKAN
-layout(push_constant) uniform PassUniforms { int face; uint face_mask; } pass;
+layout(push_constant) uniform PassUniforms {
+  int face;
+  uint face_mask;
+#if defined(TECHNIQUE_MESH_SHADER)
+  uint first_task;
+#endif
+} pass;
 #else
 layout(std140, binding = 1) uniform PassUniforms { int face; uint face_mask; } pass;
 #endif

@@ -17,7 +17,8 @@ layout(num_views = 6) in;  // GL: the framebuffer's six views of the cube's arra
 layout(location = 0) in vec3 in_position;
 
 // DEPTH_ONLY (storage hardware_depth): the fragment stage reads nothing, so nothing is passed to it.
-#if (defined(TECHNIQUE_SIX_PASS) || defined(TECHNIQUE_VS_LAYER) || defined(TECHNIQUE_MULTIVIEW)) && !defined(DEPTH_ONLY)
+#if (defined(TECHNIQUE_SIX_PASS) || defined(TECHNIQUE_VS_LAYER) || defined(TECHNIQUE_MULTIVIEW) || \
+     defined(TECHNIQUE_NV_SWIZZLE)) && !defined(DEPTH_ONLY)
 #define WRITE_WORLD_POSITION
 layout(location = 0) out vec3 world_position;
 #endif
@@ -74,6 +75,13 @@ void main() {
   world_position = in_position;
 #endif
   gl_Position = perturb_raster(frame.face_view_proj[face] * vec4(in_position, 1.0));
+#elif defined(TECHNIQUE_NV_SWIZZLE)
+  // Once for all six faces: viewport f's swizzle permutes (p - light, near) into face f's clip coordinates
+  // (backends/common/viewport_swizzle.h says why x, y and w are six_pass's bit for bit and z is the near plane).
+#ifdef WRITE_WORLD_POSITION
+  world_position = in_position;
+#endif
+  gl_Position = vec4(in_position - frame.light_position.xyz, frame.light_color.w);
 #else
   // Geometry-shader techniques transform per face in the GS.
   gl_Position = vec4(in_position, 1.0);

@@ -166,6 +166,11 @@ Support common_support(const CaseConfig& c) {
   if (traits(c.filter).prefilter == Prefilter::separable_blur && c.cube_size < 4)
     return {false, "the moments blur needs a cube of at least 4 texels a side (a tap folds across one seam only)"};
   if (c.cube_size < 1 || c.width < 1 || c.height < 1) return {false, "cube and frame sizes must be at least 1"};
+  if (c.technique == Technique::nv_swizzle && c.storage == Storage::hardware_depth)
+    return {false, "nv_swizzle's clip z is the near plane (a swizzle cannot scale it per face), so the rasteriser's "
+                   "depth is not the face projection's that hardware_depth stores"};
+  if (c.technique == Technique::nv_swizzle && c.raster_perturb_steps != 0.0f)
+    return {false, "--raster-perturb moves clip positions before the swizzle could permute them"};
   if (c.optimizations.face_culling && traits(c.technique).culling == CullingForm::unsupported)
     return {false, "face culling: a multiview pass renders every view of each draw (the view mask is per render "
                    "pass), so there is nothing to cull per face"};

@@ -14,6 +14,11 @@ enum class Technique {
   geometry_shader_instanced,  // one layered pass; GS invocations = 6, one face per invocation
   vs_layer,                   // one layered pass; 6 instances, gl_Layer written by the vertex shader
   multiview,                  // one pass with a 6-view mask; gl_ViewIndex picks the face (Vulkan)
+  nv_swizzle,                 // one pass; a passthrough GS sends each triangle to six viewports whose swizzles permute
+                              // the light-relative position into each face's clip space (NVIDIA's cube-map path:
+                              // GL/VK_NV_viewport_swizzle, NV_viewport_array2, NV_geometry_shader_passthrough)
+  mesh_shader,                // one pass of task + mesh shaders over meshlets: the task stage culls each meshlet
+                              // against the six faces, the mesh stage emits it once per face (gl_Layer per primitive)
 };
 enum class Filter {
   hard,           // one lookup, bias 0.05 (the point-shadow tutorial)

@@ -32,8 +32,9 @@ static_assert(sizeof(FrameUniforms) == 11 * 64 + 18 * 16, "std140 layout of Fram
 
 struct PassUniforms {
   int face;
-  uint32_t face_mask;  // vs_layer with face culling: bit f = face f
-  int pad[2];          // std140 rounds a block to 16 bytes
+  uint32_t face_mask;   // vs_layer with face culling: bit f = face f
+  uint32_t first_task;  // mesh_shader on Vulkan: the object's first task group (backends/common/meshlets.h)
+  int pad;              // std140 rounds a block to 16 bytes
 };
 inline constexpr int kPassUniformEntries = 64;  // GL: entry k = {face k, mask k}, bound per draw
 
@@ -42,11 +43,20 @@ inline constexpr int kFrameUniformsBinding = 0;
 inline constexpr int kPassUniformsBinding = 1;
 inline constexpr int kShadowMapBinding = 2;
 inline constexpr int kMapShadowsBinding = 3;  // sampler2DArray: one layer per spot/directional light
+// mesh_shader's storage buffers (shaders/mesh_common.glsl; GL: shader storage binding points).
+inline constexpr int kMeshletsBinding = 4;
+inline constexpr int kMeshletSpheresBinding = 5;
+inline constexpr int kMeshletVerticesBinding = 6;
+inline constexpr int kMeshletTrianglesBinding = 7;
+inline constexpr int kSceneVerticesBinding = 8;  // the scene's vertex buffer read as floats
+inline constexpr int kFirstMeshBinding = kMeshletsBinding, kMeshBindingCount = 5;
 
 // Vertex attributes: location 0 position, 1 normal, 2 colour; interleaved scene::Vertex.
 inline constexpr size_t kVertexStride = sizeof(scene::Vertex);
 inline constexpr size_t kPositionOffset = offsetof(scene::Vertex, position);
 inline constexpr size_t kNormalOffset = offsetof(scene::Vertex, normal);
 inline constexpr size_t kColorOffset = offsetof(scene::Vertex, color);
+// shaders/mesh_common.glsl reads positions as floats: 9 a vertex, the position first.
+static_assert(kVertexStride == 9 * sizeof(float) && kPositionOffset == 0, "mesh_common.glsl's kVertexFloats");
 
 }  // namespace omnishadow::gpu

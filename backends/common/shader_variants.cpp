@@ -22,12 +22,37 @@ std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
 
 std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   const TechniqueTraits& t = traits(c.technique);
-  if (!t.geometry_stage) return {};
+  if (t.stages == ShadowStages::vertex_passthrough) {
+    std::vector<std::string> d{std::string(t.vertex_define)};
+    if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
+    if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
+    return d;
+  }
+  if (t.stages != ShadowStages::vertex_geometry) return {};
   std::vector<std::string> d{"TECHNIQUE_GEOMETRY_SHADER"};
   if (t.gs_instanced) d.push_back("GS_INSTANCED");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
   if (traits(c.layout).texel_map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
+  return d;
+}
+
+std::string shadow_geometry_file(const CaseConfig& c) {
+  switch (traits(c.technique).stages) {
+    case ShadowStages::vertex_geometry: return "shadow_depth.geom";
+    case ShadowStages::vertex_passthrough: return "shadow_swizzle.geom";
+    case ShadowStages::vertex:
+    case ShadowStages::task_mesh: break;
+  }
+  return "";
+}
+
+std::vector<std::string> shadow_mesh_defines(const CaseConfig& c) {
+  const TechniqueTraits& t = traits(c.technique);
+  if (t.stages != ShadowStages::task_mesh) return {};
+  std::vector<std::string> d{std::string(t.vertex_define)};
+  if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
+  if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
   return d;
 }
 
@@ -75,6 +100,20 @@ std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant v
   return d;
 }
 
+namespace {
+void insert_shadow_keys(std::set<std::string>& keys, const CaseConfig& c) {
+  if (traits(c.technique).stages == ShadowStages::task_mesh) {
+    keys.insert(variant_key("shadow_mesh.task", shadow_mesh_defines(c)));
+    keys.insert(variant_key("shadow_mesh.mesh", shadow_mesh_defines(c)));
+  } else {
+    keys.insert(variant_key("shadow_depth.vert", shadow_vertex_defines(c)));
+  }
+  if (const std::string gs = shadow_geometry_file(c); !gs.empty())
+    keys.insert(variant_key(gs, shadow_geometry_defines(c)));
+  keys.insert(variant_key("shadow_depth.frag", shadow_fragment_defines(c)));
+}
+}  // namespace
+
 std::vector<std::string> spirv_variant_keys() {
   std::set<std::string> keys = {variant_key("lighting.vert", kNoVariant), variant_key("map_depth.vert", kNoVariant),
                                 variant_key("map_depth.frag", kNoVariant), variant_key("floor.frag", kNoVariant),
@@ -86,9 +125,7 @@ std::vector<std::string> spirv_variant_keys() {
         c.technique = t.technique;
         c.storage = storage;
         c.optimizations.face_culling = cull;
-        keys.insert(variant_key("shadow_depth.vert", shadow_vertex_defines(c)));
-        if (t.geometry_stage) keys.insert(variant_key("shadow_depth.geom", shadow_geometry_defines(c)));
-        keys.insert(variant_key("shadow_depth.frag", shadow_fragment_defines(c)));
+        insert_shadow_keys(keys, c);
       }
   // The layouts' own shadow passes where they differ from the cube's (the warp), for what common_support admits.
   for (const LayoutTraits& layout : kLayouts)
@@ -99,9 +136,7 @@ std::vector<std::string> spirv_variant_keys() {
         c.technique = t.technique;
         c.storage = storage;
         if (layout.texel_map == TexelMap::cube_faces || !common_support(c).ok) continue;
-        keys.insert(variant_key("shadow_depth.vert", shadow_vertex_defines(c)));
-        if (t.geometry_stage) keys.insert(variant_key("shadow_depth.geom", shadow_geometry_defines(c)));
-        keys.insert(variant_key("shadow_depth.frag", shadow_fragment_defines(c)));
+        insert_shadow_keys(keys, c);
       }
   c = CaseConfig{};
   for (Storage storage : all_values<Storage>()) {

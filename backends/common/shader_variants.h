@@ -16,6 +16,11 @@ namespace omnishadow::gpu {
 // the technique has no geometry stage. CMakeLists.txt compiles SPIR-V under exactly these lists.
 std::vector<std::string> shadow_vertex_defines(const CaseConfig& c);
 std::vector<std::string> shadow_geometry_defines(const CaseConfig& c);
+// The geometry stage's file: shadow_depth.geom (layered), shadow_swizzle.geom (nv_swizzle's passthrough), or empty.
+std::string shadow_geometry_file(const CaseConfig& c);
+// mesh_shader's task and mesh stages (shadow_mesh.task, shadow_mesh.mesh): one list for both; empty for the other
+// techniques. FACE_CULLING makes the task stage cull meshlets per face.
+std::vector<std::string> shadow_mesh_defines(const CaseConfig& c);
 // "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER,FACE_CULLING": the key a variant is embedded under.
 std::string variant_key(const std::string& file, const std::vector<std::string>& defines);
 std::string storage_define(Storage s);

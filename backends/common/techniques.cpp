@@ -1,6 +1,7 @@
 #include "backends/common/techniques.h"
 
 #include "backends/common/layouts.h"
+#include "backends/common/storage_filter_tables.h"
 
 #include <bit>
 
@@ -30,6 +31,10 @@ ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDr
     draws.push_back({object, static_cast<uint32_t>(std::popcount(mask)), mask});
   }
   return out;
+}
+
+bool reversed_depth_test(const CaseConfig& c) {
+  return c.technique == Technique::nv_swizzle && !traits(c.storage).fragment_depth;
 }
 
 }  // namespace omnishadow

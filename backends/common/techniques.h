@@ -20,6 +20,18 @@ enum class TechniqueFeature {
   geometry_shader,   // Vulkan geometryShader (core in GL 4.5)
   layer_from_vertex, // gl_Layer in the vertex stage: GL_ARB_shader_viewport_layer_array / Vulkan shaderOutputLayer
   multiview,         // Vulkan multiview (VK_KHR_multiview, core 1.1) / GL_OVR_multiview2
+  viewport_swizzle,  // VK_NV_viewport_swizzle + VK_NV_viewport_array2 + VK_NV_geometry_shader_passthrough and
+                     // multiViewport / the GL_NV_ extensions of the same names
+  mesh_shader,       // VK_EXT_mesh_shader (taskShader, meshShader) / GL_NV_mesh_shader
+};
+
+// The shadow pass's programmable stages.
+enum class ShadowStages {
+  vertex,              // shadow_depth.vert, shadow_depth.frag
+  vertex_geometry,     // + shadow_depth.geom, layered through gl_Layer
+  vertex_passthrough,  // + shadow_swizzle.geom: a passthrough GS that only sets the viewport mask
+  task_mesh,           // shadow_mesh.task, shadow_mesh.mesh, shadow_depth.frag: no vertex input; meshlets read from
+                       // storage buffers (backends/common/meshlets.h)
 };
 
 // How --optimize cull reduces the shadow pass's work for the technique.
@@ -29,13 +41,15 @@ enum class CullingForm {
                     // are not drawn
   per_object_masks, // one instance per face an object's bounds reach, with the face mask in the draw's uniforms
   unsupported,      // a multiview pass renders every view of each draw (the view mask is per render pass)
+  per_triangle_mask,  // the passthrough GS clears a triangle's viewport bit for each face it cannot reach
+  per_meshlet_task,   // the task stage sends a meshlet only to the faces its bounding sphere reaches
 };
 
 struct TechniqueTraits {
   Technique technique;
   std::string_view name;           // CLI, case ids, JSON
-  std::string_view vertex_define;  // shadow_depth.vert's variant (CMakeLists.txt compiles it)
-  bool geometry_stage;             // shadow_depth.geom is in the pipeline
+  std::string_view vertex_define;  // the shadow pass's variant: shadow_depth.vert's, or the task and mesh stages'
+  ShadowStages stages;
   bool gs_instanced;               // the GS runs 6 invocations, one face each, instead of looping over faces
   int passes;                      // render passes per cube: 6 (one per face) or 1 (layered or multiview)
   uint32_t instances;              // instances per object draw without culling (one per face for vs_layer)
@@ -44,17 +58,21 @@ struct TechniqueTraits {
   CullingForm culling;
 };
 
-inline constexpr std::array<TechniqueTraits, 5> kTechniques = {{
-    {Technique::six_pass, "six_pass", "TECHNIQUE_SIX_PASS", false, false, 6, 1, false, TechniqueFeature::none,
-     CullingForm::per_face_lists},
-    {Technique::geometry_shader, "geometry_shader", "TECHNIQUE_GEOMETRY_SHADER", true, false, 1, 1, false,
-     TechniqueFeature::geometry_shader, CullingForm::per_triangle_gs},
-    {Technique::geometry_shader_instanced, "geometry_shader_instanced", "TECHNIQUE_GEOMETRY_SHADER", true, true, 1,
-     1, false, TechniqueFeature::geometry_shader, CullingForm::per_triangle_gs},
-    {Technique::vs_layer, "vs_layer", "TECHNIQUE_VS_LAYER", false, false, 1, 6, false,
+inline constexpr std::array<TechniqueTraits, 7> kTechniques = {{
+    {Technique::six_pass, "six_pass", "TECHNIQUE_SIX_PASS", ShadowStages::vertex, false, 6, 1, false,
+     TechniqueFeature::none, CullingForm::per_face_lists},
+    {Technique::geometry_shader, "geometry_shader", "TECHNIQUE_GEOMETRY_SHADER", ShadowStages::vertex_geometry, false,
+     1, 1, false, TechniqueFeature::geometry_shader, CullingForm::per_triangle_gs},
+    {Technique::geometry_shader_instanced, "geometry_shader_instanced", "TECHNIQUE_GEOMETRY_SHADER",
+     ShadowStages::vertex_geometry, true, 1, 1, false, TechniqueFeature::geometry_shader, CullingForm::per_triangle_gs},
+    {Technique::vs_layer, "vs_layer", "TECHNIQUE_VS_LAYER", ShadowStages::vertex, false, 1, 6, false,
      TechniqueFeature::layer_from_vertex, CullingForm::per_object_masks},
-    {Technique::multiview, "multiview", "TECHNIQUE_MULTIVIEW", false, false, 1, 1, true, TechniqueFeature::multiview,
-     CullingForm::unsupported},
+    {Technique::multiview, "multiview", "TECHNIQUE_MULTIVIEW", ShadowStages::vertex, false, 1, 1, true,
+     TechniqueFeature::multiview, CullingForm::unsupported},
+    {Technique::nv_swizzle, "nv_swizzle", "TECHNIQUE_NV_SWIZZLE", ShadowStages::vertex_passthrough, false, 1, 1, false,
+     TechniqueFeature::viewport_swizzle, CullingForm::per_triangle_mask},
+    {Technique::mesh_shader, "mesh_shader", "TECHNIQUE_MESH_SHADER", ShadowStages::task_mesh, false, 1, 1, false,
+     TechniqueFeature::mesh_shader, CullingForm::per_meshlet_task},
 }};
 
 constexpr const TechniqueTraits& traits(Technique t) {
@@ -68,6 +86,11 @@ constexpr bool every_technique_has_its_row() {
   return true;
 }
 static_assert(every_technique_has_its_row(), "kTechniques lists the techniques in enum order");
+
+// nv_swizzle's clip z is the light's near plane and its w the face's axis distance (backends/common/
+// viewport_swizzle.h): window depth falls with distance (a reversed, infinite projection). Where the fragment
+// stage writes no depth of its own (r32f_distance), the pass tests GREATER against a depth cleared to 0.
+bool reversed_depth_test(const CaseConfig& c);
 
 // One object draw of the shadow pass. face_mask != 0: the draw's uniforms carry that mask (per_object_masks), and
 // `instances` is its popcount.

@@ -16,6 +16,7 @@
 #include "backends/common/shader_variants.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
+#include "backends/common/viewport_swizzle.h"
 #include "backends/gl/gl_cube_summary.h"
 
 namespace omnishadow::gl {
@@ -78,6 +79,11 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   GLint max_views = 0;
   if (epoxy_has_gl_extension("GL_OVR_multiview2")) glGetIntegerv(GL_MAX_VIEWS_OVR, &max_views);
   has_multiview_ = max_views >= 6;
+  for (const char* ext : {"GL_NV_viewport_swizzle", "GL_NV_viewport_array2", "GL_NV_geometry_shader_passthrough"})
+    if (!epoxy_has_gl_extension(ext)) missing_swizzle_ += (missing_swizzle_.empty() ? "" : ", ") + std::string(ext);
+  has_mesh_shader_ = epoxy_has_gl_extension("GL_NV_mesh_shader");
+  info_.extra["nv_swizzle extensions"] = missing_swizzle_.empty() ? "yes" : "missing " + missing_swizzle_;
+  info_.extra["GL_NV_mesh_shader"] = has_mesh_shader_ ? "yes" : "no";
   info_.extra["GL_ARB_shader_viewport_layer_array"] = has_layer_array_ ? "yes" : "no";
   info_.extra["GL_OVR_multiview2"] = max_views > 0 ? "yes, " + std::to_string(max_views) + " views" : "no";
   info_.extra["GL_ARB_pipeline_statistics_query"] = has_pipeline_statistics_ ? "yes" : "no";
@@ -93,7 +99,7 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   glNamedBufferStorage(frame_ubo_, sizeof(gpu::FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
   std::vector<uint8_t> pass_data(static_cast<size_t>(uniform_alignment_) * gpu::kPassUniformEntries, 0);
   for (int k = 0; k < gpu::kPassUniformEntries; ++k) {
-    gpu::PassUniforms p{k, static_cast<uint32_t>(k), {0, 0}};
+    gpu::PassUniforms p{k, static_cast<uint32_t>(k), 0, 0};
     std::memcpy(pass_data.data() + static_cast<size_t>(k * uniform_alignment_), &p, sizeof p);
   }
   glCreateBuffers(1, &pass_ubo_);
@@ -125,9 +131,11 @@ GlBackend::~GlBackend() {
   // destroying the EGL context (EglContext's destructor) frees these objects anyway.
   if (!context_.make_current()) {
     (void)queries_.release();  // its destructor deletes GL queries: left to the context's destruction
+    (void)mesh_pass_.release();  // and its buffers
     return;
   }
   release_case();
+  mesh_pass_.reset();
   for (auto& [key, prog] : programs_) glDeleteProgram(prog);
   const GLuint buffers[] = {vertex_buffer_, frame_ubo_, pass_ubo_};
   glDeleteBuffers(3, buffers);
@@ -144,6 +152,10 @@ Support GlBackend::supports(const CaseConfig& c) const {
   if (Support s = common_support(c); !s.ok) return s;
   if (feature == TechniqueFeature::multiview && !has_multiview_)
     return {false, "GL_OVR_multiview2 with 6 views is not exposed by " + info_.renderer};
+  if (feature == TechniqueFeature::viewport_swizzle && !missing_swizzle_.empty())
+    return {false, missing_swizzle_ + " not exposed by " + info_.renderer};
+  if (feature == TechniqueFeature::mesh_shader && !has_mesh_shader_)
+    return {false, "GL_NV_mesh_shader is not exposed by " + info_.renderer};
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
@@ -155,6 +167,7 @@ Support GlBackend::supports(const CaseConfig& c) const {
 
 void GlBackend::upload_scene(const scene::Scene& scene) {
   release_case();
+  mesh_pass_.reset();
   glDeleteBuffers(1, &vertex_buffer_);
   const GLuint vaos[] = {shadow_vao_, lighting_vao_};
   glDeleteVertexArrays(2, vaos);
@@ -205,23 +218,16 @@ void GlBackend::release_case() {
 void GlBackend::configure_case(const CaseConfig& c) {
   release_case();
 
-  // GL compiles every stage with one list: the union of the vertex and geometry stages' defines.
-  std::vector<std::string> shadow_defines = gpu::shadow_vertex_defines(c);
-  for (const std::string& d : gpu::shadow_geometry_defines(c))
-    if (std::find(shadow_defines.begin(), shadow_defines.end(), d) == shadow_defines.end()) shadow_defines.push_back(d);
-  shadow_defines.push_back(gpu::storage_define(c.storage));
+  const ProgramSource shadow_source = shadow_program_source(c, info_.subpixel_bits);
+  shadow_program_ = program(shadow_source.stages, shadow_source.defines);
   std::vector<std::string> map_defines;
   if (c.raster_perturb_steps != 0.0f) {
     char perturb[64];
     std::snprintf(perturb, sizeof perturb, "RASTER_PERTURB_NDC=%.9g", gpu::raster_perturb_ndc(c, info_.subpixel_bits));
-    shadow_defines.push_back(perturb);
     map_defines.push_back(perturb);
   }
-  std::vector<ShaderStage> shadow_stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"},
-                                            {GL_FRAGMENT_SHADER, "shadow_depth.frag"}};
-  if (traits(c.technique).geometry_stage)
-    shadow_stages.insert(shadow_stages.begin() + 1, {GL_GEOMETRY_SHADER, "shadow_depth.geom"});
-  shadow_program_ = program(shadow_stages, shadow_defines);
+  if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_)
+    mesh_pass_ = std::make_unique<GlMeshPass>(*scene_, vertex_buffer_);  // once per scene: meshlets outlive cases
   for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
     std::vector<std::string> defines = gpu::lighting_defines(c, v);
     for (std::string& d : gpu::lighting_constant_defines(gpu::lighting_constants(c, *scene_))) defines.push_back(d);
@@ -264,7 +270,7 @@ void GlBackend::bind_pass_uniforms(int entry) {
                     sizeof(gpu::PassUniforms));
 }
 
-void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided) {
+void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided, bool mesh_tasks) {
   bool culling = false;
   glDisable(GL_CULL_FACE);
   for (const ObjectDraw& d : draws) {
@@ -275,6 +281,11 @@ void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats
       culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
     }
     if (d.face_mask) bind_pass_uniforms(d.face_mask);
+    if (mesh_tasks) {
+      mesh_pass_->draw(d);
+      ++stats.draw_calls;
+      continue;
+    }
     glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex), static_cast<GLsizei>(obj.vertex_count),
                           static_cast<GLsizei>(d.instances));
     ++stats.draw_calls;
@@ -322,14 +333,32 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   // dual_paraboloid: each layer's pass clips the other hemisphere away (gl_ClipDistance[0], shaders/paraboloid.glsl).
   const bool clip_hemisphere = traits(config_->layout).texel_map == TexelMap::paraboloid;
   if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
+  const bool swizzle = config_->technique == Technique::nv_swizzle;
+  const bool mesh = traits(config_->technique).stages == ShadowStages::task_mesh;
+  if (swizzle) set_face_swizzles(true);  // glViewport above set all six viewports alike
+  if (reversed_depth_test(*config_)) glDepthFunc(GL_GREATER);
+  if (mesh) mesh_pass_->bind();
   for (int p = 0; p < passes.count; ++p) {
     begin_shadow_pass(p, passes.count, frame.uniforms.light_position.w);
     bind_pass_uniforms(p);
-    draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided);
+    draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided, mesh);
   }
+  if (swizzle) set_face_swizzles(false);
+  glDepthFunc(GL_LESS);
   if (clip_hemisphere) glDisable(GL_CLIP_DISTANCE0);
   if (blur_program_) blur_moments();
   return stats;
+}
+
+void GlBackend::set_face_swizzles(bool on) {
+  const auto swizzles = cube::face_swizzles();
+  auto gl_enum = [](cube::SwizzleComponent c) { return GL_VIEWPORT_SWIZZLE_POSITIVE_X_NV + static_cast<GLenum>(c); };
+  for (GLuint f = 0; f < cube::kFaceCount; ++f) {
+    const cube::FaceSwizzle identity{cube::SwizzleComponent::pos_x, cube::SwizzleComponent::pos_y,
+                                     cube::SwizzleComponent::pos_z, cube::SwizzleComponent::pos_w};
+    const cube::FaceSwizzle& s = on ? swizzles[f] : identity;
+    glViewportSwizzleNV(f, gl_enum(s.x), gl_enum(s.y), gl_enum(s.z), gl_enum(s.w));
+  }
 }
 
 // The moments prefilter (shaders/moments_blur.comp): along s from the moments cube into the intermediate, then
@@ -353,10 +382,10 @@ void GlBackend::blur_moments() {
 // clears all six layers); depth cleared to 1, an r32f cube to FLT_MAX ("nothing here", docs/glossary.md).
 void GlBackend::begin_shadow_pass(int p, int count, float far_plane) {
   const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
-  const GLfloat depth_one = 1.0f;
+  const GLfloat depth_clear = reversed_depth_test(*config_) ? 0.0f : 1.0f;  // nv_swizzle's r32f: nearer is greater
   const GLuint fbo = count > 1 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_one);
+  glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_clear);
   if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
   if (traits(shadow_.storage).moments != MomentKind::none)
     glClearNamedFramebufferfv(

@@ -16,6 +16,7 @@
 #include "backends/common/shadow_frame.h"
 #include "backends/common/techniques.h"
 #include "backends/gl/egl_context.h"
+#include "backends/gl/gl_mesh_pass.h"
 #include "backends/gl/gl_program.h"
 #include "backends/gl/gl_queries.h"
 #include "backends/gl/gl_targets.h"
@@ -48,14 +49,20 @@ class GlBackend final : public Backend {
   void clear_shadow_targets(float far_plane);  // the floor frame's shadow pass: framebuffers cleared, nothing drawn
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   void bind_pass_uniforms(int entry);
-  // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only).
-  void draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided);
+  // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only);
+  // mesh_tasks: mesh_shader's task draws of each object's meshlets instead of its vertices.
+  void draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided, bool mesh_tasks = false);
+  // nv_swizzle: viewports 0-5 take face f's swizzle (viewport_swizzle.h), or all go back to the identity.
+  void set_face_swizzles(bool on);
   void release_case();
   void blur_moments();  // the moments filters' prefilter, in the shadow pass's time
 
   EglContext context_;
   bool has_layer_array_ = false;
   bool has_multiview_ = false;  // GL_OVR_multiview2 with GL_MAX_VIEWS_OVR >= 6
+  std::string missing_swizzle_;  // nv_swizzle: the GL_NV_ extensions it needs that are not exposed; empty: all are
+  bool has_mesh_shader_ = false;  // GL_NV_mesh_shader
+  std::unique_ptr<GlMeshPass> mesh_pass_;  // the scene's meshlets, from its first mesh_shader case
   bool has_pipeline_statistics_ = false;
   GLint uniform_alignment_ = 256;
 

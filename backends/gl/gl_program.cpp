@@ -3,7 +3,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <algorithm>
+#include <cstdio>
+
 #include "backends/common/embedded_files.h"
+#include "backends/common/shader_variants.h"
+#include "backends/common/techniques.h"
 
 namespace omnishadow::gl {
 namespace {
@@ -94,6 +99,29 @@ GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<s
     throw std::runtime_error("linking " + stages.front().file + " failed: " + log);
   }
   return program;
+}
+
+ProgramSource shadow_program_source(const CaseConfig& c, int subpixel_bits) {
+  ProgramSource out;
+  const bool mesh = traits(c.technique).stages == ShadowStages::task_mesh;
+  for (const auto& list : {mesh ? gpu::shadow_mesh_defines(c) : gpu::shadow_vertex_defines(c),
+                           gpu::shadow_geometry_defines(c)})
+    for (const std::string& d : list)
+      if (std::find(out.defines.begin(), out.defines.end(), d) == out.defines.end()) out.defines.push_back(d);
+  out.defines.push_back(gpu::storage_define(c.storage));
+  if (c.raster_perturb_steps != 0.0f) {
+    char perturb[64];
+    std::snprintf(perturb, sizeof perturb, "RASTER_PERTURB_NDC=%.9g", gpu::raster_perturb_ndc(c, subpixel_bits));
+    out.defines.push_back(perturb);
+  }
+  if (mesh) {
+    out.stages = {{GL_TASK_SHADER_NV, "shadow_mesh.task"}, {GL_MESH_SHADER_NV, "shadow_mesh.mesh"}};
+  } else {
+    out.stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"}};
+    if (const std::string gs = gpu::shadow_geometry_file(c); !gs.empty()) out.stages.push_back({GL_GEOMETRY_SHADER, gs});
+  }
+  out.stages.push_back({GL_FRAGMENT_SHADER, "shadow_depth.frag"});
+  return out;
 }
 
 }  // namespace omnishadow::gl

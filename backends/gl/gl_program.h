@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "backends/common/case_config.h"
+
 namespace omnishadow::gl {
 
 struct ShaderStage {
@@ -19,5 +21,13 @@ std::string preprocess_shader(const std::string& file, const std::vector<std::st
 
 // Compiles and links; throws std::runtime_error with the file name and the first line of the driver's log.
 GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
+
+// The shadow pass's program for a case: its stages (vertex [+ geometry] or task + mesh, then fragment) and one
+// define list for all of them (the union of the stages' variant defines, as GL compiles them).
+struct ProgramSource {
+  std::vector<ShaderStage> stages;
+  std::vector<std::string> defines;
+};
+ProgramSource shadow_program_source(const CaseConfig& c, int subpixel_bits);
 
 }  // namespace omnishadow::gl

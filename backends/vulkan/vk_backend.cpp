@@ -16,6 +16,7 @@
 #include "backends/common/shader_variants.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
+#include "backends/common/viewport_swizzle.h"
 
 namespace omnishadow::vk {
 namespace {
@@ -207,6 +208,7 @@ VkBackend::~VkBackend() {
   vkDeviceWaitIdle(d);
   release_case();
   summarizer_.reset();
+  mesh_pass_.reset();
   destroy(*ctx_, vertex_buffer_);
   destroy(*ctx_, frame_uniforms_);
   vkFreeCommandBuffers(d, ctx_->command_pool(), 2, command_buffers_.data());
@@ -258,6 +260,13 @@ Support VkBackend::supports(const CaseConfig& c) const {
     case TechniqueFeature::multiview:
       if (!ctx_->has_multiview()) return {false, "multiview feature not supported by " + device};
       break;
+    case TechniqueFeature::viewport_swizzle:
+      if (!ctx_->missing_for_swizzle().empty())
+        return {false, ctx_->missing_for_swizzle() + " not supported by " + device};
+      break;
+    case TechniqueFeature::mesh_shader:
+      if (!ctx_->has_mesh_shader()) return {false, "VK_EXT_mesh_shader (taskShader, meshShader) not supported by " + device};
+      break;
     case TechniqueFeature::none: break;
   }
   if (c.cube_size > info_.max_cube_size)
@@ -285,9 +294,11 @@ Support VkBackend::supports(const CaseConfig& c) const {
 void VkBackend::upload_scene(const scene::Scene& scene) {
   vkDeviceWaitIdle(ctx_->device());
   release_case();
+  mesh_pass_.reset();
   destroy(*ctx_, vertex_buffer_);
+  // Also a storage buffer: mesh_shader's mesh stage reads the positions from it (shaders/mesh_common.glsl).
   vertex_buffer_ = upload_buffer(*ctx_, scene.vertices.data(), scene.vertices.size() * sizeof(scene::Vertex),
-                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 }
 
 void VkBackend::release_case() {
@@ -324,6 +335,8 @@ void VkBackend::configure_case(const CaseConfig& c) {
     const uint32_t map_layers = static_cast<uint32_t>(scene_->map_lights.size());
     maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u, std::max(map_layers, 1u),
                                c.depth_format);
+    if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_)
+      mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, vertex_buffer_, frame_uniforms_);
     create_pipelines(c);
     if (traits(c.filter).prefilter == Prefilter::separable_blur)
       blur_ = std::make_unique<MomentsBlur>(*ctx_, *modules_, colour_format(c.storage, c.depth_format), shadow_.color,
@@ -354,13 +367,26 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
 
   PipelineDesc shadow;
   // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
-  shadow.stages.push_back(
-      {VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("shadow_depth.vert", gpu::shadow_vertex_defines(c))});
-  if (std::vector<std::string> gs = gpu::shadow_geometry_defines(c); !gs.empty())
-    shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key("shadow_depth.geom", gs)});
+  const bool mesh = traits(c.technique).stages == ShadowStages::task_mesh;
+  if (mesh) {
+    shadow.stages.push_back({VK_SHADER_STAGE_TASK_BIT_EXT, gpu::variant_key("shadow_mesh.task", gpu::shadow_mesh_defines(c))});
+    shadow.stages.push_back({VK_SHADER_STAGE_MESH_BIT_EXT, gpu::variant_key("shadow_mesh.mesh", gpu::shadow_mesh_defines(c))});
+  } else {
+    shadow.stages.push_back(
+        {VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("shadow_depth.vert", gpu::shadow_vertex_defines(c))});
+  }
+  if (const std::string gs = gpu::shadow_geometry_file(c); !gs.empty())
+    shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key(gs, gpu::shadow_geometry_defines(c))});
   shadow.stages.push_back(
       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("shadow_depth.frag", gpu::shadow_fragment_defines(c))});
-  shadow.layout = shadow_layout_;
+  if (c.technique == Technique::nv_swizzle)
+    for (const cube::FaceSwizzle& f : cube::face_swizzles())
+      shadow.viewport_swizzles.push_back({static_cast<VkViewportCoordinateSwizzleNV>(f.x),
+                                          static_cast<VkViewportCoordinateSwizzleNV>(f.y),
+                                          static_cast<VkViewportCoordinateSwizzleNV>(f.z),
+                                          static_cast<VkViewportCoordinateSwizzleNV>(f.w)});
+  if (reversed_depth_test(c)) shadow.depth_compare = VK_COMPARE_OP_GREATER;
+  shadow.layout = mesh ? mesh_pass_->layout() : shadow_layout_;
   shadow.render_pass = shadow_.render_pass;
   shadow.color_attachments = traits(c.storage).colour_channels > 0 ? 1 : 0;
   shadow.position_only = true;
@@ -443,7 +469,7 @@ void VkBackend::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& p
   for (const ObjectDraw& d : list) {
     const scene::Object& obj = scene_->objects[d.object];
     if (d.face_mask) {
-      const gpu::PassUniforms pass{0, d.face_mask, {0, 0}};
+      const gpu::PassUniforms pass{0, d.face_mask, 0, 0};
       vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
     }
     int want = obj.cull_back_faces ? 1 : 0;
@@ -475,7 +501,7 @@ void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
       vkCmdSetViewport(cb, 0, 1, &viewport);
       vkCmdSetScissor(cb, 0, 1, &scissor);
       vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-      const gpu::PassUniforms pass{static_cast<int32_t>(i), 0, {0, 0}};
+      const gpu::PassUniforms pass{static_cast<int32_t>(i), 0, 0, 0};
       vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
       // Closed objects: back faces culled as in the cube pass, or front faces (the directional notes' peter-panning fix).
       const size_t closed = scene_->map_lights[i].cull_front_faces ? 2 : 1;
@@ -502,7 +528,7 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
                                                        frame.uniforms.light_position.w);
     clears[0].color = {{m[0], m[1], m[2], m[3]}};
   }
-  clears[1].depthStencil = {1.0f, 0};
+  clears[1].depthStencil = {reversed_depth_test(*config_) ? 0.0f : 1.0f, 0};  // nv_swizzle's r32f: nearer is greater
   const bool colour_first = traits(shadow_.storage).colour_channels > 0;  // r32f or moments: a colour attachment
   VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   rp.renderPass = shadow_.render_pass;
@@ -516,10 +542,19 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   for (size_t p = 0; p < static_cast<size_t>(passes.count); ++p) {  // six_pass: face p; else the whole cube
     rp.framebuffer = shadow_.framebuffers[p];
     vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
-    vkCmdSetViewport(cb, 0, 1, &viewport);
-    vkCmdSetScissor(cb, 0, 1, &scissor);
+    // nv_swizzle: six viewports alike, one per face (the pipeline's swizzles tell them apart).
+    const std::array<VkViewport, cube::kFaceCount> viewports = {viewport, viewport, viewport, viewport, viewport, viewport};
+    const std::array<VkRect2D, cube::kFaceCount> scissors = {scissor, scissor, scissor, scissor, scissor, scissor};
+    const uint32_t viewport_count = config_->technique == Technique::nv_swizzle ? cube::kFaceCount : 1;
+    vkCmdSetViewport(cb, 0, viewport_count, viewports.data());
+    vkCmdSetScissor(cb, 0, viewport_count, scissors.data());
+    if (mesh_pass_ && traits(config_->technique).stages == ShadowStages::task_mesh) {
+      if (!floor) mesh_pass_->draw_list(cb, shadow_pipelines_, passes.draws[p], draws);
+      vkCmdEndRenderPass(cb);
+      continue;
+    }
     vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-    const gpu::PassUniforms pass{static_cast<int32_t>(p), 0, {0, 0}};
+    const gpu::PassUniforms pass{static_cast<int32_t>(p), 0, 0, 0};
     vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
     if (!floor) draw_list(cb, shadow_pipelines_, shadow_layout_, shadow_set_, passes.draws[p], draws);
     vkCmdEndRenderPass(cb);
@@ -604,8 +639,11 @@ FrameCounters VkBackend::count_frame_work(int frame) {
   gpu::ShadowFrame plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
   std::memcpy(frame_uniforms_.mapped, &plan.uniforms, sizeof plan.uniforms);
   const bool stats = statistics_ != VK_NULL_HANDLE;
+  // Mesh draws may not run inside a pipeline-statistics query that counts input-assembly, vertex or geometry work
+  // (VK_EXT_mesh_shader's vkCmdDrawMeshTasksEXT), and this pool counts them: mesh_shader's shadow pass is not counted.
+  const bool shadow_stats = stats && traits(config_->technique).stages != ShadowStages::task_mesh;
   FrameCounters c;
-  record_shadow(command_buffers_[0], plan, stats, c.shadow.draw_calls);
+  record_shadow(command_buffers_[0], plan, shadow_stats, c.shadow.draw_calls);
   ctx_->submit(command_buffers_[0]);
   planner_.rendered(plan, *config_);
   ctx_->wait();
@@ -613,14 +651,14 @@ FrameCounters VkBackend::count_frame_work(int frame) {
   ctx_->submit(command_buffers_[1]);
   ctx_->wait();
   if (stats) {
-    uint64_t values[2][kPipelineStatistics.size()] = {};
-    OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), statistics_, 0, 2, sizeof values, values, sizeof values[0],
-                                        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     PassCounters* passes[2] = {&c.shadow, &c.lighting};
-    for (int p = 0; p < 2; ++p) {
+    for (uint32_t p = shadow_stats ? 0 : 1; p < 2; ++p) {
+      uint64_t values[kPipelineStatistics.size()] = {};
+      OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), statistics_, p, 1, sizeof values, values, sizeof values,
+                                          VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
       PassCounters& k = *passes[p];
       k.valid = true;
-      for (size_t s = 0; s < kPipelineStatistics.size(); ++s) k.*kPipelineStatistics[s].member = values[p][s];
+      for (size_t s = 0; s < kPipelineStatistics.size(); ++s) k.*kPipelineStatistics[s].member = values[s];
     }
   }
   return c;

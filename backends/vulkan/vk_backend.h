@@ -15,6 +15,7 @@
 #include "backends/common/shadow_frame.h"
 #include "backends/vulkan/vk_context.h"
 #include "backends/vulkan/vk_cube_summary.h"
+#include "backends/vulkan/vk_mesh_pass.h"
 #include "backends/vulkan/vk_moments_blur.h"
 #include "backends/vulkan/vk_pipelines.h"
 #include "backends/vulkan/vk_resources.h"
@@ -90,6 +91,7 @@ class VkBackend final : public Backend {
   std::array<std::array<VkPipeline, 2>, 2> lighting_pipelines_{};  // [variant][back-face culling]
   std::array<VkPipeline, 2> floor_pipelines_{};                     // the lighting floor, [back-face culling]
   std::unique_ptr<MomentsBlur> blur_;  // a moments filter's prefilter, recorded into the shadow pass
+  std::unique_ptr<VkMeshPass> mesh_pass_;  // mesh_shader: the scene's meshlets, from its first mesh_shader case
 };
 
 }  // namespace omnishadow::vk

@@ -212,6 +212,32 @@ void VkContext::read_properties() {
   storage_image_extended_formats_ = features.features.shaderStorageImageExtendedFormats;
   multiview_ = f11.multiview;
   layer_output_ = f12.shaderOutputLayer;
+  multi_viewport_ = features.features.multiViewport;
+
+  uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> available(count);
+  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &count, available.data());
+  auto has = [&](const char* name) {
+    for (const VkExtensionProperties& e : available)
+      if (std::strcmp(e.extensionName, name) == 0) return true;
+    return false;
+  };
+  for (const char* ext : {VK_NV_VIEWPORT_SWIZZLE_EXTENSION_NAME, VK_NV_VIEWPORT_ARRAY_2_EXTENSION_NAME,
+                          VK_NV_GEOMETRY_SHADER_PASSTHROUGH_EXTENSION_NAME})
+    if (!has(ext)) missing_for_swizzle_ += (missing_for_swizzle_.empty() ? "" : ", ") + std::string(ext);
+  if (!geometry_shader_) missing_for_swizzle_ += (missing_for_swizzle_.empty() ? "" : ", ") + std::string("geometryShader");
+  if (!multi_viewport_) missing_for_swizzle_ += (missing_for_swizzle_.empty() ? "" : ", ") + std::string("multiViewport");
+  if (missing_for_swizzle_.empty())
+    extensions_.insert(extensions_.end(), {VK_NV_VIEWPORT_SWIZZLE_EXTENSION_NAME, VK_NV_VIEWPORT_ARRAY_2_EXTENSION_NAME,
+                                           VK_NV_GEOMETRY_SHADER_PASSTHROUGH_EXTENSION_NAME});
+  if (has(VK_EXT_MESH_SHADER_EXTENSION_NAME)) {
+    VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
+    VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &mesh};
+    vkGetPhysicalDeviceFeatures2(physical_, &query);
+    mesh_shader_ = mesh.taskShader && mesh.meshShader;
+    if (mesh_shader_) extensions_.push_back(VK_EXT_MESH_SHADER_EXTENSION_NAME);
+  }
 }
 
 // Enables exactly what the techniques use, nothing else.
@@ -225,6 +251,13 @@ void VkContext::create_device() {
   enable.features.shaderClipDistance = clip_distance_;
   enable.features.pipelineStatisticsQuery = pipeline_statistics_;
   enable.features.shaderStorageImageExtendedFormats = storage_image_extended_formats_;
+  enable.features.multiViewport = missing_for_swizzle_.empty();  // nv_swizzle's six viewports
+  VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
+  mesh.taskShader = mesh.meshShader = VK_TRUE;
+  if (mesh_shader_) {
+    mesh.pNext = enable.pNext;
+    enable.pNext = &mesh;
+  }
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -234,6 +267,8 @@ void VkContext::create_device() {
   VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &enable};
   device_info.queueCreateInfoCount = 1;
   device_info.pQueueCreateInfos = &queue_info;
+  device_info.enabledExtensionCount = static_cast<uint32_t>(extensions_.size());
+  device_info.ppEnabledExtensionNames = extensions_.data();
   OMNISHADOW_VK(vkCreateDevice(physical_, &device_info, nullptr, &device_));
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 }

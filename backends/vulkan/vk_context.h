@@ -49,6 +49,11 @@ class VkContext {
   bool has_layer_output() const { return layer_output_; }  // shaderOutputLayer (1.2) for vs_layer
   bool has_pipeline_statistics() const { return pipeline_statistics_; }
   bool has_storage_image_extended_formats() const { return storage_image_extended_formats_; }
+  // nv_swizzle: what the device lacks of VK_NV_viewport_swizzle, VK_NV_viewport_array2,
+  // VK_NV_geometry_shader_passthrough, geometryShader and multiViewport; empty: it has them all (enabled).
+  const std::string& missing_for_swizzle() const { return missing_for_swizzle_; }
+  // mesh_shader: VK_EXT_mesh_shader with its taskShader and meshShader features (enabled when present).
+  bool has_mesh_shader() const { return mesh_shader_; }
   bool validation() const { return validation_; }
 
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
@@ -95,6 +100,10 @@ class VkContext {
   bool layer_output_ = false;
   bool pipeline_statistics_ = false;
   bool storage_image_extended_formats_ = false;  // rg32f / rg16f storage images (the moments blur)
+  bool multi_viewport_ = false;
+  std::string missing_for_swizzle_;
+  bool mesh_shader_ = false;
+  std::vector<const char*> extensions_;  // the device extensions enabled
   bool validation_ = false;
   std::vector<std::string> messages_;
 };

@@ -39,14 +39,18 @@ VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const Pipelin
   const VkSpecializationInfo fragment = specialisation_of(desc.fragment_constants, fragment_entries);
   const VkSpecializationInfo vertex = specialisation_of(desc.vertex_constants, vertex_entries);
   std::vector<VkPipelineShaderStageCreateInfo> stages;
+  bool mesh_pipeline = false;  // task + mesh stages: no vertex input or input assembly
   for (const auto& [stage, key] : desc.stages) {
     VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     s.stage = stage;
     s.module = modules.get(key);
     s.pName = "main";
     if (stage == VK_SHADER_STAGE_FRAGMENT_BIT && !fragment_entries.empty()) s.pSpecializationInfo = &fragment;
-    if ((stage == VK_SHADER_STAGE_VERTEX_BIT || stage == VK_SHADER_STAGE_GEOMETRY_BIT) && !vertex_entries.empty())
+    if ((stage == VK_SHADER_STAGE_VERTEX_BIT || stage == VK_SHADER_STAGE_GEOMETRY_BIT ||
+         stage == VK_SHADER_STAGE_MESH_BIT_EXT) &&
+        !vertex_entries.empty())
       s.pSpecializationInfo = &vertex;
+    if (stage == VK_SHADER_STAGE_MESH_BIT_EXT) mesh_pipeline = true;
     stages.push_back(s);
   }
   VkVertexInputBindingDescription binding{0, static_cast<uint32_t>(gpu::kVertexStride), VK_VERTEX_INPUT_RATE_VERTEX};
@@ -62,8 +66,15 @@ VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const Pipelin
   VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
   assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
+  const uint32_t viewports = desc.viewport_swizzles.empty() ? 1u : static_cast<uint32_t>(desc.viewport_swizzles.size());
+  viewport.viewportCount = viewports;
+  viewport.scissorCount = viewports;
+  VkPipelineViewportSwizzleStateCreateInfoNV swizzle{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_SWIZZLE_STATE_CREATE_INFO_NV};
+  if (!desc.viewport_swizzles.empty()) {
+    swizzle.viewportCount = viewports;
+    swizzle.pViewportSwizzles = desc.viewport_swizzles.data();
+    viewport.pNext = &swizzle;
+  }
   VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
   raster.polygonMode = VK_POLYGON_MODE_FILL;
   raster.cullMode = desc.cull;
@@ -76,7 +87,7 @@ VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const Pipelin
   VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   depth.depthTestEnable = VK_TRUE;
   depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_LESS;
+  depth.depthCompareOp = desc.depth_compare;
   std::vector<VkPipelineColorBlendAttachmentState> blend(desc.color_attachments);
   for (auto& b : blend)
     b.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
@@ -92,8 +103,8 @@ VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const Pipelin
   VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   info.stageCount = static_cast<uint32_t>(stages.size());
   info.pStages = stages.data();
-  info.pVertexInputState = &vertex_input;
-  info.pInputAssemblyState = &assembly;
+  info.pVertexInputState = mesh_pipeline ? nullptr : &vertex_input;
+  info.pInputAssemblyState = mesh_pipeline ? nullptr : &assembly;
   info.pViewportState = &viewport;
   info.pRasterizationState = &raster;
   info.pMultisampleState = &multisample;

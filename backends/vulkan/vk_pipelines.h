@@ -34,6 +34,9 @@ struct PipelineDesc {
   std::vector<int32_t> fragment_constants;
   // The vertex and geometry stages' (shaders/raster_perturb.glsl: constant_id 0, a float's bits); empty: defaults.
   std::vector<int32_t> vertex_constants;
+  // nv_swizzle: one viewport per face with its swizzle (VK_NV_viewport_swizzle); empty: one plain viewport.
+  std::vector<VkViewportSwizzleNV> viewport_swizzles;
+  VkCompareOp depth_compare = VK_COMPARE_OP_LESS;  // GREATER for nv_swizzle's reversed depth (techniques.h)
 };
 
 VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc);
