@@ -3,16 +3,41 @@
 // only names the viewports that get it (NV_viewport_array2's gl_ViewportMask). Viewport f's swizzle turns the vertex
 // stage's (p - light, near) into face f's clip coordinates (backends/common/viewport_swizzle.h), and the
 // viewport-relative gl_Layer puts viewport f's copy in layer f.
+//
+// EMULATE_SWIZZLE (test only, CaseConfig::emulate_nv_swizzle): the same mask, but an ordinary GS emits the triangle
+// into each face in it with that face's swizzle applied here (the C++ table, packed into SWIZZLES_01/_23/_45) and
+// gl_Layer = face, so a device without the NV extensions runs everything else nv_swizzle does.
+#if !defined(EMULATE_SWIZZLE)
 #extension GL_NV_geometry_shader_passthrough : require
 #extension GL_NV_viewport_array2 : require
+#endif
 #include "common.glsl"
 
 layout(triangles) in;
+#if defined(EMULATE_SWIZZLE)
+layout(triangle_strip, max_vertices = 18) out;
+#if !defined(DEPTH_ONLY)
+layout(location = 0) in vec3 world_position_in[];
+layout(location = 0) out vec3 world_position;
+#endif
+#else
 layout(passthrough) in gl_PerVertex { vec4 gl_Position; } gl_in[];
 #if !defined(DEPTH_ONLY)  // storage hardware_depth is refused for nv_swizzle; kept for symmetry with shadow_depth.geom
 layout(passthrough, location = 0) in vec3 world_position[];
 #endif
 layout(viewport_relative) out int gl_Layer;
+#endif
+
+#if defined(EMULATE_SWIZZLE)
+// What viewport f's swizzle does: component c of the source is +-(x, y, z, w)[c / 2], negated for odd c.
+float swizzle_component(vec4 v, uint c) { return (c & 1u) != 0u ? -v[c >> 1u] : v[c >> 1u]; }
+vec4 apply_face_swizzle(vec4 v, int face) {
+  const uint pair = face < 2 ? SWIZZLES_01 : face < 4 ? SWIZZLES_23 : SWIZZLES_45;
+  const uint s = (pair >> (12u * uint(face & 1))) & 0xFFFu;
+  return vec4(swizzle_component(v, s & 7u), swizzle_component(v, (s >> 3u) & 7u), swizzle_component(v, (s >> 6u) & 7u),
+              swizzle_component(v, (s >> 9u) & 7u));
+}
+#endif
 
 void main() {
   int mask = 0x3F;  // faces +X, -X, +Y, -Y, +Z, -Z: bit f = viewport f = layer f
@@ -33,6 +58,21 @@ void main() {
       mask &= ~(1 << f);
   }
 #endif
+#if defined(EMULATE_SWIZZLE)
+  for (int f = 0; f < 6; ++f) {
+    if ((mask & (1 << f)) == 0) continue;
+    for (int i = 0; i < 3; ++i) {
+      gl_Layer = f;  // per vertex: outputs are undefined after EmitVertex
+#if !defined(DEPTH_ONLY)
+      world_position = world_position_in[i];
+#endif
+      gl_Position = apply_face_swizzle(gl_in[i].gl_Position, f);
+      EmitVertex();
+    }
+    EndPrimitive();
+  }
+#else
   gl_ViewportMask[0] = mask;
   gl_Layer = 0;
+#endif
 }

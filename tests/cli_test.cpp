@@ -407,6 +407,34 @@ TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) 
   EXPECT_GT(gpu_paths, 0);
 }
 
+// nv_swizzle's emulation (--emulate-nv-swizzle: an ordinary GS applies each face's swizzle) runs everything of
+// nv_swizzle but the NV extensions on the CPU drivers: its vertex stage, the swizzle table as the GPU applies it,
+// the viewport mask with culling, the reversed depth test and clear of r32f_distance. Every check against six_pass
+// and exact visibility must pass on both APIs (heavy at cube 64 is past the default error limit for six_pass too:
+// --max-error 100; a flipped culling sign or an unreversed depth test fails the checks:
+// docs/mutants.md).
+TEST_F(CliRun, EmulatedNvSwizzlePassesEveryCheckOnBothApis) {
+  std::string why;
+  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  fs::path out = scratch("swizzle_emulated");
+  Outcome o = run("run --backend " + backends + " --scene room,heavy --cube 64 --frame 160x120"
+                  " --technique six_pass,nv_swizzle --filter hard --storage linear_depth,r32f_distance"
+                  " --optimize none,cull --emulate-nv-swizzle --frames 1 --warmup 0 --images none --check --max-error 100"
+                  " --benchmark_repetitions=1 --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  int emulated = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["status"], "ok") << c.dump();
+    const std::string id = c["id"];
+    if (c["axes"]["technique"] == "nv_swizzle") {
+      EXPECT_EQ(id.substr(id.size() - 9), "/emulated") << id;
+      ++emulated;
+    }
+  }
+  EXPECT_EQ(emulated, (backends == "gl" ? 1 : 2) * 2 * 2 * 2) << "backends x scenes x storages x culling";
+}
+
 // Issue 27: the face_array layout runs with --check on both APIs (truth, timing, the technique checks within the
 // layout), beside the cube; its cases carry the layout in the id and the JSON axes.
 TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {

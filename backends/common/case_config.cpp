@@ -198,6 +198,7 @@ std::string CaseConfig::id() const {
     id += "/" + words;
     std::replace(id.end() - static_cast<std::ptrdiff_t>(words.size()), id.end(), '+', '/');
   }
+  if (emulate_nv_swizzle && technique == Technique::nv_swizzle) id += "/emulated";
   if (!experiment.empty()) id += "/" + experiment;
   return id;
 }

@@ -188,6 +188,13 @@ struct CaseConfig {
   // face's axes (shaders/shadow_filters.glsl, shadow_coord), as a sampler that quantises texel coordinates more
   // coarsely may read; proves the lookup check's bound (bench/truth/lookup_check.h). 0 in every real run. Not in the id.
   float lookup_perturb_texels = 0.0f;
+  // Test only (--emulate-nv-swizzle): nv_swizzle without its NV extensions, on any device with a geometry shader.
+  // An ordinary GS emits each triangle once per face with the face's swizzle applied in the shader (the table of
+  // backends/common/viewport_swizzle.h, passed as defines) and gl_Layer = face, into one viewport. Everything else
+  // is nv_swizzle's own: the vertex stage, the viewport mask and its culling, the reversed depth test and clear, the
+  // checks; so CPU drivers prove all of it but the passthrough GS and the swizzle state. Off in every real run; ids
+  // end in /emulated.
+  bool emulate_nv_swizzle = false;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
   // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are on

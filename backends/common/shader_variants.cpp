@@ -6,6 +6,7 @@
 #include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
+#include "backends/common/viewport_swizzle.h"
 
 #include <set>
 
@@ -26,6 +27,12 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
     std::vector<std::string> d{std::string(t.vertex_define)};
     if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
     if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
+    if (c.emulate_nv_swizzle) {
+      d.push_back("EMULATE_SWIZZLE");
+      for (int k = 0; k < 3; ++k)
+        d.push_back("SWIZZLES_" + std::to_string(2 * k) + std::to_string(2 * k + 1) + "=" +
+                    std::to_string(cube::packed_swizzle_pair(k)) + "u");
+    }
     return d;
   }
   if (t.stages != ShadowStages::vertex_geometry) return {};
@@ -126,6 +133,9 @@ std::vector<std::string> spirv_variant_keys() {
         c.storage = storage;
         c.optimizations.face_culling = cull;
         insert_shadow_keys(keys, c);
+        c.emulate_nv_swizzle = t.technique == Technique::nv_swizzle;  // its test-only emulation (an ordinary GS)
+        insert_shadow_keys(keys, c);
+        c.emulate_nv_swizzle = false;
       }
   // The layouts' own shadow passes where they differ from the cube's (the warp), for what common_support admits.
   for (const LayoutTraits& layout : kLayouts)

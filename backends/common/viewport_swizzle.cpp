@@ -38,6 +38,17 @@ std::array<FaceSwizzle, kFaceCount> face_swizzles() {
   return out;
 }
 
+uint32_t packed_swizzle_pair(int k) {
+  const auto swizzles = face_swizzles();
+  uint32_t bits = 0;
+  for (int f = 2 * k; f < 2 * k + 2; ++f) {
+    const FaceSwizzle& s = swizzles[static_cast<size_t>(f)];
+    const uint32_t face = uint32_t(s.x) | uint32_t(s.y) << 3 | uint32_t(s.z) << 6 | uint32_t(s.w) << 9;
+    bits |= face << (12 * (f - 2 * k));
+  }
+  return bits;
+}
+
 glm::vec4 apply_swizzle(const FaceSwizzle& swizzle, const glm::vec4& v) {
   auto pick = [&](SwizzleComponent c) {
     const uint32_t k = static_cast<uint32_t>(c);

@@ -34,4 +34,8 @@ std::array<FaceSwizzle, kFaceCount> face_swizzles();
 // the swizzle, for the tests and the reference.
 glm::vec4 apply_swizzle(const FaceSwizzle& swizzle, const glm::vec4& relative_position);
 
+// --emulate-nv-swizzle (test only): faces 2k and 2k + 1's swizzles as 12 bits each (3 a component, x lowest), the
+// SWIZZLES_01 / _23 / _45 defines shaders/shadow_swizzle.geom unpacks, so the emulation applies this table itself.
+uint32_t packed_swizzle_pair(int k);
+
 }  // namespace omnishadow::cube

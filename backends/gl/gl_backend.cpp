@@ -152,7 +152,7 @@ Support GlBackend::supports(const CaseConfig& c) const {
   if (Support s = common_support(c); !s.ok) return s;
   if (feature == TechniqueFeature::multiview && !has_multiview_)
     return {false, "GL_OVR_multiview2 with 6 views is not exposed by " + info_.renderer};
-  if (feature == TechniqueFeature::viewport_swizzle && !missing_swizzle_.empty())
+  if (feature == TechniqueFeature::viewport_swizzle && !missing_swizzle_.empty() && !c.emulate_nv_swizzle)
     return {false, missing_swizzle_ + " not exposed by " + info_.renderer};
   if (feature == TechniqueFeature::mesh_shader && !has_mesh_shader_)
     return {false, "GL_NV_mesh_shader is not exposed by " + info_.renderer};
@@ -333,7 +333,7 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   // dual_paraboloid: each layer's pass clips the other hemisphere away (gl_ClipDistance[0], shaders/paraboloid.glsl).
   const bool clip_hemisphere = traits(config_->layout).texel_map == TexelMap::paraboloid;
   if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
-  const bool swizzle = config_->technique == Technique::nv_swizzle;
+  const bool swizzle = config_->technique == Technique::nv_swizzle && !config_->emulate_nv_swizzle;
   const bool mesh = traits(config_->technique).stages == ShadowStages::task_mesh;
   if (swizzle) set_face_swizzles(true);  // glViewport above set all six viewports alike
   if (reversed_depth_test(*config_)) glDepthFunc(GL_GREATER);
@@ -349,6 +349,11 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   if (blur_program_) blur_moments();
   return stats;
 }
+
+static_assert(GL_VIEWPORT_SWIZZLE_NEGATIVE_X_NV - GL_VIEWPORT_SWIZZLE_POSITIVE_X_NV == 1 &&
+                  GL_VIEWPORT_SWIZZLE_NEGATIVE_W_NV - GL_VIEWPORT_SWIZZLE_POSITIVE_X_NV ==
+                      static_cast<GLenum>(cube::SwizzleComponent::neg_w),
+              "cube::SwizzleComponent counts in GL_VIEWPORT_SWIZZLE_*_NV's order");
 
 void GlBackend::set_face_swizzles(bool on) {
   const auto swizzles = cube::face_swizzles();

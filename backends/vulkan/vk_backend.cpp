@@ -60,6 +60,10 @@ constexpr VkQueryPipelineStatisticFlags statistic_flags() {
   return flags;
 }
 constexpr VkQueryPipelineStatisticFlags kStatistics = statistic_flags();
+static_assert(VK_VIEWPORT_COORDINATE_SWIZZLE_POSITIVE_X_NV == static_cast<int>(cube::SwizzleComponent::pos_x) &&
+                  VK_VIEWPORT_COORDINATE_SWIZZLE_NEGATIVE_Y_NV == static_cast<int>(cube::SwizzleComponent::neg_y) &&
+                  VK_VIEWPORT_COORDINATE_SWIZZLE_NEGATIVE_W_NV == static_cast<int>(cube::SwizzleComponent::neg_w),
+              "cube::SwizzleComponent is VkViewportCoordinateSwizzleNV's numbering");
 
 }  // namespace
 
@@ -261,7 +265,9 @@ Support VkBackend::supports(const CaseConfig& c) const {
       if (!ctx_->has_multiview()) return {false, "multiview feature not supported by " + device};
       break;
     case TechniqueFeature::viewport_swizzle:
-      if (!ctx_->missing_for_swizzle().empty())
+      if (c.emulate_nv_swizzle) {  // an ordinary GS: only geometryShader
+        if (!ctx_->has_geometry_shader()) return {false, "geometryShader feature not supported by " + device};
+      } else if (!ctx_->missing_for_swizzle().empty())
         return {false, ctx_->missing_for_swizzle() + " not supported by " + device};
       break;
     case TechniqueFeature::mesh_shader:
@@ -379,7 +385,7 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
     shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key(gs, gpu::shadow_geometry_defines(c))});
   shadow.stages.push_back(
       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("shadow_depth.frag", gpu::shadow_fragment_defines(c))});
-  if (c.technique == Technique::nv_swizzle)
+  if (c.technique == Technique::nv_swizzle && !c.emulate_nv_swizzle)
     for (const cube::FaceSwizzle& f : cube::face_swizzles())
       shadow.viewport_swizzles.push_back({static_cast<VkViewportCoordinateSwizzleNV>(f.x),
                                           static_cast<VkViewportCoordinateSwizzleNV>(f.y),
@@ -545,7 +551,8 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
     // nv_swizzle: six viewports alike, one per face (the pipeline's swizzles tell them apart).
     const std::array<VkViewport, cube::kFaceCount> viewports = {viewport, viewport, viewport, viewport, viewport, viewport};
     const std::array<VkRect2D, cube::kFaceCount> scissors = {scissor, scissor, scissor, scissor, scissor, scissor};
-    const uint32_t viewport_count = config_->technique == Technique::nv_swizzle ? cube::kFaceCount : 1;
+    const uint32_t viewport_count =
+        config_->technique == Technique::nv_swizzle && !config_->emulate_nv_swizzle ? cube::kFaceCount : 1;
     vkCmdSetViewport(cb, 0, viewport_count, viewports.data());
     vkCmdSetScissor(cb, 0, viewport_count, scissors.data());
     if (mesh_pass_ && traits(config_->technique).stages == ShadowStages::task_mesh) {

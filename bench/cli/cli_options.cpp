@@ -294,6 +294,9 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
                "tests of the checks only: move every shadow- and map-pass vertex by up to STEPS of the device's "
                "sub-pixel steps (deterministic per world position), as another conformant rasteriser may snap")
       ->capture_default_str()->check(CLI::Range(0.0, 4.0));
+  r.add_flag("--emulate-nv-swizzle", run.matrix.emulate_nv_swizzle,
+             "tests only: nv_swizzle without its NV extensions (an ordinary GS applies each face's swizzle): proves its "
+             "vertex stage, viewport mask, culling and reversed depth on any device; ids end in /emulated");
   r.add_option("--lookup-perturb", run.matrix.lookup_perturb_texels,
                "tests of the checks only: move every cube lookup of the lighting pass by TEXELS along each of the "
                "face's two axes, as a sampler with coarser sub-texel precision may (the lookup check's bound)")

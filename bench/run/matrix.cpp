@@ -106,6 +106,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
                   c.pcf_scale = pcf_scale;
                   c.raster_perturb_steps = spec.raster_perturb_steps;
                   c.lookup_perturb_texels = spec.lookup_perturb_texels;
+                  c.emulate_nv_swizzle = spec.emulate_nv_swizzle;
                   cases.push_back(c);
                 }
     }

@@ -34,6 +34,9 @@ FACE_ARRAY = ["--layout", "face_array", "--filter", "hard,pcf_grid64,pcf_disk20,
 # dual_paraboloid, tessellated so that its own error is small next to a planted bug's.
 PARABOLOID = ["--layout", "dual_paraboloid", "--tessellate", "8", "--filter", "hard,pcf_disk20"]
 TETRA = ["--layout", "tetrahedral", "--filter", "hard,pcf_disk20"]
+# nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
+SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
+           "--optimize", "none,cull", "--filter", "hard"]
 
 
 def flip_up(face):
@@ -140,6 +143,16 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("tetra_lookup_up_to_wrong_corner", "shaders/shadow_filters.glsl",
      replace("corner = -kTetraAxes[(face + 1) % 4];", "corner = -kTetraAxes[(face + 2) % 4];"),
      "the tetrahedral lookup turns each face's up towards another corner than the shadow pass's camera", TETRA),
+    # nv_swizzle (issue 27): the swizzle table, the GS's culling, the reversed depth of r32f_distance.
+    ("swizzle_y_negated", "backends/common/viewport_swizzle.cpp",
+     replace("axis_of_row(view, 1, 1.0f, f)", "axis_of_row(view, 1, -1.0f, f)"),
+     "every face's swizzle negates clip y (each face stored upside down)", SWIZZLE),
+    ("swizzle_cull_axis_sign_flipped", "shaders/shadow_swizzle.geom",
+     replace("const float s = (f & 1) == 0 ? 1.0 : -1.0;", "const float s = (f & 1) == 0 ? -1.0 : 1.0;"),
+     "nv_swizzle's culling tests each face against the opposite face's axis", SWIZZLE),
+    ("swizzle_depth_not_reversed", "backends/common/techniques.cpp",
+     replace("return c.technique == Technique::nv_swizzle && !traits(c.storage).fragment_depth;", "return false;"),
+     "nv_swizzle's r32f_distance keeps fragments by LESS against 1: its reversed depth keeps the farthest", SWIZZLE),
 ]
 
 
