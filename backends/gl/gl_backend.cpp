@@ -335,7 +335,7 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
   const bool swizzle = config_->technique == Technique::nv_swizzle && !config_->emulate_nv_swizzle;
   const bool mesh = traits(config_->technique).stages == ShadowStages::task_mesh;
-  if (swizzle) set_face_swizzles(true);  // glViewport above set all six viewports alike
+  if (swizzle) set_face_swizzles(true);  // and viewports 0-5 the cube's size
   if (reversed_depth_test(*config_)) glDepthFunc(GL_GREATER);
   if (mesh) mesh_pass_->bind();
   for (int p = 0; p < passes.count; ++p) {
@@ -363,6 +363,9 @@ void GlBackend::set_face_swizzles(bool on) {
                                      cube::SwizzleComponent::pos_z, cube::SwizzleComponent::pos_w};
     const cube::FaceSwizzle& s = on ? swizzles[f] : identity;
     glViewportSwizzleNV(f, gl_enum(s.x), gl_enum(s.y), gl_enum(s.z), gl_enum(s.w));
+    // glViewport set every viewport already (ARB_viewport_array); said again per face, so that the six viewports the
+    // mask names never depend on that.
+    if (on) glViewportIndexedf(f, 0.0f, 0.0f, float(shadow_.size), float(shadow_.size));
   }
 }
 
