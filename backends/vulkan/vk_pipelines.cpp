@@ -1,5 +1,7 @@
 #include "backends/vulkan/vk_pipelines.h"
 
+#include <algorithm>
+
 #include "backends/common/gpu_layout.h"
 #include "backends/vulkan/vk_spirv.h"
 
@@ -32,27 +34,37 @@ VkSpecializationInfo specialisation_of(const std::vector<int32_t>& values, std::
   return {static_cast<uint32_t>(entries.size()), entries.data(), values.size() * sizeof(int32_t), values.data()};
 }
 
+// desc's stages, each with the specialisation constants it reads: the fragment stage its own, the stages that
+// place vertices (vertex, geometry, mesh) the raster perturbation's. The infos point at `fragment` and `vertex`.
+std::vector<VkPipelineShaderStageCreateInfo> stage_infos(ShaderModules& modules, const PipelineDesc& desc,
+                                                         const VkSpecializationInfo& fragment,
+                                                         const VkSpecializationInfo& vertex) {
+  std::vector<VkPipelineShaderStageCreateInfo> stages;
+  for (const auto& [stage, key] : desc.stages) {
+    VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    s.stage = stage;
+    s.module = modules.get(key);
+    s.pName = "main";
+    if (stage == VK_SHADER_STAGE_FRAGMENT_BIT && fragment.mapEntryCount > 0) s.pSpecializationInfo = &fragment;
+    if ((stage == VK_SHADER_STAGE_VERTEX_BIT || stage == VK_SHADER_STAGE_GEOMETRY_BIT ||
+         stage == VK_SHADER_STAGE_MESH_BIT_EXT) &&
+        vertex.mapEntryCount > 0)
+      s.pSpecializationInfo = &vertex;
+    stages.push_back(s);
+  }
+  return stages;
+}
+
 }  // namespace
 
 VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc) {
   std::vector<VkSpecializationMapEntry> fragment_entries, vertex_entries;
   const VkSpecializationInfo fragment = specialisation_of(desc.fragment_constants, fragment_entries);
   const VkSpecializationInfo vertex = specialisation_of(desc.vertex_constants, vertex_entries);
-  std::vector<VkPipelineShaderStageCreateInfo> stages;
-  bool mesh_pipeline = false;  // task + mesh stages: no vertex input or input assembly
-  for (const auto& [stage, key] : desc.stages) {
-    VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    s.stage = stage;
-    s.module = modules.get(key);
-    s.pName = "main";
-    if (stage == VK_SHADER_STAGE_FRAGMENT_BIT && !fragment_entries.empty()) s.pSpecializationInfo = &fragment;
-    if ((stage == VK_SHADER_STAGE_VERTEX_BIT || stage == VK_SHADER_STAGE_GEOMETRY_BIT ||
-         stage == VK_SHADER_STAGE_MESH_BIT_EXT) &&
-        !vertex_entries.empty())
-      s.pSpecializationInfo = &vertex;
-    if (stage == VK_SHADER_STAGE_MESH_BIT_EXT) mesh_pipeline = true;
-    stages.push_back(s);
-  }
+  const std::vector<VkPipelineShaderStageCreateInfo> stages = stage_infos(modules, desc, fragment, vertex);
+  const bool mesh_pipeline = std::any_of(stages.begin(), stages.end(), [](const VkPipelineShaderStageCreateInfo& s) {
+    return s.stage == VK_SHADER_STAGE_MESH_BIT_EXT;  // task + mesh stages: no vertex input or input assembly
+  });
   VkVertexInputBindingDescription binding{0, static_cast<uint32_t>(gpu::kVertexStride), VK_VERTEX_INPUT_RATE_VERTEX};
   VkVertexInputAttributeDescription attributes[] = {
       {0, 0, VK_FORMAT_R32G32B32_SFLOAT, static_cast<uint32_t>(gpu::kPositionOffset)},

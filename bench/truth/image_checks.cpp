@@ -90,6 +90,45 @@ std::string fmt(double v) {
   return buf;
 }
 
+// What a technique's check allows beyond six_pass's exact values: the stored distances' tolerance (world units),
+// and whether the shadow factor and the lit image may differ in --cross-max-percent of their values.
+struct TechniqueAllowance {
+  double face_tolerance;
+  bool images_may_differ;
+};
+
+TechniqueAllowance technique_allowance(const CaseConfig& c, double face_tolerance, double near_plane, double far_plane) {
+  TechniqueAllowance a{face_tolerance, false};
+  // Outside the cube, a layout's stored distance comes from the world position interpolated across triangles
+  // projected by a warp (dual_paraboloid, w = 1) or an asymmetric frustum (tetrahedral); pipelines with and without
+  // a geometry stage may set that interpolation up from window coordinates that round differently (llvmpipe's
+  // differed by 2-19 ulps of the distance, on whole triangles; its cube faces, whose matrices hold 0 and +-1 beside
+  // the translation, agree bit for bit, and the cube is held to that). GL asks of each float
+  // operation a relative error of 1e-5 (GL 4.5, 2.3.4.1); the interpolation and the length are about ten of them,
+  // so stored distances may differ by 1e-4 of the far plane, the bound the cube texel check allows for the same
+  // interpolation. A lookup whose receiver sits within that of a stored distance may then compare the other way:
+  // the shadow factor and the lit image may differ in as few values as across backends (cross_max_percent), whose
+  // pipelines differ in the same last bits.
+  if (traits(c.layout).texel_map != TexelMap::cube_faces) {  // warped or asymmetric
+    a.face_tolerance = std::max(a.face_tolerance, 1e-4 * far_plane);
+    a.images_may_differ = true;
+  }
+  // nv_swizzle with a storage that writes no depth (r32f_distance) keeps the nearest fragment by a reversed depth,
+  // near / w, where six_pass keeps it by its projective depth A + B / w (|B| = near far / (far - near) for D32F's
+  // [0, 1]); both are affine in the interpolated 1 / w, so they order fragments alike except where six_pass's depth
+  // rounds two of them together. Its float depth near 1 has a unit roundoff of 2^-24; allowing 8 of them (the
+  // interpolation's few operations, either side) fragments whose w differ by dw = 8 2^-24 w^2 / |B| can swap, and
+  // their stored distances then differ by up to sqrt 3 dw (a distance is at most sqrt 3 times its axis), largest at
+  // w = far. The colours written are the fragments' own, so only such ties differ; lookups near them may then
+  // compare the other way, as across backends (cross_max_percent).
+  if (reversed_depth_test(c)) {
+    const double n = near_plane, f = far_plane;
+    a.face_tolerance = std::max(a.face_tolerance, std::sqrt(3.0) * 8.0 * std::ldexp(1.0, -24) * f * (f - n) / n);
+    a.images_may_differ = true;
+  }
+  return a;
+}
+
 }  // namespace
 
 CheckResult timed_variant_check(const std::vector<uint8_t>& timed, const std::vector<uint8_t>& check_variant) {
@@ -132,31 +171,9 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
   // value, read in full if they were not (the case's own, and six_pass's, rendered again: frames are deterministic).
   CheckResult faces_check{"cube_faces", ref_config.id()};
   faces_check.tolerance = options_.face_tolerance;
-  // Outside the cube, a layout's stored distance comes from the world position interpolated across triangles
-  // projected by a warp (dual_paraboloid, w = 1) or an asymmetric frustum (tetrahedral); pipelines with and without
-  // a geometry stage may set that interpolation up from window coordinates that round differently (llvmpipe's
-  // differed by 2-19 ulps of the distance, on whole triangles; its cube faces, whose matrices hold 0 and +-1 beside
-  // the translation, agree bit for bit, and the cube is held to that). GL asks of each float
-  // operation a relative error of 1e-5 (GL 4.5, 2.3.4.1); the interpolation and the length are about ten of them,
-  // so stored distances may differ by 1e-4 of the far plane, the bound the cube texel check allows for the same
-  // interpolation. A lookup whose receiver sits within that of a stored distance may then compare the other way:
-  // the shadow factor and the lit image may differ in as few values as across backends (cross_max_percent), whose
-  // pipelines differ in the same last bits.
-  const bool not_cube = traits(r.config.layout).texel_map != TexelMap::cube_faces;  // warped or asymmetric
-  if (not_cube) faces_check.tolerance = std::max(faces_check.tolerance, 1e-4 * double(reference_->light_far));
-  // nv_swizzle with a storage that writes no depth (r32f_distance) keeps the nearest fragment by a reversed depth,
-  // near / w, where six_pass keeps it by its projective depth A + B / w (|B| = near far / (far - near) for D32F's
-  // [0, 1]); both are affine in the interpolated 1 / w, so they order fragments alike except where six_pass's depth
-  // rounds two of them together. Its float depth near 1 has a unit roundoff of 2^-24; allowing 8 of them (the
-  // interpolation's few operations, either side) fragments whose w differ by dw = 8 2^-24 w^2 / |B| can swap, and
-  // their stored distances then differ by up to sqrt 3 dw (a distance is at most sqrt 3 times its axis), largest at
-  // w = far. The colours written are the fragments' own, so only such ties differ; lookups near them may then
-  // compare the other way, as across backends (cross_max_percent).
-  const bool reversed_ties = reversed_depth_test(r.config);
-  if (reversed_ties) {
-    const double n = scene_of(r.config).light.near_plane, f = reference_->light_far;
-    faces_check.tolerance = std::max(faces_check.tolerance, std::sqrt(3.0) * 8.0 * std::ldexp(1.0, -24) * f * (f - n) / n);
-  }
+  const TechniqueAllowance allowance = technique_allowance(r.config, options_.face_tolerance,
+                                                           scene_of(r.config).light.near_plane, far_plane);
+  faces_check.tolerance = allowance.face_tolerance;
   if (images.cube_summary_on_device == reference_->cube_summary_on_device &&
       images.cube_summary == reference_->cube_summary && reference_->light_far == images.light_far) {
     const uint64_t texels = 6ull * uint64_t(images.cube_size) * uint64_t(images.cube_size);
@@ -182,14 +199,14 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
 
   CheckResult shadow_check{"shadow_factor", ref_config.id()};
   shadow_check.tolerance = 0.0;
-  if (not_cube || reversed_ties) shadow_check.max_percent = options_.cross_max_percent;
+  if (allowance.images_may_differ) shadow_check.max_percent = options_.cross_max_percent;
   shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, 0.0);
   record_check(r, shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height, 1.0,
          true);
 
   CheckResult lit_check{"lit", ref_config.id()};
   lit_check.tolerance = options_.lit_tolerance;
-  if (not_cube || reversed_ties) lit_check.max_percent = options_.cross_max_percent;
+  if (allowance.images_may_differ) lit_check.max_percent = options_.cross_max_percent;
   lit_check.difference = compare_values(images.lit_rgba8, ref.lit_rgba8, options_.lit_tolerance);
   std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit_rgba8);
   record_check(r, lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8), images.width,
