@@ -356,7 +356,7 @@ static_assert(GL_VIEWPORT_SWIZZLE_NEGATIVE_X_NV - GL_VIEWPORT_SWIZZLE_POSITIVE_X
               "cube::SwizzleComponent counts in GL_VIEWPORT_SWIZZLE_*_NV's order");
 
 void GlBackend::set_face_swizzles(bool on) {
-  const auto swizzles = cube::face_swizzles();
+  static const auto swizzles = cube::face_swizzles();  // pure: read off the face matrices once, not per frame
   auto gl_enum = [](cube::SwizzleComponent c) { return GL_VIEWPORT_SWIZZLE_POSITIVE_X_NV + static_cast<GLenum>(c); };
   for (GLuint f = 0; f < cube::kFaceCount; ++f) {
     const cube::FaceSwizzle identity{cube::SwizzleComponent::pos_x, cube::SwizzleComponent::pos_y,
