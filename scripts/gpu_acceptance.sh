@@ -256,7 +256,7 @@ step_clocks() {
   note "## clocks"
   # The run a new user starts first (scripts/run_default.sh's settings) on both APIs, then the GL matrix twice back
   # to back: each backend settles its clock before timing (the [settle] lines) and warms up 100 ms a repetition.
-  "$bin" run --backend gl,vulkan --frames 4 --warmup 1 --benchmark_repetitions=3 \
+  "$bin" run --backend gl,vulkan --frames 3 --warmup 0 --benchmark_repetitions=3 \
     --benchmark_enable_random_interleaving=true --out "$out/clocks/default" >"$out/clocks/default.log" 2>&1
   exit_note $? "default run, both APIs"
   grep "^\[settle\]" "$out/clocks/default.log" | sed 's/^/  - /' | tee -a "$summary"
@@ -264,7 +264,7 @@ step_clocks() {
   judge_clocks "$out/clocks/default" || failed=1
   judge_untimed "$out/clocks/default" 0.5 || failed=1
   for i in 1 2; do
-    "$bin" run --backend gl --frames 4 --warmup 1 --benchmark_repetitions=3 \
+    "$bin" run --backend gl --frames 3 --warmup 0 --benchmark_repetitions=3 \
       --benchmark_enable_random_interleaving=true --out "$out/clocks/gl$i" >"$out/clocks/gl$i.log" 2>&1
     exit_note $? "default GL matrix, run $i of 2 back to back"
     judge_clocks "$out/clocks/gl$i" || failed=1

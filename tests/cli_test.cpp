@@ -13,6 +13,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <map>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -366,6 +367,30 @@ TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
   if (!multiview_supported) {
     EXPECT_EQ(k["omnishadow"]["cases"][0]["status"], "unsupported");
   }
+}
+
+// Issue 23: a run whose every backend renders on the CPU defaults to cube 512 only, said in one line; on a GPU, or
+// with --cube given, the cube sizes are the GPU default or what was asked for.
+TEST_F(CliRun, CpuDriversDefaultToOneCubeSizeAndSaySo) {
+  const std::string common = " --scene room --frame 64x48 --technique six_pass --filter hard --frames 1 --warmup 0 "
+                             "--no-accuracy --images none --benchmark_repetitions=1 --out ";
+  fs::path out = scratch("cpu_cube_default");
+  Outcome o = run("run" + common + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  std::set<int> sizes;
+  for (const auto& c : j["omnishadow"]["cases"]) sizes.insert(c["axes"]["cube_size"].get<int>());
+  const bool cpu_driver = j["omnishadow"]["devices"]["gl"]["shares_host_memory"].get<bool>();
+  const bool said = o.err.find("cube 512 only: --cube not given") != std::string::npos;
+  EXPECT_EQ(said, cpu_driver) << o.err;
+  const std::set<int> expected = cpu_driver ? std::set<int>{512} : std::set<int>{512, 1024};
+  EXPECT_EQ(sizes, expected) << o.err;
+  fs::path asked = scratch("cpu_cube_asked");
+  Outcome a = run("run --cube 512,1024" + common + asked.string());
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_EQ(a.err.find("cube 512 only"), std::string::npos) << a.err;
+  auto k = nlohmann::json::parse(omnishadow::bench::read_file((asked / "results.json").string()));
+  EXPECT_EQ(k["omnishadow"]["cases"].size(), 2u);
 }
 
 // Issue 27: the GPU-specific single passes, asked for by name with --check on both APIs, beside six_pass with

@@ -253,9 +253,11 @@ TEST(Matrix, EachLayoutHasItsLightingVariants) {
   EXPECT_GT(paraboloid, 0u);
   EXPECT_LT(paraboloid, cube);
   EXPECT_EQ(tetrahedral, paraboloid);
-  for (const std::string& k : keys)
-    if (k.find("LAYOUT_DUAL_PARABOLOID") != std::string::npos || k.find("LAYOUT_TETRAHEDRAL") != std::string::npos)
+  for (const std::string& k : keys) {
+    if (k.find("LAYOUT_DUAL_PARABOLOID") != std::string::npos || k.find("LAYOUT_TETRAHEDRAL") != std::string::npos) {
       EXPECT_EQ(k.find("MOMENTS"), std::string::npos) << k;
+    }
+  }
 }
 
 }  // namespace

@@ -46,7 +46,9 @@ TEST(Tessellate, SameSurfacesInNSquaredTrianglesWithTheirWinding) {
       for (uint32_t i = now.first_vertex; i < now.first_vertex + now.vertex_count; i += 3) {
         const glm::vec3 &a = s.vertices[i].position, &b = s.vertices[i + 1].position, &c = s.vertices[i + 2].position;
         area_after += area(a, b, c);
-        if (o == 1) EXPECT_GT(glm::dot(glm::cross(b - a, c - a), normal), 0.0f) << "winding kept, n = " << n;
+        if (o == 1) {
+          EXPECT_GT(glm::dot(glm::cross(b - a, c - a), normal), 0.0f) << "winding kept, n = " << n;
+        }
       }
       EXPECT_NEAR(area_after, area_before, 1e-5 * area_before) << "object " << o << ", n = " << n;
     }

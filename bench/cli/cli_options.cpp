@@ -53,8 +53,13 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
        "floor, light and camera placed by rule, README \"Your own model\"); case ids name a file by its stem")
       ->default_str(join(m.scenes, text));
   r.add_option_function<std::string>(
-       "--cube", [&m](const std::string& t) { m.cube_sizes = parse_int_list(t, "--cube"); },
-       "comma list of cube face sizes in texels")
+       "--cube",
+       [&m](const std::string& t) {
+         m.cube_sizes = parse_int_list(t, "--cube");
+         m.cube_sizes_given = true;
+       },
+       "comma list of cube face sizes in texels (default on a run whose every backend is a CPU driver: " +
+           join(MatrixSpec::kCpuDriverCubeSizes, [](int v) { return std::to_string(v); }) + ")")
       ->default_str(join(m.cube_sizes, [](int v) { return std::to_string(v); }));
   r.add_option_function<std::string>(
       "--frame", [&m](const std::string& t) { m.frame_sizes = parse_size_list(t, "--frame"); },

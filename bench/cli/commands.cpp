@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -151,6 +152,17 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
         throw std::invalid_argument("--frame " + std::to_string(w) + "x" + std::to_string(h) +
                                     " is above the largest render target " + b.device().renderer + " supports (" +
                                     std::to_string(max_2d) + ")");
+  }
+  if (!cmd.matrix.cube_sizes_given && matrix.cube_sizes != MatrixSpec::kCpuDriverCubeSizes &&
+      std::all_of(cmd.matrix.backends.begin(), cmd.matrix.backends.end(),
+                  [&](const std::string& name) { return harness.backend(name).device().shares_host_memory; })) {
+    matrix.cube_sizes = MatrixSpec::kCpuDriverCubeSizes;
+    std::string sizes, renderers;
+    for (int size : matrix.cube_sizes) sizes += (sizes.empty() ? "" : ",") + std::to_string(size);
+    for (const std::string& name : cmd.matrix.backends)
+      renderers += (renderers.empty() ? "" : ", ") + harness.backend(name).device().renderer;
+    std::fprintf(stderr, "omnishadow: cube %s only: --cube not given and %s renders on the CPU (--cube 512,1024 for "
+                 "the GPU default)\n", sizes.c_str(), renderers.c_str());
   }
   std::vector<CaseConfig> cases = expand(matrix, scene_sizes);
   if (!cmd.matrix.techniques_given) cases = drop_techniques_a_backend_cannot_do(cases, harness);

@@ -45,6 +45,12 @@ struct MatrixSpec {
   // Whether --scene was given: a default scene that cannot load (bunny.json without glmark2-data) is left out with
   // one line, a scene asked for by name is an error.
   bool scenes_given = false;
+  // Whether --cube was given. Not given and every backend of the run a CPU driver (llvmpipe, lavapipe): the cube
+  // sizes are kCpuDriverCubeSizes, said once on stderr. A CPU driver renders the 1024 cube's fragments on the same
+  // two-odd cores as everything else, so those cases cost about half the default run there while telling a GPU
+  // user nothing; the first run on such a machine stays about a minute (issue 23).
+  bool cube_sizes_given = false;
+  static inline const std::vector<int> kCpuDriverCubeSizes{512};
 };
 
 // scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.
