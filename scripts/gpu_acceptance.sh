@@ -28,7 +28,8 @@
 #              calibrated on the GPU: fixed and adaptive (--precision) designs across runs (scripts/experiments/
 #              sensitivity.py, as CI compares builds) and inside one run (sensitivity_same_run.py), as many trials as fit
 #              200 s each (PRECISION_BUDGET_S); every stopping rule replayed on the fixed design's samples
-#              (repetition_replay.py); PASS/FAIL per design
+#              (repetition_replay.py); PASS/FAIL per design. PRECISION_MATRIX_SIZE=cpu runs it at the CPU size (a
+#              smoke test of the step on a CPU driver, whose verdict says nothing of a GPU)
 # Exit 1 when a command it ran failed (a failed check included). On the NVIDIA machine: bash .gpu/device.sh bash scripts/gpu_acceptance.sh "$OUT" exits multiview
 set -uo pipefail
 out="$1"; shift
@@ -315,7 +316,10 @@ step_tutorial() {
 step_precision() {
   note "## precision"
   local common=(--metric gpu --frames 12 --budget-s "${PRECISION_BUDGET_S:-200}" --extra "--warmup-ms 0")
-  CI_MATRIX_SIZE=gpu /usr/bin/python3 "$here/scripts/experiments/sensitivity.py" "${common[@]}" --trials 20 \
+  # PRECISION_MATRIX_SIZE=cpu: the CI matrix's CPU size, to run the whole step (and its verdict) on a CPU driver in a
+  # few minutes; the GPU-sized matrix there takes far beyond the budget (a 1080p frame on llvmpipe).
+  local size="${PRECISION_MATRIX_SIZE:-gpu}"
+  CI_MATRIX_SIZE="$size" /usr/bin/python3 "$here/scripts/experiments/sensitivity.py" "${common[@]}" --trials 20 \
     --slowdowns 2,5 --judge 2 --precision 1 --min-repetitions 6 --max-repetitions 20 \
     --out "$out/precision/sens" >"$out/precision/sens.log" 2>&1
   exit_note $? "sensitivity.py (across runs)"
@@ -324,7 +328,7 @@ step_precision() {
   local inject
   inject=$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["injected_iterations"]["slow2"])' \
     "$out/precision/sens/sensitivity.json" 2>/dev/null) || inject=""
-  CI_MATRIX_SIZE=gpu /usr/bin/python3 "$here/scripts/experiments/sensitivity_same_run.py" "${common[@]}" --trials 20 \
+  CI_MATRIX_SIZE="$size" /usr/bin/python3 "$here/scripts/experiments/sensitivity_same_run.py" "${common[@]}" --trials 20 \
     --repetitions 12 --precision 1 --min-repetitions 7 --target 2 ${inject:+--inject "$inject"} --judge \
     --out "$out/precision/same_run" >"$out/precision/same_run.log" 2>&1
   exit_note $? "sensitivity_same_run.py (within one run)"
