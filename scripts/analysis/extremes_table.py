@@ -110,15 +110,18 @@ LAYOUT_SECTIONS = [
      "`face_array` stores the cube's texels as six layers of a 2D array and picks the layer in the shader, so its "
      "filtering clamps at each face's edge where the cube's crosses the seam; `tetrahedral`'s four faces meet along "
      "other great circles, with wider texels toward their corners (vsm is not built for it). `seams` puts casters on the light's "
-     "diagonals, `grazing` lights surfaces at grazing angles, `nf_25` is the plain room. The NEAREST filters (hard, "
-     "pcf_disk20) must read the same texels in both layouts (the lookup check holds each to the cube-map rule); "
-     "hw_compare2x2 (2x2 bilinear compare) and vsm (bilinear moments) may differ at seams.",
+     "diagonals (the cube's seams and corners), `tetra_seams` on the tetrahedral faces' corners and edges and in the "
+     "planes where two of them tie (where each face's frustum reaches furthest past its cell: the layout's guard "
+     "band), `grazing` lights surfaces at grazing angles, `nf_25` is the plain room. The NEAREST filters (hard, "
+     "pcf_disk20) must read the same texels in cube and face_array (the lookup check holds each to the cube-map rule); "
+     "hw_compare2x2 (2x2 bilinear compare) and vsm (bilinear moments) may differ at seams. Tetrahedral's texels are "
+     "held to their own exact truth (the texel check) and its lookups to its own rule.",
      lambda a: f"{a['backend']} / {a['filter']}", lambda a: f"`{a['scene']}` {a.get('layout', 'cube')}", cell),
     ("layouts_paraboloid", "dual_paraboloid at the equator and at coarse tessellation (D32F)",
      "`dual_paraboloid` warps each vertex into its hemisphere's paraboloid and rasterises straight edges where the "
      "exact map draws curves, so its error depends on the casters' tessellation (`--tessellate n`: every triangle "
      "split into n^2); its two layers meet at the equator (the light's z), which `seams`' diagonal casters cross and "
-     "`grazing`'s receivers run along. The cube beside it at the same memory.",
+     "`grazing`'s floor crosses at grazing angles. The cube beside it at the same memory.",
      lambda a: f"{a['backend']} / {a['filter']}",
      lambda a: f"`{a['scene']}` {a.get('layout', 'cube')} t{a.get('tessellation', 1)}", cell),
 ]

@@ -90,6 +90,25 @@ def main():
                            "(|x| = |y| = |z|), where the face selection ties", point(), objects=seams,
                            camera={"position": [-4, -4, -4], "target": [5, 5, 5], "fov_y_degrees": 70, "near": 0.1,
                                    "far": 100, "size": [400, 300]})
+    # The tetrahedral layout's own seams (backends/common/tetrahedron.h): its cells' corners lie along the axes'
+    # antipodes ((1, 1, -1) and the like), the midpoints of their edges along the coordinate axes, and each edge in a
+    # plane where two faces tie (y + z = 0 between the faces along (1, 1, 1) and (1, -1, -1)); there the face's
+    # frustum box is at its widest past the cell, where a layer's texels are most stretched. Boxes on corners and
+    # midpoints, and two bars lying in tie planes, whose shadows run along the edges.
+    tetra = [{"name": f"corner{i}", "type": "box", "translate": t, "scale": 0.3} for i, t in enumerate(
+        [[2, 2, -2], [2, -2, 2], [-2, 2, 2]])]
+    tetra += [{"name": f"midpoint{i}", "type": "box", "translate": t, "scale": 0.3} for i, t in enumerate(
+        [[0, 0, 2.5], [0, -2.5, 0]])]
+    tetra += [{"name": "bar_y_plus_z", "type": "box", "translate": [2.5, 0, 0], "scale": [0.1, 1.2, 0.1],
+               "rotate": {"degrees": -45, "axis": [1, 0, 0]}},
+              {"name": "bar_x_plus_z", "type": "box", "translate": [0, 2.5, 0], "scale": [1.2, 0.1, 0.1],
+               "rotate": {"degrees": 45, "axis": [0, 1, 0]}}]
+    scenes["tetra_seams"] = room("casters where the tetrahedral layout's faces meet: on its cells' corners (the "
+                                 "axes' antipodes), on its edges' midpoints (the coordinate axes), and two bars in the "
+                                 "planes where two faces tie, whose shadows run along the edges", point(),
+                                 objects=tetra,
+                                 camera={"position": [-4, -4, -4], "target": [5, 5, 5], "fov_y_degrees": 70,
+                                         "near": 0.1, "far": 100, "size": [400, 300]})
     scenes["degenerate"] = room("zero-area triangles (repeated and collinear vertices) mixed with real ones: they must "
                                 "rasterise to nothing and change no value", point(),
                                 objects=copy.deepcopy(CUBES) + [{"name": "degenerate", "type": "obj",

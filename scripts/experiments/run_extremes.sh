@@ -45,10 +45,11 @@ hazard "${moments[@]}" --scene nf_25,nf_1e3 --filter vsm --depth-format d32f,d16
   --out "$out/moments_world" "$@"
 hazard "${moments[@]}" --scene nf_25,seams --filter hard,pcf_disk20,vsm,esm,evsm2,evsm4,msm \
   --out "$out/moments_seams" "$@"
-# Layouts at their extremes (issue 27): the face_array layout against the cube where faces meet (seams: casters on the
-# light's diagonals) and at grazing angles, with the filters that read across a seam (hw_compare2x2's 2x2, vsm's
-# bilinear) beside the NEAREST ones; --check holds each layout's lookups to the cube-map rule.
-hazard "${moments[@]}" --scene nf_25,seams,grazing --layout cube,face_array,tetrahedral \
+# Layouts at their extremes (issue 27): face_array and tetrahedral against the cube where faces meet (seams: casters
+# on the cube's diagonals; tetra_seams: on the tetrahedral faces' corners, edges and tie planes) and at grazing
+# angles, with the filters that read across a seam (hw_compare2x2's 2x2, vsm's bilinear) beside the NEAREST ones;
+# --check holds each layout's texels and lookups to its own rule.
+hazard "${moments[@]}" --scene nf_25,seams,tetra_seams,grazing --layout cube,face_array,tetrahedral \
   --filter hard,pcf_disk20,hw_compare2x2,vsm \
   --out "$out/layouts_seams" "$@"
 # dual_paraboloid at its own extremes: the equator where its two layers meet (seams' diagonal casters cross it, grazing's
