@@ -115,6 +115,27 @@ std::vector<CaseConfig> drop_techniques_a_backend_cannot_do(const std::vector<Ca
   return kept;
 }
 
+// --cube not given: the GPU default, or MatrixSpec::kCpuDriverCubeSizes where every backend of the run renders on
+// the CPU (said in one line).
+std::vector<int> default_cube_sizes(const MatrixSpec& asked, Harness& harness) {
+  auto on_cpu = [&](const std::string& name) { return harness.backend(name).device().shares_host_memory; };
+  if (asked.cube_sizes == MatrixSpec::kCpuDriverCubeSizes ||
+      !std::all_of(asked.backends.begin(), asked.backends.end(), on_cpu))
+    return asked.cube_sizes;
+  auto joined = [](const std::vector<int>& sizes) {
+    std::string text;
+    for (int size : sizes) text += (text.empty() ? "" : ",") + std::to_string(size);
+    return text;
+  };
+  std::string renderers;
+  for (const std::string& name : asked.backends)
+    renderers += (renderers.empty() ? "" : ", ") + harness.backend(name).device().renderer;
+  std::fprintf(stderr, "omnishadow: cube %s only: --cube not given and %s renders on the CPU (--cube %s for the GPU "
+               "default)\n", joined(MatrixSpec::kCpuDriverCubeSizes).c_str(), renderers.c_str(),
+               joined(asked.cube_sizes).c_str());
+  return MatrixSpec::kCpuDriverCubeSizes;
+}
+
 // Everything that can be wrong with the request, found before anything runs: scenes load, backends come up,
 // sizes fit the devices, the matrix is not empty. Throws std::invalid_argument (or the loaders' errors).
 std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness, RunInfo& info) {
@@ -153,17 +174,7 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
                                     " is above the largest render target " + b.device().renderer + " supports (" +
                                     std::to_string(max_2d) + ")");
   }
-  if (!cmd.matrix.cube_sizes_given && matrix.cube_sizes != MatrixSpec::kCpuDriverCubeSizes &&
-      std::all_of(cmd.matrix.backends.begin(), cmd.matrix.backends.end(),
-                  [&](const std::string& name) { return harness.backend(name).device().shares_host_memory; })) {
-    matrix.cube_sizes = MatrixSpec::kCpuDriverCubeSizes;
-    std::string sizes, renderers;
-    for (int size : matrix.cube_sizes) sizes += (sizes.empty() ? "" : ",") + std::to_string(size);
-    for (const std::string& name : cmd.matrix.backends)
-      renderers += (renderers.empty() ? "" : ", ") + harness.backend(name).device().renderer;
-    std::fprintf(stderr, "omnishadow: cube %s only: --cube not given and %s renders on the CPU (--cube 512,1024 for "
-                 "the GPU default)\n", sizes.c_str(), renderers.c_str());
-  }
+  if (!cmd.matrix.cube_sizes_given) matrix.cube_sizes = default_cube_sizes(cmd.matrix, harness);
   std::vector<CaseConfig> cases = expand(matrix, scene_sizes);
   if (!cmd.matrix.techniques_given) cases = drop_techniques_a_backend_cannot_do(cases, harness);
   cases = shard(cases, cmd.shard_index, cmd.shard_count);
