@@ -62,9 +62,9 @@ void main() {
   uint low = 0u, high = 0u, non_finite = 0u;
   for (int y = first_row; y < min(first_row + kRows, size) && x < size; ++y) {
     const float value = texelFetch(cube_layers, ivec3(x, y, face), 0).r;
-    const uint index = uint(y * size + x);
-    low += mix_low(floatBitsToUint(value), index);
-    high += mix_high(floatBitsToUint(value), index);
+    const uint texel_index = uint(y * size + x);
+    low += mix_low(floatBitsToUint(value), texel_index);
+    high += mix_high(floatBitsToUint(value), texel_index);
     if (isnan(value) || isinf(value)) ++non_finite;
     const ivec2 cell = ivec2(x, y) / stride;
     if (x % stride == stride / 2 && y % stride == stride / 2 && cell.x < grid && cell.y < grid)

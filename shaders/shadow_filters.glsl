@@ -200,14 +200,14 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
 #elif defined(FILTER_PCF_GRID64)
   // The tutorial steps a float from -offset by offset/2 while < offset; accumulated rounding can add a fifth step
   // (125 samples divided by 64). Integer steps give exactly the intended 4 offsets: -0.1, -0.05, 0, 0.05.
-  float offset = 0.1 * frame.knobs.y;  // the tutorial's 0.1, times --pcf-scale
-  float step_size = offset / 2.0;
+  float grid_offset = 0.1 * frame.knobs.y;  // the tutorial's 0.1, times --pcf-scale
+  float step_size = grid_offset / 2.0;
   float bias = lookup_bias(0.05, normal, frag_to_light);
   float shadow = 0.0;
   for (int x = 0; x < 4; ++x)
     for (int y = 0; y < 4; ++y)
       for (int z = 0; z < 4; ++z)
-        shadow += occluded(frag_to_light + vec3(-offset) + step_size * vec3(x, y, z), current, bias);
+        shadow += occluded(frag_to_light + vec3(-grid_offset) + step_size * vec3(x, y, z), current, bias);
   return shadow / 64.0;
 #elif defined(FILTER_PCF_DISK20)
   float view_distance = length(frame.camera_position.xyz - world_pos);
