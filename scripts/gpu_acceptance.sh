@@ -101,6 +101,17 @@ step_multiview() {
 # `unsupported` there is a bug in the feature checks, not a missing extension.
 step_singlepass() {
   note "## singlepass"
+  # First every GL program of the two techniques, linked by this driver with its whole log, and the passthrough
+  # stage's other spellings (tests/gl_nv_link_probe.cpp): which form NVIDIA's linker takes, in one call.
+  local probe="${OMNISHADOW_PROBE_BIN:-$here/build/release/tests/gl_nv_link_probe}"
+  if [ -x "$probe" ]; then
+    "$probe" >"$out/singlepass/gl_link_probe.log" 2>&1
+    local code=$?
+    sed 's/^/    /' "$out/singlepass/gl_link_probe.log" | cut -c1-400 | tee -a "$summary"
+    [ "$code" -eq 77 ] && note "- GL link probe: skipped (extensions missing on this driver)" || exit_note "$code" "GL link probe (every shipped nv_swizzle and mesh_shader program links)"
+  else
+    note "- GL link probe: $probe not built"; failed=1
+  fi
   "$bin" run --backend gl,vulkan --scene room,heavy --cube 512,1024 \
     --technique six_pass,geometry_shader,nv_swizzle,mesh_shader --filter hard --storage linear_depth,r32f_distance \
     --optimize none,cull --check --frames 5 --benchmark_repetitions=3 --images none \

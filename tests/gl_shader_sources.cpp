@@ -7,9 +7,8 @@
 #include <fstream>
 #include <iostream>
 
-#include "backends/common/case_config.h"
-#include "backends/common/storage_filter_tables.h"
 #include "backends/gl/gl_program.h"
+#include "tests/nv_program_configs.h"
 
 int main(int argc, char** argv) {
   using namespace omnishadow;
@@ -20,25 +19,15 @@ int main(int argc, char** argv) {
   const std::filesystem::path out = argv[1];
   std::filesystem::create_directories(out);
   int written = 0;
-  for (Technique t : {Technique::nv_swizzle, Technique::mesh_shader})
-    for (Storage s : all_values<Storage>())
-      for (bool cull : {false, true}) {
-        CaseConfig c;
-        c.technique = t;
-        c.storage = s;
-        for (Filter f : all_values<Filter>())  // a filter that reads this storage (its own, for the moments)
-          if (traits(f).own_storage == s) c.filter = f;
-        c.optimizations.face_culling = cull;
-        if (!common_support(c).ok) continue;
-        const gl::ProgramSource program = gl::shadow_program_source(c, 8);
-        for (const gl::ShaderStage& stage : program.stages) {
-          const std::string extension = stage.file.substr(stage.file.rfind('.'));
-          const std::filesystem::path file = out / (std::string(to_string(t)) + "-" + std::string(to_string(s)) +
-                                                    (cull ? "-cull" : "") + extension);
-          std::ofstream(file) << gl::preprocess_shader(stage.file, program.defines);
-          std::cout << file.string() << "\n";
-          ++written;
-        }
-      }
+  for (const CaseConfig& c : nv_program_configs()) {
+    const gl::ProgramSource program = gl::shadow_program_source(c, 8);
+    for (const gl::ShaderStage& stage : program.stages) {
+      const std::string extension = stage.file.substr(stage.file.rfind('.'));
+      const std::filesystem::path file = out / (nv_program_name(c) + extension);
+      std::ofstream(file) << gl::preprocess_shader(stage.file, program.defines);
+      std::cout << file.string() << "\n";
+      ++written;
+    }
+  }
   return written > 0 ? 0 : 1;
 }

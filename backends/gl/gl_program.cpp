@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "backends/common/driver_log.h"
 #include "backends/common/embedded_files.h"
 #include "backends/common/shader_variants.h"
 #include "backends/common/techniques.h"
@@ -38,16 +39,14 @@ void expand(const std::string& file, std::ostringstream& out, int depth) {
   }
 }
 
-// The first line of a shader's or program's info log: enough to name the problem in a one-line error.
+// A shader's or program's whole info log, one line (driver_log.h): NVIDIA puts the message after a header line.
 template <typename GetIv, typename GetLog>
-std::string first_log_line(GLuint object, GetIv get_iv, GetLog get_log) {
+std::string info_log(GLuint object, GetIv get_iv, GetLog get_log) {
   GLint length = 0;
   get_iv(object, GL_INFO_LOG_LENGTH, &length);
   std::string log(static_cast<size_t>(length > 0 ? length : 1), '\0');
   get_log(object, length, nullptr, log.data());
-  std::string line = log.substr(0, log.find('\n'));
-  line = line.substr(0, line.find('\0'));
-  return line.empty() ? "(no log)" : line;
+  return one_line_log(log);
 }
 
 }  // namespace
@@ -66,23 +65,22 @@ std::string preprocess_shader(const std::string& file, const std::vector<std::st
   return text.substr(0, version_end + 1) + header + text.substr(version_end + 1);
 }
 
-GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {
+GLuint link_program(const std::vector<ShaderText>& stages) {
   GLuint program = glCreateProgram();
   std::vector<GLuint> shaders;
   auto cleanup = [&] {
     for (GLuint s : shaders) glDeleteShader(s);
   };
-  for (const ShaderStage& stage : stages) {
-    std::string text = preprocess_shader(stage.file, defines);
+  for (const ShaderText& stage : stages) {
     GLuint shader = glCreateShader(stage.type);
     shaders.push_back(shader);
-    const char* src = text.c_str();
+    const char* src = stage.text.c_str();
     glShaderSource(shader, 1, &src, nullptr);
     glCompileShader(shader);
     GLint ok = 0;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-      std::string log = first_log_line(shader, glGetShaderiv, glGetShaderInfoLog);
+      std::string log = info_log(shader, glGetShaderiv, glGetShaderInfoLog);
       cleanup();
       glDeleteProgram(program);
       throw std::runtime_error("compiling " + stage.file + " failed: " + log);
@@ -94,11 +92,21 @@ GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<s
   GLint ok = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
-    std::string log = first_log_line(program, glGetProgramiv, glGetProgramInfoLog);
+    std::string log = info_log(program, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(program);
     throw std::runtime_error("linking " + stages.front().file + " failed: " + log);
   }
   return program;
+}
+
+std::vector<ShaderText> program_texts(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {
+  std::vector<ShaderText> texts;
+  for (const ShaderStage& stage : stages) texts.push_back({stage.type, stage.file, preprocess_shader(stage.file, defines)});
+  return texts;
+}
+
+GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {
+  return link_program(program_texts(stages, defines));
 }
 
 ProgramSource shadow_program_source(const CaseConfig& c, int subpixel_bits) {

@@ -19,7 +19,17 @@ struct ShaderStage {
 // Source text of `file` with #include "x" expanded and `defines` (NAME or NAME=VALUE) added after #version.
 std::string preprocess_shader(const std::string& file, const std::vector<std::string>& defines);
 
-// Compiles and links; throws std::runtime_error with the file name and the first line of the driver's log.
+// A stage's text as handed to the driver.
+struct ShaderText {
+  GLenum type;
+  std::string file;  // the name errors give
+  std::string text;
+};
+std::vector<ShaderText> program_texts(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
+
+// Compiles and links; throws std::runtime_error with the file name and the driver's whole log on one line
+// (backends/common/driver_log.h).
+GLuint link_program(const std::vector<ShaderText>& stages);
 GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
 
 // The shadow pass's program for a case: its stages (vertex [+ geometry] or task + mesh, then fragment) and one
