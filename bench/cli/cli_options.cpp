@@ -263,8 +263,43 @@ void add_placement_options(CLI::App& r, RunOptions& o) {
       "the camera at X,Y,Z looking at TX,TY,TZ (default: the scene's target; a model's centre) in every scene");
 }
 
+// A crashing or hanging driver costs one case (bench/cli/case_isolation.h), and the test-only faults that show it.
+static void add_isolation_options(CLI::App& r, RunCommand& run) {
+  r.add_option_function<std::string>(
+       "--isolation",
+       [&run](const std::string& v) {
+         if (v != "process" && v != "none") throw std::invalid_argument("--isolation: '" + v + "' is not process or none");
+         run.isolate = v == "process";
+       },
+       "process: the matrix runs in a worker process; a case that kills it (a driver's SIGSEGV or abort) or hangs "
+       "is recorded crashed and a fresh worker goes on from the next case. none: one process, the first crash "
+       "ends the run")
+      ->default_str("process");
+  r.add_option("--case-timeout-s", run.case_timeout_s,
+               "a worker that makes no progress (no new case, step or timed repetition) for this long is killed and "
+               "its case recorded crashed")
+      ->capture_default_str()->check(CLI::Range(1.0, 86400.0));
+  r.add_option("--inject-crash", run.harness.inject_crash,
+               "tests of the isolation only: SIGSEGV in the cases whose id matches this regex (--inject-in)");
+  r.add_option("--inject-hang", run.harness.inject_hang,
+               "tests of the isolation only: the cases whose id matches this regex never finish (--inject-in)");
+  r.add_option_function<std::string>(
+       "--inject-in",
+       [&run](const std::string& v) {
+         if (v != "checks" && v != "timed") throw std::invalid_argument("--inject-in: '" + v + "' is not checks or timed");
+         run.harness.inject_in_timed = v == "timed";
+       },
+       "where --inject-crash and --inject-hang strike: the check frame (checks) or a timed repetition (timed)")
+      ->default_str("checks");
+  // The supervisor's arguments to its workers (not for users: hidden from --help).
+  r.add_option("--worker-skip", run.worker_skip)->group("");
+  r.add_option("--worker-progress-fd", run.worker_progress_fd)->group("");
+  r.add_option("--worker-results", run.worker_results)->group("");
+}
+
 void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
   add_matrix_options(r, run.matrix);
+  add_isolation_options(r, run);
   add_placement_options(r, run.harness);
   add_frame_options(r, run.harness);
   add_check_options(r, run.harness);

@@ -17,6 +17,8 @@
 #include <regex>
 
 #include "backends/vulkan/vk_context.h"
+#include "bench/cli/case_isolation.h"
+#include "bench/run/case_progress.h"
 #include "bench/run/case_runner.h"
 #include "bench/results/file_io.h"
 #include "bench/run/gbench_glue.h"
@@ -213,6 +215,7 @@ void run_untimed(Harness& harness, const std::vector<CaseConfig>& cases, RunStat
   for (size_t i = 0; i < cases.size() && !run.stopped(); ++i) {
     CaseResult& r = run.results[i];
     r.config = cases[i];
+    send_progress(harness.options().progress_fd, "case " + cases[i].id() + "\t" + axes_to_json(cases[i]).dump());
     harness.prepare(r);
     run.prepared = i + 1;
     double elapsed = seconds_since(start);
@@ -289,6 +292,17 @@ void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
 int run_command(const RunCommand& cmd) {
   RunOptions options = cmd.harness;
   if (options.out_dir.empty()) options.out_dir = default_out_dir();
+  if (cmd.isolate && cmd.worker_skip < 0) {  // this process supervises; workers run the matrix
+    IsolationSettings isolation{cmd.args, options.out_dir, cmd.case_timeout_s};
+    if (cmd.harness.out_dir.empty()) isolation.args.insert(isolation.args.end(), {"--out", options.out_dir});
+    try {
+      return supervise_run(isolation);
+    } catch (const std::exception& e) {
+      print_error(e.what());
+      return 1;
+    }
+  }
+  options.progress_fd = cmd.worker_progress_fd;
   options.async_images = true;  // drained at the end of the untimed part
   Harness harness(options);
   RunState run;
@@ -297,10 +311,14 @@ int run_command(const RunCommand& cmd) {
   run.info.repetitions = cmd.repetitions;
   run.info.shard_index = cmd.shard_index;
   run.info.shard_count = cmd.shard_count;
-  run.results_path = (fs::path(options.out_dir) / "results.json").string();
+  run.results_path = cmd.worker_results.empty() ? (fs::path(options.out_dir) / "results.json").string()
+                                                 : cmd.worker_results;
   std::vector<CaseConfig> cases;
   try {
     cases = validate_request(cmd, harness, run.info);
+    // A worker after a crash: the cases before the crashed one, and that one, are done.
+    send_progress(options.progress_fd, "cases " + std::to_string(cases.size()));
+    if (cmd.worker_skip > 0) cases.erase(cases.begin(), cases.begin() + std::min<ptrdiff_t>(cmd.worker_skip, ptrdiff_t(cases.size())));
     if (options.lock_clocks) {
       std::set<std::string> locked;
       for (const CaseConfig& c : cases)

@@ -27,7 +27,16 @@ struct RunCommand {
   int shard_count = 1;
   RepetitionPolicy repetitions;  // --benchmark_repetitions, --precision, --max-repetitions, --sustain
   std::vector<std::string> benchmark_args;  // --benchmark_* flags, passed to Google Benchmark
-  std::string command_line;
+  std::string command_line;   // as given, less the worker's own arguments
+  std::vector<std::string> args;  // every argument after the program's name ("run", then the options)
+  // Crash isolation (bench/cli/case_isolation.h): on by default (--isolation process); a case making no progress
+  // for case_timeout_s is a hang. A worker process has worker_skip >= 0: it skips that many cases of the matrix,
+  // names its cases and steps on worker_progress_fd, and writes its results to worker_results (empty: OUT's).
+  bool isolate = true;
+  double case_timeout_s = 300.0;
+  int worker_skip = -1;
+  int worker_progress_fd = -1;
+  std::string worker_results;
 };
 
 int run_command(const RunCommand& cmd);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/cli/case_isolation.h"
 #include "bench/cli/cli_options.h"
 #include "bench/cli/commands.h"
 #include "bench/results/compare.h"
@@ -52,8 +53,18 @@ int main(int argc, char** argv) {
   run.command_line = argv[0];
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
+    run.args.push_back(a);
+    if (a.rfind("--benchmark_", 0) == 0) {
+      run.benchmark_args.push_back(a);
+      run.command_line += " " + a;
+      continue;
+    }
+    ours.push_back(a);
+    if (is_worker_argument(a)) {  // the supervisor's to its worker: not part of the run's command line
+      if (i + 1 < argc) run.args.push_back(argv[i + 1]), ours.push_back(argv[i + 1]), ++i;
+      continue;
+    }
     run.command_line += " " + a;
-    (a.rfind("--benchmark_", 0) == 0 ? run.benchmark_args : ours).push_back(a);
   }
 
   CLI::App app{"omnishadow: benchmark harness for point-light (cube-map) shadow mapping"};

@@ -53,8 +53,6 @@ json device_to_json(const DeviceInfo& d) {
   return j;
 }
 
-namespace {
-
 json axes_to_json(const CaseConfig& c) {
   json axes = {{"backend", c.backend},
           {"scene", c.scene},
@@ -79,6 +77,8 @@ json axes_to_json(const CaseConfig& c) {
   if (c.lookup_perturb_texels != 0.0f) axes["lookup_perturb_texels"] = c.lookup_perturb_texels;
   return axes;
 }
+
+namespace {
 
 // The run's injected fragment work: one number, or the sorted values when it was an experiment axis.
 json scene_loads_json(const std::vector<SceneLoad>& loads) {

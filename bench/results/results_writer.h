@@ -25,6 +25,7 @@ struct RunInfo {
 };
 
 nlohmann::json case_to_json(const CaseResult& r);
+nlohmann::json axes_to_json(const CaseConfig& c);  // a case's "axes" object
 nlohmann::json device_to_json(const DeviceInfo& d);
 
 // `gbench` is Google Benchmark's own JSON for the run, or null while timing has not finished; `complete`

@@ -12,6 +12,8 @@
 #include <stdexcept>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/driver_log.h"
+#include "bench/run/case_progress.h"
 #include "backends/common/shadow_plan.h"
 #include "bench/results/image_io.h"
 #include "bench/run/memory_budget.h"
@@ -79,6 +81,7 @@ std::string_view to_string(Status s) {
     case Status::interrupted: return "interrupted";
     case Status::resource_error: return "resource_error";
     case Status::failed: return "failed";
+    case Status::crashed: return "crashed";
     case Status::unsupported: return "unsupported";
   }
   return "?";
@@ -86,7 +89,7 @@ std::string_view to_string(Status s) {
 
 bool fails_run(Status s) {
   return s == Status::failed_quality || s == Status::failed_check || s == Status::resource_error ||
-         s == Status::failed;
+         s == Status::failed || s == Status::crashed;
 }
 
 void CaseResult::add(Finding finding) {
@@ -278,7 +281,8 @@ void Harness::measure_floor(CaseResult& r, Backend& b) {
 
 void Harness::prepare(CaseResult& r) {
   // Where the untimed part's time goes, per step (results.json "untimed_ms", the summary's totals).
-  auto step = [&r](const char* name, auto&& body) {
+  auto step = [&r, this](const char* name, auto&& body) {
+    send_progress(options_.progress_fd, std::string("step ") + name);
     const auto start = std::chrono::steady_clock::now();
     body();
     r.untimed_ms[name] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -291,7 +295,10 @@ void Harness::prepare(CaseResult& r) {
     step("first_frame", [&] { r.first_frame = b.render(options_.check_frame, FrameKind::timed); });
     // The check frame renders every buffer the checks read, and the timed variant's colour beside them. With
     // static caching it is served from the cube the cold frame rendered, so the cache is what gets checked.
-    step("check_frame", [&] { b.render(options_.check_frame, FrameKind::check); });
+    step("check_frame", [&] {
+      inject_fault(options_, r.config.id(), false);
+      b.render(options_.check_frame, FrameKind::check);
+    });
     Images images;
     step("read_back", [&] { images = b.read_back(cube_read_back_for(r.config)); });
     r.cube_read_back = images.has_full_cube() ? "full" : "sampled";
@@ -302,8 +309,7 @@ void Harness::prepare(CaseResult& r) {
     step("work_counters", [&] { count_work(r, b, images.light_far); });
     if (std::vector<std::string> errors = b.drain_api_errors(); !errors.empty()) {
       r.add({Status::failed, "api",
-             "API error (checking mode): " + errors.front() +
-                 (errors.size() > 1 ? " (+" + std::to_string(errors.size() - 1) + " more)" : ""),
+             "API error (checking mode): " + std::to_string(errors.size()) + " message(s): " + one_line_log(errors),
              {{"api_errors", double(errors.size())}}});
       return;
     }

@@ -101,6 +101,12 @@ struct RunOptions {
   double max_error_percent = -1.0;
   TruthOptions truth;       // the spherical light of the soft reference
   std::map<std::string, std::string> backend_options;  // egl_platform, gl_device, vk_device, api_checks
+  // Crash isolation (bench/cli/case_isolation.h): the pipe on which this worker process names the case and step it
+  // is in (-1: not a worker), and the test-only faults (bench/run/case_progress.h): regexes of case ids, fired in
+  // the check frame or, with inject_in_timed, in the timed rounds.
+  int progress_fd = -1;
+  std::string inject_crash, inject_hang;
+  bool inject_in_timed = false;
 };
 
 struct CheckResult;
@@ -133,9 +139,12 @@ struct CheckResult {
 //   interrupted     the run was stopped (SIGINT/SIGTERM) before the case was timed
 //   resource_error  the case does not fit in memory (predicted, or the allocation failed)
 //   failed          an error: the API failed, the checking mode reported an API error, an exception
+//   crashed         the process died (a signal: a driver's SIGSEGV or abort) or made no progress for
+//                   --case-timeout-s while on this case; written by the supervisor (bench/cli/case_isolation.h),
+//                   whose next worker process goes on from the next case
 //   unsupported     the device or the technique cannot do the case; the matrix goes on
 // Worse is later in that list.
-enum class Status { ok, failed_quality, failed_check, interrupted, resource_error, failed, unsupported };
+enum class Status { ok, failed_quality, failed_check, interrupted, resource_error, failed, crashed, unsupported };
 std::string_view to_string(Status s);
 // A case with this status makes `run --check` exit 1.
 bool fails_run(Status s);

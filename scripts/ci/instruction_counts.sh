@@ -13,6 +13,7 @@ mkdir -p "$out"
 rm -f "$out"/callgrind.*
 export LP_NUM_THREADS=0
 export OMNISHADOW_WRAPPER="valgrind --tool=callgrind --collect-atstart=no --callgrind-out-file=$out/callgrind.%p"
+# One process (--isolation none): callgrind follows no worker process, and the frames it counts are the run's own.
 bash "$here/scripts/ci/ci_matrix.sh" "$out/run" --no-images --no-accuracy --benchmark_repetitions=1 \
-  --benchmark_enable_random_interleaving=false "$@" > "$out/run.log" 2>&1 || { tail -20 "$out/run.log"; exit 2; }
+  --benchmark_enable_random_interleaving=false --isolation none "$@" > "$out/run.log" 2>&1 || { tail -20 "$out/run.log"; exit 2; }
 /usr/bin/python3 "$here/scripts/ci/instruction_counts.py" "$out"
