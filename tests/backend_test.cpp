@@ -318,6 +318,12 @@ TEST_P(BackendTest, SinglePassTechniquesReproduceSixPassExactly) {
       if (Support support = backend_->supports(c); !support.ok) {
         std::cout << c.id() << " unsupported: " << support.reason << "\n";
         EXPECT_FALSE(support.reason.empty()) << c.id();
+        // NVIDIA's drivers expose every extension the techniques use (gpu/measured: H100, driver 580): a refusal
+        // for a missing one there is a broken probe, not the device.
+        if (backend_->device().renderer.find("NVIDIA") != std::string::npos) {
+          EXPECT_EQ(support.reason.find("not exposed by"), std::string::npos) << c.id() << ": " << support.reason;
+          EXPECT_EQ(support.reason.find("not supported by"), std::string::npos) << c.id() << ": " << support.reason;
+        }
         ++refused;
         continue;
       }
@@ -332,10 +338,7 @@ TEST_P(BackendTest, SinglePassTechniquesReproduceSixPassExactly) {
   EXPECT_EQ(compared + refused, candidates);
   EXPECT_EQ(candidates, 38) << "the technique or storage table changed: say here what this test now compares";
   if (backend_->device().shares_host_memory) {
-    EXPECT_EQ(compared, 24) << "what llvmpipe/lavapipe do";
-  }
-  if (backend_->device().shares_host_memory) {
-    EXPECT_EQ(compared, 24) << "llvmpipe and lavapipe do every technique";
+    EXPECT_EQ(compared, 24) << "llvmpipe and lavapipe do every technique but the NV extensions' and mesh shaders";
   }
 }
 

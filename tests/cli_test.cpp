@@ -2,7 +2,6 @@
 // writes results that Google Benchmark's compare.py reads; --check turns failed checks into exit code 1.
 
 #include <gtest/gtest.h>
-#include <chrono>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -204,7 +203,7 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
   fs::path out = scratch("run");
   Outcome o = run("run --scene room --cube 64 --technique six_pass,geometry_shader,vs_layer "
                   "--filter hard,hw_compare2x2 --storage linear_depth,r32f_distance --frames 2 --warmup 1 --check "
-                  "--light-radius 0.2 --light-samples 2 "
+                  "--light-radius 0.2 --light-samples 2 --repetition-ms 0 --warmup-ms 0 "
                   "--out " + out.string() + " --benchmark_repetitions=2");
   ASSERT_EQ(o.exit_code, 0) << o.err;
   EXPECT_NE(o.err.find("[check 12/12]"), std::string::npos) << "progress on stderr";
@@ -419,6 +418,13 @@ TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) 
     if (status == "ok") continue;  // with --check: every check passed
     ASSERT_EQ(status, "unsupported") << c.dump();
     const std::string reason = c["reason"];
+    // An NVIDIA driver offers every extension these need (gpu/measured: H100, driver 580): there the only case
+    // that may be unsupported is nv_swizzle's refused hardware_depth, so a broken extension probe fails here.
+    const std::string renderer = j["omnishadow"]["devices"][c["axes"]["backend"].get<std::string>()]["renderer"];
+    if (renderer.find("NVIDIA") != std::string::npos) {
+      EXPECT_TRUE(technique == "nv_swizzle" && c["axes"]["storage"] == "hardware_depth")
+          << id << " is unsupported on " << renderer << ": " << reason;
+    }
     if (technique == "nv_swizzle" && c["axes"]["storage"] == "hardware_depth") {
       EXPECT_NE(reason.find("hardware_depth"), std::string::npos) << reason;
     } else if (technique == "nv_swizzle") {
@@ -718,24 +724,25 @@ TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
 }
 
 // --repetition-ms sizes each case's repetitions by time (gbench_glue.cpp, size_repetitions): at least --frames
-// timed frames, more until a repetition lasts that long; off by default on a CPU driver, so CI's counts stay put.
+// timed frames, more until a repetition lasts that long. The plain run says --repetition-ms 0 (a CPU driver's
+// default; a GPU's is 100 ms, which would add frames there). 400 ms is over a hundred times a 64x48 frame here.
 // The work per frame and the images are those of a run without it.
 TEST_F(CliRun, RepetitionLengthInTimeAddsTimedFrames) {
   const std::string args = "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
                            "--frames 2 --warmup 1 --no-accuracy --benchmark_repetitions=2 --out ";
   fs::path plain = scratch("repetition_plain"), sized = scratch("repetition_sized");
-  Outcome a = run(args + plain.string());
-  Outcome b = run(args + sized.string() + " --repetition-ms 60");
+  Outcome a = run(args + plain.string() + " --repetition-ms 0");
+  Outcome b = run(args + sized.string() + " --repetition-ms 400");
   ASSERT_EQ(a.exit_code, 0) << a.err;
   ASSERT_EQ(b.exit_code, 0) << b.err;
   auto timing = [](const fs::path& out) {
     auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
     return j["omnishadow"]["cases"][0]["timing"];
   };
-  EXPECT_EQ(timing(plain)["frames_per_repetition"], 2) << "a CPU driver keeps --frames by default";
+  EXPECT_EQ(timing(plain)["frames_per_repetition"], 2) << "--repetition-ms 0 keeps --frames";
   EXPECT_EQ(timing(plain)["timed_frames"], 4);
   const int sized_frames = timing(sized)["frames_per_repetition"].get<int>();
-  EXPECT_GT(sized_frames, 2) << "60 ms of a 64x48 frame is more than two frames";
+  EXPECT_GT(sized_frames, 2) << "400 ms of a 64x48 frame is more than two frames";
   EXPECT_EQ(timing(sized)["timed_frames"].get<int>(), 2 * sized_frames) << "every repetition the same length";
   Outcome same = run("compare " + plain.string() + " " + sized.string() + " --no-timing --out " +
                      scratch("repetition_cmp").string());
@@ -811,12 +818,14 @@ TEST_F(CliRun, InterruptedRunLeavesValidResults) {
     execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
-  // Wait until at least one case is saved, then interrupt.
+  // Wait until at least one case is saved, then interrupt: however long that takes on this machine (ctest's
+  // timeout bounds it), unless the run ends first.
   fs::path results = out / "results.json";
-  for (int i = 0; i < 600 && !fs::exists(results); ++i) usleep(50 * 1000);
-  ASSERT_TRUE(fs::exists(results)) << "no results.json after 30 s";
-  kill(pid, SIGINT);
   int status = 0;
+  bool ended = false;
+  while (!fs::exists(results) && !(ended = waitpid(pid, &status, WNOHANG) == pid)) usleep(50 * 1000);
+  ASSERT_FALSE(ended) << "the run ended before saving a case: " << omnishadow::bench::read_file(log.string());
+  kill(pid, SIGINT);
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status)) << "the run must exit, not die by the signal";
   EXPECT_EQ(WEXITSTATUS(status), 130) << omnishadow::bench::read_file(log.string());
@@ -830,9 +839,10 @@ TEST_F(CliRun, InterruptedRunLeavesValidResults) {
   EXPECT_NE(omnishadow::bench::read_file(log.string()).find("stopped by SIGINT"), std::string::npos);
 }
 
-// SIGTERM in the middle of a timed round that lasts over 10 s: the run stops after the repetition in hand, not
-// after the round. The delay from the signal to the exit is measured against one repetition's length.
-TEST_F(CliRun, StopsPromptlyInsideALongRound) {
+// SIGTERM in the middle of a timed round: the run exits 143 with valid results that say so, the cases the round
+// had not reached marked interrupted. That it stops after the repetition in hand, not after the round, is
+// HarnessTest.StopEndsTheRunAfterTheRepetitionInHand's, counted in the scripted device's frames, not in seconds.
+TEST_F(CliRun, SigtermInsideARoundLeavesValidResults) {
   fs::path out = scratch("prompt_stop");
   fs::path log = scratch("prompt_stop.log");
   std::string cmd = std::string(OMNISHADOW_BINARY) +
@@ -852,36 +862,27 @@ TEST_F(CliRun, StopsPromptlyInsideALongRound) {
     text << f.rdbuf();
     return text.str();
   };
-  // Wait until the third repetition of round 1 has started.
-  for (int i = 0; i < 1200 && log_text().find("[time round 1/2, 3/") == std::string::npos; ++i) usleep(50 * 1000);
-  ASSERT_NE(log_text().find("[time round 1/2, 3/"), std::string::npos) << "round 1 never reached its third case";
-  const auto signalled = std::chrono::steady_clock::now();
-  kill(pid, SIGTERM);
+  // Wait until the third repetition of round 1 has started, however long that takes here, unless the run ends.
   int status = 0;
+  bool ended = false;
+  while (log_text().find("[time round 1/2, 3/") == std::string::npos && !(ended = waitpid(pid, &status, WNOHANG) == pid))
+    usleep(50 * 1000);
+  ASSERT_FALSE(ended) << "the run ended before round 1's third case: " << log_text();
+  kill(pid, SIGTERM);
   waitpid(pid, &status, 0);
-  const double delay_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 143);
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   EXPECT_FALSE(j["omnishadow"]["complete"].get<bool>());
   EXPECT_EQ(j["omnishadow"]["stopped_by"], "SIGTERM");
-  // One repetition's length: the longest timed case's frames; the round is every case once.
-  double longest_s = 0.0, round_s = 0.0;
   int timed = 0, interrupted = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     if (c["status"] == "interrupted") ++interrupted;
-    if (!c.contains("timing") || c["timing"]["repetitions"].get<int>() == 0) continue;
-    ++timed;
-    const double repetition_s = c["timing"]["frame_wall_ms"]["median"].get<double>() * 200 / 1000.0;
-    longest_s = std::max(longest_s, repetition_s);
+    if (c.contains("timing") && c["timing"]["repetitions"].get<int>() > 0) ++timed;
   }
-  ASSERT_GE(timed, 2);
-  round_s = longest_s * double(timed + interrupted);
-  std::printf("round ~%.1f s (%d cases), one repetition <= %.2f s, stopped %.2f s after SIGTERM\n", round_s,
-              timed + interrupted, longest_s, delay_s);
-  EXPECT_GT(round_s, 10.0) << "the round must be long for the delay to mean something";
-  EXPECT_GT(interrupted, 0) << "the round was cut short";
-  EXPECT_LT(delay_s, 2.0 * longest_s + 3.0) << "the run finished more than the repetition in hand";
+  EXPECT_GE(timed, 2) << "round 1's first two cases were timed";
+  EXPECT_GT(interrupted, 0) << "the round was cut short, not finished";
+  EXPECT_NE(log_text().find("stopped by SIGTERM"), std::string::npos) << log_text();
 }
 
 // The run of `--cube 16384,64` in `out`: the first case a resource_error (a memory finding), the second ok. Returns
@@ -1057,3 +1058,99 @@ TEST_F(CliRun, RemediesAreMeasuredOnAndOff) {
 }
 
 }  // namespace
+
+namespace {
+
+// A run with faults injected into the cases that match `regex` (--inject-crash or --inject-hang) in the checks or
+// the timed rounds, on both APIs where Vulkan is here: the matrix of 2 backends x 2 techniques.
+struct FaultRun {
+  Outcome outcome;
+  nlohmann::json results;
+};
+FaultRun run_with_fault(const std::string& name, const std::string& fault) {
+  std::string why;
+  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const fs::path out = scratch(name);
+  FaultRun f;
+  f.outcome = run("run --backend " + backends + " --scene room --cube 16 --frame 32x24 --technique six_pass,geometry_shader "
+                  "--filter hard --frames 2 --warmup 0 --no-accuracy --images none --benchmark_repetitions=2 " +
+                  fault + " --out " + out.string());
+  if (fs::exists(out / "results.json")) f.results = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  return f;
+}
+
+// Each case id to its status; the crashed ones' reasons checked by the caller.
+std::map<std::string, nlohmann::json> cases_by_id(const nlohmann::json& results) {
+  std::map<std::string, nlohmann::json> out;
+  for (const auto& c : results["omnishadow"]["cases"]) out[c["id"].get<std::string>()] = c;
+  return out;
+}
+
+void expect_one_case_each(const FaultRun& f, const std::string& reason_part, const std::string& step) {
+  EXPECT_EQ(f.outcome.exit_code, 1) << f.outcome.err;
+  ASSERT_TRUE(f.results.is_object()) << "results.json is kept: " << f.outcome.err;
+  const auto cases = cases_by_id(f.results);
+  int crashed = 0, ok = 0;
+  for (const auto& [id, c] : cases) {
+    if (id.find("/geometry_shader/") != std::string::npos) {
+      ++crashed;
+      EXPECT_EQ(c["status"], "crashed") << c.dump();
+      EXPECT_NE(c["reason"].get<std::string>().find(reason_part), std::string::npos) << c.dump();
+      EXPECT_EQ(c["crash"]["step"], step) << c.dump();
+      EXPECT_EQ(c["axes"]["backend"], id.substr(0, id.find('/'))) << "the crashed case's own axes: " << c.dump();
+      EXPECT_EQ(c["axes"]["technique"], "geometry_shader") << c.dump();
+    } else {
+      ok += c["status"] == "ok";
+    }
+  }
+  EXPECT_EQ(crashed, int(cases.size()) / 2) << "one crashed case per backend: " << f.outcome.err;
+  EXPECT_EQ(ok, int(cases.size()) / 2) << "every other case finished: " << f.outcome.err;
+  EXPECT_EQ(f.results["omnishadow"]["cases"].size(), cases.size()) << "each case once";
+  EXPECT_TRUE(f.results["omnishadow"]["complete"].get<bool>()) << "every case has its result, crashed ones included";
+  // A fresh process after each crash, unless the crash was the matrix's last case.
+  const bool last_crashed = f.results["omnishadow"]["cases"].back()["status"] == "crashed";
+  EXPECT_EQ(f.results["omnishadow"]["worker_processes"].get<int>(), crashed + (last_crashed ? 0 : 1));
+  std::vector<std::string> order;  // matrix order kept: each backend's six_pass before its geometry_shader
+  for (const auto& c : f.results["omnishadow"]["cases"]) order.push_back(c["id"]);
+  for (size_t i = 1; i < order.size(); i += 2)
+    EXPECT_NE(order[i].find("/geometry_shader/"), std::string::npos) << order[i] << " out of matrix order";
+  EXPECT_NE(f.outcome.out.find("## Crashed cases"), std::string::npos) << f.outcome.out;
+}
+
+}  // namespace
+
+// A case that kills the process (SIGSEGV in its check frame, injected: --inject-crash) costs that case alone: it is
+// recorded `crashed` with the signal and the step, the run goes on in a fresh process from the next case, every
+// finished case is in results.json, and the run exits 1. On GL and Vulkan.
+TEST_F(CliRun, ACrashInTheChecksCostsOneCase) {
+  expect_one_case_each(run_with_fault("crash_checks", "--inject-crash /geometry_shader/"), "SIGSEGV", "check_frame");
+}
+
+// The same in the timed rounds: the cases timed before the crash keep their repetitions.
+TEST_F(CliRun, ACrashInTheTimedRoundsCostsOneCase) {
+  const FaultRun f = run_with_fault("crash_timed", "--inject-crash /geometry_shader/ --inject-in timed");
+  expect_one_case_each(f, "SIGSEGV", "timed repetition");
+  for (const auto& [id, c] : cases_by_id(f.results)) {
+    if (c["status"] == "ok") {
+      EXPECT_GE(c["timing"]["repetitions"].get<int>(), 1) << id;
+    }
+  }
+}
+
+// A case that makes no progress for --case-timeout-s (a hang, injected: --inject-hang) is killed and recorded
+// `crashed` with the timeout; the run goes on. The hang never ends, so it is always caught; 10 s is over ten times
+// the longest step of these 16-texel cases here, so no other case is.
+TEST_F(CliRun, AHangIsKilledAfterTheCaseTimeoutAndCostsOneCase) {
+  expect_one_case_each(run_with_fault("hang_checks", "--inject-hang /geometry_shader/ --case-timeout-s 10"),
+                       "no progress for 10 s", "check_frame");
+}
+
+// --isolation none runs in one process, as before: the first crash ends the run (here: none is injected).
+TEST_F(CliRun, IsolationCanBeTurnedOff) {
+  const FaultRun f = run_with_fault("no_isolation", "--isolation none");
+  EXPECT_EQ(f.outcome.exit_code, 0) << f.outcome.err;
+  EXPECT_FALSE(f.results["omnishadow"].contains("worker_processes"));
+  const FaultRun bad = run_with_fault("bad_isolation", "--isolation threads");
+  EXPECT_EQ(bad.outcome.exit_code, 2);
+  EXPECT_NE(bad.outcome.err.find("--isolation"), std::string::npos) << bad.outcome.err;
+}

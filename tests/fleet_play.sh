@@ -11,6 +11,17 @@ if reason="$(XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" "$bin" list | grep -m1 '
   echo "fleet play skipped: OpenGL backend unavailable here: $reason"
   exit 77
 fi
+# fleet_compare.sh reads the target branch's baseline from git: a copy of the tree without .git (a build carried
+# to a GPU machine) cannot play it, and says so.
+if ! git -C "$here" rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+  echo "SKIP: fleet play needs a git checkout (fleet_compare.sh reads the target branch, origin/main, from it); $here is not one"
+  exit 77
+fi
+if ! git -C "$here" rev-parse --verify --quiet origin/main >/dev/null &&
+   ! git -C "$here" rev-parse --verify --quiet main >/dev/null; then
+  echo "SKIP: fleet play compares against origin/main (or main), which the clone at $here lacks (git fetch it)"
+  exit 77
+fi
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 matrix=(--backend gl --scene room --cube 32 --frame 64x48 --technique six_pass,geometry_shader

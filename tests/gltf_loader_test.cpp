@@ -10,6 +10,8 @@
 #include <functional>
 #include <stdexcept>
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "bench/results/file_io.h"
@@ -84,6 +86,45 @@ std::string write(const fs::path& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
   return path.string();
 }
+
+// Five vertices drawn by one primitive of each kind: POINTS once, LINES twice (skipped, counted by mode), a
+// TRIANGLE_STRIP and a TRIANGLE_FAN over all five (unrolled by the spec's rules, each triangle counter-clockwise as
+// its strip or fan orders it). A fan read as a strip, a strip without its every-other reversal, a skip count stuck
+// at 0 or the modes named alike each fail here.
+TEST(GltfLoader, StripsAndFansUnrollAndOtherModesAreCountedByName) {
+  const fs::path dir = fs::temp_directory_path() / ("omnishadow_gltf_modes_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::vector<glm::vec3> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 2, 0}};
+  std::string bin(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(glm::vec3));
+  const std::vector<glm::vec3> normals(v.size(), glm::vec3(0, 0, 1));
+  bin.append(reinterpret_cast<const char*>(normals.data()), normals.size() * sizeof(glm::vec3));
+  write(dir / "modes.bin", bin);
+  using J = nlohmann::json;
+  J primitives = J::array();
+  for (int mode : {0 /* POINTS */, 1 /* LINES */, 1, 5 /* TRIANGLE_STRIP */, 6 /* TRIANGLE_FAN */})
+    primitives.push_back({{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"mode", mode}});
+  const J doc = {{"asset", {{"version", "2.0"}}},
+                 {"scene", 0},
+                 {"scenes", J::array({{{"nodes", J::array({0})}}})},
+                 {"nodes", J::array({{{"mesh", 0}}})},
+                 {"meshes", J::array({{{"primitives", primitives}}})},
+                 {"buffers", J::array({{{"uri", "modes.bin"}, {"byteLength", bin.size()}}})},
+                 {"bufferViews", J::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 60}},
+                                           {{"buffer", 0}, {"byteOffset", 60}, {"byteLength", 60}}})},
+                 {"accessors", J::array({{{"bufferView", 0}, {"componentType", 5126}, {"count", 5}, {"type", "VEC3"},
+                                          {"min", {0, 0, 0}}, {"max", {1, 2, 0}}},
+                                         {{"bufferView", 1}, {"componentType", 5126}, {"count", 5}, {"type", "VEC3"}}})}};
+  const GltfModel m = load_gltf(write(dir / "modes.gltf", doc.dump()), kLimit);
+  fs::remove_all(dir);
+  EXPECT_EQ(m.skipped_primitives, 3);
+  EXPECT_EQ(m.skipped_modes, "LINES x2, POINTS x1");
+  // Strip: (0 1 2), then (2 1 3) reversed to keep the winding, then (2 3 4). Fan: (0 1 2), (0 2 3), (0 3 4).
+  const std::vector<int> want = {0, 1, 2, 2, 1, 3, 2, 3, 4, 0, 1, 2, 0, 2, 3, 0, 3, 4};
+  ASSERT_EQ(m.triangles.size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i)
+    EXPECT_EQ(m.triangles[i].position, v[size_t(want[i])]) << "corner " << i << " of triangle " << i / 3;
+}
+
 
 // The triangle seed with one edit of its JSON.
 std::string edited_seed(const fs::path& path, const std::function<void(nlohmann::json&)>& edit) {

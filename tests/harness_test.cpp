@@ -83,6 +83,7 @@ class ScriptedBackend : public Backend {
 
   double jitter_ms = 0.0;
   std::array<int, 2> read_backs_{};  // [sampled, full]
+  int frames_rendered() const { return frames_rendered_; }
 
  private:
   CaseConfig current_;
@@ -253,24 +254,67 @@ TEST_F(HarnessTest, ImagePolicyDecidesWhichFilesAreWritten) {
 }
 
 // On a GPU the warm-up goes on by time (--warmup-ms, 100 ms by default) so the clock ramps after each pause; the
-// timed frames stay as many as asked.
+// timed frames stay as many as asked. The time is the device's own frame time (5 ms a scripted frame), never the
+// host's clock: 100 ms is the --warmup frame and 19 more, on a fast machine and a loaded one alike.
 TEST_F(HarnessTest, GpuWarmupGoesOnByTime) {
   start(RunOptions::ImagePolicy::none, RunOptions::CubeReadBackPolicy::automatic, -1.0);
   std::vector<CaseResult> results = prepare_all({Filter::hard});
-  RepetitionPolicy one;
-  one.repetitions = 1;
-  const auto start_time = std::chrono::steady_clock::now();
-  run_timed(*harness_, results, one, (out_ / "raw.json").string(), [] {}, [] { return false; });
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  RepetitionPolicy two;
+  two.repetitions = 2;
+  run_timed(*harness_, results, two, (out_ / "raw.json").string(), [] {}, [] { return false; });
   int timed = 0;
   for (const CaseResult& r : results) {
     if (r.frames.empty()) continue;
     ++timed;
-    EXPECT_EQ(r.frames.size(), 3u) << r.config.id();
-    EXPECT_GT(r.warmup.size(), 1u) << r.config.id() << ": one warm-up frame, then more until 100 ms";
+    EXPECT_EQ(r.frames.size(), 6u) << r.config.id() << ": 3 timed frames a repetition, warm-up aside";
+    EXPECT_EQ(r.warmup.size(), 40u) << r.config.id() << ": 20 frames of 5 ms before each of the two repetitions";
   }
   ASSERT_GT(timed, 0);
-  EXPECT_GE(seconds, 0.1 * timed) << "each timed repetition warmed up for at least 100 ms";
+}
+
+// A slower device warms up in fewer frames: the warm-up ends at the first frame whose device time brings the sum to
+// --warmup-ms (frames of 5 to 35 ms here: the scripted 7-step jitter), never earlier and never later.
+TEST_F(HarnessTest, WarmupByTimeEndsAtTheFrameThatReachesIt) {
+  start(RunOptions::ImagePolicy::none, RunOptions::CubeReadBackPolicy::automatic, 100.0);
+  backend_->jitter_ms = 5.0;
+  std::vector<CaseResult> results = prepare_all({Filter::hard});
+  RepetitionPolicy one;
+  one.repetitions = 1;
+  std::vector<CaseResult> first(results.begin(), results.begin() + 1);
+  run_timed(*harness_, first, one, (out_ / "raw.json").string(), [] {}, [] { return false; });
+  ASSERT_FALSE(first[0].frames.empty()) << first[0].reason;
+  const std::vector<FrameTiming>& w = first[0].warmup;
+  ASSERT_GE(w.size(), 2u);
+  double before_last = 0.0;
+  for (size_t i = 0; i + 1 < w.size(); ++i) before_last += w[i].frame_wall_ms;
+  EXPECT_LT(before_last, 100.0) << "the warm-up went on after reaching 100 ms";
+  EXPECT_GE(before_last + w.back().frame_wall_ms, 100.0) << "the warm-up stopped short of 100 ms";
+  EXPECT_LT(w.size(), 20u) << "longer frames, fewer of them than the 20 of 5 ms";
+}
+
+// A stop asked for in the middle of a repetition ends the run after that repetition, not after the round: the case
+// in hand keeps all its timed frames, no later case of the round starts, and those are marked interrupted. Counted in
+// the scripted device's frames: the stop comes at the second frame of the second case's repetition.
+TEST_F(HarnessTest, StopEndsTheRunAfterTheRepetitionInHand) {
+  std::vector<CaseResult> results = prepare_all({Filter::hard, Filter::pcf_disk20});
+  RepetitionPolicy two;
+  two.repetitions = 2;
+  const int before = backend_->frames_rendered();
+  const int per_repetition = 1 + 3;  // the --warmup frame, then --frames
+  auto stop = [&] { return backend_->frames_rendered() >= before + per_repetition + 2; };
+  run_timed(*harness_, results, two, (out_ / "raw.json").string(), [] {}, stop);
+  int timed = 0, interrupted = 0;
+  for (const CaseResult& r : results) {
+    if (r.repetitions > 0) {
+      ++timed;
+      EXPECT_EQ(r.repetitions, 1) << r.config.id();
+      EXPECT_EQ(r.frames.size(), 3u) << r.config.id() << ": the repetition in hand kept every timed frame";
+    }
+    if (r.status == Status::interrupted) ++interrupted;
+  }
+  EXPECT_EQ(timed, 2) << "the first case, and the one the stop came in";
+  EXPECT_GT(interrupted, 0) << "the rest of the round was not timed";
+  EXPECT_EQ(backend_->frames_rendered(), before + 2 * per_repetition) << "nothing rendered after the stop";
 }
 
 // On a GPU (the scripted device: 5 ms frames) a repetition lasts --repetition-ms, 100 by default: 20 frames, the

@@ -11,6 +11,8 @@ cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
 mv "$tmp/prefix" "$tmp/moved"
 bin="$tmp/moved/bin/omnishadow"
 fail() { echo "install test: $*"; exit 1; }
+# The installed report renders its charts with matplotlib: without Debian's package the report cannot run.
+/usr/bin/python3 -c "import matplotlib" 2>/dev/null || { echo "SKIP: the installed report needs python3-matplotlib (Debian package; scripts/setup.sh installs it)"; exit 77; }
 list="$("$bin" list)"
 if grep -q "gl: unavailable" <<<"$list"; then echo "install test skipped: OpenGL backend unavailable here"; exit 77; fi
 grep -qF "scenes ($tmp/moved/share/omnishadow/scenes)" <<<"$list" || fail "the moved binary does not read its own scenes: $(grep scenes <<<"$list")"

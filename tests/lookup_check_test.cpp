@@ -3,6 +3,8 @@
 // shader's own table.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "bench/truth/lookup_check.h"
@@ -62,20 +64,68 @@ TEST(LookupCheck, ATapOnATexelBoundaryMayReadEitherTexel) {
   EXPECT_TRUE(check_lookups(img, in).ok());
 }
 
-TEST(LookupCheck, KernelsAreTheShadersOwn) {
+// Every tap of each kernel counts: a cube fine enough that the taps read different texels (1024: 0.02 world units a
+// texel at distance 10 on +X, against the grid's 0.05 step and the disk's 0.5 radius), lit everywhere but the one
+// texel tap k reads (the kernel as the tutorial writes it: the grid -0.1 + 0.05 i per axis, the disk's 20
+// directions times (1 + view distance / far) / 25), which occludes. The device would return (taps on that
+// texel) / (taps); the check must allow that value for every k and refuse 0. A kernel with other offsets, another
+// count or another scale in the check fails here.
+struct KernelProbe {
+  Images img;
+  std::vector<glm::dvec3> taps;  // light-to-tap vectors, the shader's way
+};
+
+int texel_on_pos_x(const glm::dvec3& d, int size) {  // +X: s from -z / x, t from -y / x (cube_faces.h)
+  const int s = int(std::floor(0.5 * (-d.z / d.x + 1.0) * size)), t = int(std::floor(0.5 * (-d.y / d.x + 1.0) * size));
+  return t * size + s;
+}
+
+void expect_every_tap_counts(KernelProbe& probe, const LookupInputs& in, const char* name) {
+  const int size = probe.img.cube_size;
+  std::vector<int> texel(probe.taps.size());
+  for (size_t k = 0; k < probe.taps.size(); ++k) {
+    ASSERT_GT(probe.taps[k].x, std::max(std::abs(probe.taps[k].y), std::abs(probe.taps[k].z))) << "tap on +X";
+    texel[k] = texel_on_pos_x(probe.taps[k], size);
+  }
+  int refused_zero = 0;
+  for (size_t k = 0; k < probe.taps.size(); ++k) {
+    probe.img.cube_distance[0][size_t(texel[k])] = 5.0f;  // an occluder in front of the surface at ~10
+    const int on_texel = int(std::count(texel.begin(), texel.end(), texel[k]));
+    probe.img.shadow_factor = {float(on_texel) / float(probe.taps.size())};
+    EXPECT_TRUE(check_lookups(probe.img, in).ok()) << name << " tap " << k << ": " << describe(check_lookups(probe.img, in));
+    probe.img.shadow_factor = {0.0f};
+    refused_zero += !check_lookups(probe.img, in).ok();
+    probe.img.cube_distance[0][size_t(texel[k])] = 20.0f;
+  }
+  // A tap within the sub-texel band of a texel edge may read its neighbour instead: such taps allow 0 too.
+  EXPECT_GE(refused_zero, int(probe.taps.size()) * 3 / 4) << name << ": the occluding texel must count";
+}
+
+TEST(LookupCheck, EveryTapOfEachKernelCounts) {
+  const glm::dvec3 p(10.0, 0.3, 0.7);
+  KernelProbe probe;
+  probe.img = one_pixel(glm::vec3(p), 20.0f, 0.0f);
+  probe.img.cube_size = 1024;
+  for (auto& face : probe.img.cube_distance) face.assign(size_t(1024) * 1024, 20.0f);
+  LookupInputs in;
+  in.subtexel_bits = 8;
+  in.filter = Filter::pcf_grid64;
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      for (int z = 0; z < 4; ++z) probe.taps.push_back(p + glm::dvec3(-0.1) + 0.05 * glm::dvec3(x, y, z));
+  expect_every_tap_counts(probe, in, "pcf_grid64");
+
   const auto& disk = disk_directions();
   ASSERT_EQ(disk.size(), 20u);
   EXPECT_EQ(disk[0], glm::dvec3(1, 1, 1));
   EXPECT_EQ(disk[19], glm::dvec3(0, 1, -1));
-  // pcf_disk20 over a cube whose texels all occlude: shadow 1; half the taps cannot be lit.
-  LookupInputs in;
   in.filter = Filter::pcf_disk20;
   in.camera = {0, 0, 30};
-  EXPECT_TRUE(check_lookups(one_pixel({10, 1, 2}, 6.0f, 1.0f), in).ok());
-  EXPECT_FALSE(check_lookups(one_pixel({10, 1, 2}, 6.0f, 0.5f), in).ok());
-  in.filter = Filter::pcf_grid64;
-  EXPECT_TRUE(check_lookups(one_pixel({10, 1, 2}, 30.0f, 0.0f), in).ok());
-  EXPECT_FALSE(check_lookups(one_pixel({10, 1, 2}, 30.0f, 1.0f / 64.0f), in).ok());
+  in.far_plane = probe.img.light_far;
+  const double radius = (1.0 + glm::length(in.camera - p) / in.far_plane) / 25.0;
+  probe.taps.clear();
+  for (const glm::dvec3& d : disk) probe.taps.push_back(p + radius * d);
+  expect_every_tap_counts(probe, in, "pcf_disk20");
 }
 
 // A read-back the check cannot make sense of (no far plane, positions at the light, non-finite values) allows

@@ -2,6 +2,9 @@
 
 #include "bench/run/gbench_report.h"
 
+#include "backends/common/driver_log.h"
+#include "bench/run/case_progress.h"
+
 #include <benchmark/benchmark.h>
 #include <valgrind/callgrind.h>
 
@@ -123,20 +126,27 @@ void size_repetitions(Harness& harness, std::vector<CaseResult>& results, const 
 void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
   const RunOptions& o = harness.options();
   std::vector<FrameTiming> frames;
+  send_progress(o.progress_fd, "timed " + r.config.id());
   try {
+    inject_fault(o, r.config.id(), true);
     Backend& b = harness.activate(r.config);
     if (r.device_state_source.empty()) r.device_state_source = harness.device_state_source(r.config.backend);
     r.device_states.push_back(harness.sample_device(r.config.backend));  // before this repetition's frames
     // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings. Then by time
     // (RunOptions::warmup_ms), cycling over the same frame indices so that the timed frames stay the same frames.
-    const auto warmup_start = std::chrono::steady_clock::now();
-    for (int i = 0; i < o.warmup_frames; ++i) r.warmup.push_back(render_measured(b, i));
+    // The time is the frames' own wall time as the backend measured it (each frame waits for the device), so the
+    // warm-up is as long as the frames it rendered, whatever the host's clock does between them, and a scripted
+    // device gives the same count on every machine.
+    double warmed_ms = 0.0;
+    for (int i = 0; i < o.warmup_frames; ++i) {
+      r.warmup.push_back(render_measured(b, i));
+      warmed_ms += r.warmup.back().frame_wall_ms;
+    }
     const double warmup_ms = o.warmup_ms >= 0 ? o.warmup_ms
                                               : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuWarmupMs);
-    for (int i = 0; warmup_ms > 0 && i < kMaxTimedWarmupFrames; ++i) {
-      if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - warmup_start).count() >= warmup_ms)
-        break;
+    for (int i = 0; warmed_ms < warmup_ms && i < kMaxTimedWarmupFrames; ++i) {
       r.warmup.push_back(render_measured(b, o.warmup_frames > 0 ? i % o.warmup_frames : 0));
+      warmed_ms += std::max(r.warmup.back().frame_wall_ms, 0.0);
     }
     int frame = o.warmup_frames;
     double sums[7] = {0, 0, 0, 0, 0, 0, 0};
@@ -162,7 +172,9 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
     CALLGRIND_DUMP_STATS_AT(dump_label.c_str());
     r.device_states.push_back(harness.sample_device(r.config.backend));  // after them
     std::vector<std::string> api_errors = b.drain_api_errors();  // outside the timed loop
-    if (!api_errors.empty()) throw std::runtime_error("API error (checking mode): " + api_errors.front());
+    if (!api_errors.empty())
+      throw std::runtime_error("API error (checking mode): " + std::to_string(api_errors.size()) +
+                               " message(s): " + one_line_log(api_errors));
     state.counters["shadow_wall_ms"] = Counter(sums[0], Counter::kAvgIterations);
     state.counters["shadow_submit_ms"] = Counter(sums[1], Counter::kAvgIterations);
     state.counters["lighting_wall_ms"] = Counter(sums[2], Counter::kAvgIterations);

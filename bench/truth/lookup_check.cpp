@@ -101,6 +101,42 @@ struct Kernel {
   double bias = 0.0;
 };
 
+// pcf_grid64's constants read from the shader's own text (shaders/shadow_filters.glsl): the half-width (times
+// --pcf-scale), the divisor that gives the step, and the taps per axis. One copy of the kernel, as for the disk.
+struct GridKernel {
+  double offset = 0.0, step_divisor = 0.0;
+  int steps = 0;
+};
+
+const GridKernel& grid_kernel() {
+  static const GridKernel kernel = [] {
+    const auto& files = embedded_files();
+    auto it = files.find("shadow_filters.glsl");
+    if (it == files.end()) throw std::runtime_error("lookup check: shadow_filters.glsl is not embedded");
+    const std::string& text = it->second;
+    const size_t start = text.find("#elif defined(FILTER_PCF_GRID64)");
+    const size_t end = start == std::string::npos ? start : text.find("#elif", start + 1);
+    if (end == std::string::npos) throw std::runtime_error("lookup check: the FILTER_PCF_GRID64 branch not found in shadow_filters.glsl");
+    const std::string body = text.substr(start, end - start);
+    static const std::regex offset(R"(grid_offset = ([0-9.]+) \* frame\.knobs\.y;)");
+    static const std::regex step(R"(step_size = grid_offset / ([0-9.]+);)");
+    static const std::regex loops(R"(for \(int ([xyz]) = 0; \1 < (\d+); \+\+\1\))");
+    std::smatch m, n;
+    if (!std::regex_search(body, m, offset) || !std::regex_search(body, n, step))
+      throw std::runtime_error("lookup check: pcf_grid64's grid_offset or step_size not found in shadow_filters.glsl");
+    GridKernel g{std::stod(m[1]), std::stod(n[1]), 0};
+    int axes = 0;
+    for (auto it = std::sregex_iterator(body.begin(), body.end(), loops); it != std::sregex_iterator(); ++it, ++axes) {
+      const int steps = std::stoi((*it)[2]);
+      if (axes > 0 && steps != g.steps) throw std::runtime_error("lookup check: pcf_grid64's axes differ in taps");
+      g.steps = steps;
+    }
+    if (axes != 3 || g.steps < 1) throw std::runtime_error("lookup check: pcf_grid64's three tap loops not found");
+    return g;
+  }();
+  return kernel;
+}
+
 Kernel kernel_for(const LookupInputs& in) {
   Kernel k;
   switch (in.filter) {
@@ -109,10 +145,11 @@ Kernel kernel_for(const LookupInputs& in) {
       k.bias = 0.05;
       break;
     case Filter::pcf_grid64: {
-      const double offset = 0.1 * in.pcf_scale, step = offset / 2.0;
-      for (int x = 0; x < 4; ++x)
-        for (int y = 0; y < 4; ++y)
-          for (int z = 0; z < 4; ++z) k.offsets.push_back(glm::dvec3(-offset) + step * glm::dvec3(x, y, z));
+      const GridKernel& g = grid_kernel();
+      const double offset = g.offset * in.pcf_scale, step = offset / g.step_divisor;
+      for (int x = 0; x < g.steps; ++x)
+        for (int y = 0; y < g.steps; ++y)
+          for (int z = 0; z < g.steps; ++z) k.offsets.push_back(glm::dvec3(-offset) + step * glm::dvec3(x, y, z));
       k.bias = 0.05;
       break;
     }
