@@ -122,6 +122,25 @@ void size_repetitions(Harness& harness, std::vector<CaseResult>& results, const 
 }
 
 
+// Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings. Then by time
+// (RunOptions::warmup_ms), cycling over the same frame indices so that the timed frames stay the same frames.
+// The time is the frames' own wall time as the backend measured it (each frame waits for the device), so the
+// warm-up is as long as the frames it rendered, whatever the host's clock does between them, and a scripted
+// device gives the same count on every machine.
+void warm_up(Backend& b, const RunOptions& o, CaseResult& r) {
+  double warmed_ms = 0.0;
+  for (int i = 0; i < o.warmup_frames; ++i) {
+    r.warmup.push_back(render_measured(b, i));
+    warmed_ms += r.warmup.back().frame_wall_ms;
+  }
+  const double warmup_ms = o.warmup_ms >= 0 ? o.warmup_ms
+                                            : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuWarmupMs);
+  for (int i = 0; warmed_ms < warmup_ms && i < kMaxTimedWarmupFrames; ++i) {
+    r.warmup.push_back(render_measured(b, o.warmup_frames > 0 ? i % o.warmup_frames : 0));
+    warmed_ms += std::max(r.warmup.back().frame_wall_ms, 0.0);
+  }
+}
+
 // One repetition of one case: warm-up frames, then the timed frames Google Benchmark iterates over.
 void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
   const RunOptions& o = harness.options();
@@ -132,22 +151,7 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
     Backend& b = harness.activate(r.config);
     if (r.device_state_source.empty()) r.device_state_source = harness.device_state_source(r.config.backend);
     r.device_states.push_back(harness.sample_device(r.config.backend));  // before this repetition's frames
-    // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings. Then by time
-    // (RunOptions::warmup_ms), cycling over the same frame indices so that the timed frames stay the same frames.
-    // The time is the frames' own wall time as the backend measured it (each frame waits for the device), so the
-    // warm-up is as long as the frames it rendered, whatever the host's clock does between them, and a scripted
-    // device gives the same count on every machine.
-    double warmed_ms = 0.0;
-    for (int i = 0; i < o.warmup_frames; ++i) {
-      r.warmup.push_back(render_measured(b, i));
-      warmed_ms += r.warmup.back().frame_wall_ms;
-    }
-    const double warmup_ms = o.warmup_ms >= 0 ? o.warmup_ms
-                                              : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuWarmupMs);
-    for (int i = 0; warmed_ms < warmup_ms && i < kMaxTimedWarmupFrames; ++i) {
-      r.warmup.push_back(render_measured(b, o.warmup_frames > 0 ? i % o.warmup_frames : 0));
-      warmed_ms += std::max(r.warmup.back().frame_wall_ms, 0.0);
-    }
+    warm_up(b, o, r);
     int frame = o.warmup_frames;
     double sums[7] = {0, 0, 0, 0, 0, 0, 0};
     // Under `valgrind --tool=callgrind --collect-atstart=no` (scripts/ci/instruction_counts.sh) exactly the timed
