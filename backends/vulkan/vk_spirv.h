@@ -1,6 +1,7 @@
 #pragma once
-// SPIR-V of the shared GLSL in shaders/, compiled by glslc at build time (CMakeLists.txt lists the variants).
-// Keys: "<file>:<DEFINE>,<DEFINE>" with defines in the order CMakeLists.txt gives them.
+// SPIR-V of the shared GLSL in shaders/, compiled by glslc at build time (cmake/embed_spirv.py; the variants are
+// listed by list_spirv_variants from the C++ tables).
+// Keys: "<file>:<DEFINE>,<DEFINE>" with defines in the order list_spirv_variants gives them.
 
 #include <cstdint>
 #include <map>
@@ -10,5 +11,7 @@
 namespace omnishadow::vk {
 
 const std::map<std::string, std::vector<uint32_t>>& embedded_spirv();
+// sha256 of the embedded modules, back to back in the variant list's order (cmake/embed_spirv.py).
+const char* embedded_spirv_pack_hash();
 
 }  // namespace omnishadow::vk

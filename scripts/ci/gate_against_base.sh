@@ -23,6 +23,11 @@ rm -rf "$tree"
 git worktree add -q --detach "$tree" "$base_sha"
 trap 'git worktree remove --force "$tree" >/dev/null 2>&1 || rm -rf "$tree"' EXIT
 echo "ci_compare: instructions per frame against base commit $(git rev-parse --short=12 "$base_sha") ($base_rev), built and counted on this runner"
+# Through ccache where it is installed, with paths relative to the scratch tree: the files the base shares with the
+# commit under test were compiled by its build minutes ago (the SPIR-V cache of cmake/embed_spirv.py does the same).
+if command -v ccache >/dev/null && [ -z "${CMAKE_CXX_COMPILER_LAUNCHER:-}" ]; then
+  export CMAKE_CXX_COMPILER_LAUNCHER=ccache CCACHE_BASEDIR="$(cd "$tree" && pwd)" CCACHE_NOHASHDIR=true
+fi
 build="${OMNISHADOW_GATE_BUILD:-cmake --preset release >/dev/null && cmake --build --preset release --target omnishadow >/dev/null}"
 if ! (cd "$tree" && bash -c "$build"); then
   echo "ci_compare: the base commit does not build here" >&2
