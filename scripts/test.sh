@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Everything from a fresh Debian 12 machine to a passing test suite: dependencies, build, ctest.
+# Everything from a fresh Debian 12 machine to a passing test suite: dependencies, build, ctest. The tests labelled
+# `extended` (the fleet pipeline plays: four builds, 20 minutes) are scripts/ci/extended.sh's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh

@@ -49,8 +49,14 @@ Outcome run(const std::string& args) {
 
 // Skips only for the reason `list` gives ("gl: unavailable: ..."); a `list` that fails is a failure of the
 // program, never a reason to skip (on the H100 it once exited 134 and every CLI test skipped itself).
+// `omnishadow list` brings up both backends (a second or two under the sanitizers): once per process.
+const Outcome& backends_listing() {
+  static const Outcome listing = run("list");
+  return listing;
+}
+
 bool gl_available(std::string& why) {
-  Outcome o = run("list");
+  const Outcome& o = backends_listing();
   EXPECT_EQ(o.exit_code, 0) << "omnishadow list failed:\n" << o.err;
   if (const size_t at = o.out.find("gl: unavailable"); at != std::string::npos) {
     why = "OpenGL backend unavailable here: " + o.out.substr(at, 200);
@@ -60,7 +66,7 @@ bool gl_available(std::string& why) {
 }
 
 bool vulkan_available(std::string& why) {
-  Outcome o = run("list");
+  const Outcome& o = backends_listing();
   if (const size_t at = o.out.find("vulkan: unavailable"); at != std::string::npos) {
     why = "Vulkan backend unavailable here: " + o.out.substr(at, 200);
     return false;

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The checks too slow for every landing (.ci/run stays inside 25 minutes): run before resolving an issue that touches
+# what they cover, and on a schedule where a CI engine offers one.
+#   plays     tests labelled `extended`: the GitLab and GitHub fleet pipelines played end to end over two commits
+#             (tests/fleet_pipeline_play.py, four builds)
+#   mutants   the mutation suite: every planted bug fails a check on both APIs (scripts/experiments/mutants.py)
+#   sanitize  the whole suite under ASan, UBSan and LSan (.ci/run runs the tests labelled `memory` only)
+#   fuzz      each file reader fuzzed for FUZZ_SECONDS (default 300; .ci/run: a fixed 20,000 runs)
+# Usage: scripts/ci/extended.sh [STAGE ...] (default: all four). Each stage's time is printed, and a table at the end.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+source scripts/lib/stages.sh
+stages=("$@")
+[ ${#stages[@]} -eq 0 ] && stages=(plays mutants sanitize fuzz)
+status=0
+for s in "${stages[@]}"; do
+  case "$s" in
+    plays) stage plays bash -c 'bash scripts/build.sh && ctest --preset extended' || status=1 ;;
+    mutants) stage mutants /usr/bin/python3 scripts/experiments/mutants.py --out build/mutants || status=1 ;;
+    sanitize) stage sanitize bash scripts/sanitize.sh || status=1 ;;
+    fuzz) stage fuzz bash scripts/fuzz.sh "${FUZZ_SECONDS:-300}" || status=1 ;;
+    *) echo "extended.sh: unknown stage '$s' (plays, mutants, sanitize, fuzz)" >&2; exit 2 ;;
+  esac
+done
+exit $status
