@@ -1,6 +1,6 @@
 #pragma once
 // A model file run as a scene of its own (`--scene model.glb`): the model as one object, a floor under it, and a
-// point light and camera placed from the model's bounds by one rule (README "Your own model"), each of which
+// point light and camera placed from the model's bounds by one rule (docs/guide.md "Your own model"), each of which
 // `--light` / `--camera` (LoadOptions) replaces.
 
 #include <glm/glm.hpp>

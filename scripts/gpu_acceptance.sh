@@ -283,7 +283,7 @@ step_clocks() {
   done
   # No --lock-clocks here: this script also runs on lent machines whose clock settings are not ours to change
   # (shared/gpu/README.md). Steady numbers come from the settle and the per-repetition warm-up; users lock their own
-  # GPU with `omnishadow run --lock-clocks` (README "Stable numbers on a GPU").
+  # GPU with `omnishadow run --lock-clocks` (docs/guide.md "Stable numbers on a GPU").
 }
 
 # Issue 27's equal-memory table on this GPU: each layout against the cube at the same texels, room and heavy, GL and

@@ -2,7 +2,7 @@
 """Plays the GPU fleet's pipelines end to end over two commits of a scratch repository, on llvmpipe:
 .gitlab-ci.yml with gitlab-ci-local (shell executor, each job in its own copy of the tree), and the GitHub
 workflow's jobs with tests/github_actions_player.py. Commit A (main, a small fleet matrix) has no baseline: both
-pipelines pass and say so on the page. Its merged GitLab run becomes the fleet baseline as README documents
+pipelines pass and say so on the page. Its merged GitLab run becomes the fleet baseline as docs/regressions.md documents
 (scripts/ci/fleet_baseline.sh with a gate; commit B). Commit C (a branch) injects fragment work in every case and
 plants a bug that makes the geometry-shader case fail its checks: both merge-request pipelines build it, and their
 compare step fails (exit 1) with a summary naming the slowed case and the failed one; GitLab's merge-request note

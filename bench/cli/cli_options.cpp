@@ -50,7 +50,7 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
          m.scenes_given = true;
        },
        "comma list of scene names (scenes/<name>.json), scene file paths, or model files (.glb, .gltf, .obj: "
-       "floor, light and camera placed by rule, README \"Your own model\"); case ids name a file by its stem")
+       "floor, light and camera placed by rule, docs/guide.md \"Your own model\"); case ids name a file by its stem")
       ->default_str(join(m.scenes, text));
   r.add_option_function<std::string>(
        "--cube",
@@ -248,7 +248,7 @@ void add_placement_options(CLI::App& r, RunOptions& o) {
         o.light_text = t;
       },
       "the point light at X,Y,Z (world units) in every scene of the run, standing still; with AX,AY,AZ it sways, "
-      "position = X,Y,Z + A sin(0.5 t). A model's light planes are fitted to it, a scene file's stay (README "
+      "position = X,Y,Z + A sin(0.5 t). A model's light planes are fitted to it, a scene file's stay (docs/guide.md "
       "\"Your own model\")");
   r.add_option_function<std::string>(
       "--camera",

@@ -37,7 +37,7 @@ class DeviceStateProbe {
   // at exit, and after SIGINT/SIGTERM, which end the run normally). "" once locked; otherwise why not, one line.
   virtual std::string lock_clocks() {
     return "the harness can lock clocks only through NVIDIA's NVML; the clock source here is " + source() +
-           " (lock them with the platform's tools: README, \"Stable numbers on a GPU\")";
+           " (lock them with the platform's tools: docs/guide.md, \"Stable numbers on a GPU\")";
   }
 };
 // The best source for this device (by vendor and renderer), falling back to the CPU frequency.

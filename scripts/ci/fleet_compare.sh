@@ -45,7 +45,7 @@ if [ -z "$base" ]; then
     cat > "$run/compare/summary.md" <<MD
 **No baseline for this device key at merge-base ${merge_base:0:12}: nothing was compared.** This run's results are
 in the job's artifacts. To start tracking this device, make its merged run the baseline on the target branch
-(README, "A GPU fleet on GitLab CI or GitHub Actions"): download this job's artifact and run
+(docs/regressions.md, "A GPU fleet on GitLab CI or GitHub Actions"): download this job's artifact and run
 \`scripts/ci/fleet_baseline.sh fleet/merged\` (optionally \`--gate gate.json\`), then commit
 \`results/fleet_baselines/$key/\`.
 MD

@@ -19,7 +19,7 @@ replay's.
 Usage: scripts/experiments/repetition_replay.py DIR [--precision 1.5,2,2.5,3,4] [--minimum 6,7,8] [--futility 0,2]
                                     [--metric wall|cpu|gpu] [--alpha 0.05]
 Writes DIR/repetition_replay.json and DIR/repetition_replay_<metric>.md (docs/repetition-replay.md holds the
-trials quoted in the README).
+trials quoted in docs/guide.md).
 """
 import argparse
 import glob
