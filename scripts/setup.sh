@@ -19,7 +19,8 @@ packages=(
   chromium                                 # tests/report_test.sh: the HTML report rendered in a real browser
   valgrind                                 # callgrind: deterministic instruction counts (scripts/ci/instruction_counts.sh)
   curl                                     # scripts/ci/fleet_compare.sh posts the GitLab merge-request note
-  ccache                                   # tests/fleet_pipeline_play.py: its four fleet builds share compilations
+  ccache                                   # every build (CMakeLists.txt), the fleet plays' four builds share compilations
+  clang-format                             # tests/format_test.sh: the tree as clang-format 14 writes it
   rsync                                    # gitlab-ci-local (tests/fleet_pipeline_play.py) copies the work tree with it
 )
 [ "${1:-}" = "--fuzz" ] && packages+=(clang-14 libclang-rt-14-dev)
