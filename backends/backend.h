@@ -18,20 +18,21 @@
 namespace omnishadow {
 
 struct DeviceInfo {
-  std::string api;          // "OpenGL 4.5 core", "Vulkan 1.3"
-  std::string vendor;       // GL_VENDOR / vendorID
-  std::string renderer;     // GL_RENDERER / deviceName
-  std::string version;      // GL_VERSION / driverVersion
-  std::string platform;     // EGL platform, ICD path, ...
-  int max_cube_size = 0;    // GL_MAX_CUBE_MAP_TEXTURE_SIZE / maxImageDimensionCube
+  std::string api;                   // "OpenGL 4.5 core", "Vulkan 1.3"
+  std::string vendor;                // GL_VENDOR / vendorID
+  std::string renderer;              // GL_RENDERER / deviceName
+  std::string version;               // GL_VERSION / driverVersion
+  std::string platform;              // EGL platform, ICD path, ...
+  int max_cube_size = 0;             // GL_MAX_CUBE_MAP_TEXTURE_SIZE / maxImageDimensionCube
   uint64_t device_memory_bytes = 0;  // largest device-local heap / GL_NVX_gpu_memory_info; 0 = unknown
   bool shares_host_memory = false;   // CPU drivers (llvmpipe, lavapipe): targets live in host memory
   // The rasteriser's sub-pixel precision: vertices are snapped to 1 / 2^bits of a pixel (GL_SUBPIXEL_BITS,
-  // VkPhysicalDeviceLimits::subPixelPrecisionBits; both APIs require at least 4). The texel truths' bounds read it.
+  // VkPhysicalDeviceLimits::subPixelPrecisionBits; both APIs require at least 4). The texel truths' bounds
+  // read it.
   int subpixel_bits = 4;
-  // The sampler's sub-texel precision: a texel coordinate may be quantised to 1 / 2^bits of a texel before a texel is
-  // chosen (VkPhysicalDeviceLimits::subTexelPrecisionBits, at least 4; GL states none, so 4 is assumed there). The
-  // lookup check (bench/truth/lookup_check.h) reads it.
+  // The sampler's sub-texel precision: a texel coordinate may be quantised to 1 / 2^bits of a texel before a
+  // texel is chosen (VkPhysicalDeviceLimits::subTexelPrecisionBits, at least 4; GL states none, so 4 is
+  // assumed there). The lookup check (bench/truth/lookup_check.h) reads it.
   int subtexel_bits = 4;
   std::map<std::string, std::string> extra;  // anything else worth recording (extensions that matter, ...)
 };
@@ -55,23 +56,24 @@ struct FrameTiming {
   PassTiming lighting;
   double frame_wall_ms = 0.0;
   // CPU time the whole process spent on the frame (all threads: on CPU drivers such as llvmpipe and lavapipe
-  // that is the rendering itself). Filled by the harness around render(); a measure of work that other load on
-  // the machine disturbs far less than wall time does. Negative when not measured.
+  // that is the rendering itself). Filled by the harness around render(); a measure of work that other load
+  // on the machine disturbs far less than wall time does. Negative when not measured.
   double process_cpu_ms = -1.0;
 };
 
-// A timed frame renders what a renderer would for the case: the shadow pass, then the lighting pass in its timed
-// variant (one colour target, a shader specialised for the case: gpu::LightingVariant). A check frame renders the
-// same shadow pass, then the lighting pass in the check variant (lit colour, shadow factor, world position) and,
-// untimed after it, in the timed variant, so that read_back() holds both lit images of one frame. A floor frame
-// does only what every variant must: the case's shadow render passes with their clears and no draw, then the
-// lighting pass into the timed target with a constant shader (shaders/floor.frag); a pass's time as a multiple
-// of its floor is what the technique or filter costs beyond that. A floor frame leaves the cube cleared.
+// A timed frame renders what a renderer would for the case: the shadow pass, then the lighting pass in its
+// timed variant (one colour target, a shader specialised for the case: gpu::LightingVariant). A check frame
+// renders the same shadow pass, then the lighting pass in the check variant (lit colour, shadow factor, world
+// position) and, untimed after it, in the timed variant, so that read_back() holds both lit images of one
+// frame. A floor frame does only what every variant must: the case's shadow render passes with their clears
+// and no draw, then the lighting pass into the timed target with a constant shader (shaders/floor.frag); a
+// pass's time as a multiple of its floor is what the technique or filter costs beyond that. A floor frame
+// leaves the cube cleared.
 enum class FrameKind { timed, check, floor };
 
-// What the device tells of the cube without reading it back: per face, a 64-bit hash of the stored values (equal
-// hashes: equal faces, but for a chance of about 2^-64) and how many are not finite. Hashes are of the values as
-// stored, so they compare between cases of one backend (and storage), never across APIs.
+// What the device tells of the cube without reading it back: per face, a 64-bit hash of the stored values
+// (equal hashes: equal faces, but for a chance of about 2^-64) and how many are not finite. Hashes are of the
+// values as stored, so they compare between cases of one backend (and storage), never across APIs.
 struct CubeFaceSummary {
   uint64_t hash = 0;
   uint64_t non_finite = 0;
@@ -79,35 +81,43 @@ struct CubeFaceSummary {
 };
 using CubeSummary = std::array<CubeFaceSummary, 6>;
 
-// The check grid of a cube: every texel up to kCubeSampleGrid a face edge, above that every stride-th in s and t.
+// The check grid of a cube: every texel up to kCubeSampleGrid a face edge, above that every stride-th in s
+// and t.
 inline constexpr int kCubeSampleGrid = 128;
-inline int cube_sample_stride(int cube_size) { return cube_size > kCubeSampleGrid ? cube_size / kCubeSampleGrid : 1; }
+inline int cube_sample_stride(int cube_size) {
+  return cube_size > kCubeSampleGrid ? cube_size / kCubeSampleGrid : 1;
+}
 
-// How much of the cube read_back() copies to the host. sampled: the summary and the check grid only (a 4096 cube is
-// 400 MB as floats; its grid 400 KB); full: every texel too, for images and for comparing faces whose hashes differ.
+// How much of the cube read_back() copies to the host. sampled: the summary and the check grid only (a 4096
+// cube is 400 MB as floats; its grid 400 KB); full: every texel too, for images and for comparing faces whose
+// hashes differ.
 enum class CubeReadBack { sampled, full };
 
-// Everything read back after a check frame. Images are stored as the API holds them: row 0 is the bottom row of the
-// lit frame (GL window convention) and, for cube faces, row 0 is t = 0 of the face (cube-map addressing).
+// Everything read back after a check frame. Images are stored as the API holds them: row 0 is the bottom row
+// of the lit frame (GL window convention) and, for cube faces, row 0 is t = 0 of the face (cube-map
+// addressing).
 struct Images {
   int width = 0;
   int height = 0;
-  std::vector<uint8_t> lit_rgba8;       // the lit frame (check variant)
-  std::vector<uint8_t> timed_lit_rgba8; // the same frame lit by the timed variant: must equal lit_rgba8 bit for bit
-  std::vector<float> shadow_factor;     // per pixel: 1 = fully shadowed, 0 = fully lit (the tutorial's `shadow`)
-  std::vector<float> world_position;    // RGBA32F: xyz world position, w = 1 where geometry was drawn
+  std::vector<uint8_t> lit_rgba8;  // the lit frame (check variant)
+  std::vector<uint8_t>
+      timed_lit_rgba8;  // the same frame lit by the timed variant: must equal lit_rgba8 bit for bit
+  std::vector<float> shadow_factor;  // per pixel: 1 = fully shadowed, 0 = fully lit (the tutorial's `shadow`)
+  std::vector<float> world_position;  // RGBA32F: xyz world position, w = 1 where geometry was drawn
   int cube_size = 0;
   float light_far = 0.0f;  // the far plane the cube was rendered with (the scene's, or fitted: fit_range)
   // Per face, the light distance in world units that the shadow pass stored (linear_depth values are
   // multiplied back by light_far; texels nothing was drawn to hold light_far, or FLT_MAX for r32f_distance).
-  // Empty unless the read-back was CubeReadBack::full: the summary and sample below serve the checks otherwise.
+  // Empty unless the read-back was CubeReadBack::full: the summary and sample below serve the checks
+  // otherwise.
   std::array<std::vector<float>, 6> cube_distance;
-  // Always: computed on the device (shaders/cube_summary.comp, over the stored values) for a sampled read-back, on
-  // the host (cube::summarize_on_host, over the distances) for a full one. Hashes of the two kinds never compare.
+  // Always: computed on the device (shaders/cube_summary.comp, over the stored values) for a sampled
+  // read-back, on the host (cube::summarize_on_host, over the distances) for a full one. Hashes of the two
+  // kinds never compare.
   CubeSummary cube_summary;
   bool cube_summary_on_device = false;
-  // Light distances (as cube_distance) at the check grid's texels: (x * stride + stride / 2, y * stride + stride / 2)
-  // for x, y < cube_size / stride, row-major per face. Always read back; tiny next to the cube.
+  // Light distances (as cube_distance) at the check grid's texels: (x * stride + stride / 2, y * stride +
+  // stride / 2) for x, y < cube_size / stride, row-major per face. Always read back; tiny next to the cube.
   int cube_sample_stride = 1;
   std::array<std::vector<float>, 6> cube_sample;
   bool has_full_cube() const { return !cube_distance[0].empty(); }
@@ -116,43 +126,46 @@ struct Images {
   int moment_channels = 0;
   std::array<std::vector<float>, 6> moments;
   // Spot/directional lights' 2D maps (none without such lights): per map, the stored window depth in [0, 1],
-  // row-major, row 0 at NDC y = -1; 1 where nothing was drawn. The maps use the API's clip depth range (GL -1..1,
-  // Vulkan 0..1), which the truth must know.
+  // row-major, row 0 at NDC y = -1; 1 where nothing was drawn. The maps use the API's clip depth range (GL
+  // -1..1, Vulkan 0..1), which the truth must know.
   int map_size = 0;
   bool map_depth_zero_to_one = false;
   std::vector<std::vector<float>> map_depth;
 };
 
-// The public calls check the order of use (load, configure, render, read_back) and keep the state every backend
-// shares; each backend implements the protected steps with its API.
+// The public calls check the order of use (load, configure, render, read_back) and keep the state every
+// backend shares; each backend implements the protected steps with its API.
 class Backend {
  public:
   virtual ~Backend() = default;
-  const DeviceInfo& device() const { return info_; }  // filled by the backend's constructor
+  const DeviceInfo& device() const { return info_; }             // filled by the backend's constructor
   virtual Support supports(const CaseConfig& config) const = 0;  // unsupported is a result, not an error
   void load(const scene::Scene& scene);  // upload geometry once per scene; forgets the case
   // Makes `config` the current case: targets, programs, queries. Throws std::logic_error before load(), and
   // std::runtime_error("unsupported: ...") for a case supports() refuses; nothing to do for the current case.
   void configure(const CaseConfig& config);
   FrameTiming render(int frame, FrameKind kind);  // blocks until the frame has completed
-  FrameCounters count_work(int frame);           // renders `frame` once, timed kind, with statistics
+  FrameCounters count_work(int frame);            // renders `frame` once, timed kind, with statistics
   Images read_back(CubeReadBack cube = CubeReadBack::full);  // results of the last check frame
   // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
   // when the checking mode is off. Drained outside timed loops.
   virtual std::vector<std::string> drain_api_errors();
 
  protected:
-  virtual void upload_scene(const scene::Scene& scene) = 0;  // releases the case and the last scene's geometry
-  // configure()'s work once the case is known to be new and supported: release the last case's objects, create
-  // this one's, and set config_ (left empty when it throws).
+  virtual void upload_scene(
+      const scene::Scene& scene) = 0;  // releases the case and the last scene's geometry
+  // configure()'s work once the case is known to be new and supported: release the last case's objects,
+  // create this one's, and set config_ (left empty when it throws).
   virtual void configure_case(const CaseConfig& config) = 0;
   virtual FrameTiming render_frame(int frame, FrameKind kind) = 0;
   virtual FrameCounters count_frame_work(int frame) = 0;
-  // sampled: cube_summary and cube_sample from the device; full: cube_distance (read_back() then summarises it).
+  // sampled: cube_summary and cube_sample from the device; full: cube_distance (read_back() then summarises
+  // it).
   virtual Images read_back_images(CubeReadBack cube) = 0;
 
   DeviceInfo info_;
-  std::optional<scene::Scene> scene_;    // set by load(): objects, light path, camera (vertices live on the device)
+  std::optional<scene::Scene>
+      scene_;  // set by load(): objects, light path, camera (vertices live on the device)
   std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's and the 2D maps' draws
   std::optional<CaseConfig> config_;     // the current case
   bool checked_ = false;                 // a check frame was rendered since configure (read_back needs one)
@@ -163,7 +176,8 @@ class Backend {
 // "gl_device" = EGL device index, "vk_device" = Vulkan device index or part of its name, "api_checks" = "1"
 // for the checking mode (GL debug context / Vulkan validation layer, errors captured).
 // Throws std::runtime_error with a one-line reason when the API cannot be brought up on this machine.
-std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<std::string, std::string>& options);
+std::unique_ptr<Backend> create_backend(const std::string& name,
+                                        const std::map<std::string, std::string>& options);
 std::vector<std::string> backend_names();
 
 }  // namespace omnishadow

@@ -56,8 +56,8 @@ Images Backend::read_back(CubeReadBack cube) {
   if (!config_) throw std::logic_error("read_back() before configure()");
   if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
   Images img = read_back_images(cube);
-  // A full read-back is summarised here, on the host, for every backend (no compute pass where the cube is in host
-  // memory anyway); a sampled one brings the device's summary.
+  // A full read-back is summarised here, on the host, for every backend (no compute pass where the cube is in
+  // host memory anyway); a sampled one brings the device's summary.
   if (img.has_full_cube()) cube::summarize_on_host(img);
   return img;
 }
@@ -68,7 +68,8 @@ std::vector<std::string> Backend::drain_api_errors() {
   return out;
 }
 
-std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<std::string, std::string>& options) {
+std::unique_ptr<Backend> create_backend(const std::string& name,
+                                        const std::map<std::string, std::string>& options) {
   if (name == "gl") {
     std::string device = option(options, "gl_device", "0");
     int index = 0;
@@ -81,7 +82,8 @@ std::unique_ptr<Backend> create_backend(const std::string& name, const std::map<
                                            option(options, "api_checks", "0") == "1");
   }
   if (name == "vulkan")
-    return std::make_unique<vk::VkBackend>(option(options, "vk_device", ""), option(options, "api_checks", "0") == "1");
+    return std::make_unique<vk::VkBackend>(option(options, "vk_device", ""),
+                                           option(options, "api_checks", "0") == "1");
   std::string valid;
   for (const auto& n : backend_names()) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown backend '" + name + "' (valid: " + valid + ")");

@@ -18,11 +18,13 @@ std::string scene_invariants(const scene::Scene& s) {
   if (s.vertices.empty() || s.vertices.size() % 3 != 0) return "vertex count not a positive multiple of 3";
   for (const scene::Vertex& v : s.vertices) {
     if (!finite(v.position)) return "non-finite vertex position";
-    if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f) return "normal not finite and unit";
+    if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f)
+      return "normal not finite and unit";
     if (!finite(v.color)) return "non-finite colour";
   }
   for (const scene::Object& o : s.objects)
-    if (uint64_t(o.first_vertex) + o.vertex_count > s.vertices.size()) return "object range outside the vertices";
+    if (uint64_t(o.first_vertex) + o.vertex_count > s.vertices.size())
+      return "object range outside the vertices";
   const scene::PointLight& l = s.light;
   if (!(l.near_plane > 0.0f) || !(l.far_plane > l.near_plane) || !std::isfinite(l.far_plane))
     return "light range not 0 < near < far < inf";
@@ -59,8 +61,10 @@ std::string check_results_input(const uint8_t* data, size_t size) {
     bench::comparison_markdown(c, options);
     bench::comparison_json(c, options).dump();
     for (const bench::CaseComparison& cc : c.cases) {
-      if (!cc.work_changes.empty()) return "a run compared with itself shows a work change: " + cc.work_changes[0];
-      if (cc.verdict == "regression" || cc.verdict == "improvement") return "self-comparison gave " + cc.verdict;
+      if (!cc.work_changes.empty())
+        return "a run compared with itself shows a work change: " + cc.work_changes[0];
+      if (cc.verdict == "regression" || cc.verdict == "improvement")
+        return "self-comparison gave " + cc.verdict;
     }
   } catch (const bench::CompareError&) {
     return "";
@@ -82,7 +86,8 @@ std::string check_obj_input(const uint8_t* data, size_t size) {
   if (mesh.empty() || mesh.size() % 3 != 0) return "vertex count not a positive multiple of 3";
   for (const scene::MeshVertex& v : mesh) {
     if (!finite(v.position)) return "non-finite vertex position";
-    if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f) return "normal not finite and unit";
+    if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f)
+      return "normal not finite and unit";
   }
   return "";
 }
@@ -90,20 +95,24 @@ std::string check_obj_input(const uint8_t* data, size_t size) {
 std::string check_gltf_input(const uint8_t* data, size_t size) {
   scene::GltfModel model;
   try {
-    model = scene::load_gltf_bytes(std::string(reinterpret_cast<const char*>(data), size), "fuzz.glb", 1u << 20);
+    model =
+        scene::load_gltf_bytes(std::string(reinterpret_cast<const char*>(data), size), "fuzz.glb", 1u << 20);
   } catch (const std::runtime_error&) {
     return "";
   } catch (const std::exception& e) {
     return std::string("escaped exception: ") + e.what();
   }
-  if (model.triangles.empty() || model.triangles.size() % 3 != 0) return "vertex count not a positive multiple of 3";
+  if (model.triangles.empty() || model.triangles.size() % 3 != 0)
+    return "vertex count not a positive multiple of 3";
   if (model.colors.size() != model.triangles.size()) return "not one colour per vertex";
   for (size_t i = 0; i < model.triangles.size(); ++i) {
     const scene::MeshVertex& v = model.triangles[i];
     if (!finite(v.position)) return "non-finite vertex position";
-    if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f) return "normal not finite and unit";
+    if (!finite(v.normal) || std::fabs(glm::length(v.normal) - 1.0f) > 1e-3f)
+      return "normal not finite and unit";
     const glm::vec3 c = model.colors[i];
-    if (!finite(c) || glm::any(glm::lessThan(c, glm::vec3(0.0f))) || glm::any(glm::greaterThan(c, glm::vec3(1.0f))))
+    if (!finite(c) || glm::any(glm::lessThan(c, glm::vec3(0.0f))) ||
+        glm::any(glm::greaterThan(c, glm::vec3(1.0f))))
       return "colour not finite in [0, 1]";
   }
   return "";

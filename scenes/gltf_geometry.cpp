@@ -1,16 +1,15 @@
 #include "scenes/gltf_geometry.h"
 
-#include "scenes/model_util.h"
-
+#include <cmath>
+#include <cstring>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
-
-#include <cmath>
-#include <cstring>
 #include <map>
 #include <stdexcept>
+
+#include "scenes/model_util.h"
 
 namespace omnishadow::scene {
 namespace {
@@ -56,9 +55,11 @@ glm::dmat4 local_matrix(const Context& cx, const tinygltf::Node& node, int index
   }
   if (!node.rotation.empty()) {
     if (node.rotation.size() != 4) cx.fail(where + ": rotation must have 4 numbers");
-    const glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);  // glTF: x, y, z, w
+    const glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1],
+                       node.rotation[2]);  // glTF: x, y, z, w
     const double length = glm::length(q);
-    if (!(length > 0.0) || !std::isfinite(length)) cx.fail(where + ": rotation is not a finite non-zero quaternion");
+    if (!(length > 0.0) || !std::isfinite(length))
+      cx.fail(where + ": rotation is not a finite non-zero quaternion");
     r = glm::mat4_cast(q / length);
   }
   if (!node.scale.empty()) {
@@ -79,7 +80,8 @@ struct View {
 View accessor_view(const Context& cx, int index, int type, std::initializer_list<int> component_types,
                    const std::string& what) {
   const tinygltf::Model& m = cx.model;
-  if (index < 0 || size_t(index) >= m.accessors.size()) cx.fail(what + ": accessor " + std::to_string(index) + " does not exist");
+  if (index < 0 || size_t(index) >= m.accessors.size())
+    cx.fail(what + ": accessor " + std::to_string(index) + " does not exist");
   const tinygltf::Accessor& a = m.accessors[size_t(index)];
   const std::string where = what + " (accessor " + std::to_string(index) + ")";
   if (a.sparse.isSparse) cx.fail(where + ": sparse accessors are not supported");
@@ -129,11 +131,16 @@ uint32_t read_index(const View& v, size_t k, int component_type) {
 
 const char* mode_name(int mode) {
   switch (mode) {
-    case TINYGLTF_MODE_POINTS: return "POINTS";
-    case TINYGLTF_MODE_LINE: return "LINES";
-    case TINYGLTF_MODE_LINE_LOOP: return "LINE_LOOP";
-    case TINYGLTF_MODE_LINE_STRIP: return "LINE_STRIP";
-    default: return "unknown mode";
+    case TINYGLTF_MODE_POINTS:
+      return "POINTS";
+    case TINYGLTF_MODE_LINE:
+      return "LINES";
+    case TINYGLTF_MODE_LINE_LOOP:
+      return "LINE_LOOP";
+    case TINYGLTF_MODE_LINE_STRIP:
+      return "LINE_STRIP";
+    default:
+      return "unknown mode";
   }
 }
 
@@ -142,16 +149,22 @@ std::vector<uint32_t> triangle_corners(const Context& cx, const tinygltf::Primit
                                        const std::string& where) {
   std::vector<uint32_t> corners;
   if (p.indices >= 0) {
-    const int type = cx.model.accessors.size() > size_t(p.indices) ? cx.model.accessors[size_t(p.indices)].componentType : 0;
-    const View v = accessor_view(cx, p.indices, TINYGLTF_TYPE_SCALAR,
-                                 {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}, where + " indices");
-    if (v.count > cx.max_vertices) cx.fail(where + ": more than " + std::to_string(cx.max_vertices) + " indices");
+    const int type = cx.model.accessors.size() > size_t(p.indices)
+                         ? cx.model.accessors[size_t(p.indices)].componentType
+                         : 0;
+    const View v =
+        accessor_view(cx, p.indices, TINYGLTF_TYPE_SCALAR,
+                      {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
+                      where + " indices");
+    if (v.count > cx.max_vertices)
+      cx.fail(where + ": more than " + std::to_string(cx.max_vertices) + " indices");
     corners.reserve(v.count);
     for (size_t k = 0; k < v.count; ++k) {
       const uint32_t i = read_index(v, k, type);
       if (i >= positions)
-        cx.fail(where + ": index " + std::to_string(i) + " beyond its " + std::to_string(positions) + " vertices");
+        cx.fail(where + ": index " + std::to_string(i) + " beyond its " + std::to_string(positions) +
+                " vertices");
       corners.push_back(i);
     }
   } else {
@@ -166,8 +179,9 @@ std::vector<uint32_t> triangle_corners(const Context& cx, const tinygltf::Primit
   }
   for (size_t k = 2; k < corners.size(); ++k) {
     if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)  // every other triangle reversed to keep the winding
-      out.insert(out.end(), k % 2 ? std::initializer_list<uint32_t>{corners[k - 1], corners[k - 2], corners[k]}
-                                  : std::initializer_list<uint32_t>{corners[k - 2], corners[k - 1], corners[k]});
+      out.insert(out.end(),
+                 k % 2 ? std::initializer_list<uint32_t>{corners[k - 1], corners[k - 2], corners[k]}
+                       : std::initializer_list<uint32_t>{corners[k - 2], corners[k - 1], corners[k]});
     else  // TRIANGLE_FAN
       out.insert(out.end(), {corners[0], corners[k - 1], corners[k]});
   }
@@ -177,26 +191,30 @@ std::vector<uint32_t> triangle_corners(const Context& cx, const tinygltf::Primit
 glm::vec3 base_color(const Context& cx, int material) {
   if (material < 0 || size_t(material) >= cx.model.materials.size()) return glm::vec3(1.0f);
   const std::vector<double>& f = cx.model.materials[size_t(material)].pbrMetallicRoughness.baseColorFactor;
-  if (f.size() < 3 || !std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2])) return glm::vec3(1.0f);
+  if (f.size() < 3 || !std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2]))
+    return glm::vec3(1.0f);
   return glm::clamp(glm::vec3(float(f[0]), float(f[1]), float(f[2])), 0.0f, 1.0f);
 }
 
-
-void add_primitive(Context& cx, const tinygltf::Primitive& p, const glm::dmat4& world, const std::string& where) {
+void add_primitive(Context& cx, const tinygltf::Primitive& p, const glm::dmat4& world,
+                   const std::string& where) {
   const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
-  if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+  if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+      mode != TINYGLTF_MODE_TRIANGLE_FAN) {
     ++cx.skipped[mode_name(mode)];
     return;
   }
   for (const char* ext : kCompressedGeometry)
-    if (p.extensions.count(ext)) cx.fail(where + " uses " + std::string(ext) + " (compressed geometry is not decoded)");
+    if (p.extensions.count(ext))
+      cx.fail(where + " uses " + std::string(ext) + " (compressed geometry is not decoded)");
   const auto position = p.attributes.find("POSITION");
   if (position == p.attributes.end()) cx.fail(where + ": no POSITION attribute");
-  const View positions = accessor_view(cx, position->second, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT},
-                                       where + " POSITION");
+  const View positions = accessor_view(cx, position->second, TINYGLTF_TYPE_VEC3,
+                                       {TINYGLTF_COMPONENT_TYPE_FLOAT}, where + " POSITION");
   View normals;
   if (const auto normal = p.attributes.find("NORMAL"); normal != p.attributes.end()) {
-    normals = accessor_view(cx, normal->second, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, where + " NORMAL");
+    normals = accessor_view(cx, normal->second, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT},
+                            where + " NORMAL");
     if (normals.count != positions.count) cx.fail(where + ": NORMAL and POSITION counts differ");
   }
   const std::vector<uint32_t> corners = triangle_corners(cx, p, positions.count, where);
@@ -232,14 +250,17 @@ void add_primitive(Context& cx, const tinygltf::Primitive& p, const glm::dmat4& 
 void add_node(Context& cx, int index, const glm::dmat4& parent, std::vector<bool>& on_path, int depth) {
   const tinygltf::Model& m = cx.model;
   if (depth > kMaxNodeDepth) cx.fail("the node hierarchy is deeper than " + std::to_string(kMaxNodeDepth));
-  if (index < 0 || size_t(index) >= m.nodes.size()) cx.fail("node " + std::to_string(index) + " does not exist");
-  if (on_path[size_t(index)]) cx.fail("node " + std::to_string(index) + " is its own ancestor (a cyclic node graph)");
+  if (index < 0 || size_t(index) >= m.nodes.size())
+    cx.fail("node " + std::to_string(index) + " does not exist");
+  if (on_path[size_t(index)])
+    cx.fail("node " + std::to_string(index) + " is its own ancestor (a cyclic node graph)");
   if (++cx.node_instances > kMaxNodeInstances)
     cx.fail("the node graph expands to more than " + std::to_string(kMaxNodeInstances) + " node instances");
   const tinygltf::Node& node = m.nodes[size_t(index)];
   const glm::dmat4 world = parent * local_matrix(cx, node, index);
   if (node.mesh >= 0) {
-    if (size_t(node.mesh) >= m.meshes.size()) cx.fail("node " + std::to_string(index) + ": mesh " + std::to_string(node.mesh) + " does not exist");
+    if (size_t(node.mesh) >= m.meshes.size())
+      cx.fail("node " + std::to_string(index) + ": mesh " + std::to_string(node.mesh) + " does not exist");
     const tinygltf::Mesh& mesh = m.meshes[size_t(node.mesh)];
     for (size_t p = 0; p < mesh.primitives.size(); ++p)
       add_primitive(cx, mesh.primitives[p], world,
@@ -280,7 +301,8 @@ GltfModel gltf_model_from(const tinygltf::Model& model, const std::string& name,
     cx.out.skipped_modes += (cx.out.skipped_modes.empty() ? "" : ", ") + mode + " x" + std::to_string(count);
   }
   if (cx.out.triangles.empty())
-    cx.fail("no triangles" + (cx.out.skipped_modes.empty() ? std::string() : " (skipped: " + cx.out.skipped_modes + ")"));
+    cx.fail("no triangles" +
+            (cx.out.skipped_modes.empty() ? std::string() : " (skipped: " + cx.out.skipped_modes + ")"));
   return cx.out;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
-// The triangles of a parsed glTF model (scenes/gltf_loader.h): the part that trusts nothing in the file. Every
-// index is checked before it is used, every accessor against its buffer view and buffer, every count against the
-// vertex limit before memory is reserved, and the node graph for cycles.
+// The triangles of a parsed glTF model (scenes/gltf_loader.h): the part that trusts nothing in the file.
+// Every index is checked before it is used, every accessor against its buffer view and buffer, every count
+// against the vertex limit before memory is reserved, and the node graph for cycles.
 
 #include <tiny_gltf.h>
 

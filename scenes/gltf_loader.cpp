@@ -2,14 +2,14 @@
 
 #include <tiny_gltf.h>
 
-#include "scenes/gltf_geometry.h"
-#include "scenes/model_util.h"
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+
+#include "scenes/gltf_geometry.h"
+#include "scenes/model_util.h"
 
 namespace omnishadow::scene {
 namespace {
@@ -18,8 +18,8 @@ namespace fs = std::filesystem;
 
 // Where tinygltf may read a .gltf's buffers and images from: the model's own folder and below, nothing else.
 struct Sandbox {
-  std::string root;         // canonical folder of the model; empty: no file may be read (bytes given)
-  std::string refused;      // the first path refused for leaving it, for the error
+  std::string root;     // canonical folder of the model; empty: no file may be read (bytes given)
+  std::string refused;  // the first path refused for leaving it, for the error
 };
 
 bool inside_sandbox(const std::string& path, Sandbox& box) {
@@ -60,12 +60,13 @@ bool sandbox_write(std::string* err, const std::string&, const std::vector<unsig
 }
 
 // Images are not decoded: shadows need geometry only.
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+                void*) {
   return true;
 }
 
-
-GltfModel load(const std::string& bytes, const std::string& name, const std::string& folder, uint64_t max_vertices) {
+GltfModel load(const std::string& bytes, const std::string& name, const std::string& folder,
+               uint64_t max_vertices) {
   if (bytes.size() > 0xffffffffu) throw std::runtime_error(name + ": larger than 4 GiB");
   Sandbox box;
   if (!folder.empty()) {
@@ -86,7 +87,8 @@ GltfModel load(const std::string& bytes, const std::string& name, const std::str
                          : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
                                                       static_cast<unsigned>(bytes.size()), base_dir);
   if (!box.refused.empty())
-    throw std::runtime_error(name + ": a buffer or image URI leaves the model's folder (" + box.refused + ")");
+    throw std::runtime_error(name + ": a buffer or image URI leaves the model's folder (" + box.refused +
+                             ")");
   if (!ok) throw std::runtime_error(name + ": " + first_line(err, "not a glTF 2.0 file"));
   return gltf_model_from(model, name, max_vertices);
 }
@@ -97,11 +99,14 @@ GltfModel load_gltf(const std::string& path, uint64_t max_vertices) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw std::runtime_error("cannot open glTF file " + path);
   const uintmax_t bytes = fs::file_size(path, ec);
-  if (ec || bytes > (uintmax_t(1) << 31)) throw std::runtime_error(path + ": larger than 2 GiB or unreadable");
+  if (ec || bytes > (uintmax_t(1) << 31))
+    throw std::runtime_error(path + ": larger than 2 GiB or unreadable");
   std::ifstream in(path, std::ios::binary);
   std::string text(size_t(bytes), '\0');
-  if (!in.read(text.data(), std::streamsize(bytes))) throw std::runtime_error("cannot read glTF file " + path);
-  return load(text, path, fs::path(path).parent_path().string().empty() ? "." : fs::path(path).parent_path().string(),
+  if (!in.read(text.data(), std::streamsize(bytes)))
+    throw std::runtime_error("cannot read glTF file " + path);
+  return load(text, path,
+              fs::path(path).parent_path().string().empty() ? "." : fs::path(path).parent_path().string(),
               max_vertices);
 }
 

@@ -60,10 +60,14 @@ std::vector<MeshVertex> make_sphere(int lon, int lat) {
     for (int i = 0; i < lon; ++i) {
       glm::vec3 a = point(i, j), b = point(i, j + 1), c = point(i + 1, j + 1), d = point(i + 1, j);
       if (j != 0) {
-        v.push_back({a, a}); v.push_back({b, b}); v.push_back({d, d});
+        v.push_back({a, a});
+        v.push_back({b, b});
+        v.push_back({d, d});
       }
       if (j != lat - 1) {
-        v.push_back({b, b}); v.push_back({c, c}); v.push_back({d, d});
+        v.push_back({b, b});
+        v.push_back({c, c});
+        v.push_back({d, d});
       }
     }
   }

@@ -4,7 +4,6 @@
 // 10-unit room of the point-shadow tutorial.
 
 #include <glm/glm.hpp>
-
 #include <string>
 #include <vector>
 
@@ -15,8 +14,8 @@ struct MeshVertex {
   glm::vec3 normal;
 };
 
-std::vector<MeshVertex> make_box();                                   // [-1,1]^3, 12 triangles
-std::vector<MeshVertex> make_plane();                                 // [-1,1]^2 in XZ, normal +Y, 2 triangles
+std::vector<MeshVertex> make_box();    // [-1,1]^3, 12 triangles
+std::vector<MeshVertex> make_plane();  // [-1,1]^2 in XZ, normal +Y, 2 triangles
 std::vector<MeshVertex> make_sphere(int longitude_segments, int latitude_segments);  // radius 1
 
 }  // namespace omnishadow::scene

@@ -113,14 +113,15 @@ ModelMesh read_model(const std::string& path) {
     throw SceneError(e.what());
   }
   if (m.mesh.size() + 6 > kMaxSceneVertices)
-    throw SceneError(path + ": model too large: more than " + std::to_string(kMaxSceneVertices) + " vertices");
+    throw SceneError(path + ": model too large: more than " + std::to_string(kMaxSceneVertices) +
+                     " vertices");
   return m;
 }
 
 // Appends `vertices` as one object: world_of(file position) in double, stored relative to the scene's origin.
 template <typename WorldOf, typename ColorOf>
-void add_baked_object(Scene& scene, std::string name, std::string kind, const std::vector<MeshVertex>& vertices,
-                      WorldOf world_of, ColorOf color_of) {
+void add_baked_object(Scene& scene, std::string name, std::string kind,
+                      const std::vector<MeshVertex>& vertices, WorldOf world_of, ColorOf color_of) {
   Object obj;
   obj.name = std::move(name);
   obj.kind = std::move(kind);
@@ -137,7 +138,8 @@ void add_baked_object(Scene& scene, std::string name, std::string kind, const st
   scene.objects.push_back(obj);
 }
 
-// The placed light and camera, stored relative to the scene's origin; the note that says how they were placed.
+// The placed light and camera, stored relative to the scene's origin; the note that says how they were
+// placed.
 void set_light_and_camera(Scene& scene, const ModelPlacement& place, const LoadOptions& options,
                           const std::string& path) {
   auto stored = [&](const glm::dvec3& world) { return glm::vec3(world - scene.origin); };
@@ -150,17 +152,20 @@ void set_light_and_camera(Scene& scene, const ModelPlacement& place, const LoadO
   scene.camera.target = stored(*place.camera.target);
   scene.camera.near_plane = static_cast<float>(place.camera_near);
   scene.camera.far_plane = static_cast<float>(place.camera_far);
-  // A camera looking straight down or up: lookAt's +Y up is parallel to the view, so take -Z (the model's back).
+  // A camera looking straight down or up: lookAt's +Y up is parallel to the view, so take -Z (the model's
+  // back).
   const glm::vec3 view = scene.camera.target - scene.camera.position;
   if (!(glm::length(view) > 0.0f)) throw SceneError(path + ": --camera position and target coincide");
-  if (!(glm::length(glm::cross(glm::normalize(view), scene.camera.up)) > 1e-6f)) scene.camera.up = glm::vec3(0, 0, -1);
+  if (!(glm::length(glm::cross(glm::normalize(view), scene.camera.up)) > 1e-6f))
+    scene.camera.up = glm::vec3(0, 0, -1);
   char placed[256];
-  std::snprintf(placed, sizeof placed,
-                "placed by rule: scaled by %.6g (bounding radius %.6g file units -> %g), light %s at (%.6g, %.6g, "
-                "%.6g), far %.6g; camera %s",
-                place.scale, kModelRadius / place.scale, kModelRadius, options.light ? "by --light" : "by rule",
-                place.light.base.x, place.light.base.y, place.light.base.z, place.light_far,
-                options.camera ? "by --camera" : "by rule");
+  std::snprintf(
+      placed, sizeof placed,
+      "placed by rule: scaled by %.6g (bounding radius %.6g file units -> %g), light %s at (%.6g, %.6g, "
+      "%.6g), far %.6g; camera %s",
+      place.scale, kModelRadius / place.scale, kModelRadius, options.light ? "by --light" : "by rule",
+      place.light.base.x, place.light.base.y, place.light.base.z, place.light_far,
+      options.camera ? "by --camera" : "by rule");
   scene.notes.push_back(path + ": " + placed);
 }
 

@@ -1,16 +1,15 @@
 #pragma once
 // Small pieces the model loaders (scenes/obj_loader.cpp, scenes/gltf_*.cpp) share.
 
-#include <glm/glm.hpp>
-
 #include <cmath>
+#include <glm/glm.hpp>
 #include <string>
 
 namespace omnishadow::scene {
 
-// The unit normal of triangle a, b, c (counter-clockwise), computed in double: edges and their cross product of
-// float coordinates up to 3.4e38 neither overflow nor underflow there. A degenerate (zero-area) triangle gets +Y:
-// any unit normal will do, it rasterises to nothing.
+// The unit normal of triangle a, b, c (counter-clockwise), computed in double: edges and their cross product
+// of float coordinates up to 3.4e38 neither overflow nor underflow there. A degenerate (zero-area) triangle
+// gets +Y: any unit normal will do, it rasterises to nothing.
 inline glm::vec3 face_normal(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
   const glm::dvec3 n = glm::cross(b - a, c - a);
   const double length = glm::length(n);

@@ -1,13 +1,13 @@
 #include "scenes/obj_loader.h"
 
-#include "scenes/model_util.h"
-
 #include <tiny_obj_loader.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+
+#include "scenes/model_util.h"
 
 namespace omnishadow::scene {
 namespace {
@@ -24,10 +24,12 @@ std::vector<MeshVertex> load_obj(const std::string& path) {
   if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error("cannot open OBJ file " + path);
   const uintmax_t bytes = std::filesystem::file_size(path, ec);
   if (ec || bytes > kMaxObjFileBytes)
-    throw std::runtime_error(path + ": " + (ec ? "cannot read its size" : "larger than 1 GiB (kMaxObjFileBytes)"));
+    throw std::runtime_error(path + ": " +
+                             (ec ? "cannot read its size" : "larger than 1 GiB (kMaxObjFileBytes)"));
   std::ifstream in(path, std::ios::binary);
   std::string text(static_cast<size_t>(bytes), '\0');
-  if (!in.read(text.data(), static_cast<std::streamsize>(text.size()))) throw std::runtime_error("cannot read OBJ file " + path);
+  if (!in.read(text.data(), static_cast<std::streamsize>(text.size())))
+    throw std::runtime_error("cannot read OBJ file " + path);
   return load_obj_text(text, path);
 }
 
@@ -51,8 +53,9 @@ std::vector<MeshVertex> load_obj_text(const std::string& text, const std::string
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     size_t offset = 0;
     for (unsigned corners : shape.mesh.num_face_vertices) {
-      if (corners != 3) throw std::runtime_error(path + ": a face of " + std::to_string(corners) +
-                                                 " corners was not triangulated");
+      if (corners != 3)
+        throw std::runtime_error(path + ": a face of " + std::to_string(corners) +
+                                 " corners was not triangulated");
       MeshVertex tri[3];
       bool all_normals = true;
       for (unsigned k = 0; k < 3; ++k) {
@@ -65,10 +68,13 @@ std::vector<MeshVertex> load_obj_text(const std::string& text, const std::string
                                    " of " + std::to_string(normals));
         tri[k].position = triple(attrib.vertices, idx.vertex_index);
         // Files need not store unit normals; a zero one counts as none.
-        const glm::vec3 n = idx.normal_index >= 0 ? triple(attrib.normals, idx.normal_index) : glm::vec3(0.0f);
+        const glm::vec3 n =
+            idx.normal_index >= 0 ? triple(attrib.normals, idx.normal_index) : glm::vec3(0.0f);
         const float length = glm::length(n);
-        if (length > 0.0f && std::isfinite(length)) tri[k].normal = n / length;
-        else all_normals = false;
+        if (length > 0.0f && std::isfinite(length))
+          tri[k].normal = n / length;
+        else
+          all_normals = false;
       }
       offset += 3;
       if (!all_normals) {

@@ -3,9 +3,8 @@
 // Units are world units; the light path is a function of the frame index (never wall-clock time), so any
 // frame of any case can be reproduced bit for bit.
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -28,7 +27,7 @@ struct Vertex {
 // One scene object after baking: a contiguous range of triangles in Scene::vertices.
 struct Object {
   std::string name;
-  std::string kind;        // box, plane, sphere, obj, gltf
+  std::string kind;  // box, plane, sphere, obj, gltf
   uint32_t first_vertex = 0;
   uint32_t vertex_count = 0;
   bool cull_back_faces = false;  // closed convex meshes seen from outside; false for rooms and quads
@@ -41,7 +40,7 @@ struct Object {
 struct LightPath {
   glm::vec3 base{0.0f};
   glm::vec3 amplitude{0.0f};
-  float frequency = 0.0f;          // radians per second of scene time
+  float frequency = 0.0f;  // radians per second of scene time
   float seconds_per_frame = 1.0f / 60.0f;
   glm::vec3 at(int frame) const;
 };
@@ -52,7 +51,7 @@ struct PointLight {
   LightPath path;
   float near_plane = 1.0f;  // world units; the 90-degree face projections use these
   float far_plane = 25.0f;
-  glm::vec3 color{0.3f};     // the point-shadow tutorial lighting: lightColor 0.3, ambient 0.3 * albedo
+  glm::vec3 color{0.3f};  // the point-shadow tutorial lighting: lightColor 0.3, ambient 0.3 * albedo
 };
 
 // Lights that need no cube: each gets one 2D map (scene::Scene::map_lights), rendered in one plain pass.
@@ -65,7 +64,8 @@ struct MapLight {
   float near_plane = 0.1f;                 // spot only; a directional map's range is fitted to the scene
   float far_plane = 25.0f;
   glm::vec3 color{0.3f};
-  bool cull_front_faces = false;  // the directional notes' peter-panning fix: closed objects render their back faces only
+  bool cull_front_faces =
+      false;  // the directional notes' peter-panning fix: closed objects render their back faces only
 };
 inline constexpr int kMaxMapLights = 4;
 
@@ -82,7 +82,8 @@ struct Camera {
 
 struct Scene {
   // World = stored + origin. Zero unless loaded with rebase_origin: positions are then stored relative to the
-  // light, computed in double before the conversion to float, so a scene far from the origin keeps its precision.
+  // light, computed in double before the conversion to float, so a scene far from the origin keeps its
+  // precision.
   glm::dvec3 origin{0.0};
   std::string name;    // file stem: "room"
   std::string source;  // file the scene came from, for error messages
@@ -99,7 +100,8 @@ struct Scene {
   uint64_t triangle_count() const { return vertices.size() / 3; }
 };
 
-// 2^24 vertices (5.6 M triangles, ~600 MB baked): 50x the heavy scene, and a bound on what a file can ask for.
+// 2^24 vertices (5.6 M triangles, ~600 MB baked): 50x the heavy scene, and a bound on what a file can ask
+// for.
 inline constexpr uint64_t kMaxSceneVertices = uint64_t(1) << 24;
 
 // `--light X,Y,Z[,AX,AY,AZ]`: the point light placed by hand, in world units of the file (before any rebase):
@@ -108,15 +110,16 @@ struct LightPlacement {
   glm::dvec3 base{0.0};
   glm::vec3 amplitude{0.0f};
 };
-// `--camera X,Y,Z[,TX,TY,TZ]`: the camera's position, and the point it looks at (default: the scene's target).
+// `--camera X,Y,Z[,TX,TY,TZ]`: the camera's position, and the point it looks at (default: the scene's
+// target).
 struct CameraPlacement {
   glm::dvec3 position{0.0};
   std::optional<glm::dvec3> target;
 };
 
 struct LoadOptions {
-  // The far-from-origin remedy: subtract the light's position (the point light's, else the first spot light's)
-  // from every position in double precision before baking to float.
+  // The far-from-origin remedy: subtract the light's position (the point light's, else the first spot
+  // light's) from every position in double precision before baking to float.
   bool rebase_origin = false;
   // Overrides of the file's point light and camera (a scene file's, or a model's placement rule). The light's
   // near and far planes stay the file's; a model's are fitted to the placed light.
@@ -128,7 +131,8 @@ struct LoadOptions {
 // model as a scene of its own (scenes/model_scene.h).
 bool is_model_file(const std::string& path);
 
-// Loads and validates a scene file, or a model by the placement rule (is_model_file). Throws SceneError("file: /objects/3/scale: must be > 0") on any defect.
+// Loads and validates a scene file, or a model by the placement rule (is_model_file). Throws
+// SceneError("file: /objects/3/scale: must be > 0") on any defect.
 Scene load_scene_file(const std::string& path, const LoadOptions& options = {});
 // Same from text already in memory; `source` is only used to name errors.
 Scene load_scene_text(const std::string& text, const std::string& source, const LoadOptions& options = {});

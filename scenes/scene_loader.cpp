@@ -1,19 +1,18 @@
-// Scene files: strict JSON with every field checked, so a typo is an error naming its JSON pointer rather than a
-// silently different scene. The format is documented in scenes/README.md.
-
-#include <glm/gtc/matrix_transform.hpp>
-#include <nlohmann/json.hpp>
+// Scene files: strict JSON with every field checked, so a typo is an error naming its JSON pointer rather
+// than a silently different scene. The format is documented in scenes/README.md.
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
+#include "scenes/gltf_loader.h"
 #include "scenes/mesh_builders.h"
 #include "scenes/model_scene.h"
-#include "scenes/gltf_loader.h"
 #include "scenes/obj_loader.h"
 #include "scenes/scene.h"
 
@@ -56,7 +55,9 @@ class Node {
     if (!value_.contains(key)) Node(value_, pointer_ + "/" + key, source_).fail("missing required field");
     return Node(value_.at(key), pointer_ + "/" + key, source_);
   }
-  Node at(size_t index) const { return Node(value_.at(index), pointer_ + "/" + std::to_string(index), source_); }
+  Node at(size_t index) const {
+    return Node(value_.at(index), pointer_ + "/" + std::to_string(index), source_);
+  }
 
   void expect_object(const std::set<std::string>& allowed) const {
     if (!value_.is_object()) fail("expected an object");
@@ -81,7 +82,8 @@ class Node {
   int integer_in(int lo, int hi) const {
     if (!value_.is_number_integer()) fail("expected an integer");
     auto v = value_.get<long long>();
-    if (v < lo || v > hi) fail("must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (v < lo || v > hi)
+      fail("must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return static_cast<int>(v);
   }
   bool boolean() const {
@@ -126,7 +128,8 @@ Camera parse_camera(const Node& n, const glm::dvec3& origin) {
   if (glm::length(c.target - c.position) == 0.0f) n.at("target").fail("target must differ from position");
   // lookAt builds its basis from cross(view, up): a zero or parallel up gives NaN in every matrix downstream.
   glm::vec3 side = glm::cross(glm::normalize(c.target - c.position), c.up);
-  if (!(glm::length(side) > 1e-6f)) (n.has("up") ? n.at("up") : n).fail("up must not be zero or parallel to the view");
+  if (!(glm::length(side) > 1e-6f))
+    (n.has("up") ? n.at("up") : n).fail("up must not be zero or parallel to the view");
   if (n.has("fov_y_degrees")) c.fov_y_degrees = static_cast<float>(n.at("fov_y_degrees").number_in(1, 179));
   if (n.has("near")) c.near_plane = static_cast<float>(n.at("near").number_in(1e-6, 1e30));
   if (n.has("far")) c.far_plane = static_cast<float>(n.at("far").number_in(1e-6, 1e30));
@@ -194,7 +197,8 @@ PointLight parse_light(const Node& n, const glm::dvec3& origin) {
   return l;
 }
 
-// A shape's triangles, and for a glTF model its materials' base colours per vertex (empty: the object's colour).
+// A shape's triangles, and for a glTF model its materials' base colours per vertex (empty: the object's
+// colour).
 struct Shape {
   std::vector<MeshVertex> mesh;
   std::vector<glm::vec3> colors;
@@ -207,8 +211,11 @@ std::string model_path(const Node& n, const std::string& scene_dir, const char* 
   if (file.is_relative()) file = std::filesystem::path(scene_dir) / file;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec))
-    n.at("file").fail(std::string("cannot open ") + format + " file " + file.string() + " (missing or not a regular file" +
-                      (file.string().starts_with("/usr/share/") ? "; a Debian package's file: bash scripts/setup.sh installs it)" : ")"));
+    n.at("file").fail(std::string("cannot open ") + format + " file " + file.string() +
+                      " (missing or not a regular file" +
+                      (file.string().starts_with("/usr/share/")
+                           ? "; a Debian package's file: bash scripts/setup.sh installs it)"
+                           : ")"));
   return file.string();
 }
 
@@ -233,7 +240,8 @@ Shape build_shape(const Node& n, const std::string& type, const std::string& sce
       GltfModel model = load_gltf(file, kMaxSceneVertices);
       std::string note;
       if (model.skipped_primitives > 0)
-        note = n.pointer() + " (" + file + "): skipped " + model.skipped_modes + " (not triangles; shadows need surfaces)";
+        note = n.pointer() + " (" + file + "): skipped " + model.skipped_modes +
+               " (not triangles; shadows need surfaces)";
       return {std::move(model.triangles), std::move(model.colors), note};
     } catch (const std::exception& e) {
       n.at("file").fail(e.what());
@@ -244,7 +252,8 @@ Shape build_shape(const Node& n, const std::string& type, const std::string& sce
 
 void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_t index) {
   const glm::dvec3& origin = scene.origin;
-  n.expect_object({"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file", "array"});
+  n.expect_object(
+      {"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file", "array"});
   std::string type = n.at("type").string();
   const Shape shape = build_shape(n, type, scene_dir);
   if (!shape.note.empty()) scene.notes.push_back(shape.note);
@@ -280,7 +289,8 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
     for (int k = 0; k < 3; ++k) count[k] = c.at(static_cast<size_t>(k)).integer_in(1, 1000);
     spacing = a.at("spacing").vec3();
   }
-  if (static_cast<uint64_t>(count.x) * count.y * count.z * mesh.size() + scene.vertices.size() > kMaxSceneVertices)
+  if (static_cast<uint64_t>(count.x) * count.y * count.z * mesh.size() + scene.vertices.size() >
+      kMaxSceneVertices)
     n.fail("object too large: more than " + std::to_string(kMaxSceneVertices) + " vertices in the scene");
 
   std::string base_name = n.has("name") ? n.at("name").string() : type + "#" + std::to_string(index);
@@ -310,7 +320,8 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
           v.position = glm::vec3(model * glm::vec4(mv.position, 1.0f));
           v.normal = normalize_wide(normal_rotation * (mv.normal / scale));
           if (inside) v.normal = -v.normal;  // seen from inside: the tutorial's reverseNormals
-          v.color = shape.colors.empty() || n.has("color") ? color : shape.colors[i];  // "color" overrides a model's
+          v.color = shape.colors.empty() || n.has("color") ? color
+                                                           : shape.colors[i];  // "color" overrides a model's
           // Defensive: inputs are bounded by 1e30, but a subnormal scale makes normal / scale overflow. Such
           // geometry would put NaN/Inf into every buffer.
           if (!finite(v.position) || !finite(v.normal))
@@ -327,7 +338,8 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
 void apply_placement(Scene& scene, const LoadOptions& options, const std::string& source) {
   if (options.light) {
     if (!scene.has_point_light)
-      throw SceneError(source + ": --light moves the point light, and this scene has none (only spot/directional)");
+      throw SceneError(source +
+                       ": --light moves the point light, and this scene has none (only spot/directional)");
     scene.light.path.base = glm::vec3(options.light->base - scene.origin);
     scene.light.path.amplitude = options.light->amplitude;
     scene.light.path.frequency = kSeedLightFrequency;  // irrelevant for a light standing still
@@ -339,7 +351,8 @@ void apply_placement(Scene& scene, const LoadOptions& options, const std::string
     if (!(glm::length(c.target - c.position) > 0.0f))
       throw SceneError(source + ": --camera position coincides with the camera's target");
     if (!(glm::length(glm::cross(glm::normalize(c.target - c.position), c.up)) > 1e-6f))
-      throw SceneError(source + ": --camera looks along the scene's up vector; give another position or target");
+      throw SceneError(source +
+                       ": --camera looks along the scene's up vector; give another position or target");
   }
 }
 
@@ -374,7 +387,8 @@ Scene load_scene_text(const std::string& text, const std::string& source, const 
     throw SceneError(source + ": malformed JSON at byte " + std::to_string(e.byte) + ": " +
                      std::string(e.what()).substr(std::string(e.what()).rfind(':') + 2));
   } catch (const json::exception& e) {  // out_of_range 406: a number beyond double ("1e400")
-    throw SceneError(source + ": malformed JSON: " + std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
+    throw SceneError(
+        source + ": malformed JSON: " + std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
   }
   Node root(doc, "", source);
   root.expect_object({"format", "description", "camera", "light", "lights", "objects"});
@@ -386,16 +400,18 @@ Scene load_scene_text(const std::string& text, const std::string& source, const 
     scene.origin = options.light ? options.light->base : rebase_origin_of(doc);
   scene.source = source;
   scene.name = std::filesystem::path(source).stem().string();
-  scene.camera = parse_camera(root.has("camera") ? root.at("camera") : Node(json::object(), "/camera", source),
-                              scene.origin);
-  // "light": the one point light (the tutorials, docs/glossary.md). "lights": any mix of one point light and up to four spot or
-  // directional lights, each rendered with what it needs (a cube, or one 2D map).
-  if (root.has("light") && root.has("lights")) root.at("lights").fail("give \"light\" or \"lights\", not both");
+  scene.camera = parse_camera(
+      root.has("camera") ? root.at("camera") : Node(json::object(), "/camera", source), scene.origin);
+  // "light": the one point light (the tutorials, docs/glossary.md). "lights": any mix of one point light and
+  // up to four spot or directional lights, each rendered with what it needs (a cube, or one 2D map).
+  if (root.has("light") && root.has("lights"))
+    root.at("lights").fail("give \"light\" or \"lights\", not both");
   if (!root.has("lights")) {
     scene.light = parse_light(root.at("light"), scene.origin);
   } else {
     Node lights = root.at("lights");
-    if (!lights.value().is_array() || lights.value().empty()) lights.fail("expected a non-empty array of lights");
+    if (!lights.value().is_array() || lights.value().empty())
+      lights.fail("expected a non-empty array of lights");
     bool point_seen = false;
     for (size_t i = 0; i < lights.value().size(); ++i) {
       Node l = lights.at(i);

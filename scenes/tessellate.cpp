@@ -29,8 +29,8 @@ void tessellate(Scene& scene, int n) {
   if (n == 1) return;
   const uint64_t triangles = uint64_t(scene.vertices.size() / 3) * uint64_t(n) * uint64_t(n);
   if (triangles > kMaxTessellatedTriangles)
-    throw std::invalid_argument("--tessellate " + std::to_string(n) + ": scene " + scene.name + " would have " +
-                                std::to_string(triangles) + " triangles, more than " +
+    throw std::invalid_argument("--tessellate " + std::to_string(n) + ": scene " + scene.name +
+                                " would have " + std::to_string(triangles) + " triangles, more than " +
                                 std::to_string(kMaxTessellatedTriangles));
   std::vector<Vertex> out;
   out.reserve(scene.vertices.size() * size_t(n) * size_t(n));
@@ -38,8 +38,8 @@ void tessellate(Scene& scene, int n) {
     const uint32_t first = static_cast<uint32_t>(out.size());
     for (uint32_t v = o.first_vertex; v + 3 <= o.first_vertex + o.vertex_count; v += 3) {
       const Vertex* t = &scene.vertices[v];
-      // Point (i, j): i steps towards t[1], j towards t[2]. "Up" triangles keep (a, b, c)'s winding, and so do
-      // "down" ones: (p(i+1, j), p(i+1, j+1), p(i, j+1)).
+      // Point (i, j): i steps towards t[1], j towards t[2]. "Up" triangles keep (a, b, c)'s winding, and so
+      // do "down" ones: (p(i+1, j), p(i+1, j+1), p(i, j+1)).
       for (int i = 0; i < n; ++i)
         for (int j = 0; i + j < n; ++j) {
           out.push_back(grid_vertex(t, i, j, n));

@@ -1,25 +1,27 @@
-// Every backend, written once: the same tests run on GL (llvmpipe in CI) and Vulkan (lavapipe, validation layer
-// on). Each checks what must hold on any API: the room renders, hard shadows agree with exact visibility, every
-// single-pass technique reproduces six_pass bit for bit, work counters are exact, the switches change no value,
-// every case is clean in the checking mode. Backend-specific tests live in gl_backend_test.cpp and
-// vk_backend_test.cpp. A backend this machine cannot bring up is skipped with the reason it gave.
+// Every backend, written once: the same tests run on GL (llvmpipe in CI) and Vulkan (lavapipe, validation
+// layer on). Each checks what must hold on any API: the room renders, hard shadows agree with exact
+// visibility, every single-pass technique reproduces six_pass bit for bit, work counters are exact, the
+// switches change no value, every case is clean in the checking mode. Backend-specific tests live in
+// gl_backend_test.cpp and vk_backend_test.cpp. A backend this machine cannot bring up is skipped with the
+// reason it gave.
 
-#include <cstdio>
+#include "backends/backend.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <optional>
 
-#include "backends/backend.h"
 #include "backends/common/cube_summary.h"
 #include "backends/common/techniques.h"
 #include "backends/reference/ray_caster.h"
+#include "bench/run/case_runner.h"
 #include "bench/truth/accuracy.h"
 #include "bench/truth/cube_truth.h"
 #include "bench/truth/lookup_check.h"
-#include "bench/run/case_runner.h"
 #include "tests/backend_availability.h"
 #include "tests/optimization_checks.h"
 
@@ -27,17 +29,18 @@ namespace omnishadow {
 namespace {
 
 const std::string kScenes = OMNISHADOW_TEST_SCENES_DIR;
-// The filter a case of storage `s` uses in tests that sweep storages: the moments filter that reads it, else `lookup`.
+// The filter a case of storage `s` uses in tests that sweep storages: the moments filter that reads it, else
+// `lookup`.
 Filter reading_filter(Storage s, Filter lookup) {
   for (Filter f : all_values<Filter>())
     if (traits(f).own_storage == s) return f;
   return lookup;
 }
 
-// EveryCaseIsCleanInTheCheckingMode on the Mesa CPU drivers: of 1200 combinations, the cases they render; the rest
-// are refused with a reason: hw_compare2x2 with a storage other than linear_depth, a moments filter with another
-// storage than its own or a lookup filter with moments (every driver), and on llvmpipe's GL multiview (no
-// GL_OVR_multiview2; lavapipe advertises Vulkan multiview).
+// EveryCaseIsCleanInTheCheckingMode on the Mesa CPU drivers: of 1200 combinations, the cases they render; the
+// rest are refused with a reason: hw_compare2x2 with a storage other than linear_depth, a moments filter with
+// another storage than its own or a lookup filter with moments (every driver), and on llvmpipe's GL multiview
+// (no GL_OVR_multiview2; lavapipe advertises Vulkan multiview).
 const std::map<std::string, int> kCpuDriverCheckedCases = {{"gl", 216}, {"vulkan", 255}};
 
 // Vulkan always runs with the validation layer (its messages fail the test); GL without its debug context,
@@ -55,8 +58,8 @@ class BackendTest : public ::testing::TestWithParam<std::string> {
     std::string skip_reason;
   };
   // One backend per API for the whole suite: bringing one up costs more than most tests. Released in
-  // TearDownTestSuite, before main returns: a Vulkan device destroyed by a static destructor would outlive the
-  // loader and its layers (a crash at exit).
+  // TearDownTestSuite, before main returns: a Vulkan device destroyed by a static destructor would outlive
+  // the loader and its layers (a crash at exit).
   static std::map<std::string, Shared>& all() {
     static std::map<std::string, Shared> backends;
     return backends;
@@ -91,7 +94,8 @@ class BackendTest : public ::testing::TestWithParam<std::string> {
     EXPECT_TRUE(messages.empty()) << messages.size() << " API message(s), first: " << messages.front();
   }
 
-  CaseConfig room_case(Technique t, Filter f = Filter::hard, int cube = 512, Storage s = Storage::linear_depth) const {
+  CaseConfig room_case(Technique t, Filter f = Filter::hard, int cube = 512,
+                       Storage s = Storage::linear_depth) const {
     return testing::room_case(GetParam(), t, f, cube, s);
   }
   Images render(const CaseConfig& c, int frame = 0) {
@@ -111,14 +115,18 @@ class BackendTest : public ::testing::TestWithParam<std::string> {
 };
 
 // The work-avoiding switches (tests/optimization_checks.h).
-TEST_P(BackendTest, FaceCullingChangesNoValueAndCutsWork) { testing::check_face_culling(*backend_, GetParam(), kScenes); }
+TEST_P(BackendTest, FaceCullingChangesNoValueAndCutsWork) {
+  testing::check_face_culling(*backend_, GetParam(), kScenes);
+}
 TEST_P(BackendTest, StaticCacheReusesTheCubeWhileTheLightStandsStill) {
   testing::check_static_cache(*backend_, GetParam(), kScenes);
 }
 TEST_P(BackendTest, SpotAndDirectionalLightsCastShadowsFromTheir2DMaps) {
   testing::check_map_lights(*backend_, GetParam(), kScenes);
 }
-TEST_P(BackendTest, FittedFarIsTighterAndConsistent) { testing::check_fit_range(*backend_, GetParam(), *room_); }
+TEST_P(BackendTest, FittedFarIsTighterAndConsistent) {
+  testing::check_fit_range(*backend_, GetParam(), *room_);
+}
 
 TEST_P(BackendTest, DeviceIsDescribed) {
   const DeviceInfo& d = backend_->device();
@@ -139,11 +147,13 @@ TEST_P(BackendTest, RoomAtFrameZeroRendersEveryPixel) {
   EXPECT_EQ(shadowed + lit, pixels) << "hard shadows are 0 or 1";
   EXPECT_GT(shadowed, pixels / 100);
   EXPECT_GT(lit, pixels / 2);
-  // Frame 0 puts the light at the origin: the stored distance straight down (-Y face centre) is the floor's, 5.
+  // Frame 0 puts the light at the origin: the stored distance straight down (-Y face centre) is the
+  // floor's, 5.
   const auto& down = img.cube_distance[3];
   size_t centre = static_cast<size_t>(img.cube_size / 2) * img.cube_size + img.cube_size / 2;
   EXPECT_NEAR(down[centre], 5.0f, 0.02f);
-  EXPECT_EQ(img.timed_lit_rgba8, img.lit_rgba8) << "the timed variant lights the frame as the check variant does";
+  EXPECT_EQ(img.timed_lit_rgba8, img.lit_rgba8)
+      << "the timed variant lights the frame as the check variant does";
 }
 
 // Hard shadows against exact visibility (the ray-cast reference). Stated bound: at cube 1024 on room, at most
@@ -159,8 +169,9 @@ TEST_P(BackendTest, HardShadowsAgreeWithTheReference) {
   EXPECT_GT(truly_shadowed, truth.point_shadow.size() / 100) << "the test needs shadows to be meaningful";
 }
 
-// The cube itself against exact first-hit distances (bench/truth/cube_truth.h), and the same check catching a cube whose
-// faces were swapped or whose stored distances lost the far scale, as a broken backend would store them.
+// The cube itself against exact first-hit distances (bench/truth/cube_truth.h), and the same check catching a
+// cube whose faces were swapped or whose stored distances lost the far scale, as a broken backend would store
+// them.
 TEST_P(BackendTest, CubeTexelsAgreeWithExactDistances) {
   Images img = render(room_case(Technique::six_pass, Filter::hard, 256), 90);
   reference::RayCaster caster(*room_);
@@ -174,22 +185,24 @@ TEST_P(BackendTest, CubeTexelsAgreeWithExactDistances) {
   EXPECT_LT(ok.bad_percent(), bench::kCubeTexelLimitPercent) << bench::describe(ok);
   Images swapped = img;
   std::swap(swapped.cube_distance[2], swapped.cube_distance[3]);  // +Y and -Y
-  bench::CubeTexelReport bad = bench::check_cube_texels(truth, swapped, Storage::linear_depth, DepthFormat::d32f,
-                                                        room_->light.near_plane, bits);
+  bench::CubeTexelReport bad = bench::check_cube_texels(truth, swapped, Storage::linear_depth,
+                                                        DepthFormat::d32f, room_->light.near_plane, bits);
   EXPECT_GT(bad.bad_percent(), 5.0) << bench::describe(bad);
   EXPECT_GT(bad.bad_per_face[2], 0u);
   Images unscaled = img;
   for (auto& face : unscaled.cube_distance)
     for (float& v : face) v /= img.light_far;  // distance / far read back as if it were the distance
   EXPECT_GT(bench::check_cube_texels(truth, unscaled, Storage::linear_depth, DepthFormat::d32f,
-                                     room_->light.near_plane, bits).bad_percent(), 50.0);
+                                     room_->light.near_plane, bits)
+                .bad_percent(),
+            50.0);
 }
 
-// The texel bound from the rasterisation rules (bench/truth/texel_bounds.h), both sides. A conformant GPU snaps
-// vertices differently from llvmpipe/lavapipe (an H100 failed 0.175% of room's texels at cube 64 under a
-// centre-only bound); --raster-perturb moves every vertex by up to one sub-pixel step to play such a device here.
-// The perturbed cube passes the device's bound and fails a bound without sub-pixel reach (the old one), and
-// planted bugs still fail with the reach.
+// The texel bound from the rasterisation rules (bench/truth/texel_bounds.h), both sides. A conformant GPU
+// snaps vertices differently from llvmpipe/lavapipe (an H100 failed 0.175% of room's texels at cube 64 under
+// a centre-only bound); --raster-perturb moves every vertex by up to one sub-pixel step to play such a device
+// here. The perturbed cube passes the device's bound and fails a bound without sub-pixel reach (the old one),
+// and planted bugs still fail with the reach.
 TEST_P(BackendTest, PerturbedRasterPassesTheSubPixelBoundOnly) {
   const int bits = backend_->device().subpixel_bits;
   ASSERT_GE(bits, 4) << "both APIs require at least 4 sub-pixel bits";
@@ -204,25 +217,29 @@ TEST_P(BackendTest, PerturbedRasterPassesTheSubPixelBoundOnly) {
     bench::CubeTexelReport ok = bench::check_cube_texels(truth, img, Storage::linear_depth, DepthFormat::d32f,
                                                          room_->light.near_plane, bits);
     EXPECT_LE(ok.bad_percent(), bench::kCubeTexelLimitPercent) << to_string(t) << ": " << bench::describe(ok);
-    bench::CubeTexelReport centre_only = bench::check_cube_texels(truth, img, Storage::linear_depth,
-                                                                  DepthFormat::d32f, room_->light.near_plane, 60);
+    bench::CubeTexelReport centre_only = bench::check_cube_texels(
+        truth, img, Storage::linear_depth, DepthFormat::d32f, room_->light.near_plane, 60);
     EXPECT_GT(centre_only.bad_percent(), bench::kCubeTexelLimitPercent)
         << to_string(t) << ": the perturbation no longer moves silhouettes: " << bench::describe(centre_only);
-    std::printf("%s: sub-pixel bound %.3g%% wrong, centre-only %.3g%% (%s)\n", std::string(to_string(t)).c_str(),
-                ok.bad_percent(), centre_only.bad_percent(), bench::describe(centre_only).c_str());
+    std::printf("%s: sub-pixel bound %.3g%% wrong, centre-only %.3g%% (%s)\n",
+                std::string(to_string(t)).c_str(), ok.bad_percent(), centre_only.bad_percent(),
+                bench::describe(centre_only).c_str());
     ASSERT_FALSE(centre_only.worst.empty());
-    EXPECT_GE(centre_only.worst.front().edge_texels, 0.0) << "a texel the perturbation flipped lies at a depth edge";
+    EXPECT_GE(centre_only.worst.front().edge_texels, 0.0)
+        << "a texel the perturbation flipped lies at a depth edge";
     Images swapped = img;
     std::swap(swapped.cube_distance[0], swapped.cube_distance[1]);  // +X and -X
     EXPECT_GT(bench::check_cube_texels(truth, swapped, Storage::linear_depth, DepthFormat::d32f,
-                                       room_->light.near_plane, bits).bad_percent(), 5.0);
+                                       room_->light.near_plane, bits)
+                  .bad_percent(),
+              5.0);
   }
 }
 
-// The lookup check's bound (bench/truth/lookup_check.h), both sides: lookups moved by 0.8 of the sampler's sub-texel
-// step (the device's subTexelPrecisionBits; 4 assumed for GL) along both face axes, as a coarser sampler may read,
-// pass on both layouts; moved by half a texel, or replayed against a cube whose +Y and -Y faces are swapped (what a
-// face_array lookup that reads the wrong layer sees), they fail.
+// The lookup check's bound (bench/truth/lookup_check.h), both sides: lookups moved by 0.8 of the sampler's
+// sub-texel step (the device's subTexelPrecisionBits; 4 assumed for GL) along both face axes, as a coarser
+// sampler may read, pass on both layouts; moved by half a texel, or replayed against a cube whose +Y and -Y
+// faces are swapped (what a face_array lookup that reads the wrong layer sees), they fail.
 TEST_P(BackendTest, PerturbedLookupsPassTheSubTexelBoundOnly) {
   const int bits = backend_->device().subtexel_bits;
   ASSERT_GE(bits, 4) << "Vulkan requires at least 4 sub-texel bits";
@@ -252,9 +269,9 @@ TEST_P(BackendTest, PerturbedLookupsPassTheSubTexelBoundOnly) {
     }
 }
 
-// timed_lit's tolerance (bench/run/case_runner.h kTimedLitMaxPercent), both sides: a compiler's float contraction
-// (0.1% of values one level off) passes; a timed variant that renders another filter, no bias or another light
-// count fails.
+// timed_lit's tolerance (bench/run/case_runner.h kTimedLitMaxPercent), both sides: a compiler's float
+// contraction (0.1% of values one level off) passes; a timed variant that renders another filter, no bias or
+// another light count fails.
 TEST_P(BackendTest, TimedLitToleranceAllowsRoundingFlipsOnly) {
   CaseConfig c = room_case(Technique::six_pass, Filter::pcf_disk20, 256);
   Images img = render(c, 30);
@@ -263,10 +280,13 @@ TEST_P(BackendTest, TimedLitToleranceAllowsRoundingFlipsOnly) {
   };
   EXPECT_TRUE(agrees(img.timed_lit_rgba8, img.lit_rgba8));
   std::vector<uint8_t> contracted = img.lit_rgba8;
-  for (size_t i = 0; i < contracted.size(); i += 1000) contracted[i] = contracted[i] == 255 ? 254 : contracted[i] + 1;
+  for (size_t i = 0; i < contracted.size(); i += 1000)
+    contracted[i] = contracted[i] == 255 ? 254 : contracted[i] + 1;
   EXPECT_TRUE(agrees(contracted, img.lit_rgba8)) << "0.1% of values one level off is within the guarantee";
   std::vector<uint8_t> two_levels = img.lit_rgba8;
-  two_levels[two_levels.size() / 2] = two_levels[two_levels.size() / 2] < 128 ? two_levels[two_levels.size() / 2] + 2 : two_levels[two_levels.size() / 2] - 2;
+  two_levels[two_levels.size() / 2] = two_levels[two_levels.size() / 2] < 128
+                                          ? two_levels[two_levels.size() / 2] + 2
+                                          : two_levels[two_levels.size() / 2] - 2;
   EXPECT_FALSE(agrees(two_levels, img.lit_rgba8)) << "a value two levels off is no rounding flip";
   CaseConfig hard = c;
   hard.filter = Filter::hard;
@@ -283,8 +303,8 @@ TEST_P(BackendTest, TimedLitToleranceAllowsRoundingFlipsOnly) {
   EXPECT_FALSE(agrees(testing::render_frame(*backend_, m, 30).lit_rgba8, all.lit_rgba8)) << "one light fewer";
 }
 
-// Error falls as the cube grows: each size's misclassification is at most the previous one's plus a noise band
-// of 5% + 0.005 points, and 2048 is at least 3x better than 128. Frame 90 puts the light off-centre.
+// Error falls as the cube grows: each size's misclassification is at most the previous one's plus a noise
+// band of 5% + 0.005 points, and 2048 is at least 3x better than 128. Frame 90 puts the light off-centre.
 TEST_P(BackendTest, ErrorFallsAsTheCubeGrows) {
   std::optional<bench::Truth> truth;
   std::vector<double> errors;
@@ -294,15 +314,15 @@ TEST_P(BackendTest, ErrorFallsAsTheCubeGrows) {
     errors.push_back(bench::measure_accuracy(*truth, img).misclassified_percent);
   }
   for (size_t i = 1; i < errors.size(); ++i)
-    EXPECT_LE(errors[i], errors[i - 1] * 1.05 + 0.005) << "cube " << (128 << i) << ": " << errors[i] << "% vs "
-                                                        << errors[i - 1] << "%";
+    EXPECT_LE(errors[i], errors[i - 1] * 1.05 + 0.005)
+        << "cube " << (128 << i) << ": " << errors[i] << "% vs " << errors[i - 1] << "%";
   EXPECT_LT(errors.back() * 3.0, errors.front());
 }
 
-// Every single-pass technique the backend supports, every storage: the same cube, shadow and lit frame as six_pass.
-// Exactly: every pair of the table's non-multiview single-pass techniques and storages is compared or refused with
-// a reason; the Mesa CPU drivers refuse only nv_swizzle and mesh_shader (their NV/EXT extensions), so the three
-// layered techniques x 8 storages = 24 are compared there.
+// Every single-pass technique the backend supports, every storage: the same cube, shadow and lit frame as
+// six_pass. Exactly: every pair of the table's non-multiview single-pass techniques and storages is compared
+// or refused with a reason; the Mesa CPU drivers refuse only nv_swizzle and mesh_shader (their NV/EXT
+// extensions), so the three layered techniques x 8 storages = 24 are compared there.
 TEST_P(BackendTest, SinglePassTechniquesReproduceSixPassExactly) {
   int compared = 0, refused = 0, candidates = 0;
   for (Storage s : all_values<Storage>()) {
@@ -311,24 +331,27 @@ TEST_P(BackendTest, SinglePassTechniquesReproduceSixPassExactly) {
     Images six = six_supported ? render(room_case(Technique::six_pass, filter, 256, s), 41) : Images{};
     for (const TechniqueTraits& t : kTechniques) {
       CaseConfig c = room_case(t.technique, filter, 256, s);
-      // multiview, and nv_swizzle where it keeps fragments by its reversed depth (ties may resolve otherwise):
-      // judged by the harness's check.
+      // multiview, and nv_swizzle where it keeps fragments by its reversed depth (ties may resolve
+      // otherwise): judged by the harness's check.
       if (t.technique == Technique::six_pass || t.multiview || reversed_depth_test(c)) continue;
       ++candidates;
       if (Support support = backend_->supports(c); !support.ok) {
         std::cout << c.id() << " unsupported: " << support.reason << "\n";
         EXPECT_FALSE(support.reason.empty()) << c.id();
-        // NVIDIA's drivers expose every extension the techniques use (gpu/measured: H100, driver 580): a refusal
-        // for a missing one there is a broken probe, not the device.
+        // NVIDIA's drivers expose every extension the techniques use (gpu/measured: H100, driver 580): a
+        // refusal for a missing one there is a broken probe, not the device.
         if (backend_->device().renderer.find("NVIDIA") != std::string::npos) {
-          EXPECT_EQ(support.reason.find("not exposed by"), std::string::npos) << c.id() << ": " << support.reason;
-          EXPECT_EQ(support.reason.find("not supported by"), std::string::npos) << c.id() << ": " << support.reason;
+          EXPECT_EQ(support.reason.find("not exposed by"), std::string::npos)
+              << c.id() << ": " << support.reason;
+          EXPECT_EQ(support.reason.find("not supported by"), std::string::npos)
+              << c.id() << ": " << support.reason;
         }
         ++refused;
         continue;
       }
       Images img = render(c, 41);
-      for (size_t f = 0; f < 6; ++f) EXPECT_EQ(img.cube_distance[f], six.cube_distance[f]) << c.id() << " face " << f;
+      for (size_t f = 0; f < 6; ++f)
+        EXPECT_EQ(img.cube_distance[f], six.cube_distance[f]) << c.id() << " face " << f;
       EXPECT_EQ(img.cube_summary, six.cube_summary) << c.id() << ": equal cubes, equal device hashes";
       EXPECT_EQ(img.lit_rgba8, six.lit_rgba8) << c.id();
       EXPECT_EQ(img.shadow_factor, six.shadow_factor) << c.id();
@@ -338,12 +361,13 @@ TEST_P(BackendTest, SinglePassTechniquesReproduceSixPassExactly) {
   EXPECT_EQ(compared + refused, candidates);
   EXPECT_EQ(candidates, 38) << "the technique or storage table changed: say here what this test now compares";
   if (backend_->device().shares_host_memory) {
-    EXPECT_EQ(compared, 24) << "llvmpipe and lavapipe do every technique but the NV extensions' and mesh shaders";
+    EXPECT_EQ(compared, 24)
+        << "llvmpipe and lavapipe do every technique but the NV extensions' and mesh shaders";
   }
 }
 
-// The device's cube summary (shaders/cube_summary.comp): its check grid is the full cube's texels at the grid,
-// bit for bit; a sampled read-back gives the same summary without the cube; the hash is the host's
+// The device's cube summary (shaders/cube_summary.comp): its check grid is the full cube's texels at the
+// grid, bit for bit; a sampled read-back gives the same summary without the cube; the hash is the host's
 // (cube::summarize_on_host) over the stored values (r32f_distance stores the distance itself); a moved light
 // changes every face's hash.
 TEST_P(BackendTest, CubeSummaryIsTheFullCubesHashAndGrid) {
@@ -356,8 +380,10 @@ TEST_P(BackendTest, CubeSummaryIsTheFullCubesHashAndGrid) {
     EXPECT_FALSE(sampled.has_full_cube());
     EXPECT_TRUE(sampled.cube_summary_on_device);
     EXPECT_FALSE(full.cube_summary_on_device) << "a full read-back hashes on the host, with no compute pass";
-    // r32f_distance stores the distance itself: the device's hash over stored values is the host's over distances.
-    EXPECT_EQ(sampled.cube_summary, full.cube_summary) << "size " << size << ": GLSL and C++ hash mixes disagree";
+    // r32f_distance stores the distance itself: the device's hash over stored values is the host's over
+    // distances.
+    EXPECT_EQ(sampled.cube_summary, full.cube_summary)
+        << "size " << size << ": GLSL and C++ hash mixes disagree";
     EXPECT_EQ(full.cube_sample_stride, cube_sample_stride(size));
     EXPECT_EQ(sampled.cube_sample, full.cube_sample) << "size " << size;
     for (const CubeFaceSummary& face : sampled.cube_summary) EXPECT_EQ(face.non_finite, 0u);
@@ -376,7 +402,8 @@ TEST_P(BackendTest, CubeSummaryIsTheFullCubesHashAndGrid) {
     Images a_sampled = sampled(7), b_sampled = sampled(90), a_again = sampled(7);
     EXPECT_EQ(a_sampled.cube_summary, a_again.cube_summary) << to_string(storage);
     for (size_t f = 0; f < 6; ++f)
-      EXPECT_NE(a_sampled.cube_summary[f].hash, b_sampled.cube_summary[f].hash) << to_string(storage) << " face " << f;
+      EXPECT_NE(a_sampled.cube_summary[f].hash, b_sampled.cube_summary[f].hash)
+          << to_string(storage) << " face " << f;
     // The device's grid holds what the full cube holds there, as distances, in every storage.
     Images a = render(c, 7);
     EXPECT_EQ(a_sampled.cube_sample, a.cube_sample) << to_string(storage);
@@ -394,8 +421,10 @@ TEST_P(BackendTest, BothStoragesSeeTheSameShadows) {
   Images linear = render(room_case(Technique::six_pass, Filter::hard, 512, Storage::linear_depth), 90);
   Images r32f = render(room_case(Technique::six_pass, Filter::hard, 512, Storage::r32f_distance), 90);
   size_t differing = 0;
-  for (size_t i = 0; i < linear.shadow_factor.size(); ++i) differing += linear.shadow_factor[i] != r32f.shadow_factor[i];
-  EXPECT_LT(differing, linear.shadow_factor.size() / 500) << "storages disagree on " << differing << " pixels";
+  for (size_t i = 0; i < linear.shadow_factor.size(); ++i)
+    differing += linear.shadow_factor[i] != r32f.shadow_factor[i];
+  EXPECT_LT(differing, linear.shadow_factor.size() / 500)
+      << "storages disagree on " << differing << " pixels";
   // Texels nothing was drawn to: none in a closed room, so both hold finite distances everywhere.
   for (const auto& face : r32f.cube_distance)
     EXPECT_LT(*std::max_element(face.begin(), face.end()), room_->light.far_plane);
@@ -419,10 +448,10 @@ TEST_P(BackendTest, SoftFiltersGiveFractionsBetweenZeroAndOne) {
   }
 }
 
-// PCSS sizes its kernel by the penumbra, R (receiver - blocker) / blocker: a slab near the light (blocker 1.4 from
-// it, receiver 7.1: 0.4 world units of penumbra) casts a far wider soft edge than one near the floor (4.1 and 5.2:
-// 0.025), while the disk PCF's kernel follows the viewer's distance only. Counted: floor pixels strictly between
-// lit and shadowed under each slab's shadow (x < -1: the high slab's, x > 0: the low one's).
+// PCSS sizes its kernel by the penumbra, R (receiver - blocker) / blocker: a slab near the light (blocker 1.4
+// from it, receiver 7.1: 0.4 world units of penumbra) casts a far wider soft edge than one near the floor
+// (4.1 and 5.2: 0.025), while the disk PCF's kernel follows the viewer's distance only. Counted: floor pixels
+// strictly between lit and shadowed under each slab's shadow (x < -1: the high slab's, x > 0: the low one's).
 TEST_P(BackendTest, PcssPenumbraWidensWithTheBlockersDistance) {
   const scene::Scene slabs = scene::load_scene_text(R"({
       "camera": {"position": [-2, 20, 0], "target": [-2, 0, 0], "up": [0, 0, -1]},
@@ -447,16 +476,17 @@ TEST_P(BackendTest, PcssPenumbraWidensWithTheBlockersDistance) {
     return count;
   };
   const std::array<int, 2> pcss = soft_pixels(Filter::pcss), disk = soft_pixels(Filter::pcf_disk20);
-  std::cout << "soft pixels under the high / low slab: pcss " << pcss[0] << " / " << pcss[1] << ", pcf_disk20 " << disk[0]
-            << " / " << disk[1] << "\n";
+  std::cout << "soft pixels under the high / low slab: pcss " << pcss[0] << " / " << pcss[1]
+            << ", pcf_disk20 " << disk[0] << " / " << disk[1] << "\n";
   EXPECT_GT(pcss[0], 1000) << "the high slab's shadow has a wide penumbra";
   EXPECT_GT(pcss[0], 8 * std::max(pcss[1], 1)) << "high " << pcss[0] << ", low " << pcss[1];
-  EXPECT_LT(disk[0], 8 * std::max(disk[1], 1)) << "the disk PCF does not tell the slabs apart: high " << disk[0]
-                                               << ", low " << disk[1];
+  EXPECT_LT(disk[0], 8 * std::max(disk[1], 1))
+      << "the disk PCF does not tell the slabs apart: high " << disk[0] << ", low " << disk[1];
 }
 
-// Every moments filter on the device: the moments it blurred and sampled are the blur of the moments of the depths
-// it stored, within each step's rounding (bench/truth/moments_check.h), at 32 and 16 bits, over every face and seam.
+// Every moments filter on the device: the moments it blurred and sampled are the blur of the moments of the
+// depths it stored, within each step's rounding (bench/truth/moments_check.h), at 32 and 16 bits, over every
+// face and seam.
 TEST_P(BackendTest, StoredMomentsAreTheBlurOfTheStoredDepthsMoments) {
   int checked = 0;
   for (Filter f : all_values<Filter>()) {
@@ -482,10 +512,10 @@ TEST_P(BackendTest, StoredMomentsAreTheBlurOfTheStoredDepthsMoments) {
   }
 }
 
-// The extremes suite's tunings on the device: the moments check follows them (an exponent at 0.99 of the overflow
-// limit with the far plane fitted, so z reaches 1 and e^(-2cz) is subnormal; VSM in world units), and bleed
-// reduction only darkens: 1 - clamp((p - a) / (1 - a), 0, 1) >= 1 - p for every lit bound p, and somewhere in the
-// room's penumbrae strictly.
+// The extremes suite's tunings on the device: the moments check follows them (an exponent at 0.99 of the
+// overflow limit with the far plane fitted, so z reaches 1 and e^(-2cz) is subnormal; VSM in world units),
+// and bleed reduction only darkens: 1 - clamp((p - a) / (1 - a), 0, 1) >= 1 - p for every lit bound p, and
+// somewhere in the room's penumbrae strictly.
 TEST_P(BackendTest, MomentsTuningsKeepTheCheckAndBleedReductionOnlyDarkens) {
   struct Tuned {
     Filter filter;
@@ -533,7 +563,8 @@ TEST_P(BackendTest, WorkCountersAreExactAndDeterministic) {
   const uint64_t triangles = room_->triangle_count();  // 72
   backend_->configure(room_case(Technique::six_pass));
   FrameCounters six = backend_->count_work(5);
-  if (!six.shadow.valid) GTEST_SKIP() << "pipeline statistics are not exposed by " << backend_->device().renderer;
+  if (!six.shadow.valid)
+    GTEST_SKIP() << "pipeline statistics are not exposed by " << backend_->device().renderer;
   EXPECT_EQ(six.shadow.primitives_submitted, 6 * triangles);
   EXPECT_EQ(six.shadow.draw_calls, 6 * room_->objects.size());
   EXPECT_EQ(six.shadow.gs_invocations, 0u);
@@ -558,7 +589,8 @@ TEST_P(BackendTest, WorkCountersAreExactAndDeterministic) {
 }
 
 TEST_P(BackendTest, UnsupportedCasesSayWhy) {
-  Support s = backend_->supports(room_case(Technique::six_pass, Filter::hw_compare2x2, 512, Storage::r32f_distance));
+  Support s =
+      backend_->supports(room_case(Technique::six_pass, Filter::hw_compare2x2, 512, Storage::r32f_distance));
   EXPECT_FALSE(s.ok);
   EXPECT_NE(s.reason.find("linear_depth"), std::string::npos) << s.reason;
   CaseConfig huge = room_case(Technique::six_pass);
@@ -590,8 +622,8 @@ TEST_P(BackendTest, FloorFramesLeaveTheCaseIntact) {
   testing::expect_same_images(backend_->read_back(), reference, "after a floor frame");
 }
 
-// The checking mode (GL debug context / Vulkan validation layer): every technique, storage, filter and depth format
-// the backend supports renders both frame kinds, counts work and reads back with no API message.
+// The checking mode (GL debug context / Vulkan validation layer): every technique, storage, filter and depth
+// format the backend supports renders both frame kinds, counts work and reads back with no API message.
 TEST_P(BackendTest, EveryCaseIsCleanInTheCheckingMode) {
   std::unique_ptr<Backend> checked = create_backend(GetParam(), {{"api_checks", "1"}});
   checked->load(*room_);
@@ -619,8 +651,8 @@ TEST_P(BackendTest, EveryCaseIsCleanInTheCheckingMode) {
           EXPECT_TRUE(messages.empty()) << c.id() << ": " << messages.front();
           ++rendered;
         }
-  const int all = int(all_values<Technique>().size() * all_values<Storage>().size() * all_values<Filter>().size() *
-                      all_values<DepthFormat>().size());
+  const int all = int(all_values<Technique>().size() * all_values<Storage>().size() *
+                      all_values<Filter>().size() * all_values<DepthFormat>().size());
   EXPECT_EQ(rendered + refused, all);
   if (checked->device().shares_host_memory) {
     EXPECT_EQ(rendered, kCpuDriverCheckedCases.at(GetParam())) << "what llvmpipe/lavapipe do";

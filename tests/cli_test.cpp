@@ -7,11 +7,10 @@
 
 #include <csignal>
 #include <cstdlib>
-
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -42,7 +41,8 @@ Outcome run(const std::string& args) {
   std::string cmd = std::string(OMNISHADOW_BINARY) + " " + args + " >" + (base / "out").string() + " 2>" +
                     (base / "err").string();
   int status = std::system(cmd.c_str());
-  Outcome o{WIFEXITED(status) ? WEXITSTATUS(status) : -1, omnishadow::bench::read_file((base / "out").string()),
+  Outcome o{WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+            omnishadow::bench::read_file((base / "out").string()),
             omnishadow::bench::read_file((base / "err").string())};
   return o;
 }
@@ -102,7 +102,8 @@ TEST_P(CliBadInput, OneLineErrorAndExitCodeTwo) {
       {"TRUNCATED_SCENE", R"({"light": {}, "objects": [{"type": "bo)"},
       {"FOREIGN_RESULTS", R"({"context": {"date": "x"}, "benchmarks": []})"},
       {"TRUNCATED_RESULTS", R"({"omnishadow": {"format": "omnishadow-results/1", "cases": [{"id": )"},
-      {"MISTYPED_RESULTS", R"({"omnishadow": {"format": "omnishadow-results/1", "cases": [{"id": "a", "images": 3}]}})"},
+      {"MISTYPED_RESULTS",
+       R"({"omnishadow": {"format": "omnishadow-results/1", "cases": [{"id": "a", "images": 3}]}})"},
       {"EXISTING_FILE", "not a folder"}};
   std::string args = GetParam().args;
   for (const auto& [name, text] : fixtures) {
@@ -136,65 +137,66 @@ TEST_P(CliBadInput, OneLineErrorAndExitCodeTwo) {
   EXPECT_EQ(o.exit_code, 2) << o.err;
   std::string lines = error_lines(o.err);
   EXPECT_EQ(std::count(lines.begin(), lines.end(), '\n'), 1) << o.err;
-  EXPECT_NE(lines.find(GetParam().expected), std::string::npos) << "expected '" << GetParam().expected << "' in " << o.err;
+  EXPECT_NE(lines.find(GetParam().expected), std::string::npos)
+      << "expected '" << GetParam().expected << "' in " << o.err;
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Table, CliBadInput,
-    ::testing::Values(BadInput{"run --technique teapot --out @OUT@", "--technique: unknown technique 'teapot'"},
-                      BadInput{"run --filter pcf9 --out @OUT@", "valid: hard, pcf_grid64, pcf_disk20, hw_compare2x2"},
-                      BadInput{"run --storage cubes --out @OUT@", "--storage: unknown storage"},
-                      BadInput{"run --cube 0 --out @OUT@", "--cube: '0' is not a valid size"},
-                      BadInput{"run --cube 1048576 --out @OUT@", "above the largest cube map"},
-                      BadInput{"run --frame 0x600 --out @OUT@", "--frame"},
-                      BadInput{"run --backend metal --out @OUT@", "unknown backend 'metal'"},
-                      BadInput{"run --scene @BAD_SCENE@ --out @OUT@", "BAD_SCENE.json: /objects/0/scale"},
-                      BadInput{"run --scene nosuchscene --out @OUT@", "nosuchscene.json: cannot open scene file"},
-                      BadInput{"run --scene room --out /proc/omnishadow", "--out /proc/omnishadow"},
-                      BadInput{"run --frobnicate", "frobnicate"},
-                      BadInput{"run --shard 3/2 --out @OUT@", "--shard"},
-                      BadInput{"run --out @OUT@ --benchmark_filter=nothing-matches-this", "empty"},
-                      BadInput{"run --out @OUT@ --benchmark_out=x.json", "--benchmark_out"},
-                      BadInput{"run --egl-platform wayland --out @OUT@", "unknown --egl-platform 'wayland'"},
-                      BadInput{"run --egl-platform device --gl-device 99 --out @OUT@", "--gl-device 99"},
-                      BadInput{"run --backend vulkan --vk-device no-such-gpu --out @OUT@",
-                               "--vk-device 'no-such-gpu' matches no Vulkan device"},
-                      BadInput{"run --backend vulkan --vk-device 7 --out @OUT@", "--vk-device 7 is out of range"},
-                      BadInput{"run --backend gl,vulkan --cube 40000 --out @OUT@", "above the largest cube map"},
-                      BadInput{"run --scene @OVERFLOW_SCENE@ --out @OUT@", "OVERFLOW_SCENE.json: malformed JSON"},
-                      BadInput{"run --scene @HUGE_SCENE@ --out @OUT@",
-                               "HUGE_SCENE.json: /objects/0/translate/2: number must be finite and below 1e30"},
-                      BadInput{"run --scene @EMPTY_SCENE@ --out @OUT@", "EMPTY_SCENE.json: /objects: a scene needs"},
-                      BadInput{"run --scene @TRUNCATED_SCENE@ --out @OUT@", "TRUNCATED_SCENE.json: malformed JSON"},
-                      BadInput{"run --scene room --out @EXISTING_FILE@", "exists and is not a folder"},
-                      BadInput{"run --scene room --out @EXISTING_RUN@", "already holds a run (results.json)"},
-                      BadInput{"run --frame 640x0 --out @OUT@", "--frame"},
-                      BadInput{"compare @FOREIGN_RESULTS@ @FOREIGN_RESULTS@", "not an omnishadow results file"},
-                      BadInput{"compare @TRUNCATED_RESULTS@ @TRUNCATED_RESULTS@", "not valid JSON (truncated or corrupt)"},
-                      BadInput{"compare @MISTYPED_RESULTS@ @MISTYPED_RESULTS@",
-                               "MISTYPED_RESULTS.json: /omnishadow/cases/0/images: expected an object"},
-                      BadInput{"merge @OUT@ @FOREIGN_RESULTS@", "not an omnishadow results file"},
-                      BadInput{"compare --alpha 2 @FOREIGN_RESULTS@ @FOREIGN_RESULTS@", "--alpha"},
-                      BadInput{"run --pcf-scale -1 --out @OUT@", "--pcf-scale: '-1' is not a scale"},
-                      BadInput{"run --remedy bias0+slope_bias --out @OUT@", "--remedy: bias0 and slope_bias exclude"},
-                      BadInput{"run --optimize cull+warp --out @OUT@", "--optimize: unknown optimisation 'warp'"},
-                      BadInput{"run --layout octahedral --out @OUT@", "--layout: unknown layout 'octahedral'"},
-                      BadInput{"run --tessellate 0 --out @OUT@", "--tessellate: '0' is not a valid"},
-                      BadInput{"run --tessellate 2,x --out @OUT@", "--tessellate: 'x' is not a valid"},
-                      BadInput{"run --tessellate 65 --out @OUT@", "--tessellate: 65 is more than 64 a side"},
-                      BadInput{"run --moments-tuning lbr0.4+blur9 --out @OUT@",
-                               "--moments-tuning: unknown moments tuning 'blur9'"},
-                      BadInput{"run --moments-tuning exp3 --out @OUT@", "--moments-tuning: moments tuning 'exp3'"},
-                      BadInput{"run --precision 2 --sustain 5 --out @OUT@", "--precision and --sustain: choose one"},
-                      BadInput{"run --precision 0 --out @OUT@", "--precision"},
-                      BadInput{"run --precision 2 --precision-metric vram --out @OUT@", "--precision-metric"},
-                      BadInput{"run --out @OUT@ --benchmark_repetitions=zero", "--benchmark_repetitions: expected"},
-                      BadInput{"run --scene /nonexistent/model.glb --out @OUT@", "model.glb: cannot open model"},
-                      BadInput{"run --scene @TRUNCATED_GLB@ --out @OUT@", "truncated.glb: "},
-                      BadInput{"run --scene room,@OTHER_ROOM@ --out @OUT@", "would both be named 'room' in case ids"},
-                      BadInput{"run --light 1,2 --out @OUT@", "--light: expected X,Y,Z or X,Y,Z,AX,AY,AZ, got 2"},
-                      BadInput{"run --camera 1,nan,3 --out @OUT@", "--camera: 'nan' is not a finite number"},
-                      BadInput{"run --scene spot --light 0,1,0 --out @OUT@", "spot.json: --light moves the point light"}),
+    ::testing::Values(
+        BadInput{"run --technique teapot --out @OUT@", "--technique: unknown technique 'teapot'"},
+        BadInput{"run --filter pcf9 --out @OUT@", "valid: hard, pcf_grid64, pcf_disk20, hw_compare2x2"},
+        BadInput{"run --storage cubes --out @OUT@", "--storage: unknown storage"},
+        BadInput{"run --cube 0 --out @OUT@", "--cube: '0' is not a valid size"},
+        BadInput{"run --cube 1048576 --out @OUT@", "above the largest cube map"},
+        BadInput{"run --frame 0x600 --out @OUT@", "--frame"},
+        BadInput{"run --backend metal --out @OUT@", "unknown backend 'metal'"},
+        BadInput{"run --scene @BAD_SCENE@ --out @OUT@", "BAD_SCENE.json: /objects/0/scale"},
+        BadInput{"run --scene nosuchscene --out @OUT@", "nosuchscene.json: cannot open scene file"},
+        BadInput{"run --scene room --out /proc/omnishadow", "--out /proc/omnishadow"},
+        BadInput{"run --frobnicate", "frobnicate"}, BadInput{"run --shard 3/2 --out @OUT@", "--shard"},
+        BadInput{"run --out @OUT@ --benchmark_filter=nothing-matches-this", "empty"},
+        BadInput{"run --out @OUT@ --benchmark_out=x.json", "--benchmark_out"},
+        BadInput{"run --egl-platform wayland --out @OUT@", "unknown --egl-platform 'wayland'"},
+        BadInput{"run --egl-platform device --gl-device 99 --out @OUT@", "--gl-device 99"},
+        BadInput{"run --backend vulkan --vk-device no-such-gpu --out @OUT@",
+                 "--vk-device 'no-such-gpu' matches no Vulkan device"},
+        BadInput{"run --backend vulkan --vk-device 7 --out @OUT@", "--vk-device 7 is out of range"},
+        BadInput{"run --backend gl,vulkan --cube 40000 --out @OUT@", "above the largest cube map"},
+        BadInput{"run --scene @OVERFLOW_SCENE@ --out @OUT@", "OVERFLOW_SCENE.json: malformed JSON"},
+        BadInput{"run --scene @HUGE_SCENE@ --out @OUT@",
+                 "HUGE_SCENE.json: /objects/0/translate/2: number must be finite and below 1e30"},
+        BadInput{"run --scene @EMPTY_SCENE@ --out @OUT@", "EMPTY_SCENE.json: /objects: a scene needs"},
+        BadInput{"run --scene @TRUNCATED_SCENE@ --out @OUT@", "TRUNCATED_SCENE.json: malformed JSON"},
+        BadInput{"run --scene room --out @EXISTING_FILE@", "exists and is not a folder"},
+        BadInput{"run --scene room --out @EXISTING_RUN@", "already holds a run (results.json)"},
+        BadInput{"run --frame 640x0 --out @OUT@", "--frame"},
+        BadInput{"compare @FOREIGN_RESULTS@ @FOREIGN_RESULTS@", "not an omnishadow results file"},
+        BadInput{"compare @TRUNCATED_RESULTS@ @TRUNCATED_RESULTS@", "not valid JSON (truncated or corrupt)"},
+        BadInput{"compare @MISTYPED_RESULTS@ @MISTYPED_RESULTS@",
+                 "MISTYPED_RESULTS.json: /omnishadow/cases/0/images: expected an object"},
+        BadInput{"merge @OUT@ @FOREIGN_RESULTS@", "not an omnishadow results file"},
+        BadInput{"compare --alpha 2 @FOREIGN_RESULTS@ @FOREIGN_RESULTS@", "--alpha"},
+        BadInput{"run --pcf-scale -1 --out @OUT@", "--pcf-scale: '-1' is not a scale"},
+        BadInput{"run --remedy bias0+slope_bias --out @OUT@", "--remedy: bias0 and slope_bias exclude"},
+        BadInput{"run --optimize cull+warp --out @OUT@", "--optimize: unknown optimisation 'warp'"},
+        BadInput{"run --layout octahedral --out @OUT@", "--layout: unknown layout 'octahedral'"},
+        BadInput{"run --tessellate 0 --out @OUT@", "--tessellate: '0' is not a valid"},
+        BadInput{"run --tessellate 2,x --out @OUT@", "--tessellate: 'x' is not a valid"},
+        BadInput{"run --tessellate 65 --out @OUT@", "--tessellate: 65 is more than 64 a side"},
+        BadInput{"run --moments-tuning lbr0.4+blur9 --out @OUT@",
+                 "--moments-tuning: unknown moments tuning 'blur9'"},
+        BadInput{"run --moments-tuning exp3 --out @OUT@", "--moments-tuning: moments tuning 'exp3'"},
+        BadInput{"run --precision 2 --sustain 5 --out @OUT@", "--precision and --sustain: choose one"},
+        BadInput{"run --precision 0 --out @OUT@", "--precision"},
+        BadInput{"run --precision 2 --precision-metric vram --out @OUT@", "--precision-metric"},
+        BadInput{"run --out @OUT@ --benchmark_repetitions=zero", "--benchmark_repetitions: expected"},
+        BadInput{"run --scene /nonexistent/model.glb --out @OUT@", "model.glb: cannot open model"},
+        BadInput{"run --scene @TRUNCATED_GLB@ --out @OUT@", "truncated.glb: "},
+        BadInput{"run --scene room,@OTHER_ROOM@ --out @OUT@", "would both be named 'room' in case ids"},
+        BadInput{"run --light 1,2 --out @OUT@", "--light: expected X,Y,Z or X,Y,Z,AX,AY,AZ, got 2"},
+        BadInput{"run --camera 1,nan,3 --out @OUT@", "--camera: 'nan' is not a finite number"},
+        BadInput{"run --scene spot --light 0,1,0 --out @OUT@", "spot.json: --light moves the point light"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
 
 class CliRun : public ::testing::Test {
@@ -207,10 +209,12 @@ class CliRun : public ::testing::Test {
 
 TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
   fs::path out = scratch("run");
-  Outcome o = run("run --scene room --cube 64 --technique six_pass,geometry_shader,vs_layer "
-                  "--filter hard,hw_compare2x2 --storage linear_depth,r32f_distance --frames 2 --warmup 1 --check "
-                  "--light-radius 0.2 --light-samples 2 --repetition-ms 0 --warmup-ms 0 "
-                  "--out " + out.string() + " --benchmark_repetitions=2");
+  Outcome o =
+      run("run --scene room --cube 64 --technique six_pass,geometry_shader,vs_layer "
+          "--filter hard,hw_compare2x2 --storage linear_depth,r32f_distance --frames 2 --warmup 1 --check "
+          "--light-radius 0.2 --light-samples 2 --repetition-ms 0 --warmup-ms 0 "
+          "--out " +
+          out.string() + " --benchmark_repetitions=2");
   ASSERT_EQ(o.exit_code, 0) << o.err;
   EXPECT_NE(o.err.find("[check 12/12]"), std::string::npos) << "progress on stderr";
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
@@ -278,14 +282,19 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
 
 TEST_F(CliRun, CompareScriptReadsTwoRuns) {
   const char* compare = "/usr/share/benchmark/compare.py";
-  if (!fs::exists(compare)) GTEST_SKIP() << "Google Benchmark's compare.py not installed (Debian: libbenchmark-tools)";
+  if (!fs::exists(compare))
+    GTEST_SKIP() << "Google Benchmark's compare.py not installed (Debian: libbenchmark-tools)";
   fs::path a = scratch("a"), b = scratch("b");
   for (const fs::path& out : {a, b})
     ASSERT_EQ(run("run --scene room --cube 32 --technique six_pass,geometry_shader --filter hard --frames 2 "
-                  "--no-images --no-accuracy --out " + out.string() + " --benchmark_repetitions=3").exit_code, 0);
+                  "--no-images --no-accuracy --out " +
+                  out.string() + " --benchmark_repetitions=3")
+                  .exit_code,
+              0);
   fs::path log = scratch("compare.log");
-  std::string cmd = std::string("/usr/bin/python3 ") + compare + " benchmarks " + (a / "results.json").string() + " " +
-                    (b / "results.json").string() + " >" + log.string() + " 2>&1";
+  std::string cmd = std::string("/usr/bin/python3 ") + compare + " benchmarks " +
+                    (a / "results.json").string() + " " + (b / "results.json").string() + " >" +
+                    log.string() + " 2>&1";
   int status = std::system(cmd.c_str());
   std::string text = omnishadow::bench::read_file(log.string());
   ASSERT_EQ(WEXITSTATUS(status), 0) << text;
@@ -293,11 +302,14 @@ TEST_F(CliRun, CompareScriptReadsTwoRuns) {
   EXPECT_NE(text.find("U Test"), std::string::npos) << text;
 }
 
-// Rounds until the time is up; every case then holds its stability figure and its clock samples per repetition.
+// Rounds until the time is up; every case then holds its stability figure and its clock samples per
+// repetition.
 TEST_F(CliRun, SustainLoopsRoundsAndReportsStability) {
   fs::path out = scratch("sustain");
-  Outcome o = run("run --scene room --cube 32 --frame 64x48 --technique six_pass,geometry_shader --filter hard "
-                  "--frames 2 --warmup 0 --no-accuracy --no-images --sustain 2 --out " + out.string());
+  Outcome o =
+      run("run --scene room --cube 32 --frame 64x48 --technique six_pass,geometry_shader --filter hard "
+          "--frames 2 --warmup 0 --no-accuracy --no-images --sustain 2 --out " +
+          out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   for (const auto& c : j["omnishadow"]["cases"]) {
@@ -310,13 +322,15 @@ TEST_F(CliRun, SustainLoopsRoundsAndReportsStability) {
   EXPECT_NE(o.out.find("## Sustained run (2 s of rounds)"), std::string::npos) << o.out;
 }
 
-// --precision-metric gpu judges the timer-query time per repetition (compare --metric gpu's samples): recorded
-// for every repetition whose GPU timer passed its check, and the interval reported is over those.
+// --precision-metric gpu judges the timer-query time per repetition (compare --metric gpu's samples):
+// recorded for every repetition whose GPU timer passed its check, and the interval reported is over those.
 TEST_F(CliRun, PrecisionJudgesGpuTimeWhereTheTimerPassedItsCheck) {
   fs::path out = scratch("precision_gpu");
-  Outcome o = run("run --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard,pcf_disk20 "
-                  "--frames 2 --warmup 1 --no-accuracy --no-images --precision 50 --precision-metric gpu "
-                  "--max-repetitions 9 --out " + out.string());
+  Outcome o =
+      run("run --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard,pcf_disk20 "
+          "--frames 2 --warmup 1 --no-accuracy --no-images --precision 50 --precision-metric gpu "
+          "--max-repetitions 9 --out " +
+          out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   EXPECT_EQ(j["omnishadow"]["repetition_policy"]["precision_metric"], "gpu");
@@ -344,19 +358,23 @@ TEST_F(CliRun, TwoApiRunsExitZeroInEitherOrder) {
   if (!vulkan_available(why)) GTEST_SKIP() << why;
   for (const char* order : {"gl,vulkan", "vulkan,gl"}) {
     fs::path out = scratch(std::string("two_api_") + order[0]);
-    Outcome o = run(std::string("run --backend ") + order + " --scene room --cube 32 --frame 64x48 "
-                    "--technique six_pass --filter hard --frames 1 --warmup 0 --no-accuracy --out " + out.string() +
-                    " --benchmark_repetitions=1");
+    Outcome o = run(std::string("run --backend ") + order +
+                    " --scene room --cube 32 --frame 64x48 "
+                    "--technique six_pass --filter hard --frames 1 --warmup 0 --no-accuracy --out " +
+                    out.string() + " --benchmark_repetitions=1");
     EXPECT_EQ(o.exit_code, 0) << order << ":\n" << o.err;
     EXPECT_TRUE(fs::exists(out / "results.json")) << order;
   }
 }
 
-// The default matrix does not ask a backend for a technique it cannot do at all; asked for by name, it is reported.
+// The default matrix does not ask a backend for a technique it cannot do at all; asked for by name, it is
+// reported.
 TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
   fs::path out = scratch("defaults");
-  Outcome o = run("run --scene room --cube 32 --frame 64x48 --filter hard --frames 1 --warmup 0 --no-accuracy "
-                  "--images none --out " + out.string() + " --benchmark_repetitions=1");
+  Outcome o =
+      run("run --scene room --cube 32 --frame 64x48 --filter hard --frames 1 --warmup 0 --no-accuracy "
+          "--images none --out " +
+          out.string() + " --benchmark_repetitions=1");
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   bool multiview_supported = o.err.find("multiview left out on gl") == std::string::npos;
@@ -364,8 +382,10 @@ TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
   EXPECT_EQ(cases, multiview_supported ? 5u : 4u) << o.err;
   for (const auto& c : j["omnishadow"]["cases"]) EXPECT_EQ(c["status"], "ok") << c.dump();
   fs::path named = scratch("named");
-  Outcome n = run("run --scene room --cube 32 --frame 64x48 --technique multiview --filter hard --frames 1 "
-                  "--warmup 0 --no-accuracy --images none --out " + named.string() + " --benchmark_repetitions=1");
+  Outcome n =
+      run("run --scene room --cube 32 --frame 64x48 --technique multiview --filter hard --frames 1 "
+          "--warmup 0 --no-accuracy --images none --out " +
+          named.string() + " --benchmark_repetitions=1");
   ASSERT_EQ(n.exit_code, 0) << n.err;
   auto k = nlohmann::json::parse(omnishadow::bench::read_file((named / "results.json").string()));
   ASSERT_EQ(k["omnishadow"]["cases"].size(), 1u);
@@ -374,11 +394,12 @@ TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
   }
 }
 
-// Issue 23: a run whose every backend renders on the CPU defaults to cube 512 only, said in one line; on a GPU, or
-// with --cube given, the cube sizes are the GPU default or what was asked for.
+// Issue 23: a run whose every backend renders on the CPU defaults to cube 512 only, said in one line; on a
+// GPU, or with --cube given, the cube sizes are the GPU default or what was asked for.
 TEST_F(CliRun, CpuDriversDefaultToOneCubeSizeAndSaySo) {
-  const std::string common = " --scene room --frame 64x48 --technique six_pass --filter hard --frames 1 --warmup 0 "
-                             "--no-accuracy --images none --benchmark_repetitions=1 --out ";
+  const std::string common =
+      " --scene room --frame 64x48 --technique six_pass --filter hard --frames 1 --warmup 0 "
+      "--no-accuracy --images none --benchmark_repetitions=1 --out ";
   fs::path out = scratch("cpu_cube_default");
   Outcome o = run("run" + common + out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
@@ -399,23 +420,27 @@ TEST_F(CliRun, CpuDriversDefaultToOneCubeSizeAndSaySo) {
 }
 
 // Issue 27: the GPU-specific single passes, asked for by name with --check on both APIs, beside six_pass with
-// culling on and off. A device without their extensions (Mesa's CPU drivers) reports each case unsupported with
-// the missing extension named, and the matrix goes on; a device with them (an NVIDIA GPU) must pass every check.
-// nv_swizzle refuses hardware_depth on every device, with its reason.
+// culling on and off. A device without their extensions (Mesa's CPU drivers) reports each case unsupported
+// with the missing extension named, and the matrix goes on; a device with them (an NVIDIA GPU) must pass
+// every check. nv_swizzle refuses hardware_depth on every device, with its reason.
 TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) {
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   fs::path out = scratch("singlepass");
-  Outcome o = run("run --backend " + backends + " --scene room --cube 64 --frame 160x120"
-                  " --technique six_pass,nv_swizzle,mesh_shader --filter hard,pcf_disk20"
-                  " --storage linear_depth,r32f_distance,hardware_depth --optimize none,cull --frames 1 --warmup 0"
-                  " --images none --check --benchmark_repetitions=1 --out " + out.string());
+  Outcome o =
+      run("run --backend " + backends +
+          " --scene room --cube 64 --frame 160x120"
+          " --technique six_pass,nv_swizzle,mesh_shader --filter hard,pcf_disk20"
+          " --storage linear_depth,r32f_distance,hardware_depth --optimize none,cull --frames 1 --warmup 0"
+          " --images none --check --benchmark_repetitions=1 --out " +
+          out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   int six_pass_ok = 0, gpu_paths = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     const std::string id = c["id"], technique = c["axes"]["technique"], status = c["status"];
-    if (c["axes"]["filter"] == "pcf_disk20" && c["axes"]["storage"] != "linear_depth") continue;  // not read so
+    if (c["axes"]["filter"] == "pcf_disk20" && c["axes"]["storage"] != "linear_depth")
+      continue;  // not read so
     if (technique == "six_pass") {
       six_pass_ok += status == "ok";
       continue;
@@ -424,9 +449,11 @@ TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) 
     if (status == "ok") continue;  // with --check: every check passed
     ASSERT_EQ(status, "unsupported") << c.dump();
     const std::string reason = c["reason"];
-    // An NVIDIA driver offers every extension these need (gpu/measured: H100, driver 580): there the only case
-    // that may be unsupported is nv_swizzle's refused hardware_depth, so a broken extension probe fails here.
-    const std::string renderer = j["omnishadow"]["devices"][c["axes"]["backend"].get<std::string>()]["renderer"];
+    // An NVIDIA driver offers every extension these need (gpu/measured: H100, driver 580): there the only
+    // case that may be unsupported is nv_swizzle's refused hardware_depth, so a broken extension probe fails
+    // here.
+    const std::string renderer =
+        j["omnishadow"]["devices"][c["axes"]["backend"].get<std::string>()]["renderer"];
     if (renderer.find("NVIDIA") != std::string::npos) {
       EXPECT_TRUE(technique == "nv_swizzle" && c["axes"]["storage"] == "hardware_depth")
           << id << " is unsupported on " << renderer << ": " << reason;
@@ -436,7 +463,8 @@ TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) 
     } else if (technique == "nv_swizzle") {
       EXPECT_NE(reason.find("NV_viewport_swizzle"), std::string::npos) << reason;
     } else {
-      EXPECT_NE(reason.find(id.rfind("gl/", 0) == 0 ? "GL_NV_mesh_shader" : "VK_EXT_mesh_shader"), std::string::npos)
+      EXPECT_NE(reason.find(id.rfind("gl/", 0) == 0 ? "GL_NV_mesh_shader" : "VK_EXT_mesh_shader"),
+                std::string::npos)
           << reason;
     }
   }
@@ -444,20 +472,24 @@ TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) 
   EXPECT_GT(gpu_paths, 0);
 }
 
-// nv_swizzle's emulation (--emulate-nv-swizzle: an ordinary GS applies each face's swizzle) runs everything of
-// nv_swizzle but the NV extensions on the CPU drivers: its vertex stage, the swizzle table as the GPU applies it,
-// the viewport mask with culling, the reversed depth test and clear of r32f_distance. Every check against six_pass
-// and exact visibility must pass on both APIs (heavy at cube 64 is past the default error limit for six_pass too:
+// nv_swizzle's emulation (--emulate-nv-swizzle: an ordinary GS applies each face's swizzle) runs everything
+// of nv_swizzle but the NV extensions on the CPU drivers: its vertex stage, the swizzle table as the GPU
+// applies it, the viewport mask with culling, the reversed depth test and clear of r32f_distance. Every check
+// against six_pass and exact visibility must pass on both APIs (heavy at cube 64 is past the default error
+// limit for six_pass too:
 // --max-error 100; a flipped culling sign or an unreversed depth test fails the checks:
 // docs/mutants.md).
 TEST_F(CliRun, EmulatedNvSwizzlePassesEveryCheckOnBothApis) {
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   fs::path out = scratch("swizzle_emulated");
-  Outcome o = run("run --backend " + backends + " --scene room,heavy --cube 64 --frame 160x120"
-                  " --technique six_pass,nv_swizzle --filter hard --storage linear_depth,r32f_distance"
-                  " --optimize none,cull --emulate-nv-swizzle --frames 1 --warmup 0 --images none --check --max-error 100"
-                  " --benchmark_repetitions=1 --out " + out.string());
+  Outcome o = run(
+      "run --backend " + backends +
+      " --scene room,heavy --cube 64 --frame 160x120"
+      " --technique six_pass,nv_swizzle --filter hard --storage linear_depth,r32f_distance"
+      " --optimize none,cull --emulate-nv-swizzle --frames 1 --warmup 0 --images none --check --max-error 100"
+      " --benchmark_repetitions=1 --out " +
+      out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   int emulated = 0;
@@ -472,15 +504,18 @@ TEST_F(CliRun, EmulatedNvSwizzlePassesEveryCheckOnBothApis) {
   EXPECT_EQ(emulated, (backends == "gl" ? 1 : 2) * 2 * 2 * 2) << "backends x scenes x storages x culling";
 }
 
-// Issue 27: the face_array layout runs with --check on both APIs (truth, timing, the technique checks within the
-// layout), beside the cube; its cases carry the layout in the id and the JSON axes.
+// Issue 27: the face_array layout runs with --check on both APIs (truth, timing, the technique checks within
+// the layout), beside the cube; its cases carry the layout in the id and the JSON axes.
 TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   fs::path out = scratch("layouts");
-  Outcome o = run("run --backend " + backends + " --scene room --cube 128 --frame 400x300 --layout cube,face_array"
-                  " --technique six_pass,geometry_shader --filter hard,pcf_disk20,hw_compare2x2,vsm --frames 1"
-                  " --warmup 0 --images none --check --benchmark_repetitions=1 --out " + out.string());
+  Outcome o =
+      run("run --backend " + backends +
+          " --scene room --cube 128 --frame 400x300 --layout cube,face_array"
+          " --technique six_pass,geometry_shader --filter hard,pcf_disk20,hw_compare2x2,vsm --frames 1"
+          " --warmup 0 --images none --check --benchmark_repetitions=1 --out " +
+          out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   int face_array_ok = 0;
@@ -497,16 +532,19 @@ TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {
   EXPECT_GE(face_array_ok, backends == "gl,vulkan" ? 14 : 8);
 }
 
-// dual_paraboloid (issue 27) passes its checks on both APIs: its techniques agree with its six_pass, its texels are
-// a figure (the warp bends edges), and against exact visibility its error falls with tessellation to the cube's.
-// The techniques it has no pass for yet are unsupported with the reason.
+// dual_paraboloid (issue 27) passes its checks on both APIs: its techniques agree with its six_pass, its
+// texels are a figure (the warp bends edges), and against exact visibility its error falls with tessellation
+// to the cube's. The techniques it has no pass for yet are unsupported with the reason.
 TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   fs::path out = scratch("paraboloid");
-  Outcome o = run("run --backend " + backends + " --scene mixed --cube 128 --frame 400x300 --layout cube,dual_paraboloid"
-                  " --tessellate 1,8 --technique six_pass,geometry_shader,vs_layer --filter hard,pcf_disk20 --frames 1"
-                  " --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " + out.string());
+  Outcome o = run(
+      "run --backend " + backends +
+      " --scene mixed --cube 128 --frame 400x300 --layout cube,dual_paraboloid"
+      " --tessellate 1,8 --technique six_pass,geometry_shader,vs_layer --filter hard,pcf_disk20 --frames 1"
+      " --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
+      out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   std::map<std::string, double> misclassified;  // backend/layout/tessellation, six_pass hard
@@ -516,15 +554,18 @@ TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
     const bool paraboloid = c["axes"]["layout"] == "dual_paraboloid";
     if (paraboloid && c["axes"]["technique"] == "vs_layer") {
       EXPECT_EQ(c["status"], "unsupported") << id;
-      EXPECT_NE(c["reason"].get<std::string>().find("dual_paraboloid is drawn by six_pass"), std::string::npos) << id;
+      EXPECT_NE(c["reason"].get<std::string>().find("dual_paraboloid is drawn by six_pass"),
+                std::string::npos)
+          << id;
       continue;
     }
     if (c["status"] == "unsupported") continue;  // vs_layer where the device lacks it
     EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
     paraboloid_ok += paraboloid;
     if (c["axes"]["technique"] == "six_pass" && c["axes"]["filter"] == "hard")
-      misclassified[c["axes"]["backend"].get<std::string>() + "/" + c["axes"]["layout"].get<std::string>() + "/" +
-                    std::to_string(c["axes"]["tessellation"].get<int>())] = c["accuracy"]["misclassified_percent"];
+      misclassified[c["axes"]["backend"].get<std::string>() + "/" + c["axes"]["layout"].get<std::string>() +
+                    "/" + std::to_string(c["axes"]["tessellation"].get<int>())] =
+          c["accuracy"]["misclassified_percent"];
   }
   EXPECT_GE(paraboloid_ok, backends == "gl,vulkan" ? 16 : 8);
   for (const std::string api : {"gl", "vulkan"}) {
@@ -532,21 +573,26 @@ TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
     const double cube = misclassified[api + "/cube/1"], coarse = misclassified[api + "/dual_paraboloid/1"],
                  fine = misclassified[api + "/dual_paraboloid/8"];
     EXPECT_NEAR(misclassified[api + "/cube/8"], cube, 0.05) << "tessellation leaves the cube's figure";
-    EXPECT_GT(coarse, 5.0 * fine) << "mixed's floor is two triangles: straight edges where the paraboloid curves";
+    EXPECT_GT(coarse, 5.0 * fine)
+        << "mixed's floor is two triangles: straight edges where the paraboloid curves";
     EXPECT_NEAR(fine, cube, 1.0) << "tessellated 8x, the paraboloid comes within a point of the cube";
   }
 }
-// tetrahedral (issue 27): four perspective faces, so its texels are held to the exact ray-cast truth as the cube's
-// are (cube_texels is a check here, not a figure), its techniques agree with its six_pass, and both APIs agree.
+// tetrahedral (issue 27): four perspective faces, so its texels are held to the exact ray-cast truth as the
+// cube's are (cube_texels is a check here, not a figure), its techniques agree with its six_pass, and both
+// APIs agree.
 TEST_F(CliRun, TetrahedralPassesItsChecksAndItsExactTexelTruth) {
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   fs::path out = scratch("tetrahedral");
   // tetra_seams: casters on its faces' corners, edges and tie planes (issue 27's layout extremes).
   const std::string seams = std::string(OMNISHADOW_TEST_SCENES_DIR) + "/extremes/tetra_seams.json";
-  Outcome o = run("run --backend " + backends + " --scene room,mixed," + seams + " --cube 128 --frame 400x300 --layout tetrahedral"
-                  " --technique six_pass,geometry_shader --filter hard,pcf_disk20 --frames 1 --warmup 0 --images none"
-                  " --check --max-error 100 --benchmark_repetitions=1 --out " + out.string());
+  Outcome o =
+      run("run --backend " + backends + " --scene room,mixed," + seams +
+          " --cube 128 --frame 400x300 --layout tetrahedral"
+          " --technique six_pass,geometry_shader --filter hard,pcf_disk20 --frames 1 --warmup 0 --images none"
+          " --check --max-error 100 --benchmark_repetitions=1 --out " +
+          out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   int ok = 0;
@@ -567,13 +613,16 @@ TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
   const std::string engine = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
   const std::string bunny = "/usr/share/glmark2/models/bunny.obj";
   if (!fs::exists(engine) || !fs::exists(bunny))
-    GTEST_SKIP() << engine << " or " << bunny << " missing: bash scripts/setup.sh installs assimp-testmodels and glmark2-data";
+    GTEST_SKIP() << engine << " or " << bunny
+                 << " missing: bash scripts/setup.sh installs assimp-testmodels and glmark2-data";
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   fs::path out = scratch("models");
-  Outcome o = run("run --backend " + backends + " --scene " + engine + "," + bunny +
-                  " --cube 256 --frame 400x300 --technique six_pass,geometry_shader --filter hard,pcf_disk20 --frames 1"
-                  " --warmup 0 --images none --check --benchmark_repetitions=1 --out " + out.string());
+  Outcome o = run(
+      "run --backend " + backends + " --scene " + engine + "," + bunny +
+      " --cube 256 --frame 400x300 --technique six_pass,geometry_shader --filter hard,pcf_disk20 --frames 1"
+      " --warmup 0 --images none --check --benchmark_repetitions=1 --out " +
+      out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   std::map<std::string, int> by_scene;
@@ -591,17 +640,22 @@ TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
   EXPECT_EQ(loads[1]["scene"], "bunny");
   EXPECT_EQ(loads[1]["triangles"], 69666 + 2) << "the bunny and its floor";
   EXPECT_GE(loads[1]["seconds"].get<double>(), 0.0);
-  EXPECT_NE(omnishadow::bench::read_file((out / "summary.md").string()).find("Scenes loaded"), std::string::npos);
+  EXPECT_NE(omnishadow::bench::read_file((out / "summary.md").string()).find("Scenes loaded"),
+            std::string::npos);
   size_t placed = 0;
-  for (size_t at = o.err.find("placed by rule"); at != std::string::npos; at = o.err.find("placed by rule", at + 1))
+  for (size_t at = o.err.find("placed by rule"); at != std::string::npos;
+       at = o.err.find("placed by rule", at + 1))
     ++placed;
   EXPECT_EQ(placed, 2u) << "said once per scene, not per backend or case:\n" << o.err;
 
   // Placed by hand: recorded in the results, and still checked.
   fs::path hand = scratch("models_by_hand");
-  Outcome h = run("run --backend gl --scene " + bunny + " --light 0.2,1.6,0.9,0.3,0,0 --camera 2,1,3,0,0,0 --cube 256 "
-                  "--frame 400x300 --technique six_pass --filter hard --frames 1 --warmup 0 --images none --check "
-                  "--benchmark_repetitions=1 --out " + hand.string());
+  Outcome h =
+      run("run --backend gl --scene " + bunny +
+          " --light 0.2,1.6,0.9,0.3,0,0 --camera 2,1,3,0,0,0 --cube 256 "
+          "--frame 400x300 --technique six_pass --filter hard --frames 1 --warmup 0 --images none --check "
+          "--benchmark_repetitions=1 --out " +
+          hand.string());
   ASSERT_EQ(h.exit_code, 0) << h.err;
   auto k = nlohmann::json::parse(omnishadow::bench::read_file((hand / "results.json").string()));
   EXPECT_EQ(k["omnishadow"]["options"]["light"], "0.2,1.6,0.9,0.3,0,0");
@@ -609,16 +663,19 @@ TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
   EXPECT_NE(h.err.find("light by --light"), std::string::npos) << h.err;
 }
 
-// A default scene that cannot load (bunny.json without glmark2-data) is left out in one line and the matrix goes
-// on; the same scene asked for by name is an error.
+// A default scene that cannot load (bunny.json without glmark2-data) is left out in one line and the matrix
+// goes on; the same scene asked for by name is an error.
 TEST_F(CliRun, DefaultSceneThatCannotLoadIsLeftOutInOneLine) {
   fs::path dir = scratch("scenes_without_packages");
   fs::create_directories(dir);
   const std::string box = R"({"light": {}, "objects": [{"type": "box", "scale": 5, "inside": true}]})";
   for (const char* name : {"room.json", "heavy.json"}) std::ofstream(dir / name) << box;
-  std::ofstream(dir / "bunny.json") << R"({"light": {}, "objects": [{"type": "obj", "file": "/nonexistent/bunny.obj"}]})";
-  const std::string common = " --cube 32 --frame 64x48 --technique six_pass --filter hard --frames 1 --warmup 0 "
-                             "--no-accuracy --images none --benchmark_repetitions=1 --scenes-dir " + dir.string();
+  std::ofstream(dir / "bunny.json")
+      << R"({"light": {}, "objects": [{"type": "obj", "file": "/nonexistent/bunny.obj"}]})";
+  const std::string common =
+      " --cube 32 --frame 64x48 --technique six_pass --filter hard --frames 1 --warmup 0 "
+      "--no-accuracy --images none --benchmark_repetitions=1 --scenes-dir " +
+      dir.string();
   const fs::path out = scratch("default_left_out");
   Outcome o = run("run" + common + " --out " + out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
@@ -643,8 +700,9 @@ namespace {
 
 TEST_F(CliRun, ShardsMergeIntoTheSameRunAndCompareReadsIt) {
   fs::path full = scratch("full"), s0 = scratch("s0"), s1 = scratch("s1"), merged = scratch("merged");
-  const std::string matrix = "run --scene room --cube 32 --technique six_pass,geometry_shader --filter hard,pcf_disk20 "
-                             "--frame 64x48 --frames 1 --warmup 0 --light-radius 0 ";
+  const std::string matrix =
+      "run --scene room --cube 32 --technique six_pass,geometry_shader --filter hard,pcf_disk20 "
+      "--frame 64x48 --frames 1 --warmup 0 --light-radius 0 ";
   ASSERT_EQ(run(matrix + "--out " + full.string()).exit_code, 0);
   ASSERT_EQ(run(matrix + "--shard 0/2 --out " + s0.string()).exit_code, 0);
   ASSERT_EQ(run(matrix + "--shard 1/2 --out " + s1.string()).exit_code, 0);
@@ -680,35 +738,40 @@ TEST_F(CliRun, CompareRefusesBadInput) {
   EXPECT_EQ(usage.exit_code, 2);
 }
 
-// The same-run experiment axes (scripts/experiments/sensitivity_same_run.py): every case once per injected value and replica,
-// measured in the same rounds, each copy with its own id and its injected work recorded.
+// The same-run experiment axes (scripts/experiments/sensitivity_same_run.py): every case once per injected
+// value and replica, measured in the same rounds, each copy with its own id and its injected work recorded.
 TEST_F(CliRun, ExperimentAxesRunEveryCopyInOneRun) {
   fs::path out = scratch("experiment");
-  Outcome o = run("run --scene room --cube 32 --technique six_pass --filter hard --frames 1 --no-images "
-                  "--no-accuracy --inject-fragment-work 0,5 --replicas 2 --out " + out.string() +
-                  " --benchmark_repetitions=2");
+  Outcome o =
+      run("run --scene room --cube 32 --technique six_pass --filter hard --frames 1 --no-images "
+          "--no-accuracy --inject-fragment-work 0,5 --replicas 2 --out " +
+          out.string() + " --benchmark_repetitions=2");
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   std::vector<std::string> ids;
   for (const auto& c : j["omnishadow"]["cases"]) {
     ids.push_back(c["id"]);
-    EXPECT_EQ(c["axes"]["injected_fragment_work"], c["id"].get<std::string>().find("/inj5/") != std::string::npos ? 5 : 0);
+    EXPECT_EQ(c["axes"]["injected_fragment_work"],
+              c["id"].get<std::string>().find("/inj5/") != std::string::npos ? 5 : 0);
   }
   EXPECT_EQ(j["omnishadow"]["options"]["injected_fragment_work"], nlohmann::json({0, 5}));
   const std::string root = "gl/room/c32/f800x600/six_pass/hard/linear_depth/d32f/";
-  EXPECT_EQ(ids, (std::vector<std::string>{root + "inj0/rep0", root + "inj0/rep1", root + "inj5/rep0", root + "inj5/rep1"}));
-  Outcome twice = run("run --scene room --cube 32 --inject-fragment-work 5,5 --out " + scratch("experiment2").string());
+  EXPECT_EQ(ids, (std::vector<std::string>{root + "inj0/rep0", root + "inj0/rep1", root + "inj5/rep0",
+                                           root + "inj5/rep1"}));
+  Outcome twice =
+      run("run --scene room --cube 32 --inject-fragment-work 5,5 --out " + scratch("experiment2").string());
   EXPECT_EQ(twice.exit_code, 2);
   EXPECT_NE(twice.err.find("--inject-fragment-work: a value is given twice"), std::string::npos) << twice.err;
 }
 
-// --warmup-ms repeats the warm-up frames until that long (a GPU's clock ramps after each pause), cycling over the
-// warm-up frames' indices so the timed frames stay the same frames (gbench_glue.cpp): the run's work and images
-// are those of a run without it; and each backend's clock settles before its first timed repetition, said on
-// stderr.
+// --warmup-ms repeats the warm-up frames until that long (a GPU's clock ramps after each pause), cycling over
+// the warm-up frames' indices so the timed frames stay the same frames (gbench_glue.cpp): the run's work and
+// images are those of a run without it; and each backend's clock settles before its first timed repetition,
+// said on stderr.
 TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
-  const std::string args = "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
-                           "--frames 2 --warmup 2 --images all --no-accuracy --benchmark_repetitions=2 --out ";
+  const std::string args =
+      "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
+      "--frames 2 --warmup 2 --images all --no-accuracy --benchmark_repetitions=2 --out ";
   fs::path none = scratch("warmup_none"), timed = scratch("warmup_timed");
   Outcome a = run(args + none.string() + " --warmup-ms 0");
   Outcome b = run(args + timed.string() + " --warmup-ms 200");
@@ -729,13 +792,14 @@ TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
   EXPECT_NE(bad.err.find("--warmup-ms"), std::string::npos) << bad.err;
 }
 
-// --repetition-ms sizes each case's repetitions by time (gbench_glue.cpp, size_repetitions): at least --frames
-// timed frames, more until a repetition lasts that long. The plain run says --repetition-ms 0 (a CPU driver's
-// default; a GPU's is 100 ms, which would add frames there). 400 ms is over a hundred times a 64x48 frame here.
-// The work per frame and the images are those of a run without it.
+// --repetition-ms sizes each case's repetitions by time (gbench_glue.cpp, size_repetitions): at least
+// --frames timed frames, more until a repetition lasts that long. The plain run says --repetition-ms 0 (a CPU
+// driver's default; a GPU's is 100 ms, which would add frames there). 400 ms is over a hundred times a 64x48
+// frame here. The work per frame and the images are those of a run without it.
 TEST_F(CliRun, RepetitionLengthInTimeAddsTimedFrames) {
-  const std::string args = "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
-                           "--frames 2 --warmup 1 --no-accuracy --benchmark_repetitions=2 --out ";
+  const std::string args =
+      "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
+      "--frames 2 --warmup 1 --no-accuracy --benchmark_repetitions=2 --out ";
   fs::path plain = scratch("repetition_plain"), sized = scratch("repetition_sized");
   Outcome a = run(args + plain.string() + " --repetition-ms 0");
   Outcome b = run(args + sized.string() + " --repetition-ms 400");
@@ -758,18 +822,21 @@ TEST_F(CliRun, RepetitionLengthInTimeAddsTimedFrames) {
   EXPECT_NE(bad.err.find("--repetition-ms"), std::string::npos) << bad.err;
 }
 
-// --lock-clocks locks through NVML where this process may (then says so and the run goes on), and is a one-line
-// refusal naming the option and the backend anywhere else (here: llvmpipe's clock is the CPUs'), before any case.
+// --lock-clocks locks through NVML where this process may (then says so and the run goes on), and is a
+// one-line refusal naming the option and the backend anywhere else (here: llvmpipe's clock is the CPUs'),
+// before any case.
 TEST_F(CliRun, LockClocksLocksThroughNvmlOrRefusesInOneLine) {
-  // On an NVIDIA machine this would lock the GPU's clock, which is the machine owner's call (a lent or shared GPU's
-  // settings are not ours): only where OMNISHADOW_TEST_LOCK_CLOCKS=1 says so.
+  // On an NVIDIA machine this would lock the GPU's clock, which is the machine owner's call (a lent or shared
+  // GPU's settings are not ours): only where OMNISHADOW_TEST_LOCK_CLOCKS=1 says so.
   const char* allowed = std::getenv("OMNISHADOW_TEST_LOCK_CLOCKS");
   if (fs::exists("/dev/nvidiactl") && !(allowed && std::string(allowed) == "1"))
     GTEST_SKIP() << "an NVIDIA GPU is present and --lock-clocks would lock its clock: set "
                     "OMNISHADOW_TEST_LOCK_CLOCKS=1 on a machine whose clock settings are yours";
   fs::path out = scratch("lock_clocks");
-  Outcome o = run("run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
-                  "--frames 1 --warmup 0 --no-accuracy --no-images --lock-clocks --out " + out.string());
+  Outcome o =
+      run("run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
+          "--frames 1 --warmup 0 --no-accuracy --no-images --lock-clocks --out " +
+          out.string());
   if (o.exit_code == 0) {
     EXPECT_NE(o.err.find("[lock-clocks] graphics clock locked at"), std::string::npos) << o.err;
     return;
@@ -781,12 +848,16 @@ TEST_F(CliRun, LockClocksLocksThroughNvmlOrRefusesInOneLine) {
   EXPECT_FALSE(fs::exists(out / "results.json")) << "refused before any case ran";
 }
 
-// A gate file (scripts/experiments/sensitivity.py --write-gate) sets the test's metric, alpha and minimum effect; a bad one is a
-// one-line error naming the file and the field.
+// A gate file (scripts/experiments/sensitivity.py --write-gate) sets the test's metric, alpha and minimum
+// effect; a bad one is a one-line error naming the file and the field.
 TEST_F(CliRun, CompareTakesItsGateFromAGateFile) {
   fs::path a = scratch("gate_a");
-  ASSERT_EQ(run("run --scene room --cube 32 --technique six_pass --filter hard --frames 2 --no-images --no-accuracy "
-                "--out " + a.string() + " --benchmark_repetitions=3").exit_code, 0);
+  ASSERT_EQ(run("run --scene room --cube 32 --technique six_pass --filter hard --frames 2 --no-images "
+                "--no-accuracy "
+                "--out " +
+                a.string() + " --benchmark_repetitions=3")
+                .exit_code,
+            0);
   auto write = [&](const std::string& name, const std::string& text) {
     fs::path p = scratch(name);
     std::ofstream(p) << text;
@@ -794,13 +865,15 @@ TEST_F(CliRun, CompareTakesItsGateFromAGateFile) {
   };
   const std::string good = write("gate.json", R"({"metric": "cpu", "alpha": 0.01, "min_effect": 0.25})");
   const fs::path cmp_dir = scratch("gate_cmp");
-  Outcome same = run("compare " + a.string() + " " + a.string() + " --gate " + good + " --out " + cmp_dir.string());
+  Outcome same =
+      run("compare " + a.string() + " " + a.string() + " --gate " + good + " --out " + cmp_dir.string());
   EXPECT_EQ(same.exit_code, 0) << same.err;
   auto cmp = nlohmann::json::parse(omnishadow::bench::read_file((cmp_dir / "comparison.json").string()));
   EXPECT_EQ(cmp["metric"], "cpu") << cmp.dump().substr(0, 400);
   EXPECT_DOUBLE_EQ(cmp["alpha"].get<double>(), 0.01);
   EXPECT_DOUBLE_EQ(cmp["min_effect"].get<double>(), 0.25);
-  Outcome bad = run("compare " + a.string() + " " + a.string() + " --gate " + write("bad.json", R"({"alpha": "x"})"));
+  Outcome bad =
+      run("compare " + a.string() + " " + a.string() + " --gate " + write("bad.json", R"({"alpha": "x"})"));
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("bad.json: field 'alpha' missing or not a number"), std::string::npos) << bad.err;
   Outcome junk = run("compare " + a.string() + " " + a.string() + " --gate " + write("junk.json", "{"));
@@ -812,7 +885,8 @@ TEST_F(CliRun, CompareTakesItsGateFromAGateFile) {
 
 namespace {
 
-// SIGINT mid-matrix: the run stops after the case in hand, exits 130 and leaves valid JSON with what finished.
+// SIGINT mid-matrix: the run stops after the case in hand, exits 130 and leaves valid JSON with what
+// finished.
 TEST_F(CliRun, InterruptedRunLeavesValidResults) {
   fs::path out = scratch("interrupted");
   fs::path log = scratch("interrupted.log");
@@ -845,17 +919,19 @@ TEST_F(CliRun, InterruptedRunLeavesValidResults) {
   EXPECT_NE(omnishadow::bench::read_file(log.string()).find("stopped by SIGINT"), std::string::npos);
 }
 
-// SIGTERM in the middle of a timed round: the run exits 143 with valid results that say so, the cases the round
-// had not reached marked interrupted. That it stops after the repetition in hand, not after the round, is
-// HarnessTest.StopEndsTheRunAfterTheRepetitionInHand's, counted in the scripted device's frames, not in seconds.
+// SIGTERM in the middle of a timed round: the run exits 143 with valid results that say so, the cases the
+// round had not reached marked interrupted. That it stops after the repetition in hand, not after the round,
+// is HarnessTest.StopEndsTheRunAfterTheRepetitionInHand's, counted in the scripted device's frames, not in
+// seconds.
 TEST_F(CliRun, SigtermInsideARoundLeavesValidResults) {
   fs::path out = scratch("prompt_stop");
   fs::path log = scratch("prompt_stop.log");
-  std::string cmd = std::string(OMNISHADOW_BINARY) +
-                    " run --backend gl --scene room --cube 128 --frame 400x300 --technique six_pass,geometry_shader,"
-                    "vs_layer --filter hard,pcf_grid64,pcf_disk20 --storage linear_depth,r32f_distance,hardware_depth "
-                    "--frames 200 --warmup 0 --no-accuracy --no-images --benchmark_repetitions=2 --out " +
-                    out.string() + " 2>" + log.string();
+  std::string cmd =
+      std::string(OMNISHADOW_BINARY) +
+      " run --backend gl --scene room --cube 128 --frame 400x300 --technique six_pass,geometry_shader,"
+      "vs_layer --filter hard,pcf_grid64,pcf_disk20 --storage linear_depth,r32f_distance,hardware_depth "
+      "--frames 200 --warmup 0 --no-accuracy --no-images --benchmark_repetitions=2 --out " +
+      out.string() + " 2>" + log.string();
   pid_t pid = fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
@@ -868,10 +944,12 @@ TEST_F(CliRun, SigtermInsideARoundLeavesValidResults) {
     text << f.rdbuf();
     return text.str();
   };
-  // Wait until the third repetition of round 1 has started, however long that takes here, unless the run ends.
+  // Wait until the third repetition of round 1 has started, however long that takes here, unless the run
+  // ends.
   int status = 0;
   bool ended = false;
-  while (log_text().find("[time round 1/2, 3/") == std::string::npos && !(ended = waitpid(pid, &status, WNOHANG) == pid))
+  while (log_text().find("[time round 1/2, 3/") == std::string::npos &&
+         !(ended = waitpid(pid, &status, WNOHANG) == pid))
     usleep(50 * 1000);
   ASSERT_FALSE(ended) << "the run ended before round 1's third case: " << log_text();
   kill(pid, SIGTERM);
@@ -891,8 +969,8 @@ TEST_F(CliRun, SigtermInsideARoundLeavesValidResults) {
   EXPECT_NE(log_text().find("stopped by SIGTERM"), std::string::npos) << log_text();
 }
 
-// The run of `--cube 16384,64` in `out`: the first case a resource_error (a memory finding), the second ok. Returns
-// the first case's reason ("" when the file does not hold two cases; the failures are recorded).
+// The run of `--cube 16384,64` in `out`: the first case a resource_error (a memory finding), the second ok.
+// Returns the first case's reason ("" when the file does not hold two cases; the failures are recorded).
 std::string out_of_memory_then_ok(const fs::path& out) {
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   const auto& cases = j["omnishadow"]["cases"];
@@ -904,18 +982,22 @@ std::string out_of_memory_then_ok(const fs::path& out) {
   return cases[0].value("reason", "");
 }
 
-// Out of memory is a result, never a crash, and the matrix goes on. Predicted (bench/run/memory_budget.h): with
-// --memory-budget the 16384 cube (about 13 GiB of targets) cannot fit in 1 GiB on any device, so it fails before
-// allocating, and the 64 cube after it runs.
+// Out of memory is a result, never a crash, and the matrix goes on. Predicted (bench/run/memory_budget.h):
+// with
+// --memory-budget the 16384 cube (about 13 GiB of targets) cannot fit in 1 GiB on any device, so it fails
+// before allocating, and the 64 cube after it runs.
 TEST_F(CliRun, PredictedOutOfMemoryFailsTheCaseAndTheMatrixGoesOn) {
   bool vulkan = run("list").out.find("vulkan: unavailable") == std::string::npos;
   for (std::string backend : {"gl", "vulkan"}) {
     if (backend == "vulkan" && !vulkan) continue;
     SCOPED_TRACE(backend);
     fs::path out = scratch("oom_predicted_" + backend);
-    Outcome o = run("run --backend " + backend + " --scene room --cube 16384,64 --technique six_pass --filter hard "
-                    "--frames 1 --warmup 0 --no-images --no-accuracy --benchmark_repetitions=1 --memory-budget 1G "
-                    "--out " + out.string());
+    Outcome o =
+        run("run --backend " + backend +
+            " --scene room --cube 16384,64 --technique six_pass --filter hard "
+            "--frames 1 --warmup 0 --no-images --no-accuracy --benchmark_repetitions=1 --memory-budget 1G "
+            "--out " +
+            out.string());
     EXPECT_EQ(o.exit_code, 0) << o.out;
     const std::string reason = out_of_memory_then_ok(out);
     EXPECT_NE(reason.find("out of memory (predicted)"), std::string::npos) << reason;
@@ -923,10 +1005,10 @@ TEST_F(CliRun, PredictedOutOfMemoryFailsTheCaseAndTheMatrixGoesOn) {
   }
 }
 
-// The driver's own out-of-memory path (--no-memory-precheck: GL_OUT_OF_MEMORY, VK_ERROR_OUT_OF_*_MEMORY), where it
-// can be reached without harm: on a CPU driver, whose targets are host memory, an address-space limit makes the
-// 16384 cube fail to allocate. A GPU holds that cube in device memory, and vendor drivers may crash rather than
-// fail under an address-space limit, so there the test says why it does not run.
+// The driver's own out-of-memory path (--no-memory-precheck: GL_OUT_OF_MEMORY, VK_ERROR_OUT_OF_*_MEMORY),
+// where it can be reached without harm: on a CPU driver, whose targets are host memory, an address-space
+// limit makes the 16384 cube fail to allocate. A GPU holds that cube in device memory, and vendor drivers may
+// crash rather than fail under an address-space limit, so there the test says why it does not run.
 TEST_F(CliRun, DriverOutOfMemoryFailsTheCaseAndTheMatrixGoesOn) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: ulimit -v cannot apply under it";
@@ -935,13 +1017,16 @@ TEST_F(CliRun, DriverOutOfMemoryFailsTheCaseAndTheMatrixGoesOn) {
   int ran = 0;
   for (std::string backend : {"gl", "vulkan"}) {
     const size_t line = list.find("  " + backend + ": ");
-    if (line == std::string::npos || list.compare(line, backend.size() + 15, "  " + backend + ": unavailable") == 0)
+    if (line == std::string::npos ||
+        list.compare(line, backend.size() + 15, "  " + backend + ": unavailable") == 0)
       continue;
-    if (list.substr(line, list.find('\n', line) - line).find("host memory (CPU driver)") == std::string::npos) continue;
+    if (list.substr(line, list.find('\n', line) - line).find("host memory (CPU driver)") == std::string::npos)
+      continue;
     SCOPED_TRACE(backend);
     ++ran;
     fs::path out = scratch("oom_driver_" + backend);
-    std::string cmd = "ulimit -v 3000000; exec " + std::string(OMNISHADOW_BINARY) + " run --backend " + backend +
+    std::string cmd = "ulimit -v 3000000; exec " + std::string(OMNISHADOW_BINARY) + " run --backend " +
+                      backend +
                       " --scene room --cube 16384,64 --technique six_pass --filter hard --frames 1 --warmup 0"
                       " --no-images --no-accuracy --benchmark_repetitions=1 --no-memory-precheck --out " +
                       out.string() + " >/dev/null 2>&1";
@@ -949,35 +1034,39 @@ TEST_F(CliRun, DriverOutOfMemoryFailsTheCaseAndTheMatrixGoesOn) {
     ASSERT_TRUE(WIFEXITED(status)) << "the run must not die";
     EXPECT_EQ(WEXITSTATUS(status), 0);
     const std::string reason = out_of_memory_then_ok(out);
-    EXPECT_TRUE(reason.find("out of") != std::string::npos || reason.find("OUT_OF") != std::string::npos) << reason;
+    EXPECT_TRUE(reason.find("out of") != std::string::npos || reason.find("OUT_OF") != std::string::npos)
+        << reason;
   }
   if (ran == 0)
-    GTEST_SKIP() << "no backend here keeps its targets in host memory: the device holds the 16384 cube, and an "
-                    "address-space limit is no safe way to exhaust a GPU driver (PredictedOutOfMemory... covers the "
-                    "planned path)";
+    GTEST_SKIP()
+        << "no backend here keeps its targets in host memory: the device holds the 16384 cube, and an "
+           "address-space limit is no safe way to exhaust a GPU driver (PredictedOutOfMemory... covers the "
+           "planned path)";
 #endif
 }
 
-// The numerical-stability suite's invariants (scenes/extremes/, docs/extremes.md), on GL: no NaN/Inf anywhere in
-// the read-back buffers; bounded error where the tutorials' settings hold (the room at 1:1e6 near/far and with
-// zero-area triangles stays within 0.3% of exact visibility, measured 0.09-0.10%); the far-from-origin remedy
-// works (offset 1e6: 3.1% without, 0.09% with /rebase; bound 0.2%); a light moving by ~1e-5 units per frame
-// flips under 0.5% of pixels (measured 0).
-// One six_pass/hard run over scenes/extremes with `args`; the parsed results.json (null when the run failed).
+// The numerical-stability suite's invariants (scenes/extremes/, docs/extremes.md), on GL: no NaN/Inf anywhere
+// in the read-back buffers; bounded error where the tutorials' settings hold (the room at 1:1e6 near/far and
+// with zero-area triangles stays within 0.3% of exact visibility, measured 0.09-0.10%); the far-from-origin
+// remedy works (offset 1e6: 3.1% without, 0.09% with /rebase; bound 0.2%); a light moving by ~1e-5 units per
+// frame flips under 0.5% of pixels (measured 0). One six_pass/hard run over scenes/extremes with `args`; the
+// parsed results.json (null when the run failed).
 nlohmann::json run_extremes(const std::string& name, const std::string& args) {
   fs::path out = scratch(name);
   const std::string filter = args.find("--filter") == std::string::npos ? " --filter hard" : "";
-  Outcome o = run("run --scenes-dir " + std::string(OMNISHADOW_TEST_SCENES_DIR) + "/extremes --technique six_pass" +
-                  filter + " --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --no-images " + args +
-                  " --out " + out.string());
+  Outcome o =
+      run("run --scenes-dir " + std::string(OMNISHADOW_TEST_SCENES_DIR) + "/extremes --technique six_pass" +
+          filter + " --frames 1 --warmup 0 --benchmark_repetitions=1 --light-radius 0 --no-images " + args +
+          " --out " + out.string());
   EXPECT_EQ(o.exit_code, 0) << o.err;
   if (o.exit_code != 0) return nullptr;
   return nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
 }
 
 TEST_F(CliRun, ExtremesHoldTheirStatedBounds) {
-  auto j = run_extremes("extremes", "--scene nf_1e6,degenerate,offset_1e6,stability_tiny_steps,light_on_floor"
-                                    " --remedy none,rebase --cube 512 --stability");
+  auto j = run_extremes("extremes",
+                        "--scene nf_1e6,degenerate,offset_1e6,stability_tiny_steps,light_on_floor"
+                        " --remedy none,rebase --cube 512 --stability");
   ASSERT_FALSE(j.is_null());
   int checked = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
@@ -985,8 +1074,8 @@ TEST_F(CliRun, ExtremesHoldTheirStatedBounds) {
     std::string scene = c["axes"]["scene"];
     bool rebased = c["axes"]["remedies"] == "rebase";
     if (scene == "offset_1e6" && !rebased) {
-      // Far from the origin the cube itself is wrong (float positions at 1e6 step by 0.06): the cube-texel check
-      // says so whatever the camera sees; rebased, it holds.
+      // Far from the origin the cube itself is wrong (float positions at 1e6 step by 0.06): the cube-texel
+      // check says so whatever the camera sees; rebased, it holds.
       EXPECT_EQ(c["status"], "failed_check") << id;
       EXPECT_NE(c["reason"].get<std::string>().find("cube_texels"), std::string::npos) << c["reason"];
     } else {
@@ -998,8 +1087,10 @@ TEST_F(CliRun, ExtremesHoldTheirStatedBounds) {
       EXPECT_LT(error, 0.3) << id;
     }
     if (scene == "offset_1e6") {
-      if (rebased) EXPECT_LT(error, 0.2) << id;
-      else EXPECT_GT(error, 1.0) << id << ": the extreme no longer breaks?";
+      if (rebased)
+        EXPECT_LT(error, 0.2) << id;
+      else
+        EXPECT_GT(error, 1.0) << id << ": the extreme no longer breaks?";
     }
     if (scene == "stability_tiny_steps") {
       EXPECT_LT(c["stability"]["flicker_percent"].get<double>(), 0.5) << id;
@@ -1012,9 +1103,9 @@ TEST_F(CliRun, ExtremesHoldTheirStatedBounds) {
 // Where a variant breaks, the result says so, and a remedy measured on and off in one run repairs it: a light
 // inside a closed caster sees through it with back-face culling (measured 98.9% misclassified) and not with
 // two-sided casters (0%); without bias, acne misclassifies about half the room (49%).
-// Without --max-error, a hard comparison (hard, and hw_compare2x2's 2x2 bilinear of 0/1 comparisons) has a default
-// limit (5% of pixels misclassified), not the soft filters' 15%: a 2-texel cube (about 40%) fails it with the
-// measured error; the same case with --max-error 50 does not.
+// Without --max-error, a hard comparison (hard, and hw_compare2x2's 2x2 bilinear of 0/1 comparisons) has a
+// default limit (5% of pixels misclassified), not the soft filters' 15%: a 2-texel cube (about 40%) fails it
+// with the measured error; the same case with --max-error 50 does not.
 TEST_F(CliRun, HardShadowsHaveADefaultErrorLimit) {
   auto j = run_extremes("default_limit", "--scene nf_25 --cube 2,512 --filter hard,hw_compare2x2");
   ASSERT_FALSE(j.is_null());
@@ -1024,7 +1115,8 @@ TEST_F(CliRun, HardShadowsHaveADefaultErrorLimit) {
     EXPECT_EQ(c["status"], e > 5.0 ? "failed_quality" : "ok") << c["id"] << " " << e;
     if (e > 5.0) {
       ++broken;
-      EXPECT_NE(c["reason"].get<std::string>().find("default limit for hard comparisons 5%"), std::string::npos)
+      EXPECT_NE(c["reason"].get<std::string>().find("default limit for hard comparisons 5%"),
+                std::string::npos)
           << c["reason"];
     }
   }
@@ -1036,11 +1128,13 @@ TEST_F(CliRun, HardShadowsHaveADefaultErrorLimit) {
 }
 
 TEST_F(CliRun, RemediesAreMeasuredOnAndOff) {
-  auto j = run_extremes("remedies", "--scene light_in_caster,nf_25 --remedy none,two_sided,bias0 --cube 256 "
-                                    "--max-error 5");
+  auto j = run_extremes("remedies",
+                        "--scene light_in_caster,nf_25 --remedy none,two_sided,bias0 --cube 256 "
+                        "--max-error 5");
   ASSERT_FALSE(j.is_null());
   for (const auto& c : j["omnishadow"]["cases"]) {
-    // Beyond --max-error 5: failed_quality with the measured error in the reason and as a figure; within it: ok.
+    // Beyond --max-error 5: failed_quality with the measured error in the reason and as a figure; within it:
+    // ok.
     double e = c["accuracy"]["misclassified_percent"];
     EXPECT_EQ(c["status"], e > 5.0 ? "failed_quality" : "ok") << c["id"];
     if (e > 5.0) {
@@ -1060,15 +1154,16 @@ TEST_F(CliRun, RemediesAreMeasuredOnAndOff) {
   EXPECT_LT(error["light_in_caster two_sided"], 0.5);
   EXPECT_LT(error["nf_25 none"], 0.3);
   EXPECT_GT(error["nf_25 bias0"], 10.0);
-  EXPECT_NEAR(error["nf_25 two_sided"], error["nf_25 none"], 0.05) << "two-sided casters change nothing else here";
+  EXPECT_NEAR(error["nf_25 two_sided"], error["nf_25 none"], 0.05)
+      << "two-sided casters change nothing else here";
 }
 
 }  // namespace
 
 namespace {
 
-// A run with faults injected into the cases that match `regex` (--inject-crash or --inject-hang) in the checks or
-// the timed rounds, on both APIs where Vulkan is here: the matrix of 2 backends x 2 techniques.
+// A run with faults injected into the cases that match `regex` (--inject-crash or --inject-hang) in the
+// checks or the timed rounds, on both APIs where Vulkan is here: the matrix of 2 backends x 2 techniques.
 struct FaultRun {
   Outcome outcome;
   nlohmann::json results;
@@ -1078,10 +1173,13 @@ FaultRun run_with_fault(const std::string& name, const std::string& fault) {
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   const fs::path out = scratch(name);
   FaultRun f;
-  f.outcome = run("run --backend " + backends + " --scene room --cube 16 --frame 32x24 --technique six_pass,geometry_shader "
-                  "--filter hard --frames 2 --warmup 0 --no-accuracy --images none --benchmark_repetitions=2 " +
-                  fault + " --out " + out.string());
-  if (fs::exists(out / "results.json")) f.results = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  f.outcome =
+      run("run --backend " + backends +
+          " --scene room --cube 16 --frame 32x24 --technique six_pass,geometry_shader "
+          "--filter hard --frames 2 --warmup 0 --no-accuracy --images none --benchmark_repetitions=2 " +
+          fault + " --out " + out.string());
+  if (fs::exists(out / "results.json"))
+    f.results = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   return f;
 }
 
@@ -1103,7 +1201,8 @@ void expect_one_case_each(const FaultRun& f, const std::string& reason_part, con
       EXPECT_EQ(c["status"], "crashed") << c.dump();
       EXPECT_NE(c["reason"].get<std::string>().find(reason_part), std::string::npos) << c.dump();
       EXPECT_EQ(c["crash"]["step"], step) << c.dump();
-      EXPECT_EQ(c["axes"]["backend"], id.substr(0, id.find('/'))) << "the crashed case's own axes: " << c.dump();
+      EXPECT_EQ(c["axes"]["backend"], id.substr(0, id.find('/')))
+          << "the crashed case's own axes: " << c.dump();
       EXPECT_EQ(c["axes"]["technique"], "geometry_shader") << c.dump();
     } else {
       ok += c["status"] == "ok";
@@ -1112,7 +1211,8 @@ void expect_one_case_each(const FaultRun& f, const std::string& reason_part, con
   EXPECT_EQ(crashed, int(cases.size()) / 2) << "one crashed case per backend: " << f.outcome.err;
   EXPECT_EQ(ok, int(cases.size()) / 2) << "every other case finished: " << f.outcome.err;
   EXPECT_EQ(f.results["omnishadow"]["cases"].size(), cases.size()) << "each case once";
-  EXPECT_TRUE(f.results["omnishadow"]["complete"].get<bool>()) << "every case has its result, crashed ones included";
+  EXPECT_TRUE(f.results["omnishadow"]["complete"].get<bool>())
+      << "every case has its result, crashed ones included";
   // A fresh process after each crash, unless the crash was the matrix's last case.
   const bool last_crashed = f.results["omnishadow"]["cases"].back()["status"] == "crashed";
   EXPECT_EQ(f.results["omnishadow"]["worker_processes"].get<int>(), crashed + (last_crashed ? 0 : 1));
@@ -1125,11 +1225,12 @@ void expect_one_case_each(const FaultRun& f, const std::string& reason_part, con
 
 }  // namespace
 
-// A case that kills the process (SIGSEGV in its check frame, injected: --inject-crash) costs that case alone: it is
-// recorded `crashed` with the signal and the step, the run goes on in a fresh process from the next case, every
-// finished case is in results.json, and the run exits 1. On GL and Vulkan.
+// A case that kills the process (SIGSEGV in its check frame, injected: --inject-crash) costs that case alone:
+// it is recorded `crashed` with the signal and the step, the run goes on in a fresh process from the next
+// case, every finished case is in results.json, and the run exits 1. On GL and Vulkan.
 TEST_F(CliRun, ACrashInTheChecksCostsOneCase) {
-  expect_one_case_each(run_with_fault("crash_checks", "--inject-crash /geometry_shader/"), "SIGSEGV", "check_frame");
+  expect_one_case_each(run_with_fault("crash_checks", "--inject-crash /geometry_shader/"), "SIGSEGV",
+                       "check_frame");
 }
 
 // The same in the timed rounds: the cases timed before the crash keep their repetitions.
@@ -1144,8 +1245,8 @@ TEST_F(CliRun, ACrashInTheTimedRoundsCostsOneCase) {
 }
 
 // A case that makes no progress for --case-timeout-s (a hang, injected: --inject-hang) is killed and recorded
-// `crashed` with the timeout; the run goes on. The hang never ends, so it is always caught; 10 s is over ten times
-// the longest step of these 16-texel cases here, so no other case is.
+// `crashed` with the timeout; the run goes on. The hang never ends, so it is always caught; 10 s is over ten
+// times the longest step of these 16-texel cases here, so no other case is.
 TEST_F(CliRun, AHangIsKilledAfterTheCaseTimeoutAndCostsOneCase) {
   expect_one_case_each(run_with_fault("hang_checks", "--inject-hang /geometry_shader/ --case-timeout-s 10"),
                        "no progress for 10 s", "check_frame");

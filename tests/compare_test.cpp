@@ -1,11 +1,12 @@
-// Regression decisions: the U-test against scipy's figures, Holm's correction, and `compare` on synthetic runs
-// (timing, work counters, images, devices, bad input).
+// Regression decisions: the U-test against scipy's figures, Holm's correction, and `compare` on synthetic
+// runs (timing, work counters, images, devices, bad input).
+
+#include "bench/results/compare.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "bench/results/compare.h"
 #include "bench/results/file_io.h"
 #include "bench/results/image_io.h"
 #include "bench/results/statistics.h"
@@ -45,13 +46,14 @@ TEST(Statistics, HolmControlsTheFamily) {
 TEST(Statistics, TooFewRepetitionsCannotBeFlaggedOverManyCases) {
   EXPECT_NEAR(smallest_p(6, 6), 2.0 / 924.0, 1e-15);  // 2 / C(12, 6): every value of one side below the other
   EXPECT_NEAR(smallest_p(5, 5), mann_whitney_p({1, 2, 3, 4, 5}, {6, 7, 8, 9, 10}), 1e-15);
-  // The CI matrix's 24 cases: Holm's first step needs p < 0.05 / 24 = 0.00208; 6 a side reach 0.00216 at best.
+  // The CI matrix's 24 cases: Holm's first step needs p < 0.05 / 24 = 0.00208; 6 a side reach 0.00216 at
+  // best.
   EXPECT_FALSE(can_resolve(6, 6, 24));
   EXPECT_TRUE(can_resolve(7, 7, 24));
   EXPECT_TRUE(can_resolve(6, 7, 24));  // 2 / C(13, 6) = 0.00117
   EXPECT_EQ(fewest_resolving_repetitions(24), 7);
   EXPECT_EQ(fewest_resolving_repetitions(96), 8);
-  EXPECT_EQ(fewest_resolving_repetitions(1), 4);   // 3 a side: p >= 0.1
+  EXPECT_EQ(fewest_resolving_repetitions(1), 4);  // 3 a side: p >= 0.1
   EXPECT_EQ(fewest_resolving_repetitions(24, 0.01), 8);
   EXPECT_GE(fewest_resolving_repetitions(5000), 9);  // past the exact table's 25 a side it still ends
 }
@@ -75,18 +77,24 @@ class CompareTest : public ::testing::Test {
     json cases = json::array();
     for (const auto& [id, samples] : times) {
       for (size_t i = 0; i < samples.size(); ++i)
-        doc["benchmarks"].push_back({{"name", id + "/iterations:3/manual_time"}, {"run_type", "iteration"},
-                                     {"real_time", samples[i]}, {"cpu_time", 0.1}, {"time_unit", "ms"},
+        doc["benchmarks"].push_back({{"name", id + "/iterations:3/manual_time"},
+                                     {"run_type", "iteration"},
+                                     {"real_time", samples[i]},
+                                     {"cpu_time", 0.1},
+                                     {"time_unit", "ms"},
                                      {"omnishadow_case", id}});
       std::string file = "img/" + std::to_string(cases.size()) + ".pfm";
       std::vector<float> pixels(16, 0.0f);
       pixels[5] = shadow_value;
       write_pfm((run / file).string(), 4, 4, 1, pixels);
-      cases.push_back({{"id", id}, {"status", "ok"}, {"images", {{"shadow_factor", file}}},
+      cases.push_back({{"id", id},
+                       {"status", "ok"},
+                       {"images", {{"shadow_factor", file}}},
                        {"counters", {{"shadow", {{"valid", true}, {"gs_primitives", gs_primitives}}}}}});
       if (clock_mhz > 0)
-        cases.back()["device_state"] = {{"source", "nvml"},
-                                        {"samples", json::array({{{"clock_mhz", clock_mhz}}, {{"clock_mhz", clock_mhz}}})}};
+        cases.back()["device_state"] = {
+            {"source", "nvml"},
+            {"samples", json::array({{{"clock_mhz", clock_mhz}}, {{"clock_mhz", clock_mhz}}})}};
     }
     doc["omnishadow"] = {{"format", "omnishadow-results/1"},
                          {"cases", cases},
@@ -128,7 +136,8 @@ std::vector<double> scaled(const std::vector<double>& v, double f) {
 
 TEST_F(CompareTest, TimingVerdictsNeedSignificanceAndEffect) {
   std::string base = write_run("base", {{"a", kBase}, {"b", kBase}, {"c", kBase}});
-  std::string fresh = write_run("new", {{"a", scaled(kBase, 1.2)}, {"b", scaled(kBase, 1.02)}, {"c", scaled(kBase, 0.8)}});
+  std::string fresh =
+      write_run("new", {{"a", scaled(kBase, 1.2)}, {"b", scaled(kBase, 1.02)}, {"c", scaled(kBase, 0.8)}});
   CompareOptions o;
   o.min_effect = 0.05;
   Comparison c = compare_runs(load_run(base), load_run(fresh), o);
@@ -143,9 +152,9 @@ TEST_F(CompareTest, TimingVerdictsNeedSignificanceAndEffect) {
   EXPECT_EQ(compare_command(base, base, o), 0);
 }
 
-// --metric gpu tests the passes' GPU time (timer queries), only from repetitions whose timer passed its check: a
-// GPU slowdown hidden in the wall time (CPU-bound frames) is found, an unreliable repetition's figure is not used,
-// and a run without GPU times says so instead of passing.
+// --metric gpu tests the passes' GPU time (timer queries), only from repetitions whose timer passed its
+// check: a GPU slowdown hidden in the wall time (CPU-bound frames) is found, an unreliable repetition's
+// figure is not used, and a run without GPU times says so instead of passing.
 TEST_F(CompareTest, GpuMetricTestsThePassesGpuTime) {
   std::string base = write_run("base", {{"a", kBase}});
   std::string fresh = write_run("new", {{"a", kBase}});
@@ -167,7 +176,8 @@ TEST_F(CompareTest, GpuMetricTestsThePassesGpuTime) {
   ASSERT_EQ(fresh_run.gpu_samples["a"].size(), kBase.size() - 1) << "the unreliable repetition is left out";
   EXPECT_NEAR(load_run(base).gpu_samples["a"][0], 0.5 * kBase[0], 1e-9);
   CompareOptions o;
-  EXPECT_EQ(compare_runs(load_run(base), fresh_run, o).cases[0].verdict, "no change") << "the wall time is the same";
+  EXPECT_EQ(compare_runs(load_run(base), fresh_run, o).cases[0].verdict, "no change")
+      << "the wall time is the same";
   o.metric = "gpu";
   Comparison c = compare_runs(load_run(base), fresh_run, o);
   EXPECT_EQ(c.cases[0].verdict, "regression");
@@ -188,11 +198,13 @@ TEST_F(CompareTest, CasesTooSmallToFlagAreNamed) {
     base_times["case" + std::to_string(i)] = six;
     new_times["case" + std::to_string(i)] = scaled(six, 2.0);
   }
-  Comparison c = compare_runs(load_run(write_run("base", base_times)), load_run(write_run("new", new_times)), {});
+  Comparison c =
+      compare_runs(load_run(write_run("base", base_times)), load_run(write_run("new", new_times)), {});
   ASSERT_EQ(c.cases.size(), 24u);
   for (const CaseComparison& cc : c.cases) {
     EXPECT_FALSE(cc.resolvable) << cc.id;
-    EXPECT_EQ(cc.verdict, "no change") << "twice as slow, yet 6 against 6 over 24 cases cannot reach p < 0.05/24";
+    EXPECT_EQ(cc.verdict, "no change")
+        << "twice as slow, yet 6 against 6 over 24 cases cannot reach p < 0.05/24";
   }
   const std::string note = c.resolution_note({});
   EXPECT_NE(note.find("24 of 24 timed cases cannot be flagged"), std::string::npos) << note;
@@ -200,7 +212,8 @@ TEST_F(CompareTest, CasesTooSmallToFlagAreNamed) {
   EXPECT_NE(comparison_table(c, {}).find(note), std::string::npos);
   EXPECT_EQ(comparison_json(c, {})["cases"][0]["resolvable"], false);
 
-  Comparison few = compare_runs(load_run(write_run("base3", {{"a", six}})), load_run(write_run("new3", {{"a", scaled(six, 2.0)}})), {});
+  Comparison few = compare_runs(load_run(write_run("base3", {{"a", six}})),
+                                load_run(write_run("new3", {{"a", scaled(six, 2.0)}})), {});
   EXPECT_TRUE(few.cases[0].resolvable);
   EXPECT_EQ(few.cases[0].verdict, "regression");
   EXPECT_TRUE(few.resolution_note({}).empty());
@@ -234,7 +247,8 @@ TEST_F(CompareTest, WorkAndImageChangesAreRegressionsWhateverTheTiming) {
   EXPECT_TRUE(fs::exists(fs::path(image) / "compare" / "diffs" / "a" / "diff_shadow_factor.png"));
 }
 
-// A case ok in the base that is missing from the new run fails the comparison; a case only in the new run is listed.
+// A case ok in the base that is missing from the new run fails the comparison; a case only in the new run is
+// listed.
 TEST_F(CompareTest, AMissingCaseIsAStatusRegressionANewCaseIsListed) {
   std::string base = write_run("base", {{"a", kBase}, {"gone", kBase}});
   std::string fresh = write_run("new", {{"a", kBase}, {"added", kBase}});
@@ -248,8 +262,8 @@ TEST_F(CompareTest, AMissingCaseIsAStatusRegressionANewCaseIsListed) {
   EXPECT_EQ(compare_command(base, only_added, {}), 0) << "a new case alone is no regression";
 }
 
-// Statuses: ok -> failed_check, unsupported or interrupted fails and is listed first; a case that already failed in
-// the base and still fails is not a new regression; an interrupted run's missing cases say so.
+// Statuses: ok -> failed_check, unsupported or interrupted fails and is listed first; a case that already
+// failed in the base and still fails is not a new regression; an interrupted run's missing cases say so.
 TEST_F(CompareTest, AStatusRegressionFailsTheComparison) {
   std::string base = write_run("base", {{"a", kBase}, {"b", kBase}, {"c", kBase}, {"d", kBase}});
   set_status(base, "d", "failed_check", "was failing");
@@ -262,7 +276,8 @@ TEST_F(CompareTest, AStatusRegressionFailsTheComparison) {
             (std::vector<std::string>{"a: ok -> failed_check (cube_texels: 3% of texels wrong)",
                                       "b: ok -> unsupported (no geometry shader)"}));
   EXPECT_TRUE(c.failed({}));
-  EXPECT_EQ(comparison_table(c, {}).rfind("STATUS REGRESSION a: ok -> failed_check", 0), 0u) << "listed first";
+  EXPECT_EQ(comparison_table(c, {}).rfind("STATUS REGRESSION a: ok -> failed_check", 0), 0u)
+      << "listed first";
   EXPECT_EQ(comparison_json(c, {})["failed"], true);
   EXPECT_EQ(compare_command(base, fresh, {}), 1);
   std::string cut = write_run("cut", {{"a", kBase}});
@@ -298,7 +313,8 @@ TEST_F(CompareTest, BadInputIsAClearError) {
   write_file_atomic((dir_ / "truncated.json").string(), R"({"omnishadow": {"format": "omnishadow-res)");
   EXPECT_NE(message(base, (dir_ / "truncated.json").string()).find("not valid JSON"), std::string::npos);
   write_file_atomic((dir_ / "foreign.json").string(), R"({"context": {}, "benchmarks": []})");
-  EXPECT_NE(message(base, (dir_ / "foreign.json").string()).find("not an omnishadow results file"), std::string::npos);
+  EXPECT_NE(message(base, (dir_ / "foreign.json").string()).find("not an omnishadow results file"),
+            std::string::npos);
   EXPECT_NE(message(base, (dir_ / "missing").string()).find("cannot read"), std::string::npos);
   CompareOptions allow;
   allow.allow_device_mismatch = true;

@@ -1,11 +1,11 @@
 // Face order, up vectors and projections: a point in each direction lands in the face and texel that
 // cube-map sampling reads for that direction.
 
+#include "backends/common/cube_faces.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "backends/common/cube_faces.h"
 
 namespace omnishadow::cube {
 namespace {
@@ -17,7 +17,8 @@ struct Landing {
   float x, y, depth;
 };
 Landing project(int face, glm::vec3 light, glm::vec3 point, int size, DepthRange range) {
-  glm::vec4 clip = face_view_projections(light, 0.5f, 50.0f, range)[static_cast<size_t>(face)] * glm::vec4(point, 1);
+  glm::vec4 clip =
+      face_view_projections(light, 0.5f, 50.0f, range)[static_cast<size_t>(face)] * glm::vec4(point, 1);
   glm::vec3 ndc = glm::vec3(clip) / clip.w;
   bool inside = clip.w > 0 && std::fabs(ndc.x) <= 1 && std::fabs(ndc.y) <= 1;
   return {inside, (ndc.x + 1) * 0.5f * size, (ndc.y + 1) * 0.5f * size, ndc.z};

@@ -8,17 +8,22 @@ namespace {
 // NVIDIA's link log for the passthrough GS (gpu/measured/h100-fb5456a): the message is on the third line.
 TEST(DriverLog, KeepsTheMessageAfterAHeaderAndASeparatorLine) {
   const std::string log =
-      "Link info\n---------\nmax_vertices layout qualifier must be declared in at least one of the GLSL geometry "
+      "Link info\n---------\nmax_vertices layout qualifier must be declared in at least one of the GLSL "
+      "geometry "
       "shaders\n";
   EXPECT_EQ(one_line_log(log),
-            "Link info | max_vertices layout qualifier must be declared in at least one of the GLSL geometry shaders");
+            "Link info | max_vertices layout qualifier must be declared in at least one of the GLSL geometry "
+            "shaders");
 }
 
 TEST(DriverLog, KeepsEveryCompilerMessageInOrderAndStopsAtTheTerminator) {
-  const std::string log = std::string("0(50) : error C0000: syntax error\r\n\n  0(56) : error C1503: undefined variable "
-                                      "\"corners\"  \n") +
-                          '\0' + "garbage after the terminator";
-  EXPECT_EQ(one_line_log(log), "0(50) : error C0000: syntax error | 0(56) : error C1503: undefined variable \"corners\"");
+  const std::string log =
+      std::string(
+          "0(50) : error C0000: syntax error\r\n\n  0(56) : error C1503: undefined variable "
+          "\"corners\"  \n") +
+      '\0' + "garbage after the terminator";
+  EXPECT_EQ(one_line_log(log),
+            "0(50) : error C0000: syntax error | 0(56) : error C1503: undefined variable \"corners\"");
 }
 
 TEST(DriverLog, BoundsALongLogAndSaysHowMuchWasLeftOut) {

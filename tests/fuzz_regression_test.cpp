@@ -1,5 +1,6 @@
-// Replays every input the fuzzers ever flagged (tests/fuzz_regressions/<target>/) and their seeds through the same
-// contract the libFuzzer targets check (fuzz/fuzz_entries.h), in the normal build: a fixed finding stays fixed.
+// Replays every input the fuzzers ever flagged (tests/fuzz_regressions/<target>/) and their seeds through the
+// same contract the libFuzzer targets check (fuzz/fuzz_entries.h), in the normal build: a fixed finding stays
+// fixed.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -45,12 +46,14 @@ TEST(FuzzRegressions, ResultsReaderInputsKeepTheContract) {
 }
 
 TEST(FuzzRegressions, ObjLoaderInputsKeepTheContract) {
-  int n = replay({kRoot / "tests/fuzz_regressions/obj", kRoot / "fuzz/seeds/obj"}, omnishadow::fuzz::check_obj_input);
+  int n = replay({kRoot / "tests/fuzz_regressions/obj", kRoot / "fuzz/seeds/obj"},
+                 omnishadow::fuzz::check_obj_input);
   EXPECT_GE(n, 3) << "regression inputs and seeds went missing";
 }
 
 TEST(FuzzRegressions, GltfLoaderInputsKeepTheContract) {
-  int n = replay({kRoot / "tests/fuzz_regressions/gltf", kRoot / "fuzz/seeds/gltf"}, omnishadow::fuzz::check_gltf_input);
+  int n = replay({kRoot / "tests/fuzz_regressions/gltf", kRoot / "fuzz/seeds/gltf"},
+                 omnishadow::fuzz::check_gltf_input);
   EXPECT_GE(n, 2) << "regression inputs and seeds went missing";
 }
 
@@ -63,10 +66,12 @@ TEST(FuzzRegressions, InvariantsCatchABrokenScene) {
   EXPECT_NE(omnishadow::fuzz::scene_invariants(s), "");
 }
 
-// Found while writing the contract: a scale of 1e-30 underflowed the inverted normal matrix and baked NaN normals.
+// Found while writing the contract: a scale of 1e-30 underflowed the inverted normal matrix and baked NaN
+// normals.
 TEST(FuzzRegressions, ExtremeTransformsBakeFiniteUnitNormals) {
-  for (const char* object : {R"({"type": "box", "scale": 1e-30})", R"({"type": "sphere", "scale": [1e-30, 1e30, 1]})",
-                             R"({"type": "box", "scale": 1e30, "translate": [1e30, 0, 0],
+  for (const char* object :
+       {R"({"type": "box", "scale": 1e-30})", R"({"type": "sphere", "scale": [1e-30, 1e30, 1]})",
+        R"({"type": "box", "scale": 1e30, "translate": [1e30, 0, 0],
                                  "array": {"count": [3, 1, 1], "spacing": [1e30, 0, 0]}})"}) {
     std::string text = std::string(R"({"light": {}, "objects": [)") + object + "]}";
     omnishadow::scene::Scene s = omnishadow::scene::load_scene_text(text, "inline.json");

@@ -1,11 +1,10 @@
-// What only the GL backend has: its version string, KHR_debug capture in the checking mode, and the EGL platforms.
-// Everything that must hold on every API is in backend_test.cpp, written once for both.
+// What only the GL backend has: its version string, KHR_debug capture in the checking mode, and the EGL
+// platforms. Everything that must hold on every API is in backend_test.cpp, written once for both.
 
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
 #include <memory>
-
-#include <epoxy/gl.h>
 
 #include "backends/backend.h"
 #include "tests/backend_availability.h"
@@ -15,7 +14,8 @@ namespace {
 
 const std::string kScenes = OMNISHADOW_TEST_SCENES_DIR;
 
-std::unique_ptr<Backend> gl_or_skip_reason(const std::map<std::string, std::string>& options, std::string& why) {
+std::unique_ptr<Backend> gl_or_skip_reason(const std::map<std::string, std::string>& options,
+                                           std::string& why) {
   try {
     return create_backend("gl", options);
   } catch (const std::exception& e) {

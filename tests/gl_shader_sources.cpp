@@ -1,8 +1,8 @@
-// Writes the GL shadow-pass programs of the techniques whose extensions Mesa lacks (nv_swizzle: GL_NV_viewport_swizzle
-// and friends; mesh_shader: GL_NV_mesh_shader) as the GL backend would hand them to the driver: one file per stage,
-// includes expanded and the variant's defines inserted. tests/gl_shaders_glslang.sh compiles each with glslang, so a
-// GLSL error in a path no CI driver can run is still caught here.
-// Usage: gl_shader_sources OUT_DIR  (prints the files written, one a line)
+// Writes the GL shadow-pass programs of the techniques whose extensions Mesa lacks (nv_swizzle:
+// GL_NV_viewport_swizzle and friends; mesh_shader: GL_NV_mesh_shader) as the GL backend would hand them to
+// the driver: one file per stage, includes expanded and the variant's defines inserted.
+// tests/gl_shaders_glslang.sh compiles each with glslang, so a GLSL error in a path no CI driver can run is
+// still caught here. Usage: gl_shader_sources OUT_DIR  (prints the files written, one a line)
 #include <filesystem>
 #include <fstream>
 #include <iostream>

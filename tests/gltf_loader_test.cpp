@@ -1,45 +1,50 @@
-// glTF 2.0 models through tinygltf (scenes/gltf_loader.h): third-party models from Debian's assimp-testmodels load
-// with the triangles they hold, the same model as .glb, .gltf + .bin and embedded agrees, and every malformed file
-// is one line naming the file and what is wrong - never a crash or a read beyond a buffer.
+// glTF 2.0 models through tinygltf (scenes/gltf_loader.h): third-party models from Debian's assimp-testmodels
+// load with the triangles they hold, the same model as .glb, .gltf + .bin and embedded agrees, and every
+// malformed file is one line naming the file and what is wrong - never a crash or a read beyond a buffer.
+
+#include "scenes/gltf_loader.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include <unistd.h>
-
-#include <nlohmann/json.hpp>
-
 #include "bench/results/file_io.h"
-#include "scenes/gltf_loader.h"
 
 namespace omnishadow::scene {
 namespace {
 
 namespace fs = std::filesystem;
-const fs::path kModels = "/usr/share/assimp/models/glTF2";  // assimp-testmodels (scripts/setup.sh installs it)
+const fs::path kModels =
+    "/usr/share/assimp/models/glTF2";  // assimp-testmodels (scripts/setup.sh installs it)
 constexpr uint64_t kLimit = 1u << 24;
 
-#define REQUIRE_TESTMODELS()                                                                                 \
-  if (!fs::is_directory(kModels))                                                                            \
+#define REQUIRE_TESTMODELS()      \
+  if (!fs::is_directory(kModels)) \
   GTEST_SKIP() << kModels << " missing: install Debian's assimp-testmodels (bash scripts/setup.sh does)"
 
-std::string seeds(const char* name) { return (fs::path(OMNISHADOW_SOURCE_DIR) / "fuzz/seeds/gltf" / name).string(); }
+std::string seeds(const char* name) {
+  return (fs::path(OMNISHADOW_SOURCE_DIR) / "fuzz/seeds/gltf" / name).string();
+}
 
 TEST(GltfLoader, ThirdPartyModelsLoadAndAgreeAcrossContainers) {
   REQUIRE_TESTMODELS();
   const GltfModel glb = load_gltf((kModels / "BoxTextured-glTF-Binary/BoxTextured.glb").string(), kLimit);
   EXPECT_EQ(glb.triangles.size(), 36u) << "a box: 12 triangles";
-  for (const char* other : {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Embedded/BoxTextured.gltf"}) {
+  for (const char* other :
+       {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Embedded/BoxTextured.gltf"}) {
     const GltfModel m = load_gltf((kModels / other).string(), kLimit);
     ASSERT_EQ(m.triangles.size(), glb.triangles.size()) << other;
-    for (size_t i = 0; i < m.triangles.size(); ++i) EXPECT_EQ(m.triangles[i].position, glb.triangles[i].position) << other;
+    for (size_t i = 0; i < m.triangles.size(); ++i)
+      EXPECT_EQ(m.triangles[i].position, glb.triangles[i].position) << other;
   }
-  const GltfModel engine = load_gltf((kModels / "2CylinderEngine-glTF-Binary/2CylinderEngine.glb").string(), kLimit);
+  const GltfModel engine =
+      load_gltf((kModels / "2CylinderEngine-glTF-Binary/2CylinderEngine.glb").string(), kLimit);
   EXPECT_GT(engine.triangles.size(), 100000u) << "the engine's many meshes through its node hierarchy";
   EXPECT_EQ(engine.colors.size(), engine.triangles.size());
 }
@@ -51,8 +56,10 @@ TEST(GltfLoader, SeedsCoverMaterialsHierarchyStripsAndMirroring) {
   EXPECT_EQ(tri.colors[0], glm::vec3(0.8f, 0.2f, 0.1f)) << "the material's base colour factor";
   const GltfModel strip = load_gltf(seeds("strip_hierarchy.glb"), kLimit);
   ASSERT_EQ(strip.triangles.size(), 6u) << "a 4-vertex strip: two triangles";
-  for (size_t t = 0; t < 6; t += 3) {  // mirrored by the parent's z scale of -1, re-wound: still counter-clockwise
-    const glm::vec3 a = strip.triangles[t].position, b = strip.triangles[t + 1].position, c = strip.triangles[t + 2].position;
+  for (size_t t = 0; t < 6;
+       t += 3) {  // mirrored by the parent's z scale of -1, re-wound: still counter-clockwise
+    const glm::vec3 a = strip.triangles[t].position, b = strip.triangles[t + 1].position,
+                    c = strip.triangles[t + 2].position;
     EXPECT_GT(glm::dot(glm::cross(b - a, c - a), strip.triangles[t].normal), 0.0f) << "triangle " << t / 3;
   }
 }
@@ -62,7 +69,8 @@ TEST(GltfLoader, NonTrianglePrimitivesAreSkippedAndCounted) {
   int skipped = 0, loaded = 0;
   for (int i = 0; i <= 9; ++i) {
     char name[96];
-    std::snprintf(name, sizeof name, "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_%02d.gltf", i);
+    std::snprintf(name, sizeof name, "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_%02d.gltf",
+                  i);
     try {
       const GltfModel m = load_gltf((kModels / name).string(), kLimit);
       ++loaded;
@@ -88,9 +96,9 @@ std::string write(const fs::path& path, const std::string& bytes) {
 }
 
 // Five vertices drawn by one primitive of each kind: POINTS once, LINES twice (skipped, counted by mode), a
-// TRIANGLE_STRIP and a TRIANGLE_FAN over all five (unrolled by the spec's rules, each triangle counter-clockwise as
-// its strip or fan orders it). A fan read as a strip, a strip without its every-other reversal, a skip count stuck
-// at 0 or the modes named alike each fail here.
+// TRIANGLE_STRIP and a TRIANGLE_FAN over all five (unrolled by the spec's rules, each triangle
+// counter-clockwise as its strip or fan orders it). A fan read as a strip, a strip without its every-other
+// reversal, a skip count stuck at 0 or the modes named alike each fail here.
 TEST(GltfLoader, StripsAndFansUnrollAndOtherModesAreCountedByName) {
   const fs::path dir = fs::temp_directory_path() / ("omnishadow_gltf_modes_" + std::to_string(::getpid()));
   fs::create_directories(dir);
@@ -111,9 +119,14 @@ TEST(GltfLoader, StripsAndFansUnrollAndOtherModesAreCountedByName) {
                  {"buffers", J::array({{{"uri", "modes.bin"}, {"byteLength", bin.size()}}})},
                  {"bufferViews", J::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 60}},
                                            {{"buffer", 0}, {"byteOffset", 60}, {"byteLength", 60}}})},
-                 {"accessors", J::array({{{"bufferView", 0}, {"componentType", 5126}, {"count", 5}, {"type", "VEC3"},
-                                          {"min", {0, 0, 0}}, {"max", {1, 2, 0}}},
-                                         {{"bufferView", 1}, {"componentType", 5126}, {"count", 5}, {"type", "VEC3"}}})}};
+                 {"accessors",
+                  J::array({{{"bufferView", 0},
+                             {"componentType", 5126},
+                             {"count", 5},
+                             {"type", "VEC3"},
+                             {"min", {0, 0, 0}},
+                             {"max", {1, 2, 0}}},
+                            {{"bufferView", 1}, {"componentType", 5126}, {"count", 5}, {"type", "VEC3"}}})}};
   const GltfModel m = load_gltf(write(dir / "modes.gltf", doc.dump()), kLimit);
   fs::remove_all(dir);
   EXPECT_EQ(m.skipped_primitives, 3);
@@ -124,7 +137,6 @@ TEST(GltfLoader, StripsAndFansUnrollAndOtherModesAreCountedByName) {
   for (size_t i = 0; i < want.size(); ++i)
     EXPECT_EQ(m.triangles[i].position, v[size_t(want[i])]) << "corner " << i << " of triangle " << i / 3;
 }
-
 
 // The triangle seed with one edit of its JSON.
 std::string edited_seed(const fs::path& path, const std::function<void(nlohmann::json&)>& edit) {
@@ -137,17 +149,25 @@ std::vector<BadGltf> bad_files() {
   using J = nlohmann::json;
   return {
       {"truncated glb",
-       [](const fs::path& d) { return write(d / "truncated.glb", bench::read_file(seeds("strip_hierarchy.glb")).substr(0, 100)); },
+       [](const fs::path& d) {
+         return write(d / "truncated.glb", bench::read_file(seeds("strip_hierarchy.glb")).substr(0, 100));
+       },
        "truncated.glb: "},
       {"not gltf", [](const fs::path& d) { return write(d / "text.gltf", "hello"); }, "text.gltf: "},
       {"uri leaves the folder",
-       [](const fs::path& d) { return edited_seed(d / "escape.gltf", [](J& j) { j["buffers"][0]["uri"] = "../outside.bin"; }); },
+       [](const fs::path& d) {
+         return edited_seed(d / "escape.gltf", [](J& j) { j["buffers"][0]["uri"] = "../outside.bin"; });
+       },
        "leaves the model's folder"},
       {"count beyond the buffer",
-       [](const fs::path& d) { return edited_seed(d / "count.gltf", [](J& j) { j["accessors"][0]["count"] = 4; }); },
+       [](const fs::path& d) {
+         return edited_seed(d / "count.gltf", [](J& j) { j["accessors"][0]["count"] = 4; });
+       },
        "run beyond the buffer view"},
       {"billion vertices",
-       [](const fs::path& d) { return edited_seed(d / "billion.gltf", [](J& j) { j["accessors"][2]["count"] = 1000000000; }); },
+       [](const fs::path& d) {
+         return edited_seed(d / "billion.gltf", [](J& j) { j["accessors"][2]["count"] = 1000000000; });
+       },
        "indices"},
       {"cyclic nodes",
        [](const fs::path& d) {
@@ -158,7 +178,9 @@ std::vector<BadGltf> bad_files() {
        },
        "cyclic node graph"},
       {"accessor that does not exist",
-       [](const fs::path& d) { return edited_seed(d / "index.gltf", [](J& j) { j["meshes"][0]["primitives"][0]["indices"] = 7; }); },
+       [](const fs::path& d) {
+         return edited_seed(d / "index.gltf", [](J& j) { j["meshes"][0]["primitives"][0]["indices"] = 7; });
+       },
        "accessor"},
       {"draco required",
        [](const fs::path& d) {
@@ -198,13 +220,14 @@ TEST(GltfLoader, MalformedFilesAreOneLineNamingTheFile) {
   }
 }
 
-// assimp's own broken models: each refused in one line (its test suite's reasons: indices out of range, a node
-// that is its own descendant, a schema failure, Draco-compressed geometry, a missing buffer file).
+// assimp's own broken models: each refused in one line (its test suite's reasons: indices out of range, a
+// node that is its own descendant, a schema failure, Draco-compressed geometry, a missing buffer file).
 TEST(GltfLoader, AssimpsBrokenModelsAreRefusedInOneLine) {
   REQUIRE_TESTMODELS();
-  for (const char* name : {"IndexOutOfRange/IndexOutOfRange.gltf", "IndexOutOfRange/AllIndicesOutOfRange.gltf",
-                           "RecursiveNodes/RecursiveNodes.gltf", "SchemaFailures/sceneWrongType.gltf",
-                           "draco/2CylinderEngine.gltf", "MissingBin/BoxTextured.gltf"}) {
+  for (const char* name :
+       {"IndexOutOfRange/IndexOutOfRange.gltf", "IndexOutOfRange/AllIndicesOutOfRange.gltf",
+        "RecursiveNodes/RecursiveNodes.gltf", "SchemaFailures/sceneWrongType.gltf",
+        "draco/2CylinderEngine.gltf", "MissingBin/BoxTextured.gltf"}) {
     try {
       load_gltf((kModels / name).string(), kLimit);
       ADD_FAILURE() << name << ": accepted";

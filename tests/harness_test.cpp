@@ -1,5 +1,5 @@
-// The harness against a scripted backend: statuses, checks with their metrics and diff images, driver-evidence
-// reasons, a failing case that does not stop the matrix, and results written for every case.
+// The harness against a scripted backend: statuses, checks with their metrics and diff images,
+// driver-evidence reasons, a failing case that does not stop the matrix, and results written for every case.
 
 #include <benchmark/benchmark.h>
 #include <gtest/gtest.h>
@@ -9,12 +9,12 @@
 #include <fstream>
 
 #include "backends/common/cube_summary.h"
-#include "bench/run/case_runner.h"
 #include "bench/results/file_io.h"
-#include "bench/run/gbench_glue.h"
 #include "bench/results/results_reader.h"
 #include "bench/results/results_writer.h"
 #include "bench/results/summary_table.h"
+#include "bench/run/case_runner.h"
+#include "bench/run/gbench_glue.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -93,11 +93,11 @@ class ScriptedBackend : public Backend {
 class HarnessTest : public ::testing::Test {
  protected:
   void SetUp() override { start(RunOptions::ImagePolicy::failed); }
-  // warmup_ms 0: the scripted device is a GPU (it does not share host memory), whose automatic 100 ms of warm-up
-  // by time would render thousands of scripted frames; the test of that default asks for it (-1).
+  // warmup_ms 0: the scripted device is a GPU (it does not share host memory), whose automatic 100 ms of
+  // warm-up by time would render thousands of scripted frames; the test of that default asks for it (-1).
   void start(RunOptions::ImagePolicy images,
-             RunOptions::CubeReadBackPolicy cube = RunOptions::CubeReadBackPolicy::automatic, double warmup_ms = 0,
-             double repetition_ms = 0) {
+             RunOptions::CubeReadBackPolicy cube = RunOptions::CubeReadBackPolicy::automatic,
+             double warmup_ms = 0, double repetition_ms = 0) {
     out_ = fs::temp_directory_path() / ("omnishadow_harness_" + std::to_string(::getpid()));
     fs::remove_all(out_);
     fs::create_directories(out_);
@@ -109,8 +109,9 @@ class HarnessTest : public ::testing::Test {
     o.frames = 3;
     o.warmup_frames = 1;
     o.warmup_ms = warmup_ms;
-    o.repetition_ms = repetition_ms;  // 0: the counts these tests assert; the scripted device passes for a GPU
-    o.settle_s = 0;  // the scripted device has no clock to settle
+    o.repetition_ms =
+        repetition_ms;  // 0: the counts these tests assert; the scripted device passes for a GPU
+    o.settle_s = 0;     // the scripted device has no clock to settle
     harness_ = std::make_unique<Harness>(o);
     auto backend = std::make_unique<ScriptedBackend>();
     backend_ = backend.get();
@@ -121,8 +122,8 @@ class HarnessTest : public ::testing::Test {
   std::vector<CaseResult> prepare_all(const std::vector<Filter>& filters) {
     std::vector<CaseResult> results;
     for (Filter f : filters)
-      for (Technique t : {Technique::six_pass, Technique::geometry_shader, Technique::geometry_shader_instanced,
-                          Technique::vs_layer}) {
+      for (Technique t : {Technique::six_pass, Technique::geometry_shader,
+                          Technique::geometry_shader_instanced, Technique::vs_layer}) {
         CaseResult r;
         r.config.scene = "room";
         r.config.cube_size = 4;
@@ -141,7 +142,8 @@ class HarnessTest : public ::testing::Test {
 
 TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   std::vector<CaseResult> r = prepare_all({Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20});
-  // hard: six_pass ok, geometry_shader ok, instanced failed_check (one face everywhere), vs_layer unsupported.
+  // hard: six_pass ok, geometry_shader ok, instanced failed_check (one face everywhere), vs_layer
+  // unsupported.
   EXPECT_EQ(r[0].status, Status::ok);
   EXPECT_EQ(r[1].status, Status::ok) << r[1].reason;
   ASSERT_EQ(r[1].checks.size(), 4u);  // timed_lit, cube_faces, shadow_factor, lit
@@ -164,7 +166,8 @@ TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   // pcf_disk20: geometry_shader differs in one cube texel and one lit channel.
   const CaseResult& d = r[9];
   ASSERT_EQ(d.status, Status::failed_check);
-  EXPECT_EQ(d.reason.find("all six faces"), std::string::npos) << "faces differ from each other: no driver hint";
+  EXPECT_EQ(d.reason.find("all six faces"), std::string::npos)
+      << "faces differ from each other: no driver hint";
   EXPECT_TRUE(d.checks[0].passed);  // timed_lit
   const CheckResult& faces = d.checks[1];
   EXPECT_EQ(faces.name, "cube_faces");
@@ -180,7 +183,8 @@ TEST_F(HarnessTest, StatusesChecksAndDiffImages) {
   EXPECT_DOUBLE_EQ(d.checks[3].difference.max_abs, 10.0);
   EXPECT_TRUE(fs::exists(out_ / d.checks[3].diff_image));
   EXPECT_TRUE(fs::exists(out_ / d.images.at("lit")));
-  // Default image policy: a failed check keeps the float buffers for examination; a passing case has PNGs only.
+  // Default image policy: a failed check keeps the float buffers for examination; a passing case has PNGs
+  // only.
   ASSERT_TRUE(d.images.count("world_position"));
   EXPECT_TRUE(fs::exists(out_ / d.images.at("world_position")));
   EXPECT_TRUE(fs::exists(out_ / d.images.at("shadow_factor")));
@@ -212,16 +216,20 @@ TEST_F(HarnessTest, SampledReadBackComparesHashesFirstAndReadsInFullOnlyWhatDiff
   EXPECT_EQ(d.checks[1].method, "values");
   EXPECT_EQ(d.checks[1].difference.differing, 1u);
   EXPECT_FLOAT_EQ(static_cast<float>(d.checks[1].difference.max_abs), 0.25f);
-  // Full read-backs: the three cases whose hashes differ (instanced in both groups, geometry_shader's one texel)
-  // and the two six_pass references they were compared with, nothing else.
+  // Full read-backs: the three cases whose hashes differ (instanced in both groups, geometry_shader's one
+  // texel) and the two six_pass references they were compared with, nothing else.
   EXPECT_EQ(backend_->read_backs_[1], 5);
 }
 
-// Findings accumulate: a quality finding is not overwritten by a later check failure, and the status is the worst.
+// Findings accumulate: a quality finding is not overwritten by a later check failure, and the status is the
+// worst.
 TEST(CaseFindings, StatusIsTheWorstAndNoReasonIsLost) {
   CaseResult r;
   EXPECT_EQ(r.status, Status::ok);
-  r.add({Status::failed_quality, "max_error", "shadow disagrees on 7% of pixels", {{"misclassified_percent", 7.0}}});
+  r.add({Status::failed_quality,
+         "max_error",
+         "shadow disagrees on 7% of pixels",
+         {{"misclassified_percent", 7.0}}});
   EXPECT_EQ(r.status, Status::failed_quality);
   r.add({Status::failed_check, "cube_faces", "cube_faces differ", {}});
   EXPECT_EQ(r.status, Status::failed_check);
@@ -253,26 +261,29 @@ TEST_F(HarnessTest, ImagePolicyDecidesWhichFilesAreWritten) {
   EXPECT_FALSE(fs::exists(out_ / "images"));
 }
 
-// On a GPU the warm-up goes on by time (--warmup-ms, 100 ms by default) so the clock ramps after each pause; the
-// timed frames stay as many as asked. The time is the device's own frame time (5 ms a scripted frame), never the
-// host's clock: 100 ms is the --warmup frame and 19 more, on a fast machine and a loaded one alike.
+// On a GPU the warm-up goes on by time (--warmup-ms, 100 ms by default) so the clock ramps after each pause;
+// the timed frames stay as many as asked. The time is the device's own frame time (5 ms a scripted frame),
+// never the host's clock: 100 ms is the --warmup frame and 19 more, on a fast machine and a loaded one alike.
 TEST_F(HarnessTest, GpuWarmupGoesOnByTime) {
   start(RunOptions::ImagePolicy::none, RunOptions::CubeReadBackPolicy::automatic, -1.0);
   std::vector<CaseResult> results = prepare_all({Filter::hard});
   RepetitionPolicy two;
   two.repetitions = 2;
-  run_timed(*harness_, results, two, (out_ / "raw.json").string(), [] {}, [] { return false; });
+  run_timed(
+      *harness_, results, two, (out_ / "raw.json").string(), [] {}, [] { return false; });
   int timed = 0;
   for (const CaseResult& r : results) {
     if (r.frames.empty()) continue;
     ++timed;
     EXPECT_EQ(r.frames.size(), 6u) << r.config.id() << ": 3 timed frames a repetition, warm-up aside";
-    EXPECT_EQ(r.warmup.size(), 40u) << r.config.id() << ": 20 frames of 5 ms before each of the two repetitions";
+    EXPECT_EQ(r.warmup.size(), 40u) << r.config.id()
+                                    << ": 20 frames of 5 ms before each of the two repetitions";
   }
   ASSERT_GT(timed, 0);
 }
 
-// A slower device warms up in fewer frames: the warm-up ends at the first frame whose device time brings the sum to
+// A slower device warms up in fewer frames: the warm-up ends at the first frame whose device time brings the
+// sum to
 // --warmup-ms (frames of 5 to 35 ms here: the scripted 7-step jitter), never earlier and never later.
 TEST_F(HarnessTest, WarmupByTimeEndsAtTheFrameThatReachesIt) {
   start(RunOptions::ImagePolicy::none, RunOptions::CubeReadBackPolicy::automatic, 100.0);
@@ -281,7 +292,8 @@ TEST_F(HarnessTest, WarmupByTimeEndsAtTheFrameThatReachesIt) {
   RepetitionPolicy one;
   one.repetitions = 1;
   std::vector<CaseResult> first(results.begin(), results.begin() + 1);
-  run_timed(*harness_, first, one, (out_ / "raw.json").string(), [] {}, [] { return false; });
+  run_timed(
+      *harness_, first, one, (out_ / "raw.json").string(), [] {}, [] { return false; });
   ASSERT_FALSE(first[0].frames.empty()) << first[0].reason;
   const std::vector<FrameTiming>& w = first[0].warmup;
   ASSERT_GE(w.size(), 2u);
@@ -292,9 +304,10 @@ TEST_F(HarnessTest, WarmupByTimeEndsAtTheFrameThatReachesIt) {
   EXPECT_LT(w.size(), 20u) << "longer frames, fewer of them than the 20 of 5 ms";
 }
 
-// A stop asked for in the middle of a repetition ends the run after that repetition, not after the round: the case
-// in hand keeps all its timed frames, no later case of the round starts, and those are marked interrupted. Counted in
-// the scripted device's frames: the stop comes at the second frame of the second case's repetition.
+// A stop asked for in the middle of a repetition ends the run after that repetition, not after the round: the
+// case in hand keeps all its timed frames, no later case of the round starts, and those are marked
+// interrupted. Counted in the scripted device's frames: the stop comes at the second frame of the second
+// case's repetition.
 TEST_F(HarnessTest, StopEndsTheRunAfterTheRepetitionInHand) {
   std::vector<CaseResult> results = prepare_all({Filter::hard, Filter::pcf_disk20});
   RepetitionPolicy two;
@@ -302,7 +315,8 @@ TEST_F(HarnessTest, StopEndsTheRunAfterTheRepetitionInHand) {
   const int before = backend_->frames_rendered();
   const int per_repetition = 1 + 3;  // the --warmup frame, then --frames
   auto stop = [&] { return backend_->frames_rendered() >= before + per_repetition + 2; };
-  run_timed(*harness_, results, two, (out_ / "raw.json").string(), [] {}, stop);
+  run_timed(
+      *harness_, results, two, (out_ / "raw.json").string(), [] {}, stop);
   int timed = 0, interrupted = 0;
   for (const CaseResult& r : results) {
     if (r.repetitions > 0) {
@@ -317,14 +331,15 @@ TEST_F(HarnessTest, StopEndsTheRunAfterTheRepetitionInHand) {
   EXPECT_EQ(backend_->frames_rendered(), before + 2 * per_repetition) << "nothing rendered after the stop";
 }
 
-// On a GPU (the scripted device: 5 ms frames) a repetition lasts --repetition-ms, 100 by default: 20 frames, the
-// same in every repetition; --frames stays the least.
+// On a GPU (the scripted device: 5 ms frames) a repetition lasts --repetition-ms, 100 by default: 20 frames,
+// the same in every repetition; --frames stays the least.
 TEST_F(HarnessTest, GpuRepetitionsLastLongEnoughInTime) {
   start(RunOptions::ImagePolicy::none, RunOptions::CubeReadBackPolicy::automatic, 0.0, -1.0);
   std::vector<CaseResult> results = prepare_all({Filter::hard});
   RepetitionPolicy two;
   two.repetitions = 2;
-  run_timed(*harness_, results, two, (out_ / "raw.json").string(), [] {}, [] { return false; });
+  run_timed(
+      *harness_, results, two, (out_ / "raw.json").string(), [] {}, [] { return false; });
   int timed = 0;
   for (const CaseResult& r : results) {
     if (r.frames.empty()) continue;
@@ -341,7 +356,8 @@ TEST_F(HarnessTest, TimedRunKeepsEveryCaseAndWritesValidResults) {
   int saves = 0;
   RepetitionPolicy two;
   two.repetitions = 2;
-  run_timed(*harness_, results, two, raw, [&] { ++saves; }, [] { return false; });
+  run_timed(
+      *harness_, results, two, raw, [&] { ++saves; }, [] { return false; });
   EXPECT_EQ(saves, 10);  // 5 timed cases x 2 repetitions (vs_layer unsupported twice, gs pcf_grid64 failed)
   for (const CaseResult& r : results) {
     if (r.status == Status::unsupported || r.status == Status::failed) {
@@ -381,7 +397,8 @@ TEST_F(HarnessTest, PrecisionRepeatsUntilTheIntervalIsNarrowOrTheCap) {
   RepetitionPolicy policy;
   policy.precision_percent = 1.0;
   policy.max_repetitions = 9;
-  run_timed(*harness_, results, policy, (out_ / "raw.json").string(), [] {}, [] { return false; });
+  run_timed(
+      *harness_, results, policy, (out_ / "raw.json").string(), [] {}, [] { return false; });
   for (const CaseResult& r : results) {
     if (r.repetitions == 0) continue;
     // The scripted backend's frames all take the same time: the interval has no width once it is defined.
@@ -390,7 +407,8 @@ TEST_F(HarnessTest, PrecisionRepeatsUntilTheIntervalIsNarrowOrTheCap) {
   }
   backend_->jitter_ms = 1.0;  // repetitions now differ by up to ~40%: +-1% is out of reach
   results = prepare_all({Filter::hard});
-  run_timed(*harness_, results, policy, (out_ / "raw2.json").string(), [] {}, [] { return false; });
+  run_timed(
+      *harness_, results, policy, (out_ / "raw2.json").string(), [] {}, [] { return false; });
   EXPECT_EQ(results[0].repetitions, 9);
   EXPECT_EQ(results[0].repetitions_ended_by, "cap");
   EXPECT_LT(stability_percent(results[0].repetition_frame_ms), 97.0);
@@ -398,8 +416,8 @@ TEST_F(HarnessTest, PrecisionRepeatsUntilTheIntervalIsNarrowOrTheCap) {
   EXPECT_NE(summary.find("cases hit the cap of 9"), std::string::npos) << summary;
 }
 
-// Case ids name a scene file by its stem (ids read gl/bunny/c512/..., not gl//tmp/x.json/...); two files that would
-// share a name in one run are refused; a bundled name stays itself.
+// Case ids name a scene file by its stem (ids read gl/bunny/c512/..., not gl//tmp/x.json/...); two files that
+// would share a name in one run are refused; a bundled name stays itself.
 TEST_F(HarnessTest, ScenesGivenByPathAreNamedByTheirStem) {
   const fs::path dir = out_ / "models";
   fs::create_directories(dir / "b");

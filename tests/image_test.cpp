@@ -7,8 +7,8 @@
 #include <filesystem>
 
 #include "bench/results/file_io.h"
-#include "bench/truth/image_compare.h"
 #include "bench/results/image_io.h"
+#include "bench/truth/image_compare.h"
 
 namespace omnishadow::bench {
 namespace {

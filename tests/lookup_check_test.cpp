@@ -1,18 +1,19 @@
-// The lookup check (bench/truth/lookup_check.h) on made-up read-backs: a shadow factor the cube-map rule gives
-// passes, one it cannot give fails, a tap on a texel boundary allows either texel, and the kernel comes from the
-// shader's own table.
+// The lookup check (bench/truth/lookup_check.h) on made-up read-backs: a shadow factor the cube-map rule
+// gives passes, one it cannot give fails, a tap on a texel boundary allows either texel, and the kernel comes
+// from the shader's own table.
+#include "bench/truth/lookup_check.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "bench/truth/lookup_check.h"
-
 namespace omnishadow::bench {
 namespace {
 
-// A 4x4 cube around a light at the origin whose every texel stores `distance`; one covered pixel at `position`.
+// A 4x4 cube around a light at the origin whose every texel stores `distance`; one covered pixel at
+// `position`.
 Images one_pixel(const glm::vec3& position, float distance, float shadow) {
   Images img;
   img.width = 1;
@@ -27,7 +28,8 @@ Images one_pixel(const glm::vec3& position, float distance, float shadow) {
 
 TEST(LookupCheck, AcceptsWhatTheRuleGivesAndRejectsTheRest) {
   LookupInputs in;  // hard, tutorial bias 0.05, light at the origin
-  // A surface at distance 10 behind an occluder stored at 6: shadowed (1); lit (0) cannot be read from any texel.
+  // A surface at distance 10 behind an occluder stored at 6: shadowed (1); lit (0) cannot be read from any
+  // texel.
   EXPECT_TRUE(check_lookups(one_pixel({10, 1, 2}, 6.0f, 1.0f), in).ok());
   LookupReport wrong = check_lookups(one_pixel({10, 1, 2}, 6.0f, 0.0f), in);
   EXPECT_EQ(wrong.outside, 1u);
@@ -64,19 +66,20 @@ TEST(LookupCheck, ATapOnATexelBoundaryMayReadEitherTexel) {
   EXPECT_TRUE(check_lookups(img, in).ok());
 }
 
-// Every tap of each kernel counts: a cube fine enough that the taps read different texels (1024: 0.02 world units a
-// texel at distance 10 on +X, against the grid's 0.05 step and the disk's 0.5 radius), lit everywhere but the one
-// texel tap k reads (the kernel as the tutorial writes it: the grid -0.1 + 0.05 i per axis, the disk's 20
-// directions times (1 + view distance / far) / 25), which occludes. The device would return (taps on that
-// texel) / (taps); the check must allow that value for every k and refuse 0. A kernel with other offsets, another
-// count or another scale in the check fails here.
+// Every tap of each kernel counts: a cube fine enough that the taps read different texels (1024: 0.02 world
+// units a texel at distance 10 on +X, against the grid's 0.05 step and the disk's 0.5 radius), lit everywhere
+// but the one texel tap k reads (the kernel as the tutorial writes it: the grid -0.1 + 0.05 i per axis, the
+// disk's 20 directions times (1 + view distance / far) / 25), which occludes. The device would return (taps
+// on that texel) / (taps); the check must allow that value for every k and refuse 0. A kernel with other
+// offsets, another count or another scale in the check fails here.
 struct KernelProbe {
   Images img;
   std::vector<glm::dvec3> taps;  // light-to-tap vectors, the shader's way
 };
 
 int texel_on_pos_x(const glm::dvec3& d, int size) {  // +X: s from -z / x, t from -y / x (cube_faces.h)
-  const int s = int(std::floor(0.5 * (-d.z / d.x + 1.0) * size)), t = int(std::floor(0.5 * (-d.y / d.x + 1.0) * size));
+  const int s = int(std::floor(0.5 * (-d.z / d.x + 1.0) * size)),
+            t = int(std::floor(0.5 * (-d.y / d.x + 1.0) * size));
   return t * size + s;
 }
 
@@ -92,7 +95,8 @@ void expect_every_tap_counts(KernelProbe& probe, const LookupInputs& in, const c
     probe.img.cube_distance[0][size_t(texel[k])] = 5.0f;  // an occluder in front of the surface at ~10
     const int on_texel = int(std::count(texel.begin(), texel.end(), texel[k]));
     probe.img.shadow_factor = {float(on_texel) / float(probe.taps.size())};
-    EXPECT_TRUE(check_lookups(probe.img, in).ok()) << name << " tap " << k << ": " << describe(check_lookups(probe.img, in));
+    EXPECT_TRUE(check_lookups(probe.img, in).ok())
+        << name << " tap " << k << ": " << describe(check_lookups(probe.img, in));
     probe.img.shadow_factor = {0.0f};
     refused_zero += !check_lookups(probe.img, in).ok();
     probe.img.cube_distance[0][size_t(texel[k])] = 20.0f;
@@ -133,7 +137,7 @@ TEST(LookupCheck, EveryTapOfEachKernelCounts) {
 TEST(LookupCheck, DegenerateInputsAllowAnyTexel) {
   LookupInputs in;
   in.filter = Filter::pcf_disk20;
-  in.far_plane = 0.0;  // the radius divides by it
+  in.far_plane = 0.0;      // the radius divides by it
   in.camera = {10, 1, 2};  // at the pixel: 0 / 0
   EXPECT_TRUE(check_lookups(one_pixel({10, 1, 2}, 6.0f, 0.25f), in).ok());
   in.filter = Filter::hard;

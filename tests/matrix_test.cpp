@@ -1,19 +1,21 @@
 // Matrix expansion: every combination once, in the documented order, split deterministically by --shard.
 
+#include "bench/run/matrix.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <map>
-#include <stdexcept>
 #include <set>
+#include <stdexcept>
 
 #include "backends/common/shader_variants.h"
-#include "bench/run/matrix.h"
 
 namespace omnishadow::bench {
 namespace {
 
-const std::map<std::string, std::pair<int, int>> kSizes = {{"room", {800, 600}}, {"heavy", {640, 480}}, {"bunny", {800, 600}}};
+const std::map<std::string, std::pair<int, int>> kSizes = {
+    {"room", {800, 600}}, {"heavy", {640, 480}}, {"bunny", {800, 600}}};
 
 TEST(Matrix, ExpandsEveryCombinationOnceWithTechniqueInnermost) {
   MatrixSpec spec;
@@ -52,8 +54,8 @@ TEST(Matrix, AMomentsFilterRunsOnceOnItsOwnStorage) {
   EXPECT_NE(common_support(lookup_on_moments).reason.find("hard reads a stored distance"), std::string::npos);
 }
 
-// The moments tunings (--moments-tuning): spelling round trip, one id segment per knob away from its default, a
-// one-line error naming a bad word, and each knob refused by the filters it means nothing to.
+// The moments tunings (--moments-tuning): spelling round trip, one id segment per knob away from its default,
+// a one-line error naming a bad word, and each knob refused by the filters it means nothing to.
 TEST(Matrix, MomentsTuningsParseIntoTheIdAndOnlyTheirFilters) {
   const MomentsTuning t = parse_moments_tuning("lbr0.4+exp1.01+floor0+world");
   EXPECT_FLOAT_EQ(t.bleed_reduction, 0.4f);
@@ -77,8 +79,8 @@ TEST(Matrix, MomentsTuningsParseIntoTheIdAndOnlyTheirFilters) {
   spec.techniques = {Technique::six_pass};
   spec.cube_sizes = {256};
   spec.filters = {Filter::hard, Filter::vsm, Filter::esm, Filter::msm};
-  spec.moments_tunings = {MomentsTuning{}, parse_moments_tuning("lbr0.5+world"), parse_moments_tuning("exp1.01"),
-                          parse_moments_tuning("floor0")};
+  spec.moments_tunings = {MomentsTuning{}, parse_moments_tuning("lbr0.5+world"),
+                          parse_moments_tuning("exp1.01"), parse_moments_tuning("floor0")};
   const auto cases = expand(spec, kSizes);
   ASSERT_EQ(cases.size(), 16u);
   std::map<std::string, bool> supported;
@@ -88,8 +90,10 @@ TEST(Matrix, MomentsTuningsParseIntoTheIdAndOnlyTheirFilters) {
   EXPECT_TRUE(supported.at("gl/room/c256/f800x600/six_pass/msm/msm_moments/d32f/floor0"));
   EXPECT_TRUE(supported.at("gl/room/c256/f800x600/six_pass/vsm/vsm_moments/d32f/floor0"));
   EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/floor0"));
-  EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/esm/esm_exp/d32f/lbr0.5/world")) << "esm has no bleeding bound";
-  EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/msm/msm_moments/d32f/lbr0.5/world")) << "world is vsm's";
+  EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/esm/esm_exp/d32f/lbr0.5/world"))
+      << "esm has no bleeding bound";
+  EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/msm/msm_moments/d32f/lbr0.5/world"))
+      << "world is vsm's";
   EXPECT_FALSE(supported.at("gl/room/c256/f800x600/six_pass/vsm/vsm_moments/d32f/exp1.01"));
   EXPECT_EQ(std::count_if(supported.begin(), supported.end(), [](const auto& kv) { return kv.second; }), 8);
 }
@@ -103,8 +107,8 @@ TEST(Matrix, ExplicitFrameSizesOverrideTheScenes) {
   EXPECT_EQ(cases[0].width, 320);
 }
 
-// The experiment axes: in the id only with more than one value, so a single injected value keeps the plain ids
-// (a run with --inject-fragment-work N compares against one without it).
+// The experiment axes: in the id only with more than one value, so a single injected value keeps the plain
+// ids (a run with --inject-fragment-work N compares against one without it).
 TEST(Matrix, ExperimentAxesAreInTheIdOnlyWithSeveralValues) {
   MatrixSpec spec;
   spec.scenes = {"room"};
@@ -152,10 +156,12 @@ TEST(Matrix, ShardAutoReadsEachEnginesVariables) {
   auto gitlab = from({{"CI_NODE_INDEX", "2"}, {"CI_NODE_TOTAL", "4"}});
   EXPECT_EQ(gitlab.index, 1);
   EXPECT_EQ(gitlab.count, 4);
-  auto github = from({{"OMNISHADOW_SHARD_INDEX", "0"}, {"OMNISHADOW_SHARD_COUNT", "3"}, {"CI_NODE_INDEX", "9"}});
+  auto github =
+      from({{"OMNISHADOW_SHARD_INDEX", "0"}, {"OMNISHADOW_SHARD_COUNT", "3"}, {"CI_NODE_INDEX", "9"}});
   EXPECT_EQ(github.index, 0);  // ours first: a GitLab job may run our script with its own shard variables too
   EXPECT_EQ(github.count, 3);
-  auto slurm = from({{"SLURM_ARRAY_TASK_ID", "12"}, {"SLURM_ARRAY_TASK_MIN", "10"}, {"SLURM_ARRAY_TASK_COUNT", "5"}});
+  auto slurm =
+      from({{"SLURM_ARRAY_TASK_ID", "12"}, {"SLURM_ARRAY_TASK_MIN", "10"}, {"SLURM_ARRAY_TASK_COUNT", "5"}});
   EXPECT_EQ(slurm.index, 2);
   EXPECT_EQ(slurm.count, 5);
   auto k8s = from({{"JOB_COMPLETION_INDEX", "3"}, {"OMNISHADOW_SHARD_COUNT", "8"}});
@@ -164,7 +170,8 @@ TEST(Matrix, ShardAutoReadsEachEnginesVariables) {
   auto none = from({});
   EXPECT_EQ(none.count, 1);
   EXPECT_EQ(none.source, "none");
-  EXPECT_THROW(from({{"CI_NODE_INDEX", "0"}, {"CI_NODE_TOTAL", "4"}}), std::invalid_argument);  // GitLab is 1-based
+  EXPECT_THROW(from({{"CI_NODE_INDEX", "0"}, {"CI_NODE_TOTAL", "4"}}),
+               std::invalid_argument);  // GitLab is 1-based
   EXPECT_THROW(from({{"CI_NODE_INDEX", "5"}, {"CI_NODE_TOTAL", "4"}}), std::invalid_argument);
   EXPECT_THROW(from({{"JOB_COMPLETION_INDEX", "1"}}), std::invalid_argument);  // the count must be given
   try {
@@ -229,12 +236,14 @@ TEST(Matrix, LayoutsExpandIntoTheIdAfterTheDepthFormat) {
 }
 
 // A layout's lookup is a variant of the lighting shader: face_array's define is in its defines and the build
-// compiles its SPIR-V for every storage and filter the cube has (the Vulkan backend finds it by the same key).
+// compiles its SPIR-V for every storage and filter the cube has (the Vulkan backend finds it by the same
+// key).
 TEST(Matrix, EachLayoutHasItsLightingVariants) {
   CaseConfig c;
   c.layout = Layout::face_array;
   const auto defines = gpu::lighting_defines(c, gpu::LightingVariant::timed);
-  EXPECT_EQ(gpu::variant_key("lighting.frag", defines), "lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD,LAYOUT_FACE_ARRAY");
+  EXPECT_EQ(gpu::variant_key("lighting.frag", defines),
+            "lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD,LAYOUT_FACE_ARRAY");
   c.layout = Layout::cube;
   EXPECT_EQ(gpu::variant_key("lighting.frag", gpu::lighting_defines(c, gpu::LightingVariant::timed)),
             "lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD");
@@ -254,7 +263,8 @@ TEST(Matrix, EachLayoutHasItsLightingVariants) {
   EXPECT_LT(paraboloid, cube);
   EXPECT_EQ(tetrahedral, paraboloid);
   for (const std::string& k : keys) {
-    if (k.find("LAYOUT_DUAL_PARABOLOID") != std::string::npos || k.find("LAYOUT_TETRAHEDRAL") != std::string::npos) {
+    if (k.find("LAYOUT_DUAL_PARABOLOID") != std::string::npos ||
+        k.find("LAYOUT_TETRAHEDRAL") != std::string::npos) {
       EXPECT_EQ(k.find("MOMENTS"), std::string::npos) << k;
     }
   }

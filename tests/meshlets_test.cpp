@@ -1,6 +1,9 @@
-// mesh_shader's meshlets (backends/common/meshlets.h): together they hold every triangle of every object exactly
-// once, in the scene's winding (a rotation of its vertices, never a reflection, so back-face culling is unchanged),
-// within the mesh stage's limits; each object's meshlets start on a task group and its spheres contain its vertices.
+// mesh_shader's meshlets (backends/common/meshlets.h): together they hold every triangle of every object
+// exactly once, in the scene's winding (a rotation of its vertices, never a reflection, so back-face culling
+// is unchanged), within the mesh stage's limits; each object's meshlets start on a task group and its spheres
+// contain its vertices.
+#include "backends/common/meshlets.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,7 +11,6 @@
 #include <map>
 #include <string>
 
-#include "backends/common/meshlets.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::gpu {
@@ -16,8 +18,8 @@ namespace {
 
 using Triangle = std::array<std::array<float, 3>, 3>;
 
-// A triangle by its positions, rotated so that its least vertex comes first: equal for rotations of one winding,
-// different for the reflected winding.
+// A triangle by its positions, rotated so that its least vertex comes first: equal for rotations of one
+// winding, different for the reflected winding.
 Triangle canonical(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
   std::array<std::array<float, 3>, 3> t = {{{a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z}}};
   const size_t least = static_cast<size_t>(std::min_element(t.begin(), t.end()) - t.begin());
@@ -42,7 +44,8 @@ void expect_meshlets_hold_the_scene(const scene::Scene& s) {
     if (o > 0) {
       EXPECT_EQ(om.first_task, m.objects[o - 1].first_task + m.objects[o - 1].task_count);
     }
-    for (uint32_t k = om.first_task * kMeshletsPerTask; k < (om.first_task + om.task_count) * kMeshletsPerTask; ++k) {
+    for (uint32_t k = om.first_task * kMeshletsPerTask;
+         k < (om.first_task + om.task_count) * kMeshletsPerTask; ++k) {
       const Meshlet& ml = m.meshlets[k];
       ASSERT_LE(ml.vertex_count, kMaxMeshletVertices);
       ASSERT_LE(ml.triangle_count, kMaxMeshletTriangles);
@@ -65,14 +68,16 @@ void expect_meshlets_hold_the_scene(const scene::Scene& s) {
         ++got[canonical(corner[0], corner[1], corner[2])];
       }
     }
-    EXPECT_EQ(got, expected) << "object " << o << " (" << obj.name << "): every triangle once, in its winding";
+    EXPECT_EQ(got, expected) << "object " << o << " (" << obj.name
+                             << "): every triangle once, in its winding";
   }
 }
 
 TEST(Meshlets, HoldEveryTriangleOnceInItsWindingWithinTheLimits) {
   for (const char* name : {"room.json", "heavy.json", "mixed.json"}) {
     SCOPED_TRACE(name);
-    expect_meshlets_hold_the_scene(scene::load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/" + name));
+    expect_meshlets_hold_the_scene(
+        scene::load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/" + name));
   }
 }
 

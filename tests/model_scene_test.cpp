@@ -1,15 +1,16 @@
-// A model run as a scene (scenes/model_scene.h): the placement rule's promises (scale, a light outside the model, a
-// far plane holding everything, a camera framing the model), --light / --camera in the file's units, and the same
-// overrides on scene files; third-party models from Debian packages (GTEST_SKIP with the reason when absent).
+// A model run as a scene (scenes/model_scene.h): the placement rule's promises (scale, a light outside the
+// model, a far plane holding everything, a camera framing the model), --light / --camera in the file's units,
+// and the same overrides on scene files; third-party models from Debian packages (GTEST_SKIP with the reason
+// when absent).
+
+#include "scenes/model_scene.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <filesystem>
 #include <fstream>
 
-#include "scenes/model_scene.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::scene {
@@ -39,13 +40,16 @@ void expect_rule_holds(const Scene& s) {
   std::vector<glm::vec3> corners;
   for (const Object* o : {&model, &floor})
     for (int i = 0; i < 8; ++i)
-      corners.emplace_back(i & 1 ? o->bounds_max.x : o->bounds_min.x, i & 2 ? o->bounds_max.y : o->bounds_min.y,
+      corners.emplace_back(i & 1 ? o->bounds_max.x : o->bounds_min.x,
+                           i & 2 ? o->bounds_max.y : o->bounds_min.y,
                            i & 4 ? o->bounds_max.z : o->bounds_min.z);
   for (int frame : {0, 30, 94, 188, 500}) {  // 94: the sway's peak (0.5 rad/s * 94/60 s = pi/2)
     const glm::vec3 light = s.light.path.at(frame);
-    EXPECT_GT(glm::length(light - c), kModelRadius) << "frame " << frame << ": the light is outside the model";
+    EXPECT_GT(glm::length(light - c), kModelRadius)
+        << "frame " << frame << ": the light is outside the model";
     for (const glm::vec3& p : corners)
-      EXPECT_LT(glm::length(p - light), s.light.far_plane) << "frame " << frame << ": far holds the whole scene";
+      EXPECT_LT(glm::length(p - light), s.light.far_plane)
+          << "frame " << frame << ": far holds the whole scene";
   }
   EXPECT_NEAR(glm::length(s.light.path.amplitude), kModelRadius / 4, 1e-5);
   // The camera frames the bounding sphere: its angular radius is under half the vertical field of view.
@@ -56,7 +60,8 @@ void expect_rule_holds(const Scene& s) {
 }
 
 TEST(ModelPlacement, ScalesTheModelToTheRoomsSizeAndPlacesLightAndCameraOutsideIt) {
-  // A box in millimetres, far from the origin: scaled (never moved), so the rebase remedy still has work to do.
+  // A box in millimetres, far from the origin: scaled (never moved), so the rebase remedy still has work to
+  // do.
   const ModelPlacement p = place_model({1000, 0, 0}, {1400, 300, 0}, {}, "mm.obj");
   EXPECT_DOUBLE_EQ(p.scale, kModelRadius / 250.0);  // half of the 500 mm diagonal
   EXPECT_NEAR(p.center.x, 1200 * p.scale, 1e-9);
@@ -81,8 +86,9 @@ TEST(ModelPlacement, ScalesTheModelToTheRoomsSizeAndPlacesLightAndCameraOutsideI
 
 TEST(ModelScene, AnOBJRunsByTheRuleWithAFloor) {
   // A tetrahedron in kilometres.
-  const std::string path = write_file("tetra.obj", "v 0 0 0\nv 4000 0 0\nv 0 4000 0\nv 0 0 4000\n"
-                                                   "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  const std::string path = write_file("tetra.obj",
+                                      "v 0 0 0\nv 4000 0 0\nv 0 4000 0\nv 0 0 4000\n"
+                                      "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
   const Scene s = load_scene_file(path);
   EXPECT_EQ(s.name, "tetra");
   EXPECT_EQ(s.objects[0].kind, "obj");
@@ -120,7 +126,8 @@ TEST(ModelScene, LightAndCameraOverridesApplyToSceneFilesToo) {
 
   LoadOptions up;
   up.camera = CameraPlacement{{0, 4, 0}, glm::dvec3(0, 0, 0)};
-  EXPECT_THROW(load_scene_file(scenes + "/room.json", up), SceneError) << "looking along the scene's up vector";
+  EXPECT_THROW(load_scene_file(scenes + "/room.json", up), SceneError)
+      << "looking along the scene's up vector";
   LoadOptions light_only;
   light_only.light = LightPlacement{};
   try {
@@ -130,7 +137,8 @@ TEST(ModelScene, LightAndCameraOverridesApplyToSceneFilesToo) {
     EXPECT_NE(std::string(e.what()).find("--light"), std::string::npos) << e.what();
   }
   // A model seen from straight above: lookAt's up would be parallel, so the rule turns it.
-  const std::string tetra = write_file("tetra2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n");
+  const std::string tetra =
+      write_file("tetra2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n");
   LoadOptions above;
   above.camera = CameraPlacement{{0.25, 10, 0.25}, glm::dvec3(0.25, 0, 0.25)};
   const Scene s = load_scene_file(tetra, above);
@@ -138,9 +146,9 @@ TEST(ModelScene, LightAndCameraOverridesApplyToSceneFilesToo) {
 }
 
 TEST(ModelScene, MissingAndDegenerateModelsAreOneLineNamingTheFile) {
-  for (const std::string& path :
-       {std::string("/nonexistent/model.glb"), write_file("point.obj", "v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n"),
-        write_file("truncated.glb", "glTF\x02")}) {
+  for (const std::string& path : {std::string("/nonexistent/model.glb"),
+                                  write_file("point.obj", "v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n"),
+                                  write_file("truncated.glb", "glTF\x02")}) {
     try {
       load_scene_file(path);
       ADD_FAILURE() << path << " loaded";
@@ -153,7 +161,8 @@ TEST(ModelScene, MissingAndDegenerateModelsAreOneLineNamingTheFile) {
 }
 
 TEST(ModelScene, GlmarksBunnyByTheRule) {
-  if (!std::filesystem::exists(kBunny)) GTEST_SKIP() << kBunny << " missing: bash scripts/setup.sh installs glmark2-data";
+  if (!std::filesystem::exists(kBunny))
+    GTEST_SKIP() << kBunny << " missing: bash scripts/setup.sh installs glmark2-data";
   const Scene bunny = load_scene_file(kBunny);
   EXPECT_EQ(bunny.objects[0].vertex_count, 69666u * 3u) << "the Stanford bunny";
   expect_rule_holds(bunny);
@@ -170,14 +179,17 @@ TEST(ModelScene, AssimpsEngineByTheRule) {
 }
 
 TEST(ModelScene, TheDefaultMatrixsBunnyRoomHoldsTheBunnyClearOfWallsAndLight) {
-  if (!std::filesystem::exists(kBunny)) GTEST_SKIP() << kBunny << " missing: bash scripts/setup.sh installs glmark2-data";
+  if (!std::filesystem::exists(kBunny))
+    GTEST_SKIP() << kBunny << " missing: bash scripts/setup.sh installs glmark2-data";
   const Scene s = load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/bunny.json");
   ASSERT_EQ(s.objects.size(), 2u);
   const Object& bunny = s.objects[1];
   EXPECT_EQ(bunny.vertex_count, 69666u * 3u);
   EXPECT_GT(bunny.bounds_min.y, -5.0f) << "above the floor, not coplanar with it";
   EXPECT_LT(bunny.bounds_min.y, -4.9f) << "standing on it";
-  auto inside_room = [](const glm::vec3& p) { return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) < 5.0f; };
+  auto inside_room = [](const glm::vec3& p) {
+    return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) < 5.0f;
+  };
   EXPECT_TRUE(inside_room(bunny.bounds_min) && inside_room(bunny.bounds_max));
   for (int frame = 0; frame < 400; frame += 7) {
     const glm::vec3 l = s.light.path.at(frame);
@@ -190,24 +202,29 @@ TEST(ModelScene, TheDefaultMatrixsBunnyRoomHoldsTheBunnyClearOfWallsAndLight) {
 TEST(ModelScene, SceneFilesRepeatModelsWithTransformsAndArrays) {
   const std::string tri = write_file("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   std::vector<std::string> files = {tri};
-  if (std::filesystem::exists(kEngine)) files.push_back(kEngine);  // else the OBJ alone: assimp-testmodels missing
+  if (std::filesystem::exists(kEngine))
+    files.push_back(kEngine);  // else the OBJ alone: assimp-testmodels missing
   for (const std::string& file : files) {
     const std::string type = file.ends_with(".obj") ? "obj" : "gltf";
-    const std::string text = R"({"light": {}, "objects": [{"name": "m", "type": ")" + type + R"(", "file": ")" + file +
-                             R"(", "translate": [10, 0, 0], "scale": 2, "rotate": {"degrees": 90, "axis": [0, 1, 0]},
+    const std::string text =
+        R"({"light": {}, "objects": [{"name": "m", "type": ")" + type + R"(", "file": ")" + file +
+        R"(", "translate": [10, 0, 0], "scale": 2, "rotate": {"degrees": 90, "axis": [0, 1, 0]},
                              "array": {"count": [3, 1, 2], "spacing": [5, 0, 7]}}]})";
-    const Scene single = load_scene_text(R"({"light": {}, "objects": [{"type": ")" + type + R"(", "file": ")" +
-                                             file + R"("}]})", "single.json");
+    const Scene single = load_scene_text(
+        R"({"light": {}, "objects": [{"type": ")" + type + R"(", "file": ")" + file + R"("}]})",
+        "single.json");
     const Scene s = load_scene_text(text, "array.json");
     ASSERT_EQ(s.objects.size(), 6u) << file;
     EXPECT_EQ(s.objects[5].name, "m[2,0,1]");
     EXPECT_EQ(s.vertices.size(), 6 * single.vertices.size());
-    // Copy [2,0,1]: vertex k is the model's vertex k rotated 90 degrees about +Y, doubled, moved by (20, 0, 7).
+    // Copy [2,0,1]: vertex k is the model's vertex k rotated 90 degrees about +Y, doubled, moved by (20, 0,
+    // 7).
     const Object& last = s.objects[5];
     for (uint32_t k = 0; k < last.vertex_count; k += 97) {
       const glm::vec3 p = single.vertices[k].position;
       const glm::vec3 expected = glm::vec3(20, 0, 7) + 2.0f * glm::vec3(p.z, p.y, -p.x);
-      EXPECT_LT(glm::length(s.vertices[last.first_vertex + k].position - expected), 1e-3f * (1 + glm::length(expected)))
+      EXPECT_LT(glm::length(s.vertices[last.first_vertex + k].position - expected),
+                1e-3f * (1 + glm::length(expected)))
           << file << " vertex " << k;
     }
   }

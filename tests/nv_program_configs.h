@@ -1,7 +1,8 @@
 #pragma once
-// The GL shadow-pass programs of the techniques whose extensions Mesa lacks (nv_swizzle, mesh_shader): one case per
-// technique, storage and culling setting that the common rules allow, each with a filter that reads its storage.
-// gl_shader_sources.cpp writes them for glslang; gl_nv_link_probe.cpp links them on the machine's driver.
+// The GL shadow-pass programs of the techniques whose extensions Mesa lacks (nv_swizzle, mesh_shader): one
+// case per technique, storage and culling setting that the common rules allow, each with a filter that reads
+// its storage. gl_shader_sources.cpp writes them for glslang; gl_nv_link_probe.cpp links them on the
+// machine's driver.
 #include <string>
 #include <vector>
 

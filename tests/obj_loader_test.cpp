@@ -1,5 +1,8 @@
 // OBJ meshes through tinyobjloader (scenes/obj_loader.h): polygons triangulated, negative indices, the file's
-// normals or face normals; and one line naming the file for each malformed file, never a read beyond the arrays.
+// normals or face normals; and one line naming the file for each malformed file, never a read beyond the
+// arrays.
+
+#include "scenes/obj_loader.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +11,6 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "scenes/obj_loader.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::scene {
@@ -36,13 +38,15 @@ TEST(ObjLoader, TriangulatesPolygonsAndResolvesNegativeIndices) {
 }
 
 TEST(ObjLoader, KeepsTheFilesNormalsNormalisedWhereEveryCornerHasOne) {
-  const std::string path = write_obj("normals.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 3 0 4\nvn 0 0 0\n"
-                                                    "f 1//1 2//1 3//1\nf 1//1 2//2 3//1\n");
+  const std::string path = write_obj("normals.obj",
+                                     "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 3 0 4\nvn 0 0 0\n"
+                                     "f 1//1 2//1 3//1\nf 1//1 2//2 3//1\n");
   const std::vector<MeshVertex> v = load_obj(path);
   ASSERT_EQ(v.size(), 6u);
   for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(glm::length(v[i].normal - glm::vec3(0.6f, 0.0f, 0.8f)), 0.0f, 1e-6f);
-    EXPECT_EQ(v[3 + i].normal, glm::vec3(0.0f, 0.0f, 1.0f)) << "a zero normal counts as none: the face normal";
+    EXPECT_EQ(v[3 + i].normal, glm::vec3(0.0f, 0.0f, 1.0f))
+        << "a zero normal counts as none: the face normal";
   }
 }
 
@@ -78,12 +82,16 @@ INSTANTIATE_TEST_SUITE_P(
                       BadObj{"infinite.obj", "v 1e999 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "not finite"},
                       BadObj{"no_faces.obj", "v 0 0 0\nv 1 0 0\n", "no faces"},
                       BadObj{"empty.obj", "", "no faces"},
-                      BadObj{"binary.obj", "\x7f" "ELF\x02\x01\x01\0\0\0", "no faces"}),
+                      BadObj{"binary.obj",
+                             "\x7f"
+                             "ELF\x02\x01\x01\0\0\0",
+                             "no faces"}),
     [](const ::testing::TestParamInfo<BadObj>& info) { return "case" + std::to_string(info.index); });
 
 // The error is one line that names the path it could not read.
 TEST(ObjLoader, AFolderOrMissingFileIsNamed) {
-  for (const std::string& path : {std::string("/nonexistent/model.obj"), std::filesystem::temp_directory_path().string()}) {
+  for (const std::string& path :
+       {std::string("/nonexistent/model.obj"), std::filesystem::temp_directory_path().string()}) {
     try {
       load_obj(path);
       ADD_FAILURE() << path << " loaded";

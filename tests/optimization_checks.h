@@ -1,6 +1,7 @@
 #pragma once
 // The work-avoiding switches (CaseConfig::optimizations) checked the same way on every backend: culling and
-// caching change no value of any image and do less work; fit_range tightens far. Used by the GL and Vulkan tests.
+// caching change no value of any image and do less work; fit_range tightens far. Used by the GL and Vulkan
+// tests.
 
 #include <gtest/gtest.h>
 
@@ -77,8 +78,10 @@ inline void check_face_culling(Backend& b, const std::string& backend, const std
     } else if (t == Technique::vs_layer) {
       EXPECT_LT(w_on.shadow.vs_invocations, w_off.shadow.vs_invocations / 2) << name;
     } else {
-      EXPECT_EQ(w_on.shadow.gs_invocations, w_off.shadow.gs_invocations) << name << ": every triangle is still seen";
-      EXPECT_LT(w_on.shadow.gs_primitives, w_off.shadow.gs_primitives / 3) << name << ": but emitted to fewer faces";
+      EXPECT_EQ(w_on.shadow.gs_invocations, w_off.shadow.gs_invocations)
+          << name << ": every triangle is still seen";
+      EXPECT_LT(w_on.shadow.gs_primitives, w_off.shadow.gs_primitives / 3)
+          << name << ": but emitted to fewer faces";
     }
   }
 }
@@ -113,7 +116,8 @@ inline void check_fit_range(Backend& b, const std::string& backend, const scene:
   six.optimizations.fit_range = true;
   Images a = render_frame(b, six, 12);
   EXPECT_LT(a.light_far, room.light.far_plane * 0.5f);
-  EXPECT_GT(a.light_far, 5.0f * std::sqrt(3.0f) - 3.0f);  // the room's far corners from a light near the centre
+  EXPECT_GT(a.light_far,
+            5.0f * std::sqrt(3.0f) - 3.0f);  // the room's far corners from a light near the centre
   CaseConfig gs = six;
   gs.technique = Technique::geometry_shader;
   if (b.supports(gs).ok) expect_same_images(render_frame(b, gs, 12), a, "fitted far, GS vs six_pass");
@@ -122,10 +126,10 @@ inline void check_fit_range(Backend& b, const std::string& backend, const scene:
 // Spot and directional lights (one 2D map each) against exact visibility, and a scene with several lights:
 // the point light's shadow is reported, the other lights add their light (the lit frame changes).
 // Stated bounds (hard filter, 512 maps, frame 30): spot 1% of pixels misclassified (measured 0.30%), mixed 3%
-// (1.82%: acne stripes on cube faces at grazing angles to the point light, where one cube texel spans more depth
-// than the tutorials' 0.05 bias),
-// the directional notes 5% (3.4%: mostly faces turned away from the light, which front-face culling leaves unshadowed in the
-// map while exact visibility shadows them; they are unlit by n.l either way).
+// (1.82%: acne stripes on cube faces at grazing angles to the point light, where one cube texel spans more
+// depth than the tutorials' 0.05 bias), the directional notes 5% (3.4%: mostly faces turned away from the
+// light, which front-face culling leaves unshadowed in the map while exact visibility shadows them; they are
+// unlit by n.l either way).
 inline void check_map_lights(Backend& b, const std::string& backend, const std::string& scenes_dir) {
   bench::TruthOptions point_only;
   point_only.light_radius = 0.0f;
@@ -141,7 +145,8 @@ inline void check_map_lights(Backend& b, const std::string& backend, const std::
     EXPECT_LT(a.misclassified_percent, bound) << name;
     size_t shadowed = std::count(img.shadow_factor.begin(), img.shadow_factor.end(), 1.0f);
     EXPECT_GT(shadowed, img.shadow_factor.size() / 200) << name << ": the map light casts shadows";
-    // The maps themselves against exact depths (bench/truth/map_truth.h), and the check catching a map upside down.
+    // The maps themselves against exact depths (bench/truth/map_truth.h), and the check catching a map upside
+    // down.
     ASSERT_EQ(img.map_depth.size(), s.map_lights.size()) << name;
     const cube::DepthRange range =
         img.map_depth_zero_to_one ? cube::DepthRange::zero_to_one : cube::DepthRange::minus_one_to_one;
@@ -154,7 +159,9 @@ inline void check_map_lights(Backend& b, const std::string& backend, const std::
       for (int row = 0; row < img.map_size / 2; ++row)
         std::swap_ranges(map.begin() + row * img.map_size, map.begin() + (row + 1) * img.map_size,
                          map.begin() + (img.map_size - 1 - row) * img.map_size);
-    EXPECT_GT(bench::check_map_texels(truth, flipped, c.depth_format, b.device().subpixel_bits).bad_percent(), 1.0) << name;
+    EXPECT_GT(bench::check_map_texels(truth, flipped, c.depth_format, b.device().subpixel_bits).bad_percent(),
+              1.0)
+        << name;
   }
   // mixed without its spot and directional lights: same shadow factor (the point light's), a darker frame.
   scene::Scene mixed = scene::load_scene_file(scenes_dir + "/mixed.json");
@@ -167,7 +174,8 @@ inline void check_map_lights(Backend& b, const std::string& backend, const std::
   EXPECT_EQ(all.shadow_factor, point.shadow_factor);
   long brighter = 0;
   for (size_t i = 0; i < all.lit_rgba8.size(); ++i) brighter += all.lit_rgba8[i] > point.lit_rgba8[i];
-  EXPECT_GT(brighter, static_cast<long>(all.lit_rgba8.size() / 20)) << "the spot and directional lights add light";
+  EXPECT_GT(brighter, static_cast<long>(all.lit_rgba8.size() / 20))
+      << "the spot and directional lights add light";
 }
 
 }  // namespace omnishadow::testing

@@ -1,13 +1,14 @@
-// Dual-paraboloid conventions (backends/common/paraboloid.h): the map and its inverse agree, every direction has
-// one layer, the equator is the unit circle, and each layer keeps a triangle's winding as the cube face looking the
-// same way does (so the shadow pass culls the same faces in every layout).
+// Dual-paraboloid conventions (backends/common/paraboloid.h): the map and its inverse agree, every direction
+// has one layer, the equator is the unit circle, and each layer keeps a triangle's winding as the cube face
+// looking the same way does (so the shadow pass culls the same faces in every layout).
+#include "backends/common/paraboloid.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "backends/common/cube_faces.h"
-#include "backends/common/paraboloid.h"
 
 namespace omnishadow::paraboloid {
 namespace {
@@ -42,8 +43,8 @@ TEST(Paraboloid, AxesAndEquatorLandWhereTheConventionSays) {
   }
 }
 
-// The sign of the map's Jacobian (window x, y against the direction's two tangent components) is the cube face's
-// along the same axis: +Z (face 4) for layer 0, -Z (face 5) for layer 1.
+// The sign of the map's Jacobian (window x, y against the direction's two tangent components) is the cube
+// face's along the same axis: +Z (face 4) for layer 0, -Z (face 5) for layer 1.
 TEST(Paraboloid, LayersKeepTheWindingOfTheCubeFaceAlongTheirAxis) {
   for (int layer = 0; layer < 2; ++layer) {
     const double a = layer == 0 ? 1.0 : -1.0;
@@ -55,7 +56,8 @@ TEST(Paraboloid, LayersKeepTheWindingOfTheCubeFaceAlongTheirAxis) {
     const float k = 1e-2f;
     const double cs_u = (f(k, 0).s - f(-k, 0).s) / (2 * k), cs_v = (f(0, k).s - f(0, -k).s) / (2 * k);
     const double ct_u = (f(k, 0).t - f(-k, 0).t) / (2 * k), ct_v = (f(0, k).t - f(0, -k).t) / (2 * k);
-    EXPECT_EQ(std::signbit(jx_u * jy_v - jx_v * jy_u), std::signbit(cs_u * ct_v - cs_v * ct_u)) << "layer " << layer;
+    EXPECT_EQ(std::signbit(jx_u * jy_v - jx_v * jy_u), std::signbit(cs_u * ct_v - cs_v * ct_u))
+        << "layer " << layer;
   }
 }
 
@@ -73,7 +75,8 @@ TEST(Paraboloid, TexelsMapToTheirCentresAndTheDiskHoldsTheLookups) {
         EXPECT_EQ(static_cast<int>(std::floor((c.y + 1.0) * 0.5 * size)), t);
       }
     }
-  EXPECT_NEAR(static_cast<double>(inside) / (size * size), 3.14159265 / 4, 0.01) << "pi/4 of a layer is the disk";
+  EXPECT_NEAR(static_cast<double>(inside) / (size * size), 3.14159265 / 4, 0.01)
+      << "pi/4 of a layer is the disk";
   EXPECT_EQ(layer_size_for_cube(512), 887) << "2 x 887^2 = 1.574 M texels, a 512 cube's 6 x 512^2 = 1.573 M";
 }
 

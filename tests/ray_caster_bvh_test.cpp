@@ -1,6 +1,7 @@
 // The BVH changes no answer: every ray the reference casts through its hierarchy (float boxes where provably
-// conservative, double otherwise) gets exactly the answer of testing every triangle of the scene, including rays
-// that graze vertices and edges lying on node boxes' faces, axis-parallel rays, and a scene far from the origin.
+// conservative, double otherwise) gets exactly the answer of testing every triangle of the scene, including
+// rays that graze vertices and edges lying on node boxes' faces, axis-parallel rays, and a scene far from the
+// origin.
 
 #include <gtest/gtest.h>
 
@@ -23,13 +24,15 @@ scene::Scene clutter(const glm::vec3& offset) {
   std::string objects = R"({"type": "plane", "scale": [10, 1, 10], "translate": )" + json_vec(offset) + "}";
   for (int i = 0; i < 12; ++i) {
     const glm::vec3 at = offset + glm::vec3(-5.7f + float(i), float(1 + i % 3), float((i * 7) % 9) - 3.9f);
-    objects += R"(, {"type": ")" + std::string(i % 2 ? "box" : "sphere") + R"(", )" + (i % 2 ? "" : R"("segments": [16, 8], )") + R"("scale": 0.6, )" +
-               R"("rotate": {"degrees": )" + std::to_string(i * 17) + R"(, "axis": [1, )" + std::to_string(i % 4) + R"(, 0.5]}, "translate": )" +
-               json_vec(at) + "}";
+    objects += R"(, {"type": ")" + std::string(i % 2 ? "box" : "sphere") + R"(", )" +
+               (i % 2 ? "" : R"("segments": [16, 8], )") + R"("scale": 0.6, )" + R"("rotate": {"degrees": )" +
+               std::to_string(i * 17) + R"(, "axis": [1, )" + std::to_string(i % 4) +
+               R"(, 0.5]}, "translate": )" + json_vec(at) + "}";
   }
   const glm::vec3 light = offset + glm::vec3(0.0f, 6.0f, 0.0f);
   return scene::load_scene_text(
-      R"({"light": {"position": )" + json_vec(light) + R"(, "far": 50}, "objects": [)" + objects + "]}", "clutter.json");
+      R"({"light": {"position": )" + json_vec(light) + R"(, "far": 50}, "objects": [)" + objects + "]}",
+      "clutter.json");
 }
 
 struct Segment {
@@ -50,8 +53,8 @@ bool brute_blocked(const scene::Scene& s, const Segment& r, float eps) {
 }
 
 // The nearest hit's distance and triangle (the lowest index of those at that distance); -1 for none.
-std::pair<double, uint32_t> brute_closest(const scene::Scene& s, const glm::vec3& origin, const glm::vec3& dir,
-                                          double max_distance) {
+std::pair<double, uint32_t> brute_closest(const scene::Scene& s, const glm::vec3& origin,
+                                          const glm::vec3& dir, double max_distance) {
   double best = -1.0;
   uint32_t triangle = 0;
   for (size_t i = 0; i + 2 < s.vertices.size(); i += 3) {
@@ -66,14 +69,16 @@ std::pair<double, uint32_t> brute_closest(const scene::Scene& s, const glm::vec3
   return {best, triangle};
 }
 
-// Rays from the light through vertices, edge midpoints and centroids (each point mid-segment, so that it lies inside
-// the ray's reach on a node box's face) and ending just short of them, and axis-parallel and almost axis-parallel rays through vertices.
+// Rays from the light through vertices, edge midpoints and centroids (each point mid-segment, so that it lies
+// inside the ray's reach on a node box's face) and ending just short of them, and axis-parallel and almost
+// axis-parallel rays through vertices.
 std::vector<Segment> grazing_rays(const scene::Scene& s, const glm::vec3& light, size_t step) {
   std::vector<Segment> rays;
   for (size_t i = 0; i + 2 < s.vertices.size(); i += 3 * step) {
-    const glm::vec3 a = s.vertices[i].position, b = s.vertices[i + 1].position, c = s.vertices[i + 2].position;
+    const glm::vec3 a = s.vertices[i].position, b = s.vertices[i + 1].position,
+                    c = s.vertices[i + 2].position;
     for (const glm::vec3& p : {a, 0.5f * (a + b), (a + b + c) / 3.0f}) {
-      rays.push_back({light, p + 0.5f * (p - light)});  // through p
+      rays.push_back({light, p + 0.5f * (p - light)});        // through p
       rays.push_back({light, light + 0.999f * (p - light)});  // ending just short of p
     }
     for (int axis = 0; axis < 3; ++axis) {
@@ -96,14 +101,15 @@ void expect_same_answers(const scene::Scene& s, const glm::vec3& light) {
   for (const Segment& r : grazing_rays(s, light, 3)) {
     const bool expected = brute_blocked(s, r, 1e-4f);
     ASSERT_EQ(caster.blocked(r.from, r.to, 1e-4f), expected)
-        << "from (" << r.from.x << ", " << r.from.y << ", " << r.from.z << ") to (" << r.to.x << ", " << r.to.y << ", "
-        << r.to.z << ")";
+        << "from (" << r.from.x << ", " << r.from.y << ", " << r.from.z << ") to (" << r.to.x << ", "
+        << r.to.y << ", " << r.to.z << ")";
     (expected ? blocked : clear) += 1;
     const glm::vec3 dir = glm::normalize(r.to - r.from);
     const double length = glm::length(glm::dvec3(r.to) - glm::dvec3(r.from));
     const auto [exact, triangle] = brute_closest(s, r.from, dir, length);
     const Hit h = caster.closest(r.from, dir, length);
-    ASSERT_EQ(h.hit, exact > 0.0) << "closest from (" << r.from.x << ", " << r.from.y << ", " << r.from.z << ")";
+    ASSERT_EQ(h.hit, exact > 0.0) << "closest from (" << r.from.x << ", " << r.from.y << ", " << r.from.z
+                                  << ")";
     if (h.hit) {
       EXPECT_EQ(h.distance, exact);
       EXPECT_EQ(h.triangle, triangle) << "ties go to the lowest index";
@@ -120,7 +126,8 @@ TEST(RayCasterBvh, AnswersAsEveryTriangleTestedOnGrazingRays) {
 }
 
 TEST(RayCasterBvh, AnswersAsEveryTriangleTestedFarFromTheOrigin) {
-  // 1e5 away: a float's spacing there (0.0078) is larger than the end tolerance, the case the widening is for.
+  // 1e5 away: a float's spacing there (0.0078) is larger than the end tolerance, the case the widening is
+  // for.
   expect_same_answers(clutter({1e5f, 0.0f, 1e5f}), {1e5f, 6.0f, 1e5f});
 }
 

@@ -15,7 +15,8 @@ namespace {
 // Light at (0,5,0) above a ground plane y = 0 (20 x 20) with one occluder.
 scene::Scene make_scene(const std::string& occluder) {
   return scene::load_scene_text(R"({"light": {"position": [0, 5, 0], "far": 50}, "objects": [
-      {"type": "plane", "scale": [10, 1, 10]}, )" + occluder + "]}",
+      {"type": "plane", "scale": [10, 1, 10]}, )" +
+                                    occluder + "]}",
                                 "test.json");
 }
 
@@ -36,9 +37,9 @@ TEST(RayCaster, BoxShadowMatchesItsAnalyticOutline) {
   EXPECT_FALSE(caster.blocked(light, {0, 3.0001f, 0}, 1e-3f)) << "the top face holds itself";
 }
 
-// The previous blocker, tried first, changes no answer: over the box's outline (inside, outside, and points where
-// the hint's triangle is not the blocker or blocks nothing) every ray answers as without it, and the hint ends on
-// a triangle that really blocks.
+// The previous blocker, tried first, changes no answer: over the box's outline (inside, outside, and points
+// where the hint's triangle is not the blocker or blocks nothing) every ray answers as without it, and the
+// hint ends on a triangle that really blocks.
 TEST(RayCaster, LastBlockerHintChangesNoAnswer) {
   scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5}, )"
                               R"({"type": "box", "translate": [3, 2.5, 0], "scale": 0.5})");
@@ -67,10 +68,11 @@ TEST(RayCaster, LastBlockerHintChangesNoAnswer) {
 }
 
 TEST(RayCaster, SphereShadowIsADiscOfTheAnalyticRadius) {
-  // Unit sphere scaled 0.5 at height 2.5: the tangent cone from the light has sin(a) = 0.5 / 2.5, so the shadow
-  // on y = 0 (5 below the light) has radius 5 tan(a) = 1.0206. The tessellated sphere is inscribed: its shadow
-  // is at most that, and within one segment's sagitta of it.
-  scene::Scene s = make_scene(R"({"type": "sphere", "segments": [128, 64], "translate": [0, 2.5, 0], "scale": 0.5})");
+  // Unit sphere scaled 0.5 at height 2.5: the tangent cone from the light has sin(a) = 0.5 / 2.5, so the
+  // shadow on y = 0 (5 below the light) has radius 5 tan(a) = 1.0206. The tessellated sphere is inscribed:
+  // its shadow is at most that, and within one segment's sagitta of it.
+  scene::Scene s =
+      make_scene(R"({"type": "sphere", "segments": [128, 64], "translate": [0, 2.5, 0], "scale": 0.5})");
   RayCaster caster(s);
   const double exact = 5.0 * std::tan(std::asin(0.2));
   for (int k = 0; k < 16; ++k) {
@@ -82,7 +84,8 @@ TEST(RayCaster, SphereShadowIsADiscOfTheAnalyticRadius) {
 }
 
 TEST(RayCaster, ClosestHitGivesTheSurfaceAndItsShading) {
-  scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5, "color": [1, 0, 0]})");
+  scene::Scene s =
+      make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5, "color": [1, 0, 0]})");
   RayCaster caster(s);
   Hit h = caster.closest({0, 10, 0}, {0, -1, 0}, 100.0);
   ASSERT_TRUE(h.hit);
@@ -128,10 +131,11 @@ TEST(Truth, SphericalLightGivesAPenumbraBetweenUmbraAndLight) {
 }
 
 // A prior truth (another API's) gives its values to pixels on the same surface point and no others: positions
-// moved by float rounding (within the GL rule's 1 part in 1e5 per operation) reuse every pixel with the answers a
-// fresh cast gives; a position moved by a pixel's footprint is cast again, with its own answer.
+// moved by float rounding (within the GL rule's 1 part in 1e5 per operation) reuse every pixel with the
+// answers a fresh cast gives; a position moved by a pixel's footprint is cast again, with its own answer.
 TEST(Truth, PriorSharesSameSurfacePixelsAndCastsTheRest) {
-  // The penumbra scene above; no point on the point light's edge (x = 1.25), where ulps could change the answer.
+  // The penumbra scene above; no point on the point light's edge (x = 1.25), where ulps could change the
+  // answer.
   scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
   RayCaster caster(s);
   Images img = floor_row({0.0f, 0.6f, 0.9f, 1.1f, 1.2f, 1.3f, 1.6f, 2.0f, 3.0f});
@@ -160,7 +164,8 @@ TEST(Truth, PriorSharesSameSurfacePixelsAndCastsTheRest) {
 
   bench::TruthOptions other = o;  // a prior cast with other options is not used
   other.light_radius = 0.25f;
-  EXPECT_EQ(bench::compute_truth(caster, s, 0, rounded, other, {&first, &img.world_position}).reused_pixels, 0u);
+  EXPECT_EQ(bench::compute_truth(caster, s, 0, rounded, other, {&first, &img.world_position}).reused_pixels,
+            0u);
 }
 
 TEST(Truth, MetricsCountFalseAndMissedShadowsApart) {
@@ -185,14 +190,16 @@ TEST(Truth, MetricsCountFalseAndMissedShadowsApart) {
   EXPECT_EQ(bench::measure_accuracy(t, img).psnr_point_db, -1.0) << "identical: no finite PSNR";
 }
 
-// The radius fit: a shadow factor equal to one radius's truth picks that radius; the point light's truth picks 0.
+// The radius fit: a shadow factor equal to one radius's truth picks that radius; the point light's truth
+// picks 0.
 TEST(Truth, RadiusFitPicksTheLightAFilterImitates) {
   scene::Scene s = make_scene(R"({"type": "box", "translate": [0, 2.5, 0], "scale": 0.5})");
   RayCaster caster(s);
   Images img;
   img.width = 64;  // every kFitStride-th pixel of one row is sampled: 16 pixels across the shadow's edge
   img.height = 1;
-  for (int x = 0; x < img.width; ++x) img.world_position.insert(img.world_position.end(), {x * 0.05f, 0.0f, 0.0f, 1.0f});
+  for (int x = 0; x < img.width; ++x)
+    img.world_position.insert(img.world_position.end(), {x * 0.05f, 0.0f, 0.0f, 1.0f});
   bench::TruthOptions o;
   o.light_radius = 0.1f;
   bench::Truth t = bench::compute_truth(caster, s, 0, img, o);
@@ -210,8 +217,9 @@ TEST(Truth, RadiusFitPicksTheLightAFilterImitates) {
   EXPECT_TRUE(bench::compute_truth(caster, s, 0, img, o).fit_pixels.empty());
 }
 
-// Large frames cast the soft reference at every sphere_stride-th pixel: the stride keeps the rays under the budget
-// of an 800x600 frame, and the sphere figures (means) over the subsample stay close to the full frame's.
+// Large frames cast the soft reference at every sphere_stride-th pixel: the stride keeps the rays under the
+// budget of an 800x600 frame, and the sphere figures (means) over the subsample stay close to the full
+// frame's.
 TEST(Truth, SoftReferenceIsSubsampledAboveAnEightHundredBySixHundredFrame) {
   bench::TruthOptions o;
   EXPECT_EQ(bench::sphere_stride_for(o, 800, 600), 1);
@@ -226,7 +234,8 @@ TEST(Truth, SoftReferenceIsSubsampledAboveAnEightHundredBySixHundredFrame) {
   img.width = 240;  // x from 0 to 2.4 across the penumbra of the box's shadow edge (x = 1.25), two rows
   img.height = 2;
   for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) img.world_position.insert(img.world_position.end(), {x * 0.01f, 0.0f, y * 0.01f, 1.0f});
+    for (int x = 0; x < img.width; ++x)
+      img.world_position.insert(img.world_position.end(), {x * 0.01f, 0.0f, y * 0.01f, 1.0f});
   o.light_radius = 0.5f;
   o.samples_per_axis = 8;
   o.sphere_stride = 1;
@@ -243,7 +252,8 @@ TEST(Truth, SoftReferenceIsSubsampledAboveAnEightHundredBySixHundredFrame) {
   EXPECT_EQ(b.misclassified_percent, a.misclassified_percent) << "point figures use every pixel";
 }
 
-// Cases share a truth when their positions' fingerprints agree: any changed bit, anywhere, must tell them apart.
+// Cases share a truth when their positions' fingerprints agree: any changed bit, anywhere, must tell them
+// apart.
 TEST(Truth, FingerprintTellsPositionBuffersApart) {
   Images a;
   a.width = 7;
@@ -258,12 +268,14 @@ TEST(Truth, FingerprintTellsPositionBuffersApart) {
       std::memcpy(&word, &b.world_position[value], 4);
       word ^= 1u << bit;
       std::memcpy(&b.world_position[value], &word, 4);
-      EXPECT_NE(bench::positions_fingerprint(a), bench::positions_fingerprint(b)) << "value " << value << " bit " << bit;
+      EXPECT_NE(bench::positions_fingerprint(a), bench::positions_fingerprint(b))
+          << "value " << value << " bit " << bit;
     }
   }
   Images swapped = a;
   std::swap(swapped.width, swapped.height);
-  EXPECT_NE(bench::positions_fingerprint(a), bench::positions_fingerprint(swapped)) << "the size is part of it";
+  EXPECT_NE(bench::positions_fingerprint(a), bench::positions_fingerprint(swapped))
+      << "the size is part of it";
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Scene files: the tutorials' scenes load as the tutorials describe them, and every malformed form is an error that
-// names the file and the JSON pointer of the offending field.
+// Scene files: the tutorials' scenes load as the tutorials describe them, and every malformed form is an
+// error that names the file and the JSON pointer of the offending field.
 
 #include <gtest/gtest.h>
 
@@ -88,13 +88,13 @@ TEST_P(SceneLoaderErrors, NameFileAndPointer) {
 INSTANTIATE_TEST_SUITE_P(
     Malformed, SceneLoaderErrors,
     ::testing::Values(
-        BadScene{"{", "malformed JSON"},
-        BadScene{"", "malformed JSON"},
+        BadScene{"{", "malformed JSON"}, BadScene{"", "malformed JSON"},
         BadScene{"[1, 2]", "/: expected an object"},
         BadScene{R"({"objects": [{"type": "box"}]})", "/light: missing required field"},
         BadScene{"{" LIGHT "}", "/objects: missing required field"},
         BadScene{"{" LIGHT R"(, "objects": []})", "/objects: a scene needs at least one object"},
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "teapot"}]})", "/objects/0/type: unknown object type 'teapot'"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "teapot"}]})",
+                 "/objects/0/type: unknown object type 'teapot'"},
         BadScene{"{" LIGHT R"(, "objects": [{"type": "box"}, {"type": "box", "scale": 0}]})",
                  "/objects/1/scale: scale must be > 0"},
         BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "scale": [1, -2, 1]}]})", "/objects/0/scale"},
@@ -104,44 +104,58 @@ INSTANTIATE_TEST_SUITE_P(
                  "/objects/0/translate/1: expected a number"},
         BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "translate": [1e300, 0, 0]}]})",
                  "/objects/0/translate/0: number must be finite"},
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "sclae": 2}]})", "/objects/0/sclae: unknown field"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "sclae": 2}]})",
+                 "/objects/0/sclae: unknown field"},
         BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "rotate": {"degrees": 30, "axis": [0, 0, 0]}}]})",
                  "/objects/0/rotate/axis: axis must not be zero"},
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [2, 8]}]})", "/objects/0/segments/0"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [2, 8]}]})",
+                 "/objects/0/segments/0"},
         BadScene{"{" LIGHT R"(, "objects": [{"type": "obj", "file": "missing.obj"}]})",
                  "/objects/0/file: cannot open OBJ file"},
         BadScene{R"({"light": {"near": 5, "far": 1}, "objects": [{"type": "box"}]})",
                  "/light/far: far must be greater than near"},
         BadScene{R"({"light": {"type": "spot"}, "objects": [{"type": "box"}]})", "/light/type"},
-        BadScene{R"({"format": "other/2", )" LIGHT R"(, "objects": [{"type": "box"}]})", "/format: unsupported"},
+        BadScene{R"({"format": "other/2", )" LIGHT R"(, "objects": [{"type": "box"}]})",
+                 "/format: unsupported"},
         BadScene{"{" LIGHT R"(, "camera": {"size": [0, 600]}, "objects": [{"type": "box"}]})",
                  "/camera/size/0: must be an integer in [1, 16384]"},
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "array": {"count": [2000, 1, 1], "spacing": [1, 0, 0]}}]})",
+        BadScene{"{" LIGHT
+                 R"(, "objects": [{"type": "box", "array": {"count": [2000, 1, 1], "spacing": [1, 0, 0]}}]})",
                  "/objects/0/array/count/0"},
         // Found by the fuzzer: a number beyond double escaped as nlohmann's out_of_range.
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "translate": [1e999, 0, 0]}]})", "malformed JSON"},
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "scale": 1e-40}]})", "/objects/0: transform gives non-finite"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "translate": [1e999, 0, 0]}]})",
+                 "malformed JSON"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "scale": 1e-40}]})",
+                 "/objects/0: transform gives non-finite"},
         BadScene{"{" LIGHT R"(, "camera": {"position": [0, 5, 0], "target": [0, 0, 0], "up": [0, 1, 0]},
-                 "objects": [{"type": "box"}]})", "/camera/up: up must not be zero or parallel"},
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "obj", "file": "/proc"}]})", "/objects/0/file: cannot open OBJ file"},
-        BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [4096, 4096]}]})", "/objects/0/segments/0"},
+                 "objects": [{"type": "box"}]})",
+                 "/camera/up: up must not be zero or parallel"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "obj", "file": "/proc"}]})",
+                 "/objects/0/file: cannot open OBJ file"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [4096, 4096]}]})",
+                 "/objects/0/segments/0"},
         // Several lights: each checked where it stands.
         BadScene{R"({"lights": [{"type": "point"}, {"type": "point"}], "objects": [{"type": "box"}]})",
                  "/lights/1: at most one point light"},
-        BadScene{R"({"lights": [{"type": "area"}], "objects": [{"type": "box"}]})", "/lights/0/type: unknown light type"},
-        BadScene{R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}], "objects": [{"type": "box"}]})",
-                 "/lights/0/direction: direction must not be zero"},
+        BadScene{R"({"lights": [{"type": "area"}], "objects": [{"type": "box"}]})",
+                 "/lights/0/type: unknown light type"},
+        BadScene{
+            R"({"lights": [{"type": "directional", "direction": [0, 0, 0]}], "objects": [{"type": "box"}]})",
+            "/lights/0/direction: direction must not be zero"},
         BadScene{R"({"lights": [{"type": "spot", "direction": [0, -1, 0], "cone_degrees": 180}],
-                 "objects": [{"type": "box"}]})", "/lights/0/cone_degrees"},
-        BadScene{R"({"lights": [{"type": "directional", "direction": [0, -1, 0], "near": 1}], "objects": [{"type": "box"}]})",
-                 "/lights/0/near: unknown field"},
+                 "objects": [{"type": "box"}]})",
+                 "/lights/0/cone_degrees"},
+        BadScene{
+            R"({"lights": [{"type": "directional", "direction": [0, -1, 0], "near": 1}], "objects": [{"type": "box"}]})",
+            "/lights/0/near: unknown field"},
         BadScene{R"({"light": {}, "lights": [{"type": "point"}], "objects": [{"type": "box"}]})",
                  "/lights: give \"light\" or \"lights\", not both"},
         BadScene{R"({"lights": [], "objects": [{"type": "box"}]})", "/lights: expected a non-empty array"},
-        BadScene{R"({"lights": [{"type": "spot", "direction": [0, -1, 0]}, {"type": "spot", "direction": [0, -1, 0]},
+        BadScene{
+            R"({"lights": [{"type": "spot", "direction": [0, -1, 0]}, {"type": "spot", "direction": [0, -1, 0]},
                  {"type": "spot", "direction": [0, -1, 0]}, {"type": "spot", "direction": [0, -1, 0]},
                  {"type": "directional", "direction": [0, -1, 0]}], "objects": [{"type": "box"}]})",
-                 "/lights/4: at most 4 spot/directional lights"}),
+            "/lights/4: at most 4 spot/directional lights"}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return "case" + std::to_string(info.index); });
 
 TEST(SceneLoader, LightsEachGetWhatTheyNeed) {

@@ -1,11 +1,12 @@
 // The CPU side of per-face culling and range fitting (backends/common/shadow_plan.h): conservative by
 // construction, so checked against brute force on random boxes.
+#include "backends/common/shadow_plan.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "backends/common/cube_faces.h"
-#include "backends/common/shadow_plan.h"
 #include "scenes/scene.h"
 
 namespace omnishadow::cube {
@@ -13,11 +14,12 @@ namespace {
 
 TEST(ShadowPlan, BoxesLandOnTheFacesTheyFace) {
   const glm::vec3 light(0.0f);
-  EXPECT_EQ(box_face_mask({2, -0.5f, -0.5f}, {3, 0.5f, 0.5f}, light, 0.1f, 25), 1u << 0);  // +X only
+  EXPECT_EQ(box_face_mask({2, -0.5f, -0.5f}, {3, 0.5f, 0.5f}, light, 0.1f, 25), 1u << 0);    // +X only
   EXPECT_EQ(box_face_mask({-0.5f, -3, -0.5f}, {0.5f, -2, 0.5f}, light, 0.1f, 25), 1u << 3);  // -Y only
   EXPECT_EQ(box_face_mask({-1, -1, -1}, {1, 1, 1}, light, 0.1f, 25), kAllFaces) << "the light inside the box";
   EXPECT_EQ(box_face_mask({30, -1, -1}, {31, 1, 1}, light, 0.1f, 25), 0u) << "beyond far";
-  EXPECT_EQ(box_face_mask({0.01f, -0.01f, -0.01f}, {0.05f, 0.01f, 0.01f}, light, 0.1f, 25), 0u) << "before near";
+  EXPECT_EQ(box_face_mask({0.01f, -0.01f, -0.01f}, {0.05f, 0.01f, 0.01f}, light, 0.1f, 25), 0u)
+      << "before near";
   // A box across the +X/+Y edge reaches both.
   EXPECT_EQ(box_face_mask({2, 2, -0.1f}, {3, 3, 0.1f}, light, 0.1f, 25), (1u << 0) | (1u << 2));
 }
@@ -44,7 +46,8 @@ TEST(ShadowPlan, MaskNeverDropsAFaceAPointOfTheBoxReaches) {
           if (other != axis) inside = inside && std::fabs(d[other]) <= u;
         if (inside) {
           ++checked;
-          ASSERT_TRUE(mask & (1u << face)) << "face " << face << " dropped for a box it reaches (trial " << trial << ")";
+          ASSERT_TRUE(mask & (1u << face))
+              << "face " << face << " dropped for a box it reaches (trial " << trial << ")";
         }
       }
     }
@@ -55,7 +58,7 @@ TEST(ShadowPlan, MaskNeverDropsAFaceAPointOfTheBoxReaches) {
 TEST(ShadowPlan, FittedFarBoundsEveryVertexAndNeverExceedsTheScene) {
   scene::Scene s = scene::load_scene_text(R"({"light": {"near": 0.5, "far": 100},
       "objects": [{"type": "box", "scale": 5, "inside": true}, {"type": "sphere", "translate": [2, 1, 0]}]})",
-                                         "inline.json");
+                                          "inline.json");
   for (glm::vec3 light : {glm::vec3(0), glm::vec3(1, 2, 3), glm::vec3(-4.9f, 0, 0)}) {
     float far_plane = fitted_far(s, light, 0.5f, 100.0f);
     float farthest = 0.0f;

@@ -1,12 +1,13 @@
 // Tetrahedral conventions (backends/common/tetrahedron.h): four orthonormal camera bases along a regular
-// tetrahedron, every direction inside the frustum of the face it selects (the layout covers the sphere), the face
-// matrices land each texel's direction on that texel in both APIs' depth ranges, and the layers hold a cube's memory.
+// tetrahedron, every direction inside the frustum of the face it selects (the layout covers the sphere), the
+// face matrices land each texel's direction on that texel in both APIs' depth ranges, and the layers hold a
+// cube's memory.
+#include "backends/common/tetrahedron.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
-
-#include "backends/common/tetrahedron.h"
 
 namespace omnishadow::tetra {
 namespace {
@@ -17,7 +18,8 @@ TEST(Tetrahedron, FacesAreOrthonormalCamerasAlongARegularTetrahedron) {
     for (const glm::dvec3& v : {a.axis, a.right, a.up}) EXPECT_NEAR(glm::length(v), 1.0, 1e-12);
     EXPECT_NEAR(glm::dot(a.axis, a.up), 0.0, 1e-12);
     EXPECT_NEAR(glm::dot(a.axis, a.right), 0.0, 1e-12);
-    EXPECT_NEAR(glm::length(glm::cross(a.right, a.up) + a.axis), 0.0, 1e-12) << "a GL camera: right x up = -forward";
+    EXPECT_NEAR(glm::length(glm::cross(a.right, a.up) + a.axis), 0.0, 1e-12)
+        << "a GL camera: right x up = -forward";
     for (int g = f + 1; g < kFaceCount; ++g)
       EXPECT_NEAR(glm::dot(a.axis, faces()[size_t(g)].axis), -1.0 / 3.0, 1e-12);
   }
@@ -55,7 +57,8 @@ TEST(Tetrahedron, FaceMatricesLandEachTexelDirectionOnItsTexel) {
           const glm::dvec3 d = face_point_direction(f, s, t, size);
           const glm::vec4 clip = m * glm::vec4(light + glm::vec3(d * 3.0), 1.0f);
           EXPECT_NEAR(clip.x / clip.w, 2.0 * s / size - 1.0, 1e-5) << "face " << f;
-          EXPECT_NEAR(clip.y / clip.w, 2.0 * t / size - 1.0, 1e-5) << "face " << f << ": clip y = -1 on row 0";
+          EXPECT_NEAR(clip.y / clip.w, 2.0 * t / size - 1.0, 1e-5)
+              << "face " << f << ": clip y = -1 on row 0";
           const double depth = clip.z / clip.w;
           EXPECT_LT(depth, 1.0);
           EXPECT_GT(depth, range == cube::DepthRange::zero_to_one ? 0.0 : -1.0);

@@ -1,10 +1,11 @@
 // Timing summaries and the GPU-timer sanity check.
 
+#include "bench/run/timing_stats.h"
+
 #include <gtest/gtest.h>
 
 #include "bench/run/device_state.h"
 #include "bench/run/repetition_policy.h"
-#include "bench/run/timing_stats.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -109,7 +110,8 @@ std::vector<ClockReading> every_50ms(const std::vector<double>& mhz) {
 
 TEST(DeviceState, ClockSteadyWhenTheReadingsAgreeForTheWholeWindow) {
   EXPECT_FALSE(clock_steady(every_50ms({345, 345, 345})))
-      << "the H200's idle clock over its first 0.1 s of rendering is not steady: the readings must span the window";
+      << "the H200's idle clock over its first 0.1 s of rendering is not steady: the readings must span the "
+         "window";
   EXPECT_FALSE(clock_steady(every_50ms(std::vector<double>(20, 1980)))) << "0.95 s: short of the 1 s window";
   EXPECT_TRUE(clock_steady(every_50ms(std::vector<double>(21, 1980))));
   std::vector<double> ramp{345, 630, 1125, 1755};
@@ -198,7 +200,7 @@ TEST(RepetitionPolicy, StopsOnCountPrecisionCapOrTime) {
   RepetitionPolicy precise;
   precise.precision_percent = 2.0;
   precise.max_repetitions = 8;
-  EXPECT_TRUE(needs_repetition(precise, {1, 1, 1, 1, 1}, 0));           // below the 6 an interval needs
+  EXPECT_TRUE(needs_repetition(precise, {1, 1, 1, 1, 1}, 0));            // below the 6 an interval needs
   EXPECT_FALSE(needs_repetition(precise, {1, 1, 1.01, 1, 0.99, 1}, 0));  // +-1%
   EXPECT_TRUE(needs_repetition(precise, {1, 1, 1.1, 1, 0.9, 1}, 0));     // +-10%: another
   EXPECT_FALSE(needs_repetition(precise, {1, 1, 1.1, 1, 0.9, 1, 1.2, 0.8}, 0));  // the cap
@@ -215,7 +217,8 @@ TEST(RepetitionPolicy, StopsOnCountPrecisionCapOrTime) {
 TEST(RepetitionPolicy, PrecisionMinimumLetsTheComparisonResolve) {
   RepetitionPolicy precise;
   precise.precision_percent = 2.0;
-  EXPECT_EQ(precise.minimum(), RepetitionPolicy::kMinForInterval);  // one case: 4 would do, the interval needs 6
+  EXPECT_EQ(precise.minimum(),
+            RepetitionPolicy::kMinForInterval);  // one case: 4 would do, the interval needs 6
   precise.compared_cases = 24;
   EXPECT_EQ(precise.minimum(), 7);
   const std::vector<double> quiet{1, 1, 1.001, 1, 0.999, 1};  // +-0.1% after 6

@@ -1,6 +1,6 @@
 // What only the Vulkan backend has, on the machine's device (lavapipe in CI) with the validation layer on:
-// timestamps within wall time, agreement with GL, device selection, multiview judged by its images alone, and the
-// validation layer's capture. Everything that must hold on every API is in backend_test.cpp.
+// timestamps within wall time, agreement with GL, device selection, multiview judged by its images alone, and
+// the validation layer's capture. Everything that must hold on every API is in backend_test.cpp.
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include "backends/backend.h"
 #include "backends/reference/ray_caster.h"
 #include "backends/vulkan/vk_context.h"
-#include "bench/truth/accuracy.h"
 #include "bench/run/case_runner.h"
+#include "bench/truth/accuracy.h"
 #include "tests/backend_availability.h"
 #include "tests/optimization_checks.h"
 
@@ -27,7 +27,8 @@ class VkBackendTest : public ::testing::Test {
     try {
       backend_ = create_backend("vulkan", {{"api_checks", "1"}});
     } catch (const std::exception& e) {
-      skip_reason_ = std::string("no Vulkan 1.2 device with the validation layer on this machine: ") + e.what();
+      skip_reason_ =
+          std::string("no Vulkan 1.2 device with the validation layer on this machine: ") + e.what();
       return;
     }
     room_ = std::make_unique<scene::Scene>(scene::load_scene_file(kScenes + "/room.json"));
@@ -107,7 +108,8 @@ TEST_F(VkBackendTest, AgreesWithOpenGl) {
         far_apart += d > 1e-3f;
         ++texels;
       }
-    EXPECT_LE(far_apart, texels / 1000) << "cube texels more than 1e-3 apart, " << to_string(f) << "; max " << max_diff;
+    EXPECT_LE(far_apart, texels / 1000)
+        << "cube texels more than 1e-3 apart, " << to_string(f) << "; max " << max_diff;
     size_t differing = 0;
     for (size_t i = 0; i < vk_img.shadow_factor.size(); ++i)
       differing += std::fabs(vk_img.shadow_factor[i] - gl_img.shadow_factor[i]) > 0.1f;
@@ -121,7 +123,9 @@ TEST_F(VkBackendTest, UnsupportedAndBadRequestsSayWhy) {
   Support s = backend_->supports(huge);
   EXPECT_FALSE(s.ok);
   EXPECT_NE(s.reason.find("maxImageDimensionCube"), std::string::npos) << s.reason;
-  EXPECT_FALSE(backend_->supports(room_case(Technique::six_pass, Filter::hw_compare2x2, 64, Storage::r32f_distance)).ok);
+  EXPECT_FALSE(
+      backend_->supports(room_case(Technique::six_pass, Filter::hw_compare2x2, 64, Storage::r32f_distance))
+          .ok);
   EXPECT_THROW(backend_->configure(huge), std::runtime_error);
   try {
     create_backend("vulkan", {{"vk_device", "no-such-gpu"}});
@@ -132,7 +136,8 @@ TEST_F(VkBackendTest, UnsupportedAndBadRequestsSayWhy) {
   EXPECT_THROW(create_backend("vulkan", {{"vk_device", "99"}}), std::runtime_error);
 }
 
-// Multiview is judged from its images, never from the driver's name: ok exactly when its faces equal six_pass's.
+// Multiview is judged from its images, never from the driver's name: ok exactly when its faces equal
+// six_pass's.
 TEST_F(VkBackendTest, MultiviewIsJudgedByItsImages) {
   if (!backend_->supports(room_case(Technique::multiview)).ok) GTEST_SKIP() << "multiview unsupported here";
   namespace fs = std::filesystem;
@@ -172,7 +177,8 @@ TEST(VkValidation, MessagesAreCaptured) {
   try {
     ctx = std::make_unique<VkContext>("", true);
   } catch (const std::exception& e) {
-    OMNISHADOW_SKIP_UNAVAILABLE("vulkan", std::string("no Vulkan device with the validation layer: ") + e.what());
+    OMNISHADOW_SKIP_UNAVAILABLE("vulkan",
+                                std::string("no Vulkan device with the validation layer: ") + e.what());
   }
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = 0;  // invalid: VUID-VkBufferCreateInfo-size-00912

@@ -1,18 +1,18 @@
 #include "backends/common/case_config.h"
 
-#include "backends/common/layouts.h"
-#include "backends/common/paraboloid.h"
-#include "backends/common/tetrahedron.h"
-#include "backends/common/storage_filter_tables.h"
-#include "backends/common/techniques.h"
-
 #include <algorithm>
 #include <array>
 #include <cstddef>
-#include <optional>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <utility>
+
+#include "backends/common/layouts.h"
+#include "backends/common/paraboloid.h"
+#include "backends/common/storage_filter_tables.h"
+#include "backends/common/techniques.h"
+#include "backends/common/tetrahedron.h"
 
 namespace omnishadow {
 namespace {
@@ -35,15 +35,15 @@ constexpr Names<Layout, kLayouts.size()> layout_names() {
 }
 constexpr auto kLayoutNames = layout_names();
 constexpr Names<Filter, 10> kFilters = {{{Filter::hard, "hard"},
-                                        {Filter::pcf_grid64, "pcf_grid64"},
-                                        {Filter::pcf_disk20, "pcf_disk20"},
-                                        {Filter::hw_compare2x2, "hw_compare2x2"},
-                                        {Filter::pcss, "pcss"},
-                                        {Filter::vsm, "vsm"},
-                                        {Filter::esm, "esm"},
-                                        {Filter::evsm2, "evsm2"},
-                                        {Filter::evsm4, "evsm4"},
-                                        {Filter::msm, "msm"}}};
+                                         {Filter::pcf_grid64, "pcf_grid64"},
+                                         {Filter::pcf_disk20, "pcf_disk20"},
+                                         {Filter::hw_compare2x2, "hw_compare2x2"},
+                                         {Filter::pcss, "pcss"},
+                                         {Filter::vsm, "vsm"},
+                                         {Filter::esm, "esm"},
+                                         {Filter::evsm2, "evsm2"},
+                                         {Filter::evsm4, "evsm4"},
+                                         {Filter::msm, "msm"}}};
 constexpr Names<Storage, 8> kStorages = {{{Storage::linear_depth, "linear_depth"},
                                           {Storage::r32f_distance, "r32f_distance"},
                                           {Storage::hardware_depth, "hardware_depth"},
@@ -57,11 +57,31 @@ constexpr Names<DepthFormat, 3> kDepthFormats = {
 
 template <typename E>
 struct Table;
-template <> struct Table<Technique> { static constexpr auto& names = kTechniqueNames; static constexpr const char* what = "technique"; };
-template <> struct Table<Filter> { static constexpr auto& names = kFilters; static constexpr const char* what = "filter"; };
-template <> struct Table<Storage> { static constexpr auto& names = kStorages; static constexpr const char* what = "storage"; };
-template <> struct Table<DepthFormat> { static constexpr auto& names = kDepthFormats; static constexpr const char* what = "depth format"; };
-template <> struct Table<Layout> { static constexpr auto& names = kLayoutNames; static constexpr const char* what = "layout"; };
+template <>
+struct Table<Technique> {
+  static constexpr auto& names = kTechniqueNames;
+  static constexpr const char* what = "technique";
+};
+template <>
+struct Table<Filter> {
+  static constexpr auto& names = kFilters;
+  static constexpr const char* what = "filter";
+};
+template <>
+struct Table<Storage> {
+  static constexpr auto& names = kStorages;
+  static constexpr const char* what = "storage";
+};
+template <>
+struct Table<DepthFormat> {
+  static constexpr auto& names = kDepthFormats;
+  static constexpr const char* what = "depth format";
+};
+template <>
+struct Table<Layout> {
+  static constexpr auto& names = kLayoutNames;
+  static constexpr const char* what = "layout";
+};
 
 template <typename E>
 std::string_view name_of(E v) {
@@ -100,9 +120,9 @@ std::vector<E> all_values() {
   return out;
 }
 
-#define OMNISHADOW_INSTANTIATE(E)                  \
-  template E parse_enum<E>(std::string_view);      \
-  template std::vector<E> all_values<E>();         \
+#define OMNISHADOW_INSTANTIATE(E)             \
+  template E parse_enum<E>(std::string_view); \
+  template std::vector<E> all_values<E>();    \
   template std::string valid_values<E>();
 OMNISHADOW_INSTANTIATE(Technique)
 OMNISHADOW_INSTANTIATE(Filter)
@@ -120,22 +140,31 @@ Support moments_tuning_support(Filter filter, const MomentsTuning& t) {
   const std::string name(to_string(filter));
   if (t.bleed_reduction != d.bleed_reduction && kind != MomentKind::vsm && kind != MomentKind::evsm &&
       kind != MomentKind::msm)
-    return {false, "bleed reduction (lbr) applies to the Chebyshev and Hamburger bounds (vsm, evsm2, evsm4, msm), not " + name};
+    return {
+        false,
+        "bleed reduction (lbr) applies to the Chebyshev and Hamburger bounds (vsm, evsm2, evsm4, msm), not " +
+            name};
   if (t.exponent_fraction != d.exponent_fraction && kind != MomentKind::esm && kind != MomentKind::evsm)
     return {false, "an exponent (exp) belongs to the warped moments (esm, evsm2, evsm4), not " + name};
   if (t.floor_scale != d.floor_scale && kind != MomentKind::vsm && kind != MomentKind::msm)
     return {false, "a variance floor or moment bias (floor) belongs to vsm and msm, not " + name};
   if (t.world_units && kind != MomentKind::vsm)
-    return {false, "world-unit distances (world) are a vsm storage variant (the warps and msm's bias assume z in [0, 1]), not " + name};
+    return {false,
+            "world-unit distances (world) are a vsm storage variant (the warps and msm's bias assume z in "
+            "[0, 1]), not " +
+                name};
   return {};
 }
 }  // namespace
 
 int layer_size(Layout layout, int cube_size) {
   switch (traits(layout).texel_map) {
-    case TexelMap::paraboloid: return paraboloid::layer_size_for_cube(cube_size);
-    case TexelMap::tetrahedral: return tetra::layer_size_for_cube(cube_size);
-    case TexelMap::cube_faces: break;
+    case TexelMap::paraboloid:
+      return paraboloid::layer_size_for_cube(cube_size);
+    case TexelMap::tetrahedral:
+      return tetra::layer_size_for_cube(cube_size);
+    case TexelMap::cube_faces:
+      break;
   }
   return cube_size;
 }
@@ -146,8 +175,10 @@ Support common_support(const CaseConfig& c) {
     if (c.technique != Technique::six_pass && c.technique != Technique::geometry_shader)
       return {false, name + " is drawn by six_pass (one pass per layer) and geometry_shader so far"};
     if (c.storage != Storage::linear_depth && c.storage != Storage::r32f_distance)
-      return {false, name + " stores a distance (linear_depth or r32f_distance): its read-back converts no projective "
-                     "depth, and its moments filters are not built yet"};
+      return {false,
+              name +
+                  " stores a distance (linear_depth or r32f_distance): its read-back converts no projective "
+                  "depth, and its moments filters are not built yet"};
     if (c.optimizations.face_culling)
       return {false, "face culling: the plans cull against cube faces' frusta, not hemispheres"};
     if (c.lookup_perturb_texels != 0.0f) return {false, "--lookup-perturb moves cube lookups only"};
@@ -164,25 +195,30 @@ Support common_support(const CaseConfig& c) {
                        ", not " + std::string(to_string(c.storage))};
   if (Support s = moments_tuning_support(c.filter, c.moments); !s.ok) return s;
   if (traits(c.filter).prefilter == Prefilter::separable_blur && c.cube_size < 4)
-    return {false, "the moments blur needs a cube of at least 4 texels a side (a tap folds across one seam only)"};
-  if (c.cube_size < 1 || c.width < 1 || c.height < 1) return {false, "cube and frame sizes must be at least 1"};
+    return {false,
+            "the moments blur needs a cube of at least 4 texels a side (a tap folds across one seam only)"};
+  if (c.cube_size < 1 || c.width < 1 || c.height < 1)
+    return {false, "cube and frame sizes must be at least 1"};
   if (c.technique == Technique::nv_swizzle && c.storage == Storage::hardware_depth)
-    return {false, "nv_swizzle's clip z is the near plane (a swizzle cannot scale it per face), so the rasteriser's "
-                   "depth is not the face projection's that hardware_depth stores"};
+    return {false,
+            "nv_swizzle's clip z is the near plane (a swizzle cannot scale it per face), so the rasteriser's "
+            "depth is not the face projection's that hardware_depth stores"};
   if (c.technique == Technique::nv_swizzle && c.raster_perturb_steps != 0.0f)
     return {false, "--raster-perturb moves clip positions before the swizzle could permute them"};
   if (c.optimizations.face_culling && traits(c.technique).culling == CullingForm::unsupported)
-    return {false, "face culling: a multiview pass renders every view of each draw (the view mask is per render "
-                   "pass), so there is nothing to cull per face"};
+    return {false,
+            "face culling: a multiview pass renders every view of each draw (the view mask is per render "
+            "pass), so there is nothing to cull per face"};
   return {};
 }
 
 std::string CaseConfig::id() const {
-  std::string id = backend + "/" + scene + "/c" + std::to_string(cube_size) + "/f" + std::to_string(width) + "x" +
-                   std::to_string(height) + "/" + std::string(to_string(technique)) + "/" +
+  std::string id = backend + "/" + scene + "/c" + std::to_string(cube_size) + "/f" + std::to_string(width) +
+                   "x" + std::to_string(height) + "/" + std::string(to_string(technique)) + "/" +
                    std::string(to_string(filter)) + "/" + std::string(to_string(storage)) + "/" +
                    std::string(to_string(depth_format));
-  if (layout != Layout::cube) id += "/" + std::string(to_string(layout));  // cube ids stay as they were before layouts
+  if (layout != Layout::cube)
+    id += "/" + std::string(to_string(layout));  // cube ids stay as they were before layouts
   if (tessellation != 1) id += "/t" + std::to_string(tessellation);
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
@@ -193,7 +229,7 @@ std::string CaseConfig::id() const {
     id += buf;
   }
   for (const std::string& words : {remedies.any() ? to_string(remedies) : std::string(),
-                                    moments.any() ? to_string(moments) : std::string()}) {
+                                   moments.any() ? to_string(moments) : std::string()}) {
     if (words.empty()) continue;  // one segment per word, as for optimisations: /rebase/bias0, /lbr0.5/world
     id += "/" + words;
     std::replace(id.end() - static_cast<std::ptrdiff_t>(words.size()), id.end(), '+', '/');
@@ -223,11 +259,14 @@ struct RemedyWord {
   void (*set)(Remedies&);
 };
 constexpr RemedyWord kRemedyWords[] = {
-    {"rebase", [](const Remedies& r) { return r.rebase_origin; }, [](Remedies& r) { r.rebase_origin = true; }},
-    {"bias0", [](const Remedies& r) { return r.bias == BiasMode::zero; }, [](Remedies& r) { r.bias = BiasMode::zero; }},
+    {"rebase", [](const Remedies& r) { return r.rebase_origin; },
+     [](Remedies& r) { r.rebase_origin = true; }},
+    {"bias0", [](const Remedies& r) { return r.bias == BiasMode::zero; },
+     [](Remedies& r) { r.bias = BiasMode::zero; }},
     {"slope_bias", [](const Remedies& r) { return r.bias == BiasMode::slope; },
      [](Remedies& r) { r.bias = BiasMode::slope; }},
-    {"normal_offset", [](const Remedies& r) { return r.normal_offset; }, [](Remedies& r) { r.normal_offset = true; }},
+    {"normal_offset", [](const Remedies& r) { return r.normal_offset; },
+     [](Remedies& r) { r.normal_offset = true; }},
     {"two_sided", [](const Remedies& r) { return r.two_sided; }, [](Remedies& r) { r.two_sided = true; }},
 };
 }  // namespace
@@ -240,8 +279,9 @@ Remedies parse_remedies(std::string_view text) {
     for (const RemedyWord& w : kRemedyWords)
       if (w.word == word) found = &w;
     if (!found)
-      throw std::invalid_argument("unknown remedy '" + std::string(word) +
-                                  "' (valid: none, rebase, bias0, slope_bias, normal_offset, two_sided, or a '+' join)");
+      throw std::invalid_argument(
+          "unknown remedy '" + std::string(word) +
+          "' (valid: none, rebase, bias0, slope_bias, normal_offset, two_sided, or a '+' join)");
     if (r.bias != BiasMode::tutorial && (word == "bias0" || word == "slope_bias"))
       throw std::invalid_argument("bias0 and slope_bias exclude each other");
     found->set(r);
@@ -257,8 +297,8 @@ std::string to_string(const Remedies& r) {
 }
 
 namespace {
-// "lbr0.5" -> 0.5 when `word` starts with `prefix`; nullopt for another word; throws when the number is malformed
-// or outside [low, high].
+// "lbr0.5" -> 0.5 when `word` starts with `prefix`; nullopt for another word; throws when the number is
+// malformed or outside [low, high].
 std::optional<float> tuning_number(std::string_view word, std::string_view prefix, float low, float high) {
   if (word.substr(0, prefix.size()) != prefix) return std::nullopt;
   const std::string digits(word.substr(prefix.size()));
@@ -292,8 +332,9 @@ MomentsTuning parse_moments_tuning(std::string_view text) {
     } else if (auto s = tuning_number(word, "floor", 0.0f, 1e6f)) {
       t.floor_scale = *s;
     } else {
-      throw std::invalid_argument("unknown moments tuning '" + std::string(word) +
-                                  "' (valid: none, lbr<a>, exp<f>, floor<s>, world, or a '+' join such as lbr0.4+floor0)");
+      throw std::invalid_argument(
+          "unknown moments tuning '" + std::string(word) +
+          "' (valid: none, lbr<a>, exp<f>, floor<s>, world, or a '+' join such as lbr0.4+floor0)");
     }
   });
   return t;
@@ -318,9 +359,12 @@ Optimizations parse_optimizations(std::string_view text) {
   Optimizations o;
   if (text == "none") return o;
   for_each_plus_word(text, [&](std::string_view word) {
-    if (word == "cull") o.face_culling = true;
-    else if (word == "fit") o.fit_range = true;
-    else if (word == "cache") o.static_cache = true;
+    if (word == "cull")
+      o.face_culling = true;
+    else if (word == "fit")
+      o.fit_range = true;
+    else if (word == "cache")
+      o.static_cache = true;
     else
       throw std::invalid_argument("unknown optimisation '" + std::string(word) +
                                   "' (valid: none, cull, fit, cache, or a '+' join such as cull+fit)");

@@ -1,6 +1,7 @@
 #pragma once
-// The axes of a benchmark case and their spellings. Names here are the spellings used on the command line, in case
-// ids and in results JSON; parse_* accept exactly these. The tutorials the comments name are in docs/glossary.md.
+// The axes of a benchmark case and their spellings. Names here are the spellings used on the command line, in
+// case ids and in results JSON; parse_* accept exactly these. The tutorials the comments name are in
+// docs/glossary.md.
 
 #include <string>
 #include <string_view>
@@ -9,61 +10,67 @@
 namespace omnishadow {
 
 enum class Technique {
-  six_pass,                   // one render pass per face, each into a prebuilt per-face framebuffer
-  geometry_shader,            // one layered pass; the GS loops over 6 faces (the point-shadow tutorial's form, 18 vertices out)
+  six_pass,         // one render pass per face, each into a prebuilt per-face framebuffer
+  geometry_shader,  // one layered pass; the GS loops over 6 faces (the point-shadow tutorial's form, 18
+                    // vertices out)
   geometry_shader_instanced,  // one layered pass; GS invocations = 6, one face per invocation
   vs_layer,                   // one layered pass; 6 instances, gl_Layer written by the vertex shader
   multiview,                  // one pass with a 6-view mask; gl_ViewIndex picks the face (Vulkan)
-  nv_swizzle,                 // one pass; a passthrough GS sends each triangle to six viewports whose swizzles permute
-                              // the light-relative position into each face's clip space (NVIDIA's cube-map path:
-                              // GL/VK_NV_viewport_swizzle, NV_viewport_array2, NV_geometry_shader_passthrough)
-  mesh_shader,                // one pass of task + mesh shaders over meshlets: the task stage culls each meshlet
-                              // against the six faces, the mesh stage emits it once per face (gl_Layer per primitive)
+  nv_swizzle,   // one pass; a passthrough GS sends each triangle to six viewports whose swizzles permute
+                // the light-relative position into each face's clip space (NVIDIA's cube-map path:
+                // GL/VK_NV_viewport_swizzle, NV_viewport_array2, NV_geometry_shader_passthrough)
+  mesh_shader,  // one pass of task + mesh shaders over meshlets: the task stage culls each meshlet
+                // against the six faces, the mesh stage emits it once per face (gl_Layer per primitive)
 };
 enum class Filter {
   hard,           // one lookup, bias 0.05 (the point-shadow tutorial)
   pcf_grid64,     // 4x4x4 offsets of +-0.1 around the direction, bias 0.05 (the point-shadow tutorial)
   pcf_disk20,     // 20 directions, radius (1 + viewDistance/far)/25, bias 0.15 (the point-shadow tutorial)
   hw_compare2x2,  // samplerCubeShadow with LINEAR compare: the hardware's 2x2 bilinear PCF; bias 0.05
-  pcss,           // percentage-closer soft shadows (Fernando 2005): a blocker search, then the 20-direction disk sized
-                  // by the penumbra of a spherical light of kPcssLightRadius (times --pcf-scale); bias 0.15
-  vsm,            // variance shadow maps (Donnelly & Lauritzen 2006): blurred moments (z, z^2) of z = distance / far,
-                  // Chebyshev's upper bound on the lit fraction (shaders/moments.glsl); storage vsm_moments
-  esm,            // exponential shadow maps (Annen et al. 2008): the blurred exp(c z), lit = exp(c z) e^(-c t)
-                  // clamped to 1, c from the storage format's range; storage esm_exp
-  evsm2,          // exponential variance shadow maps (Lauritzen & McCool 2008), positive warp: VSM's Chebyshev bound on
-                  // the blurred (e^(cz), e^(2cz)); storage evsm2_moments
-  evsm4,          // EVSM with both warps: the lesser of the bounds on (e^(cz), e^(2cz)) and (-e^(-cz), e^(-2cz));
-                  // storage evsm4_moments
-  msm,            // moment shadow maps (Peters & Klein 2015), Hamburger 4MSM: (z, z^2, z^3, z^4) biased towards
-                  // (0.5, 0.5, 0.5, 0.5), the sharpest occlusion bound they allow; storage msm_moments
+  pcss,  // percentage-closer soft shadows (Fernando 2005): a blocker search, then the 20-direction disk sized
+         // by the penumbra of a spherical light of kPcssLightRadius (times --pcf-scale); bias 0.15
+  vsm,   // variance shadow maps (Donnelly & Lauritzen 2006): blurred moments (z, z^2) of z = distance / far,
+         // Chebyshev's upper bound on the lit fraction (shaders/moments.glsl); storage vsm_moments
+  esm,   // exponential shadow maps (Annen et al. 2008): the blurred exp(c z), lit = exp(c z) e^(-c t)
+         // clamped to 1, c from the storage format's range; storage esm_exp
+  evsm2,  // exponential variance shadow maps (Lauritzen & McCool 2008), positive warp: VSM's Chebyshev bound
+          // on the blurred (e^(cz), e^(2cz)); storage evsm2_moments
+  evsm4,  // EVSM with both warps: the lesser of the bounds on (e^(cz), e^(2cz)) and (-e^(-cz), e^(-2cz));
+          // storage evsm4_moments
+  msm,    // moment shadow maps (Peters & Klein 2015), Hamburger 4MSM: (z, z^2, z^3, z^4) biased towards
+          // (0.5, 0.5, 0.5, 0.5), the sharpest occlusion bound they allow; storage msm_moments
 };
-// The light PCSS imitates: the soft reference's default --light-radius, so that mae_sphere scores it against the
-// light it models (world units).
+// The light PCSS imitates: the soft reference's default --light-radius, so that mae_sphere scores it against
+// the light it models (world units).
 inline constexpr float kPcssLightRadius = 0.1f;
 enum class Storage {
   linear_depth,   // the point-shadow tutorial: gl_FragDepth = distance / far in a depth cube map
-  r32f_distance,  // the multipass tutorial: distance in an R32F colour cube (cleared to FLT_MAX) + a separate depth cube
-  hardware_depth, // the rasteriser's own (non-linear, projective) depth, no fragment write; the lookup converts it
-                  // back to a distance along the sampled direction
-  vsm_moments,    // linear_depth's depth plus (z, z^2) of z = distance / far in an RG32F colour cube (RG16F with d16),
-                  // blurred before the lighting pass: the vsm filter's storage
-  esm_exp,        // linear_depth's depth plus exp(c min(z, 1)) in an R32F colour cube (R16F with d16), blurred: the
-                  // esm filter's storage
-  evsm2_moments,  // the depth plus (e^(cz), e^(2cz)) of min(z, 1), RG32F (RG16F with d16): the evsm2 filter's storage
-  evsm4_moments,  // the depth plus (e^(cz), e^(2cz), -e^(-cz), e^(-2cz)), RGBA32F (RGBA16F with d16): evsm4's storage
-  msm_moments,    // the depth plus (z, z^2, z^3, z^4) of min(z, 1), RGBA32F (RGBA16F with d16): the msm filter's storage
+  r32f_distance,  // the multipass tutorial: distance in an R32F colour cube (cleared to FLT_MAX) + a separate
+                  // depth cube
+  hardware_depth,  // the rasteriser's own (non-linear, projective) depth, no fragment write; the lookup
+                   // converts it back to a distance along the sampled direction
+  vsm_moments,     // linear_depth's depth plus (z, z^2) of z = distance / far in an RG32F colour cube (RG16F
+                   // with d16), blurred before the lighting pass: the vsm filter's storage
+  esm_exp,  // linear_depth's depth plus exp(c min(z, 1)) in an R32F colour cube (R16F with d16), blurred: the
+            // esm filter's storage
+  evsm2_moments,  // the depth plus (e^(cz), e^(2cz)) of min(z, 1), RG32F (RG16F with d16): the evsm2 filter's
+                  // storage
+  evsm4_moments,  // the depth plus (e^(cz), e^(2cz), -e^(-cz), e^(-2cz)), RGBA32F (RGBA16F with d16): evsm4's
+                  // storage
+  msm_moments,    // the depth plus (z, z^2, z^3, z^4) of min(z, 1), RGBA32F (RGBA16F with d16): the msm
+                  // filter's storage
 };
 enum class DepthFormat { d16, d24, d32f };
-// How the point light's depth is stored and looked up (issue 27; backends/common/layouts.h holds each layout's row).
+// How the point light's depth is stored and looked up (issue 27; backends/common/layouts.h holds each
+// layout's row).
 enum class Layout {
-  cube,        // a cube map sampled by direction: the hardware picks the face and filters across seams (seamless)
-  face_array,  // the six faces as layers of a 2D array (Filament's six 2D maps): the shader picks the layer and
-               // (s, t) by the cube-map rule, and filtering clamps at each face's edge
-  dual_paraboloid,  // two hemispheres, each a paraboloid warped in the shadow pass's vertex stage (Godot's "faster,
-                    // lower quality"; backends/common/paraboloid.h), layers sized to a cube's memory
-  tetrahedral,      // four perspective faces along a tetrahedron's vertices (bgfx's point light; backends/common/
-                    // tetrahedron.h), each a layer of a 2D array sized to a cube's memory
+  cube,  // a cube map sampled by direction: the hardware picks the face and filters across seams (seamless)
+  face_array,  // the six faces as layers of a 2D array (Filament's six 2D maps): the shader picks the layer
+               // and (s, t) by the cube-map rule, and filtering clamps at each face's edge
+  dual_paraboloid,  // two hemispheres, each a paraboloid warped in the shadow pass's vertex stage (Godot's
+                    // "faster, lower quality"; backends/common/paraboloid.h), layers sized to a cube's memory
+  tetrahedral,  // four perspective faces along a tetrahedron's vertices (bgfx's point light; backends/common/
+                // tetrahedron.h), each a layer of a 2D array sized to a cube's memory
 };
 
 std::string_view to_string(Technique v);
@@ -89,25 +96,31 @@ struct Support {
 // images must agree with the unoptimised six_pass case (bit-exact for culling and caching, where the maths is
 // the same; fit_range changes the stored depth's scale and is checked against six_pass with the same switch).
 struct Optimizations {
-  bool face_culling = false;  // six_pass: objects culled per face on the CPU, empty faces only cleared;
-                              // GS techniques: triangles emitted only to faces they touch; vs_layer: per-object
-                              // face masks (instances only for faces the bounds touch). multiview: unsupported.
-  bool fit_range = false;     // light far plane fitted to the scene bounds around the light (never beyond the
-                              // scene's far): linear depth's step is far / 2^bits, so a tighter far is precision
+  bool face_culling =
+      false;               // six_pass: objects culled per face on the CPU, empty faces only cleared;
+                           // GS techniques: triangles emitted only to faces they touch; vs_layer: per-object
+                           // face masks (instances only for faces the bounds touch). multiview: unsupported.
+  bool fit_range = false;  // light far plane fitted to the scene bounds around the light (never beyond the
+                           // scene's far): linear depth's step is far / 2^bits, so a tighter far is precision
   bool static_cache = false;  // the cube is not re-rendered while the light stands still (casters are static)
   bool any() const { return face_culling || fit_range || static_cache; }
   bool operator==(const Optimizations&) const = default;
 };
-// Remedies for numerical extremes (the stability suite, scripts/experiments/run_extremes.sh), measured on and off like the
-// optimisations; each appends its word to the case id.
+// Remedies for numerical extremes (the stability suite, scripts/experiments/run_extremes.sh), measured on and
+// off like the optimisations; each appends its word to the case id.
 //   rebase_origin: the scene is loaded relative to its light in double precision (scene::LoadOptions): the
 //                  remedy for far-from-origin cancellation.
-//   bias:          the cube lookups' bias: the tutorials' constants (0.05; 0.15 for the disk), zero, or the directional notes'
+//   bias:          the cube lookups' bias: the tutorials' constants (0.05; 0.15 for the disk), zero, or the
+//   directional notes'
 //                  slope-scaled max(0.05 (1 - n.l), 0.005) (world units here).
 //   normal_offset: the lookup point moves 1.5 cube texels (at its distance) along the surface normal.
 //   two_sided:     casters are drawn two-sided in the shadow pass (no back-face culling), so a light inside a
 //                  closed caster is blocked by it.
-enum class BiasMode { tutorial, zero, slope };  // tutorial: the tutorials' constant bias (0.05 hard, 0.15 disk PCF)
+enum class BiasMode {
+  tutorial,
+  zero,
+  slope
+};  // tutorial: the tutorials' constant bias (0.05 hard, 0.15 disk PCF)
 struct Remedies {
   bool rebase_origin = false;
   BiasMode bias = BiasMode::tutorial;
@@ -122,16 +135,19 @@ std::string to_string(const Remedies& r);  // the same spellings; "none" when al
 
 // The moments filters' knobs, swept by the extremes suite (docs/extremes.md, "Moments filters' hazards"); the
 // defaults are what every other run uses. Each knob that differs from its default appends its word to the id.
-//   bleed_reduction a (lbr<a>):   vsm, evsm2, evsm4, msm: the lit fraction p becomes clamp((p - a) / (1 - a), 0, 1),
+//   bleed_reduction a (lbr<a>):   vsm, evsm2, evsm4, msm: the lit fraction p becomes clamp((p - a) / (1 - a),
+//   0, 1),
 //                                 which removes light bleeding below a at the cost of darkening penumbrae;
-//   exponent_fraction f (exp<f>): esm, evsm2, evsm4: the exponent c as a fraction of the format's overflow limit
-//                                 (ln of its largest finite value; half of it for evsm, which stores e^(2cz));
-//                                 above 1 the moments of z near 1 are infinite;
+//   exponent_fraction f (exp<f>): esm, evsm2, evsm4: the exponent c as a fraction of the format's overflow
+//   limit
+//                                 (ln of its largest finite value; half of it for evsm, which stores
+//                                 e^(2cz)); above 1 the moments of z near 1 are infinite;
 //   floor_scale s (floor<s>):     vsm's variance floor and msm's moment bias as a multiple of their defaults
 //                                 (moments_parameter); 0 turns them off;
-//   world_units (world):          vsm stores (d, d^2) of the distance d in world units rather than d / far (the
-//                                 floor is relative to m2, so only the format's range differs: d^2 overflows a
-//                                 16-bit float beyond 256 units).
+//   world_units (world):          vsm stores (d, d^2) of the distance d in world units rather than d / far
+//   (the
+//                                 floor is relative to m2, so only the format's range differs: d^2 overflows
+//                                 a 16-bit float beyond 256 units).
 struct MomentsTuning {
   float bleed_reduction = 0.0f;
   float exponent_fraction = 0.9f;
@@ -145,7 +161,8 @@ struct MomentsTuning {
 MomentsTuning parse_moments_tuning(std::string_view text);
 std::string to_string(const MomentsTuning& t);  // the same spellings, numbers as %g; "none" at the defaults
 
-// "none", "cull", "fit", "cache" or a '+' join such as "cull+fit"; throws std::invalid_argument naming the word.
+// "none", "cull", "fit", "cache" or a '+' join such as "cull+fit"; throws std::invalid_argument naming the
+// word.
 Optimizations parse_optimizations(std::string_view text);
 std::string to_string(const Optimizations& o);  // the same spellings; "none" when all are off
 
@@ -170,35 +187,41 @@ struct CaseConfig {
   Optimizations optimizations;
   Remedies remedies;
   MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default
-  // Extra fragment work for sensitivity experiments (--inject-fragment-work). With one value it is not in the id,
-  // so that an injected run's cases compare against the same ids without it.
+  // Extra fragment work for sensitivity experiments (--inject-fragment-work). With one value it is not in the
+  // id, so that an injected run's cases compare against the same ids without it.
   int injected_work = 0;
   // Id segments of the experiment axes that have more than one value (bench/run/matrix.h: "inj18", "rep1",
-  // "inj18/rep1"): the same-run A/A and A/B designs of scripts/experiments/sensitivity_same_run.py. Empty in every other run.
+  // "inj18/rep1"): the same-run A/A and A/B designs of scripts/experiments/sensitivity_same_run.py. Empty in
+  // every other run.
   std::string experiment;
-  // The PCF kernels' radius as a multiple of the tutorials' (grid offset 0.1, disk radius, 2D maps' one texel); an
-  // axis of the stability suite (0 collapses every kernel to one direction). In the id as /pcf<scale> unless 1.
+  // The PCF kernels' radius as a multiple of the tutorials' (grid offset 0.1, disk radius, 2D maps' one
+  // texel); an axis of the stability suite (0 collapses every kernel to one direction). In the id as
+  // /pcf<scale> unless 1.
   float pcf_scale = 1.0f;
-  // Test only (--raster-perturb): every vertex of the shadow and map passes moved in window space by up to this many
-  // of the device's sub-pixel steps, by a fixed linear map of clip space (shaders/raster_perturb.glsl: shared
-  // vertices move alike, meshes stay closed, and clipping cannot amplify it). It makes a CPU rasteriser place edges
-  // as another conformant one may, to prove the texel truths' bounds (bench/truth/texel_bounds.h) hold there. 0 in every real run: the shaders then fold it away. Not in the id.
+  // Test only (--raster-perturb): every vertex of the shadow and map passes moved in window space by up to
+  // this many of the device's sub-pixel steps, by a fixed linear map of clip space
+  // (shaders/raster_perturb.glsl: shared vertices move alike, meshes stay closed, and clipping cannot amplify
+  // it). It makes a CPU rasteriser place edges as another conformant one may, to prove the texel truths'
+  // bounds (bench/truth/texel_bounds.h) hold there. 0 in every real run: the shaders then fold it away. Not
+  // in the id.
   float raster_perturb_steps = 0.0f;
-  // Test only (--lookup-perturb): every cube lookup of the lighting pass moved by this many texels along both of its
-  // face's axes (shaders/shadow_filters.glsl, shadow_coord), as a sampler that quantises texel coordinates more
-  // coarsely may read; proves the lookup check's bound (bench/truth/lookup_check.h). 0 in every real run. Not in the id.
+  // Test only (--lookup-perturb): every cube lookup of the lighting pass moved by this many texels along both
+  // of its face's axes (shaders/shadow_filters.glsl, shadow_coord), as a sampler that quantises texel
+  // coordinates more coarsely may read; proves the lookup check's bound (bench/truth/lookup_check.h). 0 in
+  // every real run. Not in the id.
   float lookup_perturb_texels = 0.0f;
-  // Test only (--emulate-nv-swizzle): nv_swizzle without its NV extensions, on any device with a geometry shader.
-  // An ordinary GS emits each triangle once per face with the face's swizzle applied in the shader (the table of
-  // backends/common/viewport_swizzle.h, passed as defines) and gl_Layer = face, into one viewport. Everything else
-  // is nv_swizzle's own: the vertex stage, the viewport mask and its culling, the reversed depth test and clear, the
-  // checks; so CPU drivers prove all of it but the passthrough GS and the swizzle state. Off in every real run; ids
-  // end in /emulated.
+  // Test only (--emulate-nv-swizzle): nv_swizzle without its NV extensions, on any device with a geometry
+  // shader. An ordinary GS emits each triangle once per face with the face's swizzle applied in the shader
+  // (the table of backends/common/viewport_swizzle.h, passed as defines) and gl_Layer = face, into one
+  // viewport. Everything else is nv_swizzle's own: the vertex stage, the viewport mask and its culling, the
+  // reversed depth test and clear, the checks; so CPU drivers prove all of it but the passthrough GS and the
+  // swizzle state. Off in every real run; ids end in /emulated.
   bool emulate_nv_swizzle = false;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
-  // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are on
-  // append a segment each (/cull, /fit, /cache), as do remedies (/rebase, /bias0, ...), so ids without them are unchanged.
+  // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are
+  // on append a segment each (/cull, /fit, /cache), as do remedies (/rebase, /bias0, ...), so ids without
+  // them are unchanged.
   std::string id() const;
   bool operator==(const CaseConfig&) const = default;
 };

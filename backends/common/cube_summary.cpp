@@ -63,7 +63,8 @@ void summarize_on_host(Images& img) {
     img.cube_summary[f] = {uint64_t(high) << 32 | low, non_finite};
     for (int y = 0; y < grid; ++y)
       for (int x = 0; x < grid; ++x)
-        img.cube_sample[f].push_back(face[size_t(y * stride + stride / 2) * size_t(n) + size_t(x * stride + stride / 2)]);
+        img.cube_sample[f].push_back(
+            face[size_t(y * stride + stride / 2) * size_t(n) + size_t(x * stride + stride / 2)]);
   }
 }
 

@@ -1,7 +1,7 @@
 #pragma once
-// The cube summary's arithmetic on the host: the hash mixes of shaders/cube_summary.comp (change both together),
-// the buffer it writes, and the same summary computed from a cube already in host memory (backends that have no
-// device, such as test doubles, and the checks' own tests).
+// The cube summary's arithmetic on the host: the hash mixes of shaders/cube_summary.comp (change both
+// together), the buffer it writes, and the same summary computed from a cube already in host memory (backends
+// that have no device, such as test doubles, and the checks' own tests).
 
 #include <cstdint>
 #include <vector>

@@ -13,7 +13,8 @@ std::string_view trimmed(std::string_view s) {
 }
 
 bool separator(std::string_view line) {
-  return std::all_of(line.begin(), line.end(), [](char c) { return c == '-' || c == '=' || c == '_' || c == ' '; });
+  return std::all_of(line.begin(), line.end(),
+                     [](char c) { return c == '-' || c == '=' || c == '_' || c == ' '; });
 }
 
 std::string bounded(std::string text, std::size_t max_chars) {

@@ -1,17 +1,14 @@
 #include "backends/common/frame_uniforms.h"
 
-#include "backends/common/layouts.h"
-#include "backends/common/tetrahedron.h"
-
-#include "backends/common/storage_filter_tables.h"
-
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 
+#include "backends/common/layouts.h"
 #include "backends/common/map_lights.h"
 #include "backends/common/shadow_plan.h"
+#include "backends/common/storage_filter_tables.h"
+#include "backends/common/tetrahedron.h"
 
 namespace omnishadow::gpu {
 
@@ -34,17 +31,21 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
                               : light.far_plane;
   auto faces = cube::face_view_projections(light_position, light.near_plane, far_plane, range);
   std::copy(faces.begin(), faces.end(), u.face_view_proj.begin());
-  if (traits(config.layout).texel_map == TexelMap::tetrahedral)  // its four faces' own frusta, the rest unused
+  if (traits(config.layout).texel_map ==
+      TexelMap::tetrahedral)  // its four faces' own frusta, the rest unused
     for (int f = 0; f < tetra::kFaceCount; ++f)
-      u.face_view_proj[size_t(f)] = tetra::face_view_projection(f, light_position, light.near_plane, far_plane, range);
+      u.face_view_proj[size_t(f)] =
+          tetra::face_view_projection(f, light_position, light.near_plane, far_plane, range);
   u.camera_position = glm::vec4(cam.position, 1.0f);
   u.light_position = glm::vec4(light_position, far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);
   const ColourFormat moments_format = colour_format(config.storage, config.depth_format);
-  u.knobs = glm::vec4(static_cast<float>(injected_work), config.pcf_scale, kPcssLightRadius * config.pcf_scale,
-                      moments_parameter(config.storage, moments_format, config.moments));
-  u.moments_knobs = glm::vec4(config.moments.bleed_reduction, moments_distance_scale(config.moments, far_plane),
-                              std::ldexp(1.0f, is_half(moments_format) ? -11 : -24), 0.0f);
+  u.knobs =
+      glm::vec4(static_cast<float>(injected_work), config.pcf_scale, kPcssLightRadius * config.pcf_scale,
+                moments_parameter(config.storage, moments_format, config.moments));
+  u.moments_knobs =
+      glm::vec4(config.moments.bleed_reduction, moments_distance_scale(config.moments, far_plane),
+                std::ldexp(1.0f, is_half(moments_format) ? -11 : -24), 0.0f);
   for (size_t i = 0; i < scene.map_lights.size() && i < u.map_view_proj.size(); ++i) {
     const scene::MapLight& m = scene.map_lights[i];
     const bool spot = m.type == scene::MapLightType::spot;
@@ -53,8 +54,8 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
     u.map_color[i] = glm::vec4(m.color, m.near_plane);
     u.map_range[i] = glm::vec4(m.far_plane, 0.0f, 0.0f, 0.0f);
   }
-  u.lights_info = glm::vec4(static_cast<float>(scene.map_lights.size()), scene.has_point_light ? 1.0f : 0.0f,
-                            0.0f, 0.0f);
+  u.lights_info =
+      glm::vec4(static_cast<float>(scene.map_lights.size()), scene.has_point_light ? 1.0f : 0.0f, 0.0f, 0.0f);
   return u;
 }
 

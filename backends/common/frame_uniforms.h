@@ -8,8 +8,8 @@
 
 namespace omnishadow::gpu {
 
-// From the case: frame size, injected fragment work, and optimizations.fit_range (the light's far plane fitted
-// to the scene around this frame's light position instead of the scene's far).
+// From the case: frame size, injected fragment work, and optimizations.fit_range (the light's far plane
+// fitted to the scene around this frame's light position instead of the scene's far).
 FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const CaseConfig& config,
                                   cube::DepthRange range);
 

@@ -1,11 +1,10 @@
 #pragma once
 // C++ mirror of the std140 blocks in shaders/common.glsl, and the vertex layout both backends feed.
 
-#include <glm/glm.hpp>
-
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <glm/glm.hpp>
 
 #include "scenes/scene.h"
 
@@ -26,7 +25,7 @@ struct FrameUniforms {
   std::array<glm::vec4, 4> map_color{};  // rgb; w: spot near plane
   std::array<glm::vec4, 4> map_range{};  // x: spot far plane
   glm::vec4 lights_info{0.0f};           // x: number of map lights, y: 1 when the scene has a point light
-  glm::vec4 moments_knobs{0.0f};         // x: bleed reduction, y: distance scale, z: the format's rounding unit
+  glm::vec4 moments_knobs{0.0f};  // x: bleed reduction, y: distance scale, z: the format's rounding unit
 };
 static_assert(sizeof(FrameUniforms) == 11 * 64 + 18 * 16, "std140 layout of FrameUniforms");
 

@@ -1,9 +1,8 @@
 #include "backends/common/map_lights.h"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 
 namespace omnishadow::gpu {
 

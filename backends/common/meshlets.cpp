@@ -8,8 +8,8 @@
 namespace omnishadow::gpu {
 namespace {
 
-// A sphere around the meshlet's vertices: the centre of their box, the radius the largest distance to it in double
-// and then rounded up, so the task stage's culling never drops a triangle that reaches a face.
+// A sphere around the meshlet's vertices: the centre of their box, the radius the largest distance to it in
+// double and then rounded up, so the task stage's culling never drops a triangle that reaches a face.
 glm::vec4 enclosing_sphere(const scene::Scene& scene, const uint32_t* vertices, uint32_t count) {
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (uint32_t i = 0; i < count; ++i) {
@@ -20,7 +20,8 @@ glm::vec4 enclosing_sphere(const scene::Scene& scene, const uint32_t* vertices, 
   const glm::vec3 centre(glm::vec3((lo + hi) * 0.5));
   double radius = 0.0;
   for (uint32_t i = 0; i < count; ++i)
-    radius = std::max(radius, glm::length(glm::dvec3(scene.vertices[vertices[i]].position) - glm::dvec3(centre)));
+    radius =
+        std::max(radius, glm::length(glm::dvec3(scene.vertices[vertices[i]].position) - glm::dvec3(centre)));
   return {centre, std::nextafter(static_cast<float>(radius), INFINITY)};
 }
 
@@ -36,28 +37,32 @@ MeshletData build_meshlets(const scene::Scene& scene) {
   for (const scene::Object& obj : scene.objects) {
     // Weld by position: remap[i] is the unique vertex of the object's i-th vertex.
     std::vector<glm::vec3> positions(obj.vertex_count);
-    for (uint32_t i = 0; i < obj.vertex_count; ++i) positions[i] = scene.vertices[obj.first_vertex + i].position;
+    for (uint32_t i = 0; i < obj.vertex_count; ++i)
+      positions[i] = scene.vertices[obj.first_vertex + i].position;
     std::vector<unsigned int> remap(obj.vertex_count);
-    const size_t unique = meshopt_generateVertexRemap(remap.data(), nullptr, obj.vertex_count, positions.data(),
-                                                      obj.vertex_count, sizeof(glm::vec3));
+    const size_t unique = meshopt_generateVertexRemap(remap.data(), nullptr, obj.vertex_count,
+                                                      positions.data(), obj.vertex_count, sizeof(glm::vec3));
     std::vector<glm::vec3> unique_positions(unique);
     std::vector<uint32_t> unique_to_scene(unique);
     for (uint32_t i = 0; i < obj.vertex_count; ++i) {
       unique_positions[remap[i]] = positions[i];
-      unique_to_scene[remap[i]] = obj.first_vertex + i;  // any of the welded copies: their positions are equal
+      unique_to_scene[remap[i]] =
+          obj.first_vertex + i;  // any of the welded copies: their positions are equal
     }
-    const std::vector<unsigned int>& indices = remap;  // the unindexed triangle list, as indices of unique vertices
+    const std::vector<unsigned int>& indices =
+        remap;  // the unindexed triangle list, as indices of unique vertices
 
-    const size_t bound = meshopt_buildMeshletsBound(indices.size(), kMaxMeshletVertices, kMaxMeshletTriangles);
+    const size_t bound =
+        meshopt_buildMeshletsBound(indices.size(), kMaxMeshletVertices, kMaxMeshletTriangles);
     std::vector<meshopt_Meshlet> meshlets(bound);
     std::vector<unsigned int> meshlet_vertices(bound * kMaxMeshletVertices);
     std::vector<unsigned char> meshlet_triangles(bound * kMaxMeshletTriangles * 3);
-    const size_t count = indices.empty() ? 0
-                                         : meshopt_buildMeshlets(meshlets.data(), meshlet_vertices.data(),
-                                                                 meshlet_triangles.data(), indices.data(),
-                                                                 indices.size(), &unique_positions[0].x, unique,
-                                                                 sizeof(glm::vec3), kMaxMeshletVertices,
-                                                                 kMaxMeshletTriangles, 0.0f);
+    const size_t count =
+        indices.empty()
+            ? 0
+            : meshopt_buildMeshlets(meshlets.data(), meshlet_vertices.data(), meshlet_triangles.data(),
+                                    indices.data(), indices.size(), &unique_positions[0].x, unique,
+                                    sizeof(glm::vec3), kMaxMeshletVertices, kMaxMeshletTriangles, 0.0f);
     const uint32_t first_meshlet = static_cast<uint32_t>(out.meshlets.size());
     for (size_t m = 0; m < count; ++m) {
       const meshopt_Meshlet& src = meshlets[m];
@@ -72,7 +77,8 @@ MeshletData build_meshlets(const scene::Scene& scene) {
       out.spheres.push_back(enclosing_sphere(scene, &out.vertices[dst.vertex_offset], dst.vertex_count));
       out.meshlets.push_back(dst);
     }
-    while (out.meshlets.size() % kMeshletsPerTask != 0) {  // padding: empty meshlets up to the next task group
+    while (out.meshlets.size() % kMeshletsPerTask !=
+           0) {  // padding: empty meshlets up to the next task group
       out.meshlets.push_back({0, 0, 0, 0});
       out.spheres.emplace_back(0.0f);
     }

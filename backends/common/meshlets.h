@@ -1,20 +1,19 @@
 #pragma once
 // Technique mesh_shader's input: every object's triangles as meshlets (meshoptimizer's clusters of at most
-// kMaxMeshletVertices vertices and kMaxMeshletTriangles triangles), the storage buffers both APIs' task and mesh
-// stages read (shaders/mesh_common.glsl mirrors these layouts: std430, change both together).
+// kMaxMeshletVertices vertices and kMaxMeshletTriangles triangles), the storage buffers both APIs' task and
+// mesh stages read (shaders/mesh_common.glsl mirrors these layouts: std430, change both together).
 //
 // Task workgroups: one per kMeshletsPerTask meshlets. Each object's meshlets start at a multiple of
-// kMeshletsPerTask (the gap is padded with empty meshlets, which the task stage skips), so drawing an object is
-// "task groups first_task .. first_task + task_count - 1" with no per-draw meshlet count.
+// kMeshletsPerTask (the gap is padded with empty meshlets, which the task stage skips), so drawing an object
+// is "task groups first_task .. first_task + task_count - 1" with no per-draw meshlet count.
 //
-// Positions are not copied: meshlet_vertices index the scene's own vertex buffer (scene::Vertex, read as floats
-// by the mesh stage), so the mesh stage transforms exactly the floats six_pass's vertex stage does. Vertices are
-// welded by position within an object first (the scenes are unindexed triangle lists); a welded vertex has the same
-// position bits, so the clip coordinates cannot change.
-
-#include <glm/glm.hpp>
+// Positions are not copied: meshlet_vertices index the scene's own vertex buffer (scene::Vertex, read as
+// floats by the mesh stage), so the mesh stage transforms exactly the floats six_pass's vertex stage does.
+// Vertices are welded by position within an object first (the scenes are unindexed triangle lists); a welded
+// vertex has the same position bits, so the clip coordinates cannot change.
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <vector>
 
 #include "scenes/scene.h"
@@ -29,7 +28,7 @@ struct Meshlet {
   uint32_t vertex_offset;    // into MeshletData::vertices
   uint32_t triangle_offset;  // into MeshletData::triangles
   uint32_t vertex_count;
-  uint32_t triangle_count;   // 0: padding
+  uint32_t triangle_count;  // 0: padding
 };
 
 struct ObjectMeshlets {
@@ -38,12 +37,13 @@ struct ObjectMeshlets {
 };
 
 struct MeshletData {
-  std::vector<Meshlet> meshlets;     // a multiple of kMeshletsPerTask
-  std::vector<glm::vec4> spheres;    // per meshlet: centre (world units) and a radius that contains every vertex
-                                     // (computed in double, rounded up); zero for padding
-  std::vector<uint32_t> vertices;    // indices into Scene::vertices
-  std::vector<uint32_t> triangles;   // per triangle: its three local vertex indices, 8 bits each (bits 0-7, 8-15,
-                                     // 16-23), in the scene's winding order (back-face culling sees the same triangle)
+  std::vector<Meshlet> meshlets;   // a multiple of kMeshletsPerTask
+  std::vector<glm::vec4> spheres;  // per meshlet: centre (world units) and a radius that contains every
+                                   // vertex (computed in double, rounded up); zero for padding
+  std::vector<uint32_t> vertices;  // indices into Scene::vertices
+  std::vector<uint32_t>
+      triangles;  // per triangle: its three local vertex indices, 8 bits each (bits 0-7, 8-15,
+                  // 16-23), in the scene's winding order (back-face culling sees the same triangle)
   std::vector<ObjectMeshlets> objects;  // per Scene::objects entry
   size_t bytes() const;
 };

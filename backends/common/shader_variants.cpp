@@ -2,13 +2,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 #include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
 #include "backends/common/viewport_swizzle.h"
-
-#include <set>
 
 namespace omnishadow::gpu {
 
@@ -46,10 +45,13 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
 
 std::string shadow_geometry_file(const CaseConfig& c) {
   switch (traits(c.technique).stages) {
-    case ShadowStages::vertex_geometry: return "shadow_depth.geom";
-    case ShadowStages::vertex_passthrough: return "shadow_swizzle.geom";
+    case ShadowStages::vertex_geometry:
+      return "shadow_depth.geom";
+    case ShadowStages::vertex_passthrough:
+      return "shadow_swizzle.geom";
     case ShadowStages::vertex:
-    case ShadowStages::task_mesh: break;
+    case ShadowStages::task_mesh:
+      break;
   }
   return "";
 }
@@ -86,13 +88,20 @@ bool depth_only(Storage s) {
 
 std::vector<std::string> moments_blur_defines(ColourFormat format) {
   switch (format) {
-    case ColourFormat::rg32f: return {"MOMENTS_RG32F"};
-    case ColourFormat::rg16f: return {"MOMENTS_RG16F"};
-    case ColourFormat::r32f: return {"MOMENTS_R32F"};
-    case ColourFormat::r16f: return {"MOMENTS_R16F"};
-    case ColourFormat::rgba32f: return {"MOMENTS_RGBA32F"};
-    case ColourFormat::rgba16f: return {"MOMENTS_RGBA16F"};
-    case ColourFormat::none: break;
+    case ColourFormat::rg32f:
+      return {"MOMENTS_RG32F"};
+    case ColourFormat::rg16f:
+      return {"MOMENTS_RG16F"};
+    case ColourFormat::r32f:
+      return {"MOMENTS_R32F"};
+    case ColourFormat::r16f:
+      return {"MOMENTS_R16F"};
+    case ColourFormat::rgba32f:
+      return {"MOMENTS_RGBA32F"};
+    case ColourFormat::rgba16f:
+      return {"MOMENTS_RGBA16F"};
+    case ColourFormat::none:
+      break;
   }
   return {};
 }
@@ -122,9 +131,10 @@ void insert_shadow_keys(std::set<std::string>& keys, const CaseConfig& c) {
 }  // namespace
 
 std::vector<std::string> spirv_variant_keys() {
-  std::set<std::string> keys = {variant_key("lighting.vert", kNoVariant), variant_key("map_depth.vert", kNoVariant),
-                                variant_key("map_depth.frag", kNoVariant), variant_key("floor.frag", kNoVariant),
-                                variant_key("cube_summary.comp", kNoVariant)};
+  std::set<std::string> keys = {
+      variant_key("lighting.vert", kNoVariant), variant_key("map_depth.vert", kNoVariant),
+      variant_key("map_depth.frag", kNoVariant), variant_key("floor.frag", kNoVariant),
+      variant_key("cube_summary.comp", kNoVariant)};
   CaseConfig c;
   for (const TechniqueTraits& t : kTechniques)
     for (Storage storage : all_values<Storage>())
@@ -133,11 +143,13 @@ std::vector<std::string> spirv_variant_keys() {
         c.storage = storage;
         c.optimizations.face_culling = cull;
         insert_shadow_keys(keys, c);
-        c.emulate_nv_swizzle = t.technique == Technique::nv_swizzle;  // its test-only emulation (an ordinary GS)
+        c.emulate_nv_swizzle =
+            t.technique == Technique::nv_swizzle;  // its test-only emulation (an ordinary GS)
         insert_shadow_keys(keys, c);
         c.emulate_nv_swizzle = false;
       }
-  // The layouts' own shadow passes where they differ from the cube's (the warp), for what common_support admits.
+  // The layouts' own shadow passes where they differ from the cube's (the warp), for what common_support
+  // admits.
   for (const LayoutTraits& layout : kLayouts)
     for (const TechniqueTraits& t : kTechniques)
       for (Storage storage : all_values<Storage>()) {
@@ -158,17 +170,17 @@ std::vector<std::string> spirv_variant_keys() {
     for (Filter filter : all_values<Filter>()) {
       if (!filter_reads(filter, storage)) continue;
       for (const LayoutTraits& layout : kLayouts)
-      for (BiasMode bias : {BiasMode::tutorial, BiasMode::zero, BiasMode::slope})
-        for (bool normal_offset : {false, true})
-          for (LightingVariant v : {LightingVariant::timed, LightingVariant::check}) {
-            c.storage = storage;
-            c.filter = filter;
-            c.layout = layout.layout;
-            c.remedies.bias = bias;
-            c.remedies.normal_offset = normal_offset;
-            if (layout.texel_map != TexelMap::cube_faces && !common_support(c).ok) continue;
-            keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
-          }
+        for (BiasMode bias : {BiasMode::tutorial, BiasMode::zero, BiasMode::slope})
+          for (bool normal_offset : {false, true})
+            for (LightingVariant v : {LightingVariant::timed, LightingVariant::check}) {
+              c.storage = storage;
+              c.filter = filter;
+              c.layout = layout.layout;
+              c.remedies.bias = bias;
+              c.remedies.normal_offset = normal_offset;
+              if (layout.texel_map != TexelMap::cube_faces && !common_support(c).ok) continue;
+              keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
+            }
     }
   return {keys.begin(), keys.end()};
 }
@@ -190,7 +202,8 @@ std::string float_literal(float v) {
 
 std::vector<std::string> lighting_constant_defines(const LightingConstants& k) {
   return {"MAP_LIGHTS=" + std::to_string(k.map_lights), "POINT_LIGHT=" + std::to_string(k.point_light),
-          "INJECTED_WORK=" + std::to_string(k.injected_work), "LOOKUP_PERTURB_TEXELS=" + float_literal(k.lookup_perturb_texels)};
+          "INJECTED_WORK=" + std::to_string(k.injected_work),
+          "LOOKUP_PERTURB_TEXELS=" + float_literal(k.lookup_perturb_texels)};
 }
 
 float raster_perturb_ndc(const CaseConfig& c, int subpixel_bits) {

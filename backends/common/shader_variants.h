@@ -11,15 +11,16 @@
 
 namespace omnishadow::gpu {
 
-// Shadow pass: the vertex stage's defines (the technique's own; FACE_CULLING for vs_layer with culling) and the
-// geometry stage's (TECHNIQUE_GEOMETRY_SHADER, GS_INSTANCED for the instanced form, FACE_CULLING); empty when
-// the technique has no geometry stage. CMakeLists.txt compiles SPIR-V under exactly these lists.
+// Shadow pass: the vertex stage's defines (the technique's own; FACE_CULLING for vs_layer with culling) and
+// the geometry stage's (TECHNIQUE_GEOMETRY_SHADER, GS_INSTANCED for the instanced form, FACE_CULLING); empty
+// when the technique has no geometry stage. CMakeLists.txt compiles SPIR-V under exactly these lists.
 std::vector<std::string> shadow_vertex_defines(const CaseConfig& c);
 std::vector<std::string> shadow_geometry_defines(const CaseConfig& c);
-// The geometry stage's file: shadow_depth.geom (layered), shadow_swizzle.geom (nv_swizzle's passthrough), or empty.
+// The geometry stage's file: shadow_depth.geom (layered), shadow_swizzle.geom (nv_swizzle's passthrough), or
+// empty.
 std::string shadow_geometry_file(const CaseConfig& c);
-// mesh_shader's task and mesh stages (shadow_mesh.task, shadow_mesh.mesh): one list for both; empty for the other
-// techniques. FACE_CULLING makes the task stage cull meshlets per face.
+// mesh_shader's task and mesh stages (shadow_mesh.task, shadow_mesh.mesh): one list for both; empty for the
+// other techniques. FACE_CULLING makes the task stage cull meshlets per face.
 std::vector<std::string> shadow_mesh_defines(const CaseConfig& c);
 // "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER,FACE_CULLING": the key a variant is embedded under.
 std::string variant_key(const std::string& file, const std::vector<std::string>& defines);
@@ -37,29 +38,32 @@ bool depth_only(Storage s);
 // shaders/moments_blur.comp's format define for a moments cube's format (MOMENTS_RG32F, ...).
 std::vector<std::string> moments_blur_defines(ColourFormat format);
 
-// The lighting pass in two variants of one shader (shaders/lighting.frag). `timed` is what a renderer ships for
-// the case and the only one the timed frames render: one RGBA8 colour output (+ depth). `check` adds the shadow
-// factor (R32F) and world position (RGBA32F) outputs the checks read, and is rendered in the untimed check frame
-// only. The colour is computed by the same lines in both, so their lit images must agree bit for bit.
+// The lighting pass in two variants of one shader (shaders/lighting.frag). `timed` is what a renderer ships
+// for the case and the only one the timed frames render: one RGBA8 colour output (+ depth). `check` adds the
+// shadow factor (R32F) and world position (RGBA32F) outputs the checks read, and is rendered in the untimed
+// check frame only. The colour is computed by the same lines in both, so their lit images must agree bit for
+// bit.
 enum class LightingVariant { timed, check };
 inline constexpr int kLightingColorOutputs[2] = {1, 3};  // by LightingVariant
 
-// The lighting fragment stage: storage, filter, the layout's lookup (LAYOUT_FACE_ARRAY), for the bias remedies BIAS_ZERO / BIAS_SLOPE / NORMAL_OFFSET, and
-// CHECK_OUTPUTS for the check variant (CMakeLists.txt compiles one SPIR-V per combination).
+// The lighting fragment stage: storage, filter, the layout's lookup (LAYOUT_FACE_ARRAY), for the bias
+// remedies BIAS_ZERO / BIAS_SLOPE / NORMAL_OFFSET, and CHECK_OUTPUTS for the check variant (CMakeLists.txt
+// compiles one SPIR-V per combination).
 std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant variant);
 
-// What the case's scene has, fixed when the lighting pipeline is built, so the shader holds no loop or branch for
-// lights the scene lacks: GL compiles them in as defines, Vulkan passes them as specialisation constants with
-// ids 0, 1, 2, 3 (the order of the fields).
+// What the case's scene has, fixed when the lighting pipeline is built, so the shader holds no loop or branch
+// for lights the scene lacks: GL compiles them in as defines, Vulkan passes them as specialisation constants
+// with ids 0, 1, 2, 3 (the order of the fields).
 struct LightingConstants {
   int32_t map_lights = 0;     // spot and directional lights (0-4), one 2D map each
   int32_t point_light = 1;    // 1: the scene has a point light and so a cube (a VkBool32 for Vulkan)
   int32_t injected_work = 0;  // --inject-fragment-work iterations
-  float lookup_perturb_texels = 0.0f;  // test only (CaseConfig::lookup_perturb_texels); Vulkan: id 3, as float bits
+  float lookup_perturb_texels =
+      0.0f;  // test only (CaseConfig::lookup_perturb_texels); Vulkan: id 3, as float bits
 };
-// Every SPIR-V variant the Vulkan backend can ask for ("lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD", ...),
-// enumerated over the tables' axes with the functions above, so the build compiles exactly what the backend
-// uses (list_spirv_variants prints it for CMakeLists.txt).
+// Every SPIR-V variant the Vulkan backend can ask for ("lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD",
+// ...), enumerated over the tables' axes with the functions above, so the build compiles exactly what the
+// backend uses (list_spirv_variants prints it for CMakeLists.txt).
 std::vector<std::string> spirv_variant_keys();
 
 LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s);

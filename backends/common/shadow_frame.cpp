@@ -1,8 +1,8 @@
 #include "backends/common/shadow_frame.h"
 
-#include "backends/common/frame_uniforms.h"
-
 #include <algorithm>
+
+#include "backends/common/frame_uniforms.h"
 
 namespace omnishadow::gpu {
 
@@ -10,13 +10,15 @@ ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, co
                                         cube::DepthRange range) {
   ShadowFrame f;
   f.uniforms = make_frame_uniforms(scene, frame, config, range);
-  // Casters never move (scenes are baked at load), so the light's position and range decide the cube's content.
-  // Exact float equality: a light that moves by one ulp renders again.
-  f.reuse_cube = config.optimizations.static_cache && cube_light_ && *cube_light_ == f.uniforms.light_position;
+  // Casters never move (scenes are baked at load), so the light's position and range decide the cube's
+  // content. Exact float equality: a light that moves by one ulp renders again.
+  f.reuse_cube =
+      config.optimizations.static_cache && cube_light_ && *cube_light_ == f.uniforms.light_position;
   if (!f.reuse_cube) {
     f.plan = cube::plan_shadow_draws(scene, glm::vec3(f.uniforms.light_position), scene.light.near_plane,
                                      f.uniforms.light_position.w, config.optimizations.face_culling);
-    if (!scene.has_point_light) {  // no point light: the cube is only cleared (the harness runs six_pass only)
+    if (!scene
+             .has_point_light) {  // no point light: the cube is only cleared (the harness runs six_pass only)
       for (auto& list : f.plan.face_objects) list.clear();
       f.plan.reaching.clear();
       std::fill(f.plan.object_faces.begin(), f.plan.object_faces.end(), uint8_t{0});

@@ -1,6 +1,6 @@
 #pragma once
-// The per-frame decisions both backends share: the uniform block, the shadow draw plan (per-face object lists,
-// per-object face masks) and whether the cube rendered earlier can be reused (static caching).
+// The per-frame decisions both backends share: the uniform block, the shadow draw plan (per-face object
+// lists, per-object face masks) and whether the cube rendered earlier can be reused (static caching).
 
 #include <optional>
 
@@ -25,7 +25,8 @@ class ShadowFramePlanner {
   ShadowFrame prepare(const scene::Scene& scene, int frame, const CaseConfig& config, cube::DepthRange range);
   // The shadow pass of `f` has been submitted: with static caching, the cube now holds its light.
   void rendered(const ShadowFrame& f, const CaseConfig& config);
-  // The light far plane of the cube's content (fit_range makes it per frame): read-back scales linear depth by it.
+  // The light far plane of the cube's content (fit_range makes it per frame): read-back scales linear depth
+  // by it.
   float cube_far() const { return cube_far_; }
 
  private:

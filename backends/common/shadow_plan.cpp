@@ -11,7 +11,8 @@ uint8_t box_face_mask(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3&
   // Margin in favour of drawing: the planes are tested in float on the CPU, the clipper works on the GPU's
   // transformed vertices; a relative 1e-4 keeps every borderline box.
   const float margin = 1e-4f * (std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(a.z), std::fabs(b.x),
-                                          std::fabs(b.y), std::fabs(b.z)}) + 1.0f);
+                                          std::fabs(b.y), std::fabs(b.z)}) +
+                                1.0f);
   uint8_t mask = 0;
   for (int face = 0; face < 6; ++face) {
     const int axis = face / 2;
@@ -50,11 +51,13 @@ float fitted_far(const scene::Scene& scene, const glm::vec3& light, float near_p
   float farthest = 0.0f;
   for (const scene::Object& o : scene.objects)
     for (int corner = 0; corner < 8; ++corner) {
-      glm::vec3 p((corner & 1) ? o.bounds_max.x : o.bounds_min.x, (corner & 2) ? o.bounds_max.y : o.bounds_min.y,
+      glm::vec3 p((corner & 1) ? o.bounds_max.x : o.bounds_min.x,
+                  (corner & 2) ? o.bounds_max.y : o.bounds_min.y,
                   (corner & 4) ? o.bounds_max.z : o.bounds_min.z);
       farthest = std::max(farthest, glm::length(p - light));
     }
-  // The axis distance of a point never exceeds its distance, so the farthest corner bounds every face's depth.
+  // The axis distance of a point never exceeds its distance, so the farthest corner bounds every face's
+  // depth.
   return std::min(std::max(farthest * 1.001f, 2.0f * near_plane), scene_far);
 }
 

@@ -1,16 +1,15 @@
 #pragma once
-// What the shadow pass must draw, decided once on the CPU for both backends: per face, the objects whose bounds
-// touch that face's frustum (six_pass; a face with none is cleared only), and per object the faces it touches
-// (vs_layer instances). Also the far plane fitted to the scene around the light.
+// What the shadow pass must draw, decided once on the CPU for both backends: per face, the objects whose
+// bounds touch that face's frustum (six_pass; a face with none is cleared only), and per object the faces it
+// touches (vs_layer instances). Also the far plane fitted to the scene around the light.
 //
 // The frustum test is conservative: an object is dropped from a face only when its box lies wholly beyond one
 // of the face's planes (by a margin), i.e. where clipping would discard every one of its triangles anyway, so
 // the images are bit-identical with and without culling.
 
-#include <glm/glm.hpp>
-
 #include <array>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <vector>
 
 #include "scenes/scene.h"

@@ -16,13 +16,20 @@ ColourFormat colour_format(Storage s, DepthFormat depth_format) {
 
 int colour_format_bytes(ColourFormat f) {
   switch (f) {
-    case ColourFormat::none: return 0;
-    case ColourFormat::r32f: return 4;
-    case ColourFormat::rg32f: return 8;
-    case ColourFormat::rg16f: return 4;
-    case ColourFormat::r16f: return 2;
-    case ColourFormat::rgba32f: return 16;
-    case ColourFormat::rgba16f: return 8;
+    case ColourFormat::none:
+      return 0;
+    case ColourFormat::r32f:
+      return 4;
+    case ColourFormat::rg32f:
+      return 8;
+    case ColourFormat::rg16f:
+      return 4;
+    case ColourFormat::r16f:
+      return 2;
+    case ColourFormat::rgba32f:
+      return 16;
+    case ColourFormat::rgba16f:
+      return 8;
   }
   return 0;
 }
@@ -46,32 +53,41 @@ float exponent_overflow_limit(Storage s, ColourFormat f) {
 float moments_parameter(Storage s, ColourFormat f, const MomentsTuning& t) {
   const bool half = is_half(f);
   switch (traits(s).moments) {
-    case MomentKind::vsm: return t.floor_scale * 4.0f * std::ldexp(1.0f, half ? -11 : -24);
+    case MomentKind::vsm:
+      return t.floor_scale * 4.0f * std::ldexp(1.0f, half ? -11 : -24);
     case MomentKind::esm:
-    case MomentKind::evsm: return t.exponent_fraction * exponent_overflow_limit(s, f);
-    case MomentKind::msm: return t.floor_scale * (half ? 1e-3f : 3e-5f);
-    case MomentKind::none: break;
+    case MomentKind::evsm:
+      return t.exponent_fraction * exponent_overflow_limit(s, f);
+    case MomentKind::msm:
+      return t.floor_scale * (half ? 1e-3f : 3e-5f);
+    case MomentKind::none:
+      break;
   }
   return 0.0f;
 }
 
-float moments_distance_scale(const MomentsTuning& t, float far_plane) { return t.world_units ? far_plane : 1.0f; }
+float moments_distance_scale(const MomentsTuning& t, float far_plane) {
+  return t.world_units ? far_plane : 1.0f;
+}
 
 std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format, const MomentsTuning& t,
                                          float far_plane) {
   const float c = moments_parameter(s, colour_format(s, depth_format), t);
   switch (traits(s).moments) {
-    case MomentKind::none: break;
+    case MomentKind::none:
+      break;
     case MomentKind::vsm: {  // z = 1, z^2 = 1, in world units far and far^2
       const float d = moments_distance_scale(t, far_plane);
       return {d, d * d, 0.0f, 0.0f};
     }
-    case MomentKind::esm: return {std::exp(c), 0.0f, 0.0f, 0.0f};
+    case MomentKind::esm:
+      return {std::exp(c), 0.0f, 0.0f, 0.0f};
     case MomentKind::evsm: {
       const float p = std::exp(c), n = std::exp(-c);
       return {p, p * p, -n, n * n};  // a 2-channel cube keeps the first two
     }
-    case MomentKind::msm: return {1.0f, 1.0f, 1.0f, 1.0f};
+    case MomentKind::msm:
+      return {1.0f, 1.0f, 1.0f, 1.0f};
   }
   return {0.0f, 0.0f, 0.0f, 0.0f};
 }

@@ -1,12 +1,13 @@
 #pragma once
-// Storages and filters as rows of two tables, as techniques.h is for techniques. The matrix, the shader variants,
-// the memory budget, the truth bounds, the results and both backends read these rows; a backend only maps a row's
-// colour format to its API's format.
+// Storages and filters as rows of two tables, as techniques.h is for techniques. The matrix, the shader
+// variants, the memory budget, the truth bounds, the results and both backends read these rows; a backend
+// only maps a row's colour format to its API's format.
 //
-// Adding a lookup-only filter: a Filter value and its spelling (case_config.{h,cpp}), a row in kFilterTable and its
-// branch of shadow_factor() in shaders/shadow_filters.glsl. Adding a moments filter: also a Storage value and
-// spelling, a row in kStorageTable naming its moments, its branch of shaders/moments.glsl (the moments written
-// and the lookup), and the moments' C++ form in bench/truth/moments_check.cpp that checks them.
+// Adding a lookup-only filter: a Filter value and its spelling (case_config.{h,cpp}), a row in kFilterTable
+// and its branch of shadow_factor() in shaders/shadow_filters.glsl. Adding a moments filter: also a Storage
+// value and spelling, a row in kStorageTable naming its moments, its branch of shaders/moments.glsl (the
+// moments written and the lookup), and the moments' C++ form in bench/truth/moments_check.cpp that checks
+// them.
 
 #include <array>
 #include <optional>
@@ -43,21 +44,23 @@ struct StorageTraits {
   bool colour_checked;         // the checked cube is the colour attachment (else the depth attachment)
   bool fragment_depth;         // the shadow pass writes distance / far as its depth (else the rasteriser's)
   int colour_channels;         // channels of the colour cube beside the depth; 0: none
-  bool half_precision_at_d16;  // with --depth-format d16 the colour cube is 16-bit float (moments' precision axis)
+  bool half_precision_at_d16;  // with --depth-format d16 the colour cube is 16-bit float (moments' precision
+                               // axis)
   MomentKind moments;
 };
 
 inline constexpr std::array<StorageTraits, 8> kStorageTable = {{
     {Storage::linear_depth, "STORAGE_LINEAR_DEPTH", DistanceEncoding::linear_depth, false, true, 0, false,
      MomentKind::none},
-    {Storage::r32f_distance, "STORAGE_R32F_DISTANCE", DistanceEncoding::colour_distance, true, false, 1, false,
-     MomentKind::none},
-    {Storage::hardware_depth, "STORAGE_HARDWARE_DEPTH", DistanceEncoding::projective_depth, false, false, 0, false,
-     MomentKind::none},
+    {Storage::r32f_distance, "STORAGE_R32F_DISTANCE", DistanceEncoding::colour_distance, true, false, 1,
+     false, MomentKind::none},
+    {Storage::hardware_depth, "STORAGE_HARDWARE_DEPTH", DistanceEncoding::projective_depth, false, false, 0,
+     false, MomentKind::none},
     // The depth is linear_depth's (the checks read it as such); the moments of the same z are the colour.
     {Storage::vsm_moments, "STORAGE_VSM_MOMENTS", DistanceEncoding::linear_depth, false, true, 2, true,
      MomentKind::vsm},
-    {Storage::esm_exp, "STORAGE_ESM_EXP", DistanceEncoding::linear_depth, false, true, 1, true, MomentKind::esm},
+    {Storage::esm_exp, "STORAGE_ESM_EXP", DistanceEncoding::linear_depth, false, true, 1, true,
+     MomentKind::esm},
     {Storage::evsm2_moments, "STORAGE_EVSM2_MOMENTS", DistanceEncoding::linear_depth, false, true, 2, true,
      MomentKind::evsm},
     {Storage::evsm4_moments, "STORAGE_EVSM4_MOMENTS", DistanceEncoding::linear_depth, false, true, 4, true,
@@ -75,15 +78,17 @@ enum class FilterSampler {
 // What runs between the shadow pass and the lighting pass, in the timed frame.
 enum class Prefilter {
   none,
-  separable_blur,  // shaders/moments_blur.comp: a 5-tap binomial blur along s, then along t, folded across seams
+  separable_blur,  // shaders/moments_blur.comp: a 5-tap binomial blur along s, then along t, folded across
+                   // seams
 };
 
 struct FilterTraits {
   Filter filter;
   std::string_view define;  // FILTER_* in shaders/shadow_filters.glsl
-  bool soft;                // the default misclassification limit is the soft filters' (bench/run/case_runner.h)
+  bool soft;  // the default misclassification limit is the soft filters' (bench/run/case_runner.h)
   FilterSampler sampler;
-  std::optional<Storage> own_storage;  // a moments filter reads the moments it stores; nullopt: any distance storage
+  std::optional<Storage>
+      own_storage;  // a moments filter reads the moments it stores; nullopt: any distance storage
   Prefilter prefilter;
 };
 
@@ -97,12 +102,14 @@ inline constexpr std::array<FilterTraits, 10> kFilterTable = {{
     {Filter::pcss, "FILTER_PCSS", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
     {Filter::vsm, "FILTER_VSM", true, FilterSampler::linear_moments, Storage::vsm_moments,
      Prefilter::separable_blur},
-    {Filter::esm, "FILTER_ESM", true, FilterSampler::linear_moments, Storage::esm_exp, Prefilter::separable_blur},
+    {Filter::esm, "FILTER_ESM", true, FilterSampler::linear_moments, Storage::esm_exp,
+     Prefilter::separable_blur},
     {Filter::evsm2, "FILTER_EVSM2", true, FilterSampler::linear_moments, Storage::evsm2_moments,
      Prefilter::separable_blur},
     {Filter::evsm4, "FILTER_EVSM4", true, FilterSampler::linear_moments, Storage::evsm4_moments,
      Prefilter::separable_blur},
-    {Filter::msm, "FILTER_MSM", true, FilterSampler::linear_moments, Storage::msm_moments, Prefilter::separable_blur},
+    {Filter::msm, "FILTER_MSM", true, FilterSampler::linear_moments, Storage::msm_moments,
+     Prefilter::separable_blur},
 }};
 
 constexpr const StorageTraits& traits(Storage s) {
@@ -133,28 +140,32 @@ static_assert(rows_in_enum_order(kFilterTable), "kFilterTable lists the filters 
 // 16-bit float with d16 (the precision axis of the moments storages).
 ColourFormat colour_format(Storage s, DepthFormat depth_format);
 int colour_format_bytes(ColourFormat f);
-// The storage a case of `filter` uses when the matrix names `storage`: a moments filter's own, else `storage`.
+// The storage a case of `filter` uses when the matrix names `storage`: a moments filter's own, else
+// `storage`.
 Storage storage_for(Filter filter, Storage storage);
 // Whether `filter` can read `storage` (a moments filter only its own moments; the others only distances).
 bool filter_reads(Filter filter, Storage storage);
 bool is_half(ColourFormat f);  // a 16-bit float format
-// The largest exponent c an exponential warp may have before the moments of z = 1 overflow the format: ln of its
-// largest finite value for esm (88.7 float, 11.09 half), half of it for evsm, which stores e^(2cz).
+// The largest exponent c an exponential warp may have before the moments of z = 1 overflow the format: ln of
+// its largest finite value for esm (88.7 float, 11.09 half), half of it for evsm, which stores e^(2cz).
 float exponent_overflow_limit(Storage s, ColourFormat f);
 // The moments' one parameter (frame.knobs.w), by storage and format, at the default tuning:
 //   vsm: the variance floor as a fraction of m2, four units of the format's rounding (2^-24 for 32-bit float,
-//        2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units of m2) on a flat surface;
+//        2^-11 for 16-bit), above what rounding leaves of m2 - m1^2 (about three units of m2) on a flat
+//        surface;
 //   esm: the exponent c, 0.9 of exponent_overflow_limit (79.8 for 32-bit float, 9.98 for 16-bit): exp(c z) of
 //        z <= 1 stays finite, and the blur's averages never exceed their inputs;
 //   evsm: the exponent c, 0.9 of its limit (39.9, 4.99);
-//   msm:  the moment bias alpha towards (0.5, 0.5, 0.5, 0.5): 3e-5 for 32-bit float (Peters & Klein's), 1e-3 for
+//   msm:  the moment bias alpha towards (0.5, 0.5, 0.5, 0.5): 3e-5 for 32-bit float (Peters & Klein's), 1e-3
+//   for
 //         16-bit (their 16-bit form needs a quantisation transform this storage does not apply).
 // The tuning's floor_scale multiplies vsm's and msm's; its exponent_fraction replaces the 0.9.
 float moments_parameter(Storage s, ColourFormat f, const MomentsTuning& t = {});
 // What the stored distance is multiplied by before its moments are taken: 1 (z = distance / far), or far with
 // world_units (frame.moments_knobs.y).
 float moments_distance_scale(const MomentsTuning& t, float far_plane);
-// The value a moments cube is cleared to: the moments of z = 1 (nothing drawn: the far plane, as the depth's clear).
+// The value a moments cube is cleared to: the moments of z = 1 (nothing drawn: the far plane, as the depth's
+// clear).
 std::array<float, 4> moments_clear_value(Storage s, DepthFormat depth_format, const MomentsTuning& t,
                                          float far_plane);
 

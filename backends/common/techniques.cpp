@@ -1,13 +1,14 @@
 #include "backends/common/techniques.h"
 
+#include <bit>
+
 #include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 
-#include <bit>
-
 namespace omnishadow {
 
-ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDrawPlan& plan, size_t object_count) {
+ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDrawPlan& plan,
+                                  size_t object_count) {
   const TechniqueTraits& t = traits(config.technique);
   const bool cull = config.optimizations.face_culling;
   ShadowPassDraws out;

@@ -1,8 +1,7 @@
 #include "backends/common/tetrahedron.h"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 
 namespace omnishadow::tetra {
 
@@ -29,10 +28,11 @@ glm::mat4 face_view_projection(int face, const glm::vec3& light_position, float 
   const Face& f = faces()[size_t(face)];
   const glm::mat4 view = glm::lookAtRH(light_position, light_position + glm::vec3(f.axis), glm::vec3(f.up));
   const float n = near_plane;
-  const glm::mat4 projection =
-      range == cube::DepthRange::zero_to_one
-          ? glm::frustumRH_ZO(float(kLeft) * n, float(kRight) * n, float(kBottom) * n, float(kTop) * n, n, far_plane)
-          : glm::frustumRH_NO(float(kLeft) * n, float(kRight) * n, float(kBottom) * n, float(kTop) * n, n, far_plane);
+  const glm::mat4 projection = range == cube::DepthRange::zero_to_one
+                                   ? glm::frustumRH_ZO(float(kLeft) * n, float(kRight) * n,
+                                                       float(kBottom) * n, float(kTop) * n, n, far_plane)
+                                   : glm::frustumRH_NO(float(kLeft) * n, float(kRight) * n,
+                                                       float(kBottom) * n, float(kTop) * n, n, far_plane);
   return projection * view;
 }
 

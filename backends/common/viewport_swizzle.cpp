@@ -1,15 +1,15 @@
 #include "backends/common/viewport_swizzle.h"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <stdexcept>
 #include <string>
 
 namespace omnishadow::cube {
 namespace {
 
-// Row `row` of a face's view matrix at the origin must be +-1 times one axis: that axis as a swizzle component.
+// Row `row` of a face's view matrix at the origin must be +-1 times one axis: that axis as a swizzle
+// component.
 SwizzleComponent axis_of_row(const glm::mat4& view, int row, float sign, int face) {
   for (int axis = 0; axis < 3; ++axis) {
     const float v = sign * view[axis][row];  // glm is column-major: view[column][row]
@@ -23,11 +23,12 @@ SwizzleComponent axis_of_row(const glm::mat4& view, int row, float sign, int fac
 }  // namespace
 
 std::array<FaceSwizzle, kFaceCount> face_swizzles() {
-  // The projection's x and y scales are 1 / tan(45 degrees): exactly 1 in float, checked here so that a change to
-  // face_projection() cannot silently make the swizzled faces differ from six_pass's.
+  // The projection's x and y scales are 1 / tan(45 degrees): exactly 1 in float, checked here so that a
+  // change to face_projection() cannot silently make the swizzled faces differ from six_pass's.
   const glm::mat4 projection = face_projection(0.1f, 10.0f, DepthRange::zero_to_one);
   if (projection[0][0] != 1.0f || projection[1][1] != 1.0f || projection[2][3] != -1.0f)
-    throw std::logic_error("the face projection's x, y and w scales are not exactly 1: swizzles would not match it");
+    throw std::logic_error(
+        "the face projection's x, y and w scales are not exactly 1: swizzles would not match it");
   std::array<FaceSwizzle, kFaceCount> out{};
   for (int f = 0; f < kFaceCount; ++f) {
     const glm::mat4 view = face_view(f, glm::vec3(0.0f));

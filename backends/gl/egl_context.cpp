@@ -26,7 +26,8 @@ EGLDisplay open_display(const std::string& platform, int device_index) {
     return eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
   }
   if (platform == "device") {
-    if (!has_client_extension("EGL_EXT_platform_device") || !has_client_extension("EGL_EXT_device_enumeration"))
+    if (!has_client_extension("EGL_EXT_platform_device") ||
+        !has_client_extension("EGL_EXT_device_enumeration"))
       throw std::runtime_error("--egl-platform device --gl-device " + std::to_string(device_index) +
                                ": this EGL has no EGL_EXT_platform_device / EGL_EXT_device_enumeration (use "
                                "--egl-platform surfaceless)");
@@ -35,9 +36,10 @@ EGLDisplay open_display(const std::string& platform, int device_index) {
     std::vector<EGLDeviceEXT> devices(static_cast<size_t>(count));
     if (!eglQueryDevicesEXT(count, devices.data(), &count)) egl_fail("eglQueryDevicesEXT");
     if (device_index < 0 || device_index >= count)
-      throw std::runtime_error("--gl-device " + std::to_string(device_index) + " is out of range: " +
-                               std::to_string(count) + " EGL device(s)");
-    return eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(device_index)], nullptr);
+      throw std::runtime_error("--gl-device " + std::to_string(device_index) +
+                               " is out of range: " + std::to_string(count) + " EGL device(s)");
+    return eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(device_index)],
+                                    nullptr);
   }
   throw std::runtime_error("unknown --egl-platform '" + platform + "' (valid: surfaceless, device)");
 }
@@ -60,9 +62,14 @@ EglContext::EglContext(const std::string& platform, int device_index, bool debug
     EGLint n = 0;
     if (!eglChooseConfig(display_, config_attribs, &config, 1, &n) || n < 1) egl_fail("eglChooseConfig");
   }
-  const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                                    EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                    EGL_CONTEXT_OPENGL_DEBUG, debug ? EGL_TRUE : EGL_FALSE,
+  const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                    4,
+                                    EGL_CONTEXT_MINOR_VERSION,
+                                    5,
+                                    EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                    EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                    EGL_CONTEXT_OPENGL_DEBUG,
+                                    debug ? EGL_TRUE : EGL_FALSE,
                                     EGL_NONE};
   context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, context_attribs);
   if (context_ == EGL_NO_CONTEXT) egl_fail("eglCreateContext(OpenGL 4.5 core)");

@@ -35,9 +35,10 @@ std::string gl_string(GLenum name) {
 
 // KHR_debug: keep errors and undefined behaviour (what would make a figure or an image wrong); drop the
 // performance and informational chatter.
-void GLAPIENTRY collect_debug_message(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
-                                      const void* user) {
-  if (type != GL_DEBUG_TYPE_ERROR && type != GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR && severity != GL_DEBUG_SEVERITY_HIGH)
+void GLAPIENTRY collect_debug_message(GLenum, GLenum type, GLuint, GLenum severity, GLsizei,
+                                      const GLchar* message, const void* user) {
+  if (type != GL_DEBUG_TYPE_ERROR && type != GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR &&
+      severity != GL_DEBUG_SEVERITY_HIGH)
     return;
   auto* errors = static_cast<std::vector<std::string>*>(const_cast<void*>(user));
   if (errors->size() < 100) errors->emplace_back(message);
@@ -79,8 +80,10 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   GLint max_views = 0;
   if (epoxy_has_gl_extension("GL_OVR_multiview2")) glGetIntegerv(GL_MAX_VIEWS_OVR, &max_views);
   has_multiview_ = max_views >= 6;
-  for (const char* ext : {"GL_NV_viewport_swizzle", "GL_NV_viewport_array2", "GL_NV_geometry_shader_passthrough"})
-    if (!epoxy_has_gl_extension(ext)) missing_swizzle_ += (missing_swizzle_.empty() ? "" : ", ") + std::string(ext);
+  for (const char* ext :
+       {"GL_NV_viewport_swizzle", "GL_NV_viewport_array2", "GL_NV_geometry_shader_passthrough"})
+    if (!epoxy_has_gl_extension(ext))
+      missing_swizzle_ += (missing_swizzle_.empty() ? "" : ", ") + std::string(ext);
   has_mesh_shader_ = epoxy_has_gl_extension("GL_NV_mesh_shader");
   info_.extra["nv_swizzle extensions"] = missing_swizzle_.empty() ? "yes" : "missing " + missing_swizzle_;
   info_.extra["GL_NV_mesh_shader"] = has_mesh_shader_ ? "yes" : "no";
@@ -130,7 +133,7 @@ GlBackend::~GlBackend() {
   // Without a current context every GL call below would go to libepoxy's resolver, which aborts the process;
   // destroying the EGL context (EglContext's destructor) frees these objects anyway.
   if (!context_.make_current()) {
-    (void)queries_.release();  // its destructor deletes GL queries: left to the context's destruction
+    (void)queries_.release();    // its destructor deletes GL queries: left to the context's destruction
     (void)mesh_pass_.release();  // and its buffers
     return;
   }
@@ -160,8 +163,9 @@ Support GlBackend::supports(const CaseConfig& c) const {
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
   if (const int layer = layer_size(c.layout, c.cube_size); layer > info_.max_cube_size)
-    return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) + " texels for cube " +
-                       std::to_string(c.cube_size) + " exceed " + std::to_string(info_.max_cube_size)};
+    return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) +
+                       " texels for cube " + std::to_string(c.cube_size) + " exceed " +
+                       std::to_string(info_.max_cube_size)};
   return {};
 }
 
@@ -175,7 +179,8 @@ void GlBackend::upload_scene(const scene::Scene& scene) {
   glCreateBuffers(1, &vertex_buffer_);
   glNamedBufferStorage(vertex_buffer_, static_cast<GLsizeiptr>(scene.vertices.size() * sizeof(scene::Vertex)),
                        scene.vertices.data(), 0);
-  if (glGetError() == GL_OUT_OF_MEMORY) throw std::runtime_error("GL_OUT_OF_MEMORY uploading scene " + scene.name);
+  if (glGetError() == GL_OUT_OF_MEMORY)
+    throw std::runtime_error("GL_OUT_OF_MEMORY uploading scene " + scene.name);
 
   auto make_vao = [&](bool with_attributes) {
     GLuint vao = 0;
@@ -223,19 +228,23 @@ void GlBackend::configure_case(const CaseConfig& c) {
   std::vector<std::string> map_defines;
   if (c.raster_perturb_steps != 0.0f) {
     char perturb[64];
-    std::snprintf(perturb, sizeof perturb, "RASTER_PERTURB_NDC=%.9g", gpu::raster_perturb_ndc(c, info_.subpixel_bits));
+    std::snprintf(perturb, sizeof perturb, "RASTER_PERTURB_NDC=%.9g",
+                  gpu::raster_perturb_ndc(c, info_.subpixel_bits));
     map_defines.push_back(perturb);
   }
   if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_)
-    mesh_pass_ = std::make_unique<GlMeshPass>(*scene_, vertex_buffer_);  // once per scene: meshlets outlive cases
+    mesh_pass_ =
+        std::make_unique<GlMeshPass>(*scene_, vertex_buffer_);  // once per scene: meshlets outlive cases
   for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
     std::vector<std::string> defines = gpu::lighting_defines(c, v);
-    for (std::string& d : gpu::lighting_constant_defines(gpu::lighting_constants(c, *scene_))) defines.push_back(d);
+    for (std::string& d : gpu::lighting_constant_defines(gpu::lighting_constants(c, *scene_)))
+      defines.push_back(d);
     lighting_programs_[size_t(v)] =
         program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "lighting.frag"}}, defines);
   }
 
-  map_program_ = program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, map_defines);
+  map_program_ =
+      program({{GL_VERTEX_SHADER, "map_depth.vert"}, {GL_FRAGMENT_SHADER, "map_depth.frag"}}, map_defines);
   floor_program_ = program({{GL_VERTEX_SHADER, "lighting.vert"}, {GL_FRAGMENT_SHADER, "floor.frag"}}, {});
   summary_program_ = program({{GL_COMPUTE_SHADER, "cube_summary.comp"}}, {});
   blur_program_ = 0;
@@ -270,7 +279,8 @@ void GlBackend::bind_pass_uniforms(int entry) {
                     sizeof(gpu::PassUniforms));
 }
 
-void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided, bool mesh_tasks) {
+void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided,
+                          bool mesh_tasks) {
   bool culling = false;
   glDisable(GL_CULL_FACE);
   for (const ObjectDraw& d : draws) {
@@ -286,8 +296,8 @@ void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats
       ++stats.draw_calls;
       continue;
     }
-    glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex), static_cast<GLsizei>(obj.vertex_count),
-                          static_cast<GLsizei>(d.instances));
+    glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex),
+                          static_cast<GLsizei>(obj.vertex_count), static_cast<GLsizei>(d.instances));
     ++stats.draw_calls;
   }
 }
@@ -303,14 +313,16 @@ void GlBackend::map_pass(DrawStats& stats) {
     bind_pass_uniforms(static_cast<int>(i));
     const bool front = scene_->map_lights[i].cull_front_faces;
     for (const scene::Object& obj : scene_->objects) {
-      // Closed objects: back faces culled as in the cube pass, or front faces (the directional notes' peter-panning fix).
+      // Closed objects: back faces culled as in the cube pass, or front faces (the directional notes'
+      // peter-panning fix).
       if (obj.cull_back_faces) {
         glEnable(GL_CULL_FACE);
         glCullFace(front ? GL_FRONT : GL_BACK);
       } else {
         glDisable(GL_CULL_FACE);
       }
-      glDrawArrays(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex), static_cast<GLsizei>(obj.vertex_count));
+      glDrawArrays(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex),
+                   static_cast<GLsizei>(obj.vertex_count));
       ++stats.draw_calls;
     }
   }
@@ -330,7 +342,8 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   glViewport(0, 0, shadow_.size, shadow_.size);
   glUseProgram(shadow_program_);
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
-  // dual_paraboloid: each layer's pass clips the other hemisphere away (gl_ClipDistance[0], shaders/paraboloid.glsl).
+  // dual_paraboloid: each layer's pass clips the other hemisphere away (gl_ClipDistance[0],
+  // shaders/paraboloid.glsl).
   const bool clip_hemisphere = traits(config_->layout).texel_map == TexelMap::paraboloid;
   if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
   const bool swizzle = config_->technique == Technique::nv_swizzle && !config_->emulate_nv_swizzle;
@@ -357,25 +370,28 @@ static_assert(GL_VIEWPORT_SWIZZLE_NEGATIVE_X_NV - GL_VIEWPORT_SWIZZLE_POSITIVE_X
 
 void GlBackend::set_face_swizzles(bool on) {
   static const auto swizzles = cube::face_swizzles();  // pure: read off the face matrices once, not per frame
-  auto gl_enum = [](cube::SwizzleComponent c) { return GL_VIEWPORT_SWIZZLE_POSITIVE_X_NV + static_cast<GLenum>(c); };
+  auto gl_enum = [](cube::SwizzleComponent c) {
+    return GL_VIEWPORT_SWIZZLE_POSITIVE_X_NV + static_cast<GLenum>(c);
+  };
   for (GLuint f = 0; f < cube::kFaceCount; ++f) {
     const cube::FaceSwizzle identity{cube::SwizzleComponent::pos_x, cube::SwizzleComponent::pos_y,
                                      cube::SwizzleComponent::pos_z, cube::SwizzleComponent::pos_w};
     const cube::FaceSwizzle& s = on ? swizzles[f] : identity;
     glViewportSwizzleNV(f, gl_enum(s.x), gl_enum(s.y), gl_enum(s.z), gl_enum(s.w));
-    // glViewport set every viewport already (ARB_viewport_array); said again per face, so that the six viewports the
-    // mask names never depend on that.
+    // glViewport set every viewport already (ARB_viewport_array); said again per face, so that the six
+    // viewports the mask names never depend on that.
     if (on) glViewportIndexedf(f, 0.0f, 0.0f, float(shadow_.size), float(shadow_.size));
   }
 }
 
-// The moments prefilter (shaders/moments_blur.comp): along s from the moments cube into the intermediate, then
-// along t back. Image stores are incoherent: each reader waits on a barrier.
+// The moments prefilter (shaders/moments_blur.comp): along s from the moments cube into the intermediate,
+// then along t back. Image stores are incoherent: each reader waits on a barrier.
 void GlBackend::blur_moments() {
   glUseProgram(blur_program_);
   glUniform1i(0, shadow_.size);
   const GLuint groups = static_cast<GLuint>((shadow_.size + 7) / 8);
-  const GLuint from[2] = {shadow_.colour_layers, shadow_.blur_layers}, to[2] = {shadow_.blur_layers, shadow_.colour_layers};
+  const GLuint from[2] = {shadow_.colour_layers, shadow_.blur_layers},
+               to[2] = {shadow_.blur_layers, shadow_.colour_layers};
   for (int axis = 0; axis < 2; ++axis) {
     glBindImageTexture(0, from[axis], 0, GL_TRUE, 0, GL_READ_ONLY, shadow_.colour_format);
     glBindImageTexture(1, to[axis], 0, GL_TRUE, 0, GL_WRITE_ONLY, shadow_.colour_format);
@@ -386,11 +402,13 @@ void GlBackend::blur_moments() {
   }
 }
 
-// Render pass p of `count`: six passes bind face p's framebuffer, one pass the layered framebuffer (whose clear
-// clears all six layers); depth cleared to 1, an r32f cube to FLT_MAX ("nothing here", docs/glossary.md).
+// Render pass p of `count`: six passes bind face p's framebuffer, one pass the layered framebuffer (whose
+// clear clears all six layers); depth cleared to 1, an r32f cube to FLT_MAX ("nothing here",
+// docs/glossary.md).
 void GlBackend::begin_shadow_pass(int p, int count, float far_plane) {
   const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
-  const GLfloat depth_clear = reversed_depth_test(*config_) ? 0.0f : 1.0f;  // nv_swizzle's r32f: nearer is greater
+  const GLfloat depth_clear =
+      reversed_depth_test(*config_) ? 0.0f : 1.0f;  // nv_swizzle's r32f: nearer is greater
   const GLuint fbo = count > 1 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_clear);
@@ -425,9 +443,9 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
   glUseProgram(program);
   glBindVertexArray(lighting_vao_);
   glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
-  glBindTextureUnit(gpu::kShadowMapBinding,
-                    traits(config_->layout).lookup != LayoutLookup::hardware_cube ? shadow_.sampled_layers
-                                                                                  : shadow_.sampled);
+  glBindTextureUnit(gpu::kShadowMapBinding, traits(config_->layout).lookup != LayoutLookup::hardware_cube
+                                                ? shadow_.sampled_layers
+                                                : shadow_.sampled);
   const FilterSampler sampler = traits(config_->filter).sampler;
   glBindSampler(gpu::kShadowMapBinding, sampler == FilterSampler::linear_compare   ? compare_sampler_
                                         : sampler == FilterSampler::linear_moments ? linear_sampler_
@@ -507,12 +525,13 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
   img.world_position.resize(pixels * 4);
   glGetTextureImage(check.color, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.lit_rgba8.size()),
                     img.lit_rgba8.data());
-  glGetTextureImage(timed.color, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(img.timed_lit_rgba8.size()),
-                    img.timed_lit_rgba8.data());
+  glGetTextureImage(timed.color, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                    static_cast<GLsizei>(img.timed_lit_rgba8.size()), img.timed_lit_rgba8.data());
   glGetTextureImage(check.shadow_factor, 0, GL_RED, GL_FLOAT,
                     static_cast<GLsizei>(img.shadow_factor.size() * sizeof(float)), img.shadow_factor.data());
   glGetTextureImage(check.position, 0, GL_RGBA, GL_FLOAT,
-                    static_cast<GLsizei>(img.world_position.size() * sizeof(float)), img.world_position.data());
+                    static_cast<GLsizei>(img.world_position.size() * sizeof(float)),
+                    img.world_position.data());
 
   img.cube_size = shadow_.size;
   size_t texels = static_cast<size_t>(shadow_.size) * static_cast<size_t>(shadow_.size);
@@ -532,8 +551,9 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
                          static_cast<GLsizei>(texels * sizeof(float)), face.data());
     const size_t n = static_cast<size_t>(shadow_.size);
     for (size_t i = 0; i < texels; ++i)
-      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
-                                         scene_->light.near_plane, far_plane, cube::DepthRange::minus_one_to_one);
+      face[i] =
+          cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
+                                   scene_->light.near_plane, far_plane, cube::DepthRange::minus_one_to_one);
   }
   if (shadow_.colour_layers && cube_read_back == CubeReadBack::full) {
     img.moment_channels = traits(shadow_.storage).colour_channels;
@@ -541,12 +561,15 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
       auto& face = img.moments[static_cast<size_t>(f)];
       face.resize(texels * size_t(img.moment_channels));
       glGetTextureSubImage(shadow_.colour, 0, 0, 0, f, shadow_.size, shadow_.size, 1,
-                           img.moment_channels == 1 ? GL_RED : img.moment_channels == 2 ? GL_RG : GL_RGBA, GL_FLOAT,
-                           static_cast<GLsizei>(face.size() * sizeof(float)), face.data());
+                           img.moment_channels == 1   ? GL_RED
+                           : img.moment_channels == 2 ? GL_RG
+                                                      : GL_RGBA,
+                           GL_FLOAT, static_cast<GLsizei>(face.size() * sizeof(float)), face.data());
     }
   }
   GLenum error = glGetError();
-  if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");
+  if (error != GL_NO_ERROR)
+    throw std::runtime_error("GL error " + std::to_string(error) + " during read-back");
   if (!scene_->map_lights.empty()) {
     img.map_size = maps_.size;
     const size_t texels = size_t(maps_.size) * size_t(maps_.size);

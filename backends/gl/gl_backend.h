@@ -44,14 +44,17 @@ class GlBackend final : public Backend {
   DrawStats shadow_pass(const gpu::ShadowFrame& f);
   // The lighting pass into lighting_[targets] with `program` (lighting_programs_[v], or floor_program_).
   DrawStats lighting_pass(gpu::LightingVariant targets, GLuint program);
-  // Binds and clears render pass p's framebuffer; far_plane: this frame's light far (a world-units moments clear).
+  // Binds and clears render pass p's framebuffer; far_plane: this frame's light far (a world-units moments
+  // clear).
   void begin_shadow_pass(int p, int count, float far_plane);
-  void clear_shadow_targets(float far_plane);  // the floor frame's shadow pass: framebuffers cleared, nothing drawn
+  void clear_shadow_targets(
+      float far_plane);             // the floor frame's shadow pass: framebuffers cleared, nothing drawn
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   void bind_pass_uniforms(int entry);
-  // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass only);
-  // mesh_tasks: mesh_shader's task draws of each object's meshlets instead of its vertices.
-  void draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided, bool mesh_tasks = false);
+  // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass
+  // only); mesh_tasks: mesh_shader's task draws of each object's meshlets instead of its vertices.
+  void draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided,
+                 bool mesh_tasks = false);
   // nv_swizzle: viewports 0-5 take face f's swizzle (viewport_swizzle.h), or all go back to the identity.
   void set_face_swizzles(bool on);
   void release_case();
@@ -60,8 +63,9 @@ class GlBackend final : public Backend {
   EglContext context_;
   bool has_layer_array_ = false;
   bool has_multiview_ = false;  // GL_OVR_multiview2 with GL_MAX_VIEWS_OVR >= 6
-  std::string missing_swizzle_;  // nv_swizzle: the GL_NV_ extensions it needs that are not exposed; empty: all are
-  bool has_mesh_shader_ = false;  // GL_NV_mesh_shader
+  std::string
+      missing_swizzle_;  // nv_swizzle: the GL_NV_ extensions it needs that are not exposed; empty: all are
+  bool has_mesh_shader_ = false;           // GL_NV_mesh_shader
   std::unique_ptr<GlMeshPass> mesh_pass_;  // the scene's meshlets, from its first mesh_shader case
   bool has_pipeline_statistics_ = false;
   GLint uniform_alignment_ = 256;
@@ -70,7 +74,7 @@ class GlBackend final : public Backend {
   GLuint shadow_vao_ = 0;    // position only
   GLuint lighting_vao_ = 0;  // position, normal, colour
   GLuint frame_ubo_ = 0;
-  GLuint pass_ubo_ = 0;      // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
+  GLuint pass_ubo_ = 0;  // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
   GLuint nearest_sampler_ = 0;
   GLuint compare_sampler_ = 0;
   GLuint linear_sampler_ = 0;

@@ -23,7 +23,8 @@ void read_cube_summary(GLuint program, GLuint layers, GLuint sampler, int cube_s
   glBindSampler(0, sampler);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffer);
   // 16 x 16 invocations a group, each 16 rows of a column (shaders/cube_summary.comp).
-  const GLuint columns = static_cast<GLuint>((cube_size + 15) / 16), rows = static_cast<GLuint>((cube_size + 255) / 256);
+  const GLuint columns = static_cast<GLuint>((cube_size + 15) / 16),
+               rows = static_cast<GLuint>((cube_size + 255) / 256);
   glDispatchCompute(columns, rows, 6);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   std::vector<unsigned char> host(bytes);
@@ -31,7 +32,8 @@ void read_cube_summary(GLuint program, GLuint layers, GLuint sampler, int cube_s
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, 0);
   glDeleteBuffers(1, &buffer);
   const GLenum error = glGetError();
-  if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(error) + " in the cube summary");
+  if (error != GL_NO_ERROR)
+    throw std::runtime_error("GL error " + std::to_string(error) + " in the cube summary");
   cube::unpack_summary(host.data(), cube_size, img);
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// The cube's summary and check grid computed on the GPU (shaders/cube_summary.comp) and read back: 96 bytes and
-// the grid instead of the whole cube.
+// The cube's summary and check grid computed on the GPU (shaders/cube_summary.comp) and read back: 96 bytes
+// and the grid instead of the whole cube.
 
 #include <epoxy/gl.h>
 

@@ -26,7 +26,8 @@ GlMeshPass::GlMeshPass(const scene::Scene& scene, GLuint scene_vertex_buffer)
               storage_buffer(data_.triangles)};
   if (glGetError() == GL_OUT_OF_MEMORY) {
     glDeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
-    throw std::runtime_error("GL_OUT_OF_MEMORY uploading " + std::to_string(data_.bytes()) + " bytes of meshlets");
+    throw std::runtime_error("GL_OUT_OF_MEMORY uploading " + std::to_string(data_.bytes()) +
+                             " bytes of meshlets");
   }
 }
 

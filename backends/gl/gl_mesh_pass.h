@@ -28,8 +28,8 @@ class GlMeshPass {
 
  private:
   gpu::MeshletData data_;
-  GLuint scene_vertices_;                 // the backend's vertex buffer, not owned
-  std::array<GLuint, 4> buffers_{};       // meshlets, spheres, vertices, triangles
+  GLuint scene_vertices_;            // the backend's vertex buffer, not owned
+  std::array<GLuint, 4> buffers_{};  // meshlets, spheres, vertices, triangles
 };
 
 }  // namespace omnishadow::gl

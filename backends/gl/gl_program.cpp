@@ -1,10 +1,9 @@
 #include "backends/gl/gl_program.h"
 
-#include <sstream>
-#include <stdexcept>
-
 #include <algorithm>
 #include <cstdio>
+#include <sstream>
+#include <stdexcept>
 
 #include "backends/common/driver_log.h"
 #include "backends/common/embedded_files.h"
@@ -39,7 +38,8 @@ void expand(const std::string& file, std::ostringstream& out, int depth) {
   }
 }
 
-// A shader's or program's whole info log, one line (driver_log.h): NVIDIA puts the message after a header line.
+// A shader's or program's whole info log, one line (driver_log.h): NVIDIA puts the message after a header
+// line.
 template <typename GetIv, typename GetLog>
 std::string info_log(GLuint object, GetIv get_iv, GetLog get_log) {
   GLint length = 0;
@@ -99,9 +99,11 @@ GLuint link_program(const std::vector<ShaderText>& stages) {
   return program;
 }
 
-std::vector<ShaderText> program_texts(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {
+std::vector<ShaderText> program_texts(const std::vector<ShaderStage>& stages,
+                                      const std::vector<std::string>& defines) {
   std::vector<ShaderText> texts;
-  for (const ShaderStage& stage : stages) texts.push_back({stage.type, stage.file, preprocess_shader(stage.file, defines)});
+  for (const ShaderStage& stage : stages)
+    texts.push_back({stage.type, stage.file, preprocess_shader(stage.file, defines)});
   return texts;
 }
 
@@ -112,21 +114,23 @@ GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<s
 ProgramSource shadow_program_source(const CaseConfig& c, int subpixel_bits) {
   ProgramSource out;
   const bool mesh = traits(c.technique).stages == ShadowStages::task_mesh;
-  for (const auto& list : {mesh ? gpu::shadow_mesh_defines(c) : gpu::shadow_vertex_defines(c),
-                           gpu::shadow_geometry_defines(c)})
+  for (const auto& list :
+       {mesh ? gpu::shadow_mesh_defines(c) : gpu::shadow_vertex_defines(c), gpu::shadow_geometry_defines(c)})
     for (const std::string& d : list)
       if (std::find(out.defines.begin(), out.defines.end(), d) == out.defines.end()) out.defines.push_back(d);
   out.defines.push_back(gpu::storage_define(c.storage));
   if (c.raster_perturb_steps != 0.0f) {
     char perturb[64];
-    std::snprintf(perturb, sizeof perturb, "RASTER_PERTURB_NDC=%.9g", gpu::raster_perturb_ndc(c, subpixel_bits));
+    std::snprintf(perturb, sizeof perturb, "RASTER_PERTURB_NDC=%.9g",
+                  gpu::raster_perturb_ndc(c, subpixel_bits));
     out.defines.push_back(perturb);
   }
   if (mesh) {
     out.stages = {{GL_TASK_SHADER_NV, "shadow_mesh.task"}, {GL_MESH_SHADER_NV, "shadow_mesh.mesh"}};
   } else {
     out.stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"}};
-    if (const std::string gs = gpu::shadow_geometry_file(c); !gs.empty()) out.stages.push_back({GL_GEOMETRY_SHADER, gs});
+    if (const std::string gs = gpu::shadow_geometry_file(c); !gs.empty())
+      out.stages.push_back({GL_GEOMETRY_SHADER, gs});
   }
   out.stages.push_back({GL_FRAGMENT_SHADER, "shadow_depth.frag"});
   return out;

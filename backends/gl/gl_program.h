@@ -1,6 +1,6 @@
 #pragma once
-// GL programs built from the shared GLSL in shaders/: includes resolved here (glslc resolves them for Vulkan),
-// variant macros inserted after #version.
+// GL programs built from the shared GLSL in shaders/: includes resolved here (glslc resolves them for
+// Vulkan), variant macros inserted after #version.
 
 #include <epoxy/gl.h>
 
@@ -25,15 +25,16 @@ struct ShaderText {
   std::string file;  // the name errors give
   std::string text;
 };
-std::vector<ShaderText> program_texts(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
+std::vector<ShaderText> program_texts(const std::vector<ShaderStage>& stages,
+                                      const std::vector<std::string>& defines);
 
 // Compiles and links; throws std::runtime_error with the file name and the driver's whole log on one line
 // (backends/common/driver_log.h).
 GLuint link_program(const std::vector<ShaderText>& stages);
 GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
 
-// The shadow pass's program for a case: its stages (vertex [+ geometry] or task + mesh, then fragment) and one
-// define list for all of them (the union of the stages' variant defines, as GL compiles them).
+// The shadow pass's program for a case: its stages (vertex [+ geometry] or task + mesh, then fragment) and
+// one define list for all of them (the union of the stages' variant defines, as GL compiles them).
 struct ProgramSource {
   std::vector<ShaderStage> stages;
   std::vector<std::string> defines;

@@ -4,9 +4,13 @@ namespace omnishadow::gl {
 namespace {
 
 // The shared table's GL targets, checked against GL's own names (in the table's order).
-constexpr GLenum kTargets[] = {GL_VERTICES_SUBMITTED_ARB, GL_PRIMITIVES_SUBMITTED_ARB, GL_VERTEX_SHADER_INVOCATIONS_ARB,
-                               GL_GEOMETRY_SHADER_INVOCATIONS, GL_GEOMETRY_SHADER_PRIMITIVES_EMITTED_ARB,
-                               GL_CLIPPING_INPUT_PRIMITIVES_ARB, GL_CLIPPING_OUTPUT_PRIMITIVES_ARB,
+constexpr GLenum kTargets[] = {GL_VERTICES_SUBMITTED_ARB,
+                               GL_PRIMITIVES_SUBMITTED_ARB,
+                               GL_VERTEX_SHADER_INVOCATIONS_ARB,
+                               GL_GEOMETRY_SHADER_INVOCATIONS,
+                               GL_GEOMETRY_SHADER_PRIMITIVES_EMITTED_ARB,
+                               GL_CLIPPING_INPUT_PRIMITIVES_ARB,
+                               GL_CLIPPING_OUTPUT_PRIMITIVES_ARB,
                                GL_FRAGMENT_SHADER_INVOCATIONS_ARB};
 constexpr bool table_matches_gl() {
   for (size_t k = 0; k < kPipelineStatistics.size(); ++k)
@@ -37,10 +41,13 @@ FrameQueries::~FrameQueries() {
     for (auto& pass : statistics_) glDeleteQueries(kStatisticCount, pass.data());
 }
 
-double FrameQueries::timer_ms(Pass pass) const { return static_cast<double>(result_of(timers_[pass])) * 1e-6; }
+double FrameQueries::timer_ms(Pass pass) const {
+  return static_cast<double>(result_of(timers_[pass])) * 1e-6;
+}
 
 void FrameQueries::begin_statistics(Pass pass) {
-  for (int k = 0; k < kStatisticCount; ++k) glBeginQuery(kPipelineStatistics[k].gl_target, statistics_[pass][k]);
+  for (int k = 0; k < kStatisticCount; ++k)
+    glBeginQuery(kPipelineStatistics[k].gl_target, statistics_[pass][k]);
 }
 
 void FrameQueries::end_statistics() {

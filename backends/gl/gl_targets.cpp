@@ -19,8 +19,7 @@ std::string hex(GLenum value) {
 void check_allocation(const char* what) {
   GLenum error = glGetError();
   if (error == GL_OUT_OF_MEMORY) throw std::runtime_error(std::string("GL_OUT_OF_MEMORY allocating ") + what);
-  if (error != GL_NO_ERROR)
-    throw std::runtime_error("GL error " + hex(error) + " allocating " + what);
+  if (error != GL_NO_ERROR) throw std::runtime_error("GL error " + hex(error) + " allocating " + what);
 }
 
 void check_complete(GLuint fbo, const char* what) {
@@ -29,7 +28,8 @@ void check_complete(GLuint fbo, const char* what) {
     throw std::runtime_error(std::string(what) + " framebuffer incomplete (status " + hex(status) + ")");
 }
 
-// NEAREST and clamp as in the point-shadow tutorial; the hw_compare2x2 filter overrides filtering with a sampler object.
+// NEAREST and clamp as in the point-shadow tutorial; the hw_compare2x2 filter overrides filtering with a
+// sampler object.
 void cube_parameters(GLuint tex) {
   glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -46,9 +46,9 @@ GLuint create_cube(GLenum internal_format, int size) {
   return tex;
 }
 
-// Six layers of a 2D array (what multiview renders into) and a cube-map view of them (what is sampled): layer f is
-// face f in both, so the face order is the cube's.
-// With `layers` other than 6 (a layout that is no cube) there is no cube view: `cube_view` is the array itself.
+// Six layers of a 2D array (what multiview renders into) and a cube-map view of them (what is sampled): layer
+// f is face f in both, so the face order is the cube's. With `layers` other than 6 (a layout that is no cube)
+// there is no cube view: `cube_view` is the array itself.
 GLuint create_cube_array(GLenum internal_format, int size, GLuint& cube_view, int layers = 6) {
   GLuint array = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &array);
@@ -75,32 +75,44 @@ GLuint create_2d(GLenum internal_format, int width, int height) {
 
 GLenum depth_internal_format(DepthFormat format) {
   switch (format) {
-    case DepthFormat::d16: return GL_DEPTH_COMPONENT16;
-    case DepthFormat::d24: return GL_DEPTH_COMPONENT24;
-    case DepthFormat::d32f: return GL_DEPTH_COMPONENT32F;
+    case DepthFormat::d16:
+      return GL_DEPTH_COMPONENT16;
+    case DepthFormat::d24:
+      return GL_DEPTH_COMPONENT24;
+    case DepthFormat::d32f:
+      return GL_DEPTH_COMPONENT32F;
   }
   return GL_DEPTH_COMPONENT32F;
 }
 
 GLenum colour_internal_format(ColourFormat format) {
   switch (format) {
-    case ColourFormat::r32f: return GL_R32F;
-    case ColourFormat::rg32f: return GL_RG32F;
-    case ColourFormat::rg16f: return GL_RG16F;
-    case ColourFormat::r16f: return GL_R16F;
-    case ColourFormat::rgba32f: return GL_RGBA32F;
-    case ColourFormat::rgba16f: return GL_RGBA16F;
-    case ColourFormat::none: break;
+    case ColourFormat::r32f:
+      return GL_R32F;
+    case ColourFormat::rg32f:
+      return GL_RG32F;
+    case ColourFormat::rg16f:
+      return GL_RG16F;
+    case ColourFormat::r16f:
+      return GL_R16F;
+    case ColourFormat::rgba32f:
+      return GL_RGBA32F;
+    case ColourFormat::rgba16f:
+      return GL_RGBA16F;
+    case ColourFormat::none:
+      break;
   }
   return GL_NONE;
 }
 
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview, int layers) {
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview,
+                                    int layers) {
   ShadowTargets t;
   t.storage = storage;
   t.size = size;
   t.layers = layers;
-  const bool arrays = multiview || layers != 6;  // rendered into 2D arrays (and sampled through cube views of six)
+  const bool arrays =
+      multiview || layers != 6;  // rendered into 2D arrays (and sampled through cube views of six)
   const ColourFormat colour_format = omnishadow::colour_format(storage, depth_format);
   const GLenum colour_internal = colour_internal_format(colour_format);
   const bool has_colour = colour_format != ColourFormat::none;
@@ -123,7 +135,8 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
     glTextureView(view, GL_TEXTURE_2D_ARRAY, cube, format, 0, 1, 0, 6);
     return view;
   };
-  t.stored_layers = layers_of(t.stored, t.stored_array, colour_checked ? colour_internal : depth_internal_format(depth_format));
+  t.stored_layers = layers_of(t.stored, t.stored_array,
+                              colour_checked ? colour_internal : depth_internal_format(depth_format));
   if (traits(storage).moments != MomentKind::none) {
     t.colour_format = colour_internal;
     t.colour_layers = layers_of(t.colour, t.colour_array, colour_internal);
@@ -137,7 +150,8 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
 
   // A cube map texture is layered: attaching it whole gives a layered framebuffer, attaching one layer
   // (glNamedFramebufferTextureLayer, layer = face) gives the per-face framebuffer of six_pass.
-  // With multiview the whole-cube attachment is six views instead (GL_OVR_multiview has no named-framebuffer form).
+  // With multiview the whole-cube attachment is six views instead (GL_OVR_multiview has no named-framebuffer
+  // form).
   auto attach_all = [&](GLuint fbo, GLenum attachment, GLuint texture) {
     if (!multiview) {
       glNamedFramebufferTexture(fbo, attachment, texture, 0);
@@ -148,11 +162,15 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   };
   auto attach = [&](GLuint fbo, int layer) {
-    if (layer < 0) attach_all(fbo, GL_DEPTH_ATTACHMENT, depth_target);
-    else glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_target, 0, layer);
+    if (layer < 0)
+      attach_all(fbo, GL_DEPTH_ATTACHMENT, depth_target);
+    else
+      glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_target, 0, layer);
     if (has_colour) {
-      if (layer < 0) attach_all(fbo, GL_COLOR_ATTACHMENT0, colour_target);
-      else glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, colour_target, 0, layer);
+      if (layer < 0)
+        attach_all(fbo, GL_COLOR_ATTACHMENT0, colour_target);
+      else
+        glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, colour_target, 0, layer);
       glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
     } else {
       glNamedFramebufferDrawBuffer(fbo, GL_NONE);
@@ -190,7 +208,8 @@ MapTargets create_map_targets(int size, int layers, DepthFormat depth_format) {
   glTextureStorage3D(t.depth, 1, depth_internal_format(depth_format), size, size, std::max(layers, 1));
   glTextureParameteri(t.depth, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(t.depth, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTextureParameteri(t.depth, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);  // outside the map: the shader says unshadowed
+  glTextureParameteri(t.depth, GL_TEXTURE_WRAP_S,
+                      GL_CLAMP_TO_EDGE);  // outside the map: the shader says unshadowed
   glTextureParameteri(t.depth, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   check_allocation("the 2D shadow maps");
   t.fbos.resize(static_cast<size_t>(layers));
@@ -229,8 +248,8 @@ LightingTargets create_lighting_targets(int width, int height, bool check_output
     glNamedFramebufferTexture(t.fbo, GL_COLOR_ATTACHMENT2, t.position, 0);
   }
   glNamedFramebufferRenderbuffer(t.fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.depth);
-  // The timed framebuffer has one draw buffer: a renderer's. (With three bound, NVIDIA's GL paid for all three
-  // even when the shader wrote one.)
+  // The timed framebuffer has one draw buffer: a renderer's. (With three bound, NVIDIA's GL paid for all
+  // three even when the shader wrote one.)
   const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
   glNamedFramebufferDrawBuffers(t.fbo, check_outputs ? 3 : 1, buffers);
   check_complete(t.fbo, check_outputs ? "lighting (check)" : "lighting");

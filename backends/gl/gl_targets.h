@@ -12,27 +12,28 @@
 namespace omnishadow::gl {
 
 struct ShadowTargets {
-  GLuint depth = 0;        // the depth cube the pass tests against
-  GLuint colour = 0;       // the colour cube beside it: R32F distances (r32f_distance) or moments; 0 for neither
-  GLuint stored = 0;       // what the checks read: the depth cube, or the colour one for r32f_distance
-  GLuint sampled = 0;      // what the lighting pass samples: `stored`, or the moments cube
-  // Multiview (GL_OVR_multiview2) renders into 2D array textures, never cube maps: the cube is then a texture view
-  // (GL 4.3) of six array layers, sampled and read back as the cube. 0 for every other technique.
+  GLuint depth = 0;    // the depth cube the pass tests against
+  GLuint colour = 0;   // the colour cube beside it: R32F distances (r32f_distance) or moments; 0 for neither
+  GLuint stored = 0;   // what the checks read: the depth cube, or the colour one for r32f_distance
+  GLuint sampled = 0;  // what the lighting pass samples: `stored`, or the moments cube
+  // Multiview (GL_OVR_multiview2) renders into 2D array textures, never cube maps: the cube is then a texture
+  // view (GL 4.3) of six array layers, sampled and read back as the cube. 0 for every other technique.
   GLuint depth_array = 0, colour_array = 0, stored_array = 0;
-  // The stored cube as a 2D array (a texture view of it, or stored_array itself): what the cube summary's compute
-  // shader fetches texels from (a cube sampler has no texelFetch).
+  // The stored cube as a 2D array (a texture view of it, or stored_array itself): what the cube summary's
+  // compute shader fetches texels from (a cube sampler has no texelFetch).
   GLuint stored_layers = 0;
-  // Moments storages: the moments cube as a 2D array (image units bind layers), the blur's intermediate (six layers)
-  // and their internal format; 0 otherwise.
+  // Moments storages: the moments cube as a 2D array (image units bind layers), the blur's intermediate (six
+  // layers) and their internal format; 0 otherwise.
   GLuint colour_layers = 0, blur_layers = 0;
   GLenum colour_format = 0;
-  // What the lighting pass samples for layout face_array: `sampled` as a 2D array (stored_layers, or colour_layers
-  // for moments); views, not copies, so both layouts read the very texels the shadow pass wrote.
+  // What the lighting pass samples for layout face_array: `sampled` as a 2D array (stored_layers, or
+  // colour_layers for moments); views, not copies, so both layouts read the very texels the shadow pass
+  // wrote.
   GLuint sampled_layers = 0;
   std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face (per layer), built once
-  int layers = 6;                     // 6 for a cube's faces; a layout of other layers (dual_paraboloid: 2) is a plain
-                                      // 2D array, with no cube view: depth == depth_array, colour == colour_array
-  GLuint layered_fbo = 0;             // single-pass techniques: the whole cube, gl_Layer (or the view) picks the face
+  int layers = 6;          // 6 for a cube's faces; a layout of other layers (dual_paraboloid: 2) is a plain
+                           // 2D array, with no cube view: depth == depth_array, colour == colour_array
+  GLuint layered_fbo = 0;  // single-pass techniques: the whole cube, gl_Layer (or the view) picks the face
   Storage storage = Storage::linear_depth;
   int size = 0;
 };
@@ -47,7 +48,8 @@ struct MapTargets {
 MapTargets create_map_targets(int size, int layers, DepthFormat depth_format);
 void destroy(MapTargets& t);
 
-// The timed variant has the colour and depth only; the check variant adds the shadow factor and world position.
+// The timed variant has the colour and depth only; the check variant adds the shadow factor and world
+// position.
 struct LightingTargets {
   GLuint fbo = 0;
   GLuint color = 0;          // RGBA8 lit frame
@@ -59,10 +61,11 @@ struct LightingTargets {
 };
 
 GLenum depth_internal_format(DepthFormat format);
-// Throw std::runtime_error naming the incomplete framebuffer, or GL_OUT_OF_MEMORY for allocations that failed.
-// multiview: the layered framebuffer holds six views of the arrays (glFramebufferTextureMultiviewOVR).
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview = false,
-                                    int layers = 6);
+// Throw std::runtime_error naming the incomplete framebuffer, or GL_OUT_OF_MEMORY for allocations that
+// failed. multiview: the layered framebuffer holds six views of the arrays
+// (glFramebufferTextureMultiviewOVR).
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format,
+                                    bool multiview = false, int layers = 6);
 void destroy(ShadowTargets& t);
 LightingTargets create_lighting_targets(int width, int height, bool check_outputs);
 void destroy(LightingTargets& t);

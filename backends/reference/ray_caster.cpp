@@ -1,10 +1,11 @@
 #include "backends/reference/ray_caster.h"
-#include "backends/reference/wide_bvh.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+
+#include "backends/reference/wide_bvh.h"
 
 namespace omnishadow::reference {
 namespace {
@@ -88,9 +89,9 @@ void RayCaster::build(uint32_t index, uint32_t first, uint32_t count, int depth)
 }
 
 // Binned surface-area heuristic (Wald 2007): the triangles' centroids in kBins slabs along each axis, and the
-// boundary that minimises area(left) * count(left) + area(right) * count(right), the expected cost of a random
-// ray meeting the parent. Deterministic (no randomness, ties go to the first axis and bin); returns the left
-// part's size, the part placed first in order_.
+// boundary that minimises area(left) * count(left) + area(right) * count(right), the expected cost of a
+// random ray meeting the parent. Deterministic (no randomness, ties go to the first axis and bin); returns
+// the left part's size, the part placed first in order_.
 uint32_t RayCaster::split(uint32_t first, uint32_t count, const glm::vec3& cmin, const glm::vec3& cmax) {
   constexpr int kBins = 16;
   struct Bin {
@@ -98,7 +99,8 @@ uint32_t RayCaster::split(uint32_t first, uint32_t count, const glm::vec3& cmin,
     uint32_t n = 0;
   };
   auto bin_of = [&](uint32_t t, int axis) {
-    // NaN (a centroid that overflowed, coordinates near float's limit) goes to bin 0: no undefined conversion.
+    // NaN (a centroid that overflowed, coordinates near float's limit) goes to bin 0: no undefined
+    // conversion.
     const float at = (centroids_[t][axis] - cmin[axis]) * (float(kBins) / (cmax[axis] - cmin[axis]));
     return at >= float(kBins - 1) ? kBins - 1 : (at > 0.0f ? static_cast<int>(at) : 0);
   };
@@ -116,13 +118,16 @@ uint32_t RayCaster::split(uint32_t first, uint32_t count, const glm::vec3& cmin,
     std::array<float, kBins> right_cost{};  // right_cost[b]: bins b.. as one side
     Bin side;
     for (int b = kBins - 1; b > 0; --b) {
-      side = {glm::min(side.lo, bins[size_t(b)].lo), glm::max(side.hi, bins[size_t(b)].hi), side.n + bins[size_t(b)].n};
+      side = {glm::min(side.lo, bins[size_t(b)].lo), glm::max(side.hi, bins[size_t(b)].hi),
+              side.n + bins[size_t(b)].n};
       right_cost[size_t(b)] = side.n ? surface_area(side.lo, side.hi) * float(side.n) : 0.0f;
     }
     side = Bin{};
     for (int b = 0; b + 1 < kBins; ++b) {
-      side = {glm::min(side.lo, bins[size_t(b)].lo), glm::max(side.hi, bins[size_t(b)].hi), side.n + bins[size_t(b)].n};
-      const float cost = (side.n ? surface_area(side.lo, side.hi) * float(side.n) : 0.0f) + right_cost[size_t(b) + 1];
+      side = {glm::min(side.lo, bins[size_t(b)].lo), glm::max(side.hi, bins[size_t(b)].hi),
+              side.n + bins[size_t(b)].n};
+      const float cost =
+          (side.n ? surface_area(side.lo, side.hi) * float(side.n) : 0.0f) + right_cost[size_t(b) + 1];
       if (side.n > 0 && side.n < count && cost < best_cost) {
         best_cost = cost;
         best_axis = axis;
@@ -137,7 +142,8 @@ uint32_t RayCaster::split(uint32_t first, uint32_t count, const glm::vec3& cmin,
 }
 
 // Where every centroid coincides (no boundary separates them): halves by index along the widest axis.
-uint32_t RayCaster::median_split(uint32_t first, uint32_t count, const glm::vec3& cmin, const glm::vec3& cmax) {
+uint32_t RayCaster::median_split(uint32_t first, uint32_t count, const glm::vec3& cmin,
+                                 const glm::vec3& cmax) {
   const glm::vec3 extent = cmax - cmin;
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   const uint32_t half = count / 2;
@@ -147,7 +153,8 @@ uint32_t RayCaster::median_split(uint32_t first, uint32_t count, const glm::vec3
 }
 
 template <typename OnTriangle>
-void RayCaster::traverse(const glm::dvec3& origin, const glm::dvec3& dir, double max_distance, OnTriangle on) const {
+void RayCaster::traverse(const glm::dvec3& origin, const glm::dvec3& dir, double max_distance,
+                         OnTriangle on) const {
   if (wide_.empty()) return;
   const glm::vec3 origin_f(origin);
   bool in_float = glm::dvec3(origin_f) == origin;
@@ -155,20 +162,25 @@ void RayCaster::traverse(const glm::dvec3& origin, const glm::dvec3& dir, double
   const glm::dvec3 inv(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z);
   if (in_float) {
     const glm::vec3 inv_f(inv);
-    walk(max_distance, [&](const WideNode& n, double limit, double entry[4]) {
-      // Out of float's range the conversion would be undefined: no float box lies beyond infinity.
-      const float reach = limit < double(std::numeric_limits<float>::max()) ? static_cast<float>(limit) : INFINITY;
-      enter_wide(n, origin_f, inv_f, reach, entry);
-    }, on);
+    walk(
+        max_distance,
+        [&](const WideNode& n, double limit, double entry[4]) {
+          // Out of float's range the conversion would be undefined: no float box lies beyond infinity.
+          const float reach =
+              limit < double(std::numeric_limits<float>::max()) ? static_cast<float>(limit) : INFINITY;
+          enter_wide(n, origin_f, inv_f, reach, entry);
+        },
+        on);
   } else {
-    walk(max_distance, [&](const WideNode& n, double limit, double entry[4]) {
-      enter_wide(n, origin, inv, limit, entry);
-    }, on);
+    walk(
+        max_distance,
+        [&](const WideNode& n, double limit, double entry[4]) { enter_wide(n, origin, inv, limit, entry); },
+        on);
   }
 }
 
-// Each box is tested once, with its siblings, when its parent is visited; the entry distance travels with it on the
-// stack, so that closest() skips a node or leaf that a nearer hit has since put beyond reach.
+// Each box is tested once, with its siblings, when its parent is visited; the entry distance travels with it
+// on the stack, so that closest() skips a node or leaf that a nearer hit has since put beyond reach.
 template <typename BoxTest, typename OnTriangle>
 void RayCaster::walk(double max_distance, BoxTest enter, OnTriangle on) const {
   struct Entry {
@@ -204,7 +216,8 @@ void RayCaster::walk(double max_distance, BoxTest enter, OnTriangle on) const {
   }
 }
 
-bool RayCaster::blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon, uint32_t* last_blocker) const {
+bool RayCaster::blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon,
+                        uint32_t* last_blocker) const {
   const glm::dvec3 origin(from);
   const glm::dvec3 segment = glm::dvec3(to) - origin;
   const double length = glm::length(segment);
@@ -253,6 +266,8 @@ glm::vec3 RayCaster::normal_at(const Hit& h) const {
   return len > 0.0f ? n / len : v[0]->normal;
 }
 
-glm::vec3 RayCaster::color_at(const Hit& h) const { return vertices_[3 * static_cast<size_t>(h.triangle)]->color; }
+glm::vec3 RayCaster::color_at(const Hit& h) const {
+  return vertices_[3 * static_cast<size_t>(h.triangle)]->color;
+}
 
 }  // namespace omnishadow::reference

@@ -1,12 +1,12 @@
 #pragma once
 // Exact visibility from the scene's own triangles, never from a shadow map: the ground truth every GPU shadow
-// factor is held against. Triangles are tested in double; a four-wide SAH bounding-volume hierarchy with float box
-// tests (wide_bvh.h: conservative, it never culls a triangle the double ray meets, so every answer is that of testing
-// every triangle) keeps 800x600 pixels x 64 light samples on the heavy scene (110k triangles) to a few seconds.
-
-#include <glm/glm.hpp>
+// factor is held against. Triangles are tested in double; a four-wide SAH bounding-volume hierarchy with
+// float box tests (wide_bvh.h: conservative, it never culls a triangle the double ray meets, so every answer
+// is that of testing every triangle) keeps 800x600 pixels x 64 light samples on the heavy scene (110k
+// triangles) to a few seconds.
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <vector>
 
 #include "backends/reference/wide_bvh.h"
@@ -29,12 +29,14 @@ class RayCaster {
   // units) of either end, so that the surface holding an end point does not hide it from itself. Both sides
   // of every triangle block: shadow casters are not culled.
   // `last_blocker` (optional, per thread): the triangle that blocked this caller's previous ray, tried first
-  // (neighbouring rays of one light are mostly blocked by the same triangle) and updated when another blocks. The
-  // answer is the same with or without it: any triangle crossing the segment answers it, found first or not.
-  bool blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon, uint32_t* last_blocker = nullptr) const;
+  // (neighbouring rays of one light are mostly blocked by the same triangle) and updated when another blocks.
+  // The answer is the same with or without it: any triangle crossing the segment answers it, found first or
+  // not.
+  bool blocked(const glm::vec3& from, const glm::vec3& to, float end_epsilon,
+               uint32_t* last_blocker = nullptr) const;
   static constexpr uint32_t kNoBlocker = 0xffffffffu;
-  // The nearest hit along `direction` (unit) within (0, max_distance); of hits at one distance (an edge or vertex
-  // that triangles share), the lowest triangle index, whatever order the hierarchy visits them in.
+  // The nearest hit along `direction` (unit) within (0, max_distance); of hits at one distance (an edge or
+  // vertex that triangles share), the lowest triangle index, whatever order the hierarchy visits them in.
   Hit closest(const glm::vec3& origin, const glm::vec3& direction, double max_distance) const;
 
   // Shading data of a hit: the interpolated vertex normal (unit, the scene's lit side) and the albedo.
@@ -46,11 +48,13 @@ class RayCaster {
   struct Triangle {
     glm::dvec3 a, e1, e2;  // a, b - a, c - a (double: the answer must not hinge on float rounding at edges)
   };
-  // Calls hit(triangle index, distance) for triangles whose bounds the ray meets within `max_distance`, nearest
-  // nodes first; `hit` returns the new max distance (or < 0 to stop). Boxes are tested in float where that is
-  // provably conservative (ray_caster.cpp), in double otherwise: culling never drops a triangle the double ray meets.
+  // Calls hit(triangle index, distance) for triangles whose bounds the ray meets within `max_distance`,
+  // nearest nodes first; `hit` returns the new max distance (or < 0 to stop). Boxes are tested in float where
+  // that is provably conservative (ray_caster.cpp), in double otherwise: culling never drops a triangle the
+  // double ray meets.
   template <typename OnTriangle>
-  void traverse(const glm::dvec3& origin, const glm::dvec3& direction, double max_distance, OnTriangle on) const;
+  void traverse(const glm::dvec3& origin, const glm::dvec3& direction, double max_distance,
+                OnTriangle on) const;
   template <typename BoxTest, typename OnTriangle>
   void walk(double max_distance, BoxTest enter, OnTriangle on) const;
   void build(uint32_t index, uint32_t first, uint32_t count, int depth);
@@ -58,7 +62,8 @@ class RayCaster {
   uint32_t median_split(uint32_t first, uint32_t count, const glm::vec3& cmin, const glm::vec3& cmax);
 
   std::vector<Triangle> triangles_;
-  std::vector<const scene::Vertex*> vertices_;  // three per triangle, into the scene (kept alive by the caller)
+  std::vector<const scene::Vertex*>
+      vertices_;  // three per triangle, into the scene (kept alive by the caller)
   std::vector<uint32_t> order_;
   std::vector<BinaryNode> nodes_;  // the binary build, collapsed into wide_ and freed
   std::vector<WideNode> wide_;

@@ -15,12 +15,15 @@ float surface_area(const BinaryNode& n) {
 
 uint32_t fill(std::vector<WideNode>& wide, const std::vector<BinaryNode>& binary, uint32_t root) {
   std::vector<uint32_t> kids;
-  if (binary[root].count > 0) kids = {root};
-  else kids = {binary[root].first, binary[root].first + 1};
+  if (binary[root].count > 0)
+    kids = {root};
+  else
+    kids = {binary[root].first, binary[root].first + 1};
   while (kids.size() < 4) {
     int open = -1;
     for (size_t i = 0; i < kids.size(); ++i)
-      if (binary[kids[i]].count == 0 && (open < 0 || surface_area(binary[kids[i]]) > surface_area(binary[kids[size_t(open)]])))
+      if (binary[kids[i]].count == 0 &&
+          (open < 0 || surface_area(binary[kids[i]]) > surface_area(binary[kids[size_t(open)]])))
         open = int(i);
     if (open < 0) break;
     const uint32_t left = binary[kids[size_t(open)]].first;

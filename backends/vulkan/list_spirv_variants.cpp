@@ -1,5 +1,6 @@
-// Build-time helper: writes every SPIR-V variant key the Vulkan backend can ask for (gpu::spirv_variant_keys),
-// one per line, to the file named by argv[1]. cmake/embed_spirv.py compiles and embeds exactly these.
+// Build-time helper: writes every SPIR-V variant key the Vulkan backend can ask for
+// (gpu::spirv_variant_keys), one per line, to the file named by argv[1]. cmake/embed_spirv.py compiles and
+// embeds exactly these.
 #include <fstream>
 #include <iostream>
 

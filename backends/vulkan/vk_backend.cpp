@@ -5,7 +5,6 @@
 #include <cfloat>
 #include <chrono>
 #include <cstring>
-
 #include <glm/gtc/packing.hpp>
 
 #include "backends/common/cube_faces.h"
@@ -29,25 +28,39 @@ double ms_between(Clock::time_point a, Clock::time_point b) {
 
 const char* format_name(VkFormat f) {
   switch (f) {
-    case VK_FORMAT_D16_UNORM: return "VK_FORMAT_D16_UNORM";
-    case VK_FORMAT_X8_D24_UNORM_PACK32: return "VK_FORMAT_X8_D24_UNORM_PACK32";
-    case VK_FORMAT_D32_SFLOAT: return "VK_FORMAT_D32_SFLOAT";
-    case VK_FORMAT_R32G32_SFLOAT: return "VK_FORMAT_R32G32_SFLOAT";
-    case VK_FORMAT_R16G16_SFLOAT: return "VK_FORMAT_R16G16_SFLOAT";
-    case VK_FORMAT_R32_SFLOAT: return "VK_FORMAT_R32_SFLOAT";
-    case VK_FORMAT_R16_SFLOAT: return "VK_FORMAT_R16_SFLOAT";
-    case VK_FORMAT_R32G32B32A32_SFLOAT: return "VK_FORMAT_R32G32B32A32_SFLOAT";
-    case VK_FORMAT_R16G16B16A16_SFLOAT: return "VK_FORMAT_R16G16B16A16_SFLOAT";
-    default: return "format";
+    case VK_FORMAT_D16_UNORM:
+      return "VK_FORMAT_D16_UNORM";
+    case VK_FORMAT_X8_D24_UNORM_PACK32:
+      return "VK_FORMAT_X8_D24_UNORM_PACK32";
+    case VK_FORMAT_D32_SFLOAT:
+      return "VK_FORMAT_D32_SFLOAT";
+    case VK_FORMAT_R32G32_SFLOAT:
+      return "VK_FORMAT_R32G32_SFLOAT";
+    case VK_FORMAT_R16G16_SFLOAT:
+      return "VK_FORMAT_R16G16_SFLOAT";
+    case VK_FORMAT_R32_SFLOAT:
+      return "VK_FORMAT_R32_SFLOAT";
+    case VK_FORMAT_R16_SFLOAT:
+      return "VK_FORMAT_R16_SFLOAT";
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+      return "VK_FORMAT_R32G32B32A32_SFLOAT";
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+      return "VK_FORMAT_R16G16B16A16_SFLOAT";
+    default:
+      return "format";
   }
 }
 
 // The shared table's Vulkan bits, checked against Vulkan's own names; the pool counts exactly those.
 constexpr VkQueryPipelineStatisticFlagBits kBits[] = {
-    VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_VERTICES_BIT, VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_PRIMITIVES_BIT,
-    VK_QUERY_PIPELINE_STATISTIC_VERTEX_SHADER_INVOCATIONS_BIT, VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_INVOCATIONS_BIT,
-    VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_PRIMITIVES_BIT, VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT,
-    VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT, VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT};
+    VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_VERTICES_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_PRIMITIVES_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_VERTEX_SHADER_INVOCATIONS_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_INVOCATIONS_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_GEOMETRY_SHADER_PRIMITIVES_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT,
+    VK_QUERY_PIPELINE_STATISTIC_FRAGMENT_SHADER_INVOCATIONS_BIT};
 constexpr bool table_matches_vulkan() {
   for (size_t k = 0; k < kPipelineStatistics.size(); ++k)
     if (kPipelineStatistics[k].vk_bit != static_cast<uint32_t>(kBits[k])) return false;
@@ -60,10 +73,11 @@ constexpr VkQueryPipelineStatisticFlags statistic_flags() {
   return flags;
 }
 constexpr VkQueryPipelineStatisticFlags kStatistics = statistic_flags();
-static_assert(VK_VIEWPORT_COORDINATE_SWIZZLE_POSITIVE_X_NV == static_cast<int>(cube::SwizzleComponent::pos_x) &&
-                  VK_VIEWPORT_COORDINATE_SWIZZLE_NEGATIVE_Y_NV == static_cast<int>(cube::SwizzleComponent::neg_y) &&
-                  VK_VIEWPORT_COORDINATE_SWIZZLE_NEGATIVE_W_NV == static_cast<int>(cube::SwizzleComponent::neg_w),
-              "cube::SwizzleComponent is VkViewportCoordinateSwizzleNV's numbering");
+static_assert(
+    VK_VIEWPORT_COORDINATE_SWIZZLE_POSITIVE_X_NV == static_cast<int>(cube::SwizzleComponent::pos_x) &&
+        VK_VIEWPORT_COORDINATE_SWIZZLE_NEGATIVE_Y_NV == static_cast<int>(cube::SwizzleComponent::neg_y) &&
+        VK_VIEWPORT_COORDINATE_SWIZZLE_NEGATIVE_W_NV == static_cast<int>(cube::SwizzleComponent::neg_w),
+    "cube::SwizzleComponent is VkViewportCoordinateSwizzleNV's numbering");
 
 }  // namespace
 
@@ -97,9 +111,8 @@ void VkBackend::describe_device(bool validation) {
   for (uint32_t h = 0; h < memory.memoryHeapCount; ++h)
     if (memory.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
       info_.device_memory_bytes = std::max<uint64_t>(info_.device_memory_bytes, memory.memoryHeaps[h].size);
-  info_.extra["max_2d_size"] =
-      std::to_string(std::min(p.limits.maxImageDimension2D, std::min(p.limits.maxFramebufferWidth,
-                                                                      p.limits.maxFramebufferHeight)));
+  info_.extra["max_2d_size"] = std::to_string(std::min(
+      p.limits.maxImageDimension2D, std::min(p.limits.maxFramebufferWidth, p.limits.maxFramebufferHeight)));
   info_.extra["timestampPeriod_ns"] = std::to_string(p.limits.timestampPeriod);
   info_.extra["timestampValidBits"] = std::to_string(ctx_->timestamp_valid_bits());
   info_.extra["geometryShader"] = ctx_->has_geometry_shader() ? "yes" : "no";
@@ -111,13 +124,14 @@ void VkBackend::describe_device(bool validation) {
 
 void VkBackend::create_layouts() {
   VkDevice d = ctx_->device();
-  const VkShaderStageFlags geometry_stages =
-      VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
-      (ctx_->has_geometry_shader() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
+  const VkShaderStageFlags geometry_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
+                                             (ctx_->has_geometry_shader() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
   VkDescriptorSetLayoutBinding bindings[3] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, geometry_stages, nullptr},
-      {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-      {gpu::kMapShadowsBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+      {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+       nullptr},
+      {gpu::kMapShadowsBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+       nullptr}};
   VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   set_info.bindingCount = 1;
   set_info.pBindings = bindings;
@@ -136,7 +150,6 @@ void VkBackend::create_layouts() {
   layout_info.pSetLayouts = &lighting_set_layout_;
   layout_info.pushConstantRangeCount = 0;
   OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &lighting_layout_));
-
 }
 
 void VkBackend::create_descriptor_sets() {
@@ -158,7 +171,8 @@ void VkBackend::create_descriptor_sets() {
   shadow_set_ = sets[0];
   lighting_set_ = sets[1];
 
-  frame_uniforms_ = create_buffer(*ctx_, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
+  frame_uniforms_ =
+      create_buffer(*ctx_, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
   VkDescriptorBufferInfo ubo{frame_uniforms_.buffer, 0, sizeof(gpu::FrameUniforms)};
   VkWriteDescriptorSet writes[2] = {};
   for (int i = 0; i < 2; ++i) {
@@ -170,7 +184,6 @@ void VkBackend::create_descriptor_sets() {
     writes[i].pBufferInfo = &ubo;
   }
   vkUpdateDescriptorSets(d, 2, writes, 0, nullptr);
-
 }
 
 void VkBackend::create_samplers_and_queries() {
@@ -229,29 +242,33 @@ VkBackend::~VkBackend() {
   modules_.reset();
 }
 
-// A moments storage renders its colour cube, blurs it as storage images and samples it bilinearly: its format must
-// do all three (linear filtering of 32-bit float formats is optional in Vulkan), and the shader's rg32f, rg16f and
-// r16f image formats need shaderStorageImageExtendedFormats (r32f, rgba32f and rgba16f do not).
+// A moments storage renders its colour cube, blurs it as storage images and samples it bilinearly: its format
+// must do all three (linear filtering of 32-bit float formats is optional in Vulkan), and the shader's rg32f,
+// rg16f and r16f image formats need shaderStorageImageExtendedFormats (r32f, rgba32f and rgba16f do not).
 Support VkBackend::moments_support(const CaseConfig& c, const std::string& device) const {
   if (traits(c.storage).moments == MomentKind::none) return {};
   const ColourFormat colour = colour_format(c.storage, c.depth_format);
-  const bool extended = colour == ColourFormat::rg32f || colour == ColourFormat::rg16f || colour == ColourFormat::r16f;
+  const bool extended =
+      colour == ColourFormat::rg32f || colour == ColourFormat::rg16f || colour == ColourFormat::r16f;
   if (extended && !ctx_->has_storage_image_extended_formats())
     return {false, "shaderStorageImageExtendedFormats not supported by " + device + " (the moments blur's " +
                        std::string(to_string(c.storage)) + " format)"};
   const VkFormat format = colour_format_of(colour);
-  const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
+  const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT |
+                                      VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT |
                                       VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
   if ((ctx_->format_properties(format).optimalTilingFeatures & needed) != needed)
-    return {false, std::string(format_name(format)) + " cannot be rendered, stored and filtered linearly on " + device +
-                       " (" + std::string(to_string(c.filter)) + " needs all three)"};
+    return {false, std::string(format_name(format)) +
+                       " cannot be rendered, stored and filtered linearly on " + device + " (" +
+                       std::string(to_string(c.filter)) + " needs all three)"};
   return {};
 }
 
 Support VkBackend::supports(const CaseConfig& c) const {
   if (traits(c.layout).texel_map == TexelMap::paraboloid && !ctx_->has_clip_distance())
-    return {false, "dual_paraboloid clips each layer's other hemisphere: shaderClipDistance is not supported by " +
-                       std::string(ctx_->properties().deviceName)};
+    return {false,
+            "dual_paraboloid clips each layer's other hemisphere: shaderClipDistance is not supported by " +
+                std::string(ctx_->properties().deviceName)};
   if (Support s = common_support(c); !s.ok) return s;
   const std::string device = info_.renderer;
   switch (traits(c.technique).feature) {
@@ -259,7 +276,8 @@ Support VkBackend::supports(const CaseConfig& c) const {
       if (!ctx_->has_geometry_shader()) return {false, "geometryShader feature not supported by " + device};
       break;
     case TechniqueFeature::layer_from_vertex:
-      if (!ctx_->has_layer_output()) return {false, "shaderOutputLayer (Vulkan 1.2) not supported by " + device};
+      if (!ctx_->has_layer_output())
+        return {false, "shaderOutputLayer (Vulkan 1.2) not supported by " + device};
       break;
     case TechniqueFeature::multiview:
       if (!ctx_->has_multiview()) return {false, "multiview feature not supported by " + device};
@@ -271,17 +289,19 @@ Support VkBackend::supports(const CaseConfig& c) const {
         return {false, ctx_->missing_for_swizzle() + " not supported by " + device};
       break;
     case TechniqueFeature::mesh_shader:
-      if (!ctx_->has_mesh_shader()) return {false, "VK_EXT_mesh_shader (taskShader, meshShader) not supported by " + device};
+      if (!ctx_->has_mesh_shader())
+        return {false, "VK_EXT_mesh_shader (taskShader, meshShader) not supported by " + device};
       break;
-    case TechniqueFeature::none: break;
+    case TechniqueFeature::none:
+      break;
   }
   if (c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " above maxImageDimensionCube " +
                        std::to_string(info_.max_cube_size)};
   if (const int layer = layer_size(c.layout, c.cube_size);
       layer > static_cast<int>(ctx_->properties().limits.maxImageDimension2D))
-    return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) + " texels for cube " +
-                       std::to_string(c.cube_size) + " above maxImageDimension2D " +
+    return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) +
+                       " texels for cube " + std::to_string(c.cube_size) + " above maxImageDimension2D " +
                        std::to_string(ctx_->properties().limits.maxImageDimension2D)};
   if (Support s = moments_support(c, device); !s.ok) return s;
   VkFormat format = depth_format_of(c.depth_format);
@@ -335,18 +355,19 @@ void VkBackend::configure_case(const CaseConfig& c) {
   try {
     shadow_ = create_shadow_targets(*ctx_, c);
     for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check})
-      lighting_[size_t(v)] = create_lighting_targets(*ctx_, static_cast<uint32_t>(c.width),
-                                                     static_cast<uint32_t>(c.height), v == gpu::LightingVariant::check);
+      lighting_[size_t(v)] =
+          create_lighting_targets(*ctx_, static_cast<uint32_t>(c.width), static_cast<uint32_t>(c.height),
+                                  v == gpu::LightingVariant::check);
     // 2D maps share the cube's face size and depth format (one --cube / --depth-format axis sizes both).
     const uint32_t map_layers = static_cast<uint32_t>(scene_->map_lights.size());
-    maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u, std::max(map_layers, 1u),
-                               c.depth_format);
+    maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u,
+                               std::max(map_layers, 1u), c.depth_format);
     if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_)
       mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, vertex_buffer_, frame_uniforms_);
     create_pipelines(c);
     if (traits(c.filter).prefilter == Prefilter::separable_blur)
-      blur_ = std::make_unique<MomentsBlur>(*ctx_, *modules_, colour_format(c.storage, c.depth_format), shadow_.color,
-                                            shadow_.blur);
+      blur_ = std::make_unique<MomentsBlur>(*ctx_, *modules_, colour_format(c.storage, c.depth_format),
+                                            shadow_.color, shadow_.blur);
     write_lighting_descriptors(c);
   } catch (...) {
     release_case();
@@ -375,22 +396,24 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
   // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
   const bool mesh = traits(c.technique).stages == ShadowStages::task_mesh;
   if (mesh) {
-    shadow.stages.push_back({VK_SHADER_STAGE_TASK_BIT_EXT, gpu::variant_key("shadow_mesh.task", gpu::shadow_mesh_defines(c))});
-    shadow.stages.push_back({VK_SHADER_STAGE_MESH_BIT_EXT, gpu::variant_key("shadow_mesh.mesh", gpu::shadow_mesh_defines(c))});
+    shadow.stages.push_back(
+        {VK_SHADER_STAGE_TASK_BIT_EXT, gpu::variant_key("shadow_mesh.task", gpu::shadow_mesh_defines(c))});
+    shadow.stages.push_back(
+        {VK_SHADER_STAGE_MESH_BIT_EXT, gpu::variant_key("shadow_mesh.mesh", gpu::shadow_mesh_defines(c))});
   } else {
     shadow.stages.push_back(
         {VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("shadow_depth.vert", gpu::shadow_vertex_defines(c))});
   }
   if (const std::string gs = gpu::shadow_geometry_file(c); !gs.empty())
-    shadow.stages.push_back({VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key(gs, gpu::shadow_geometry_defines(c))});
+    shadow.stages.push_back(
+        {VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key(gs, gpu::shadow_geometry_defines(c))});
   shadow.stages.push_back(
       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("shadow_depth.frag", gpu::shadow_fragment_defines(c))});
   if (c.technique == Technique::nv_swizzle && !c.emulate_nv_swizzle)
     for (const cube::FaceSwizzle& f : cube::face_swizzles())
-      shadow.viewport_swizzles.push_back({static_cast<VkViewportCoordinateSwizzleNV>(f.x),
-                                          static_cast<VkViewportCoordinateSwizzleNV>(f.y),
-                                          static_cast<VkViewportCoordinateSwizzleNV>(f.z),
-                                          static_cast<VkViewportCoordinateSwizzleNV>(f.w)});
+      shadow.viewport_swizzles.push_back(
+          {static_cast<VkViewportCoordinateSwizzleNV>(f.x), static_cast<VkViewportCoordinateSwizzleNV>(f.y),
+           static_cast<VkViewportCoordinateSwizzleNV>(f.z), static_cast<VkViewportCoordinateSwizzleNV>(f.w)});
   if (reversed_depth_test(c)) shadow.depth_compare = VK_COMPARE_OP_GREATER;
   shadow.layout = mesh ? mesh_pass_->layout() : shadow_layout_;
   shadow.render_pass = shadow_.render_pass;
@@ -399,14 +422,16 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
   shadow.vertex_constants = map.vertex_constants;
   const gpu::LightingConstants constants = gpu::lighting_constants(c, *scene_);
   for (int cull = 0; cull < 2; ++cull) {
-    // two_sided remedy: closed casters keep their back faces in the shadow pass (a light inside one is blocked).
+    // two_sided remedy: closed casters keep their back faces in the shadow pass (a light inside one is
+    // blocked).
     shadow.cull = cull && !c.remedies.two_sided ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
     shadow_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, shadow);
   }
   for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
     PipelineDesc lighting;
-    lighting.stages = {{VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("lighting.vert", gpu::kNoVariant)},
-                       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("lighting.frag", gpu::lighting_defines(c, v))}};
+    lighting.stages = {
+        {VK_SHADER_STAGE_VERTEX_BIT, gpu::variant_key("lighting.vert", gpu::kNoVariant)},
+        {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("lighting.frag", gpu::lighting_defines(c, v))}};
     lighting.layout = lighting_layout_;
     lighting.render_pass = lighting_[size_t(v)].render_pass;
     lighting.color_attachments = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(v)]);
@@ -423,7 +448,6 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
       floor_pipelines_[static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, floor);
     }
   }
-
 }
 
 void VkBackend::write_lighting_descriptors(const CaseConfig& c) {
@@ -433,10 +457,13 @@ void VkBackend::write_lighting_descriptors(const CaseConfig& c) {
                               : sampler == FilterSampler::linear_moments ? linear_sampler_
                                                                          : nearest_sampler_,
                               shadow_.sampled_view,
-                              traits(c.storage).moments != MomentKind::none ? VK_IMAGE_LAYOUT_GENERAL
-                                                                            : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  VkDescriptorImageInfo map_image{nearest_sampler_, maps_.sampled_view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+                              traits(c.storage).moments != MomentKind::none
+                                  ? VK_IMAGE_LAYOUT_GENERAL
+                                  : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  VkDescriptorImageInfo map_image{nearest_sampler_, maps_.sampled_view,
+                                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                    {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
   writes[0].dstSet = writes[1].dstSet = lighting_set_;
   writes[0].dstBinding = gpu::kShadowMapBinding;
   writes[1].dstBinding = gpu::kMapShadowsBinding;
@@ -469,8 +496,9 @@ void VkBackend::end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics) {
 }
 
 // Pipelines [0] for objects drawn two-sided, [1] for closed objects (back faces culled).
-void VkBackend::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
-                          VkDescriptorSet set, const std::vector<ObjectDraw>& list, uint64_t& draws) {
+void VkBackend::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines,
+                          VkPipelineLayout layout, VkDescriptorSet set, const std::vector<ObjectDraw>& list,
+                          uint64_t& draws) {
   int bound = -1;
   for (const ObjectDraw& d : list) {
     const scene::Object& obj = scene_->objects[d.object];
@@ -481,7 +509,8 @@ void VkBackend::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& p
     int want = obj.cull_back_faces ? 1 : 0;
     if (want != bound) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[static_cast<size_t>(want)]);
-      if (bound < 0) vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+      if (bound < 0)
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
       bound = want;
     }
     vkCmdDraw(cb, obj.vertex_count, d.instances, obj.first_vertex, 0);
@@ -509,7 +538,8 @@ void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
       vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
       const gpu::PassUniforms pass{static_cast<int32_t>(i), 0, 0, 0};
       vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
-      // Closed objects: back faces culled as in the cube pass, or front faces (the directional notes' peter-panning fix).
+      // Closed objects: back faces culled as in the cube pass, or front faces (the directional notes'
+      // peter-panning fix).
       const size_t closed = scene_->map_lights[i].cull_front_faces ? 2 : 1;
       std::array<VkPipeline, 2> pipelines = {map_pipelines_[0], map_pipelines_[closed]};
       draw_list(cb, pipelines, shadow_layout_, shadow_set_, all_objects_, draws);
@@ -519,23 +549,26 @@ void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
 }
 
 // floor: the case's render passes with their clears and nothing drawn (FrameKind::floor).
-void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws,
-                              bool floor) {
+void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics,
+                              uint64_t& draws, bool floor) {
   begin_pass(cb, 0, statistics);
   if (!floor) record_maps(cb, draws);
-  if (frame.reuse_cube && !floor) {  // static caching: the cube already holds this light; timestamps and queries still close
+  if (frame.reuse_cube &&
+      !floor) {  // static caching: the cube already holds this light; timestamps and queries still close
     end_pass(cb, 0, statistics);
     return;
   }
   VkClearValue clears[2];
-  clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here" (the multipass tutorial)
+  clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};   // r32f: "nothing here" (the multipass tutorial)
   if (traits(shadow_.storage).moments != MomentKind::none) {  // the moments of z = 1, as the depth's clear
-    const std::array<float, 4> m = moments_clear_value(shadow_.storage, config_->depth_format, config_->moments,
-                                                       frame.uniforms.light_position.w);
+    const std::array<float, 4> m = moments_clear_value(shadow_.storage, config_->depth_format,
+                                                       config_->moments, frame.uniforms.light_position.w);
     clears[0].color = {{m[0], m[1], m[2], m[3]}};
   }
-  clears[1].depthStencil = {reversed_depth_test(*config_) ? 0.0f : 1.0f, 0};  // nv_swizzle's r32f: nearer is greater
-  const bool colour_first = traits(shadow_.storage).colour_channels > 0;  // r32f or moments: a colour attachment
+  clears[1].depthStencil = {reversed_depth_test(*config_) ? 0.0f : 1.0f,
+                            0};  // nv_swizzle's r32f: nearer is greater
+  const bool colour_first =
+      traits(shadow_.storage).colour_channels > 0;  // r32f or moments: a colour attachment
   VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   rp.renderPass = shadow_.render_pass;
   rp.renderArea = {{0, 0}, {shadow_.size, shadow_.size}};
@@ -549,8 +582,10 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
     rp.framebuffer = shadow_.framebuffers[p];
     vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
     // nv_swizzle: six viewports alike, one per face (the pipeline's swizzles tell them apart).
-    const std::array<VkViewport, cube::kFaceCount> viewports = {viewport, viewport, viewport, viewport, viewport, viewport};
-    const std::array<VkRect2D, cube::kFaceCount> scissors = {scissor, scissor, scissor, scissor, scissor, scissor};
+    const std::array<VkViewport, cube::kFaceCount> viewports = {viewport, viewport, viewport,
+                                                                viewport, viewport, viewport};
+    const std::array<VkRect2D, cube::kFaceCount> scissors = {scissor, scissor, scissor,
+                                                             scissor, scissor, scissor};
     const uint32_t viewport_count =
         config_->technique == Technique::nv_swizzle && !config_->emulate_nv_swizzle ? cube::kFaceCount : 1;
     vkCmdSetViewport(cb, 0, viewport_count, viewports.data());
@@ -570,8 +605,8 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   end_pass(cb, 0, statistics);
 }
 
-void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws,
-                                bool floor) {
+void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics,
+                                uint64_t& draws, bool floor) {
   const LightingTargets& target = lighting_[size_t(variant)];
   const uint32_t colors = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(variant)]);
   begin_pass(cb, 1, statistics);
@@ -593,8 +628,8 @@ void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant
   vkCmdSetScissor(cb, 0, 1, &scissor);
   VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-  draw_list(cb, floor ? floor_pipelines_ : lighting_pipelines_[size_t(variant)], lighting_layout_, lighting_set_,
-            all_objects_, draws);
+  draw_list(cb, floor ? floor_pipelines_ : lighting_pipelines_[size_t(variant)], lighting_layout_,
+            lighting_set_, all_objects_, draws);
   vkCmdEndRenderPass(cb);
   end_pass(cb, 1, statistics);
 }
@@ -602,8 +637,8 @@ void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant
 double VkBackend::timestamp_ms(uint32_t first) const {
   if (!timestamps_) return -1.0;
   uint64_t ticks[2] = {0, 0};
-  OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), timestamps_, first, 2, sizeof ticks, ticks, sizeof(uint64_t),
-                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), timestamps_, first, 2, sizeof ticks, ticks,
+                                      sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
   const uint32_t bits = ctx_->timestamp_valid_bits();
   const uint64_t mask = bits >= 64 ? ~0ull : ((1ull << bits) - 1);
   const uint64_t delta = ((ticks[1] & mask) - (ticks[0] & mask)) & mask;  // wraps within the valid bits
@@ -613,8 +648,8 @@ double VkBackend::timestamp_ms(uint32_t first) const {
 FrameTiming VkBackend::render_frame(int frame, FrameKind kind) {
   const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
   const bool floor = kind == FrameKind::floor;
-  // Each pass is its own submission, waited on before the next, so its wall time is its own (as GL's glFinish).
-  // cpu_submit covers uniform update, command recording and vkQueueSubmit.
+  // Each pass is its own submission, waited on before the next, so its wall time is its own (as GL's
+  // glFinish). cpu_submit covers uniform update, command recording and vkQueueSubmit.
   FrameTiming t;
   uint64_t draws = 0;
   auto t0 = Clock::now();
@@ -646,8 +681,9 @@ FrameCounters VkBackend::count_frame_work(int frame) {
   gpu::ShadowFrame plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
   std::memcpy(frame_uniforms_.mapped, &plan.uniforms, sizeof plan.uniforms);
   const bool stats = statistics_ != VK_NULL_HANDLE;
-  // Mesh draws may not run inside a pipeline-statistics query that counts input-assembly, vertex or geometry work
-  // (VK_EXT_mesh_shader's vkCmdDrawMeshTasksEXT), and this pool counts them: mesh_shader's shadow pass is not counted.
+  // Mesh draws may not run inside a pipeline-statistics query that counts input-assembly, vertex or geometry
+  // work (VK_EXT_mesh_shader's vkCmdDrawMeshTasksEXT), and this pool counts them: mesh_shader's shadow pass
+  // is not counted.
   const bool shadow_stats = stats && traits(config_->technique).stages != ShadowStages::task_mesh;
   FrameCounters c;
   record_shadow(command_buffers_[0], plan, shadow_stats, c.shadow.draw_calls);
@@ -661,8 +697,8 @@ FrameCounters VkBackend::count_frame_work(int frame) {
     PassCounters* passes[2] = {&c.shadow, &c.lighting};
     for (uint32_t p = shadow_stats ? 0 : 1; p < 2; ++p) {
       uint64_t values[kPipelineStatistics.size()] = {};
-      OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), statistics_, p, 1, sizeof values, values, sizeof values,
-                                          VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+      OMNISHADOW_VK(vkGetQueryPoolResults(ctx_->device(), statistics_, p, 1, sizeof values, values,
+                                          sizeof values, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
       PassCounters& k = *passes[p];
       k.valid = true;
       for (size_t s = 0; s < kPipelineStatistics.size(); ++s) k.*kPipelineStatistics[s].member = values[s];
@@ -740,7 +776,8 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
   img.light_far = far_plane;
   if (cube_read_back == CubeReadBack::sampled) {
     summarizer_->read(stored, nearest_sampler_, shadow_.size, img);
-    cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane, cube::DepthRange::zero_to_one);
+    cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane,
+                             cube::DepthRange::zero_to_one);
   }
   const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
   std::vector<uint8_t> bytes;
@@ -751,19 +788,21 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
     auto& face = img.cube_distance[f];
     face = decode_texels(stored.format, bytes.data() + f * texels * texel_bytes, texels);
     for (size_t i = 0; i < texels; ++i)
-      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % shadow_.size), int(i / shadow_.size),
-                                         int(shadow_.size), scene_->light.near_plane, far_plane,
-                                         cube::DepthRange::zero_to_one);
+      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % shadow_.size),
+                                         int(i / shadow_.size), int(shadow_.size), scene_->light.near_plane,
+                                         far_plane, cube::DepthRange::zero_to_one);
   }
   if (blur_ && cube_read_back == CubeReadBack::full) read_moments(img);
   if (!scene_->map_lights.empty()) {
     img.map_size = static_cast<int>(maps_.size);
     img.map_depth_zero_to_one = true;
     const uint32_t map_bytes = maps_.depth.format == VK_FORMAT_D16_UNORM ? 2 : 4;
-    std::vector<uint8_t> all = read_image(*ctx_, maps_.depth, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, map_bytes);
+    std::vector<uint8_t> all =
+        read_image(*ctx_, maps_.depth, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, map_bytes);
     const size_t map_texels = size_t(maps_.size) * maps_.size;
     for (size_t l = 0; l < scene_->map_lights.size(); ++l)
-      img.map_depth.push_back(decode_texels(maps_.depth.format, all.data() + l * map_texels * map_bytes, map_texels));
+      img.map_depth.push_back(
+          decode_texels(maps_.depth.format, all.data() + l * map_texels * map_bytes, map_texels));
   }
   return img;
 }

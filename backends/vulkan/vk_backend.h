@@ -11,8 +11,8 @@
 
 #include "backends/backend.h"
 #include "backends/common/shader_variants.h"
-#include "backends/common/techniques.h"
 #include "backends/common/shadow_frame.h"
+#include "backends/common/techniques.h"
 #include "backends/vulkan/vk_context.h"
 #include "backends/vulkan/vk_cube_summary.h"
 #include "backends/vulkan/vk_mesh_pass.h"
@@ -86,12 +86,14 @@ class VkBackend final : public Backend {
   gpu::ShadowFramePlanner planner_;
   std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
   MapTargets maps_;
-  std::array<VkPipeline, 3> map_pipelines_{};       // [0] no culling, [1] back faces, [2] front faces (the directional notes)
-  std::array<VkPipeline, 2> shadow_pipelines_{};    // [0] no culling, [1] back-face culling
+  std::array<VkPipeline, 3>
+      map_pipelines_{};  // [0] no culling, [1] back faces, [2] front faces (the directional notes)
+  std::array<VkPipeline, 2> shadow_pipelines_{};                   // [0] no culling, [1] back-face culling
   std::array<std::array<VkPipeline, 2>, 2> lighting_pipelines_{};  // [variant][back-face culling]
-  std::array<VkPipeline, 2> floor_pipelines_{};                     // the lighting floor, [back-face culling]
+  std::array<VkPipeline, 2> floor_pipelines_{};                    // the lighting floor, [back-face culling]
   std::unique_ptr<MomentsBlur> blur_;  // a moments filter's prefilter, recorded into the shadow pass
-  std::unique_ptr<VkMeshPass> mesh_pass_;  // mesh_shader: the scene's meshlets, from its first mesh_shader case
+  std::unique_ptr<VkMeshPass>
+      mesh_pass_;  // mesh_shader: the scene's meshlets, from its first mesh_shader case
 };
 
 }  // namespace omnishadow::vk

@@ -9,19 +9,32 @@ namespace omnishadow::vk {
 
 const char* result_name(VkResult r) {
   switch (r) {
-    case VK_SUCCESS: return "VK_SUCCESS";
-    case VK_NOT_READY: return "VK_NOT_READY";
-    case VK_TIMEOUT: return "VK_TIMEOUT";
-    case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
-    case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
-    case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
-    case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
-    case VK_ERROR_LAYER_NOT_PRESENT: return "VK_ERROR_LAYER_NOT_PRESENT";
-    case VK_ERROR_EXTENSION_NOT_PRESENT: return "VK_ERROR_EXTENSION_NOT_PRESENT";
-    case VK_ERROR_FEATURE_NOT_PRESENT: return "VK_ERROR_FEATURE_NOT_PRESENT";
-    case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
-    case VK_ERROR_FORMAT_NOT_SUPPORTED: return "VK_ERROR_FORMAT_NOT_SUPPORTED";
-    default: return "VkResult error";
+    case VK_SUCCESS:
+      return "VK_SUCCESS";
+    case VK_NOT_READY:
+      return "VK_NOT_READY";
+    case VK_TIMEOUT:
+      return "VK_TIMEOUT";
+    case VK_ERROR_OUT_OF_HOST_MEMORY:
+      return "VK_ERROR_OUT_OF_HOST_MEMORY";
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY:
+      return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+    case VK_ERROR_INITIALIZATION_FAILED:
+      return "VK_ERROR_INITIALIZATION_FAILED";
+    case VK_ERROR_DEVICE_LOST:
+      return "VK_ERROR_DEVICE_LOST";
+    case VK_ERROR_LAYER_NOT_PRESENT:
+      return "VK_ERROR_LAYER_NOT_PRESENT";
+    case VK_ERROR_EXTENSION_NOT_PRESENT:
+      return "VK_ERROR_EXTENSION_NOT_PRESENT";
+    case VK_ERROR_FEATURE_NOT_PRESENT:
+      return "VK_ERROR_FEATURE_NOT_PRESENT";
+    case VK_ERROR_INCOMPATIBLE_DRIVER:
+      return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    case VK_ERROR_FORMAT_NOT_SUPPORTED:
+      return "VK_ERROR_FORMAT_NOT_SUPPORTED";
+    default:
+      return "VkResult error";
   }
 }
 
@@ -36,7 +49,8 @@ namespace {
 
 VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                      VkDebugUtilsMessageTypeFlagsEXT,
-                                                     const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+                                                     const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                     void* user) {
   if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT)
     static_cast<VkContext*>(user)->add_message(data->pMessage ? data->pMessage : "(no message)");
   return VK_FALSE;
@@ -49,11 +63,16 @@ std::string version_string(uint32_t v) {
 
 std::string type_name(VkPhysicalDeviceType t) {
   switch (t) {
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
-    default: return "other";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return "cpu";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return "virtual";
+    default:
+      return "other";
   }
 }
 
@@ -76,7 +95,8 @@ VkInstance create_instance(bool validation, const VkDebugUtilsMessengerCreateInf
       return std::strcmp(l.layerName, "VK_LAYER_KHRONOS_validation") == 0;
     });
     if (!found)
-      throw std::runtime_error("--api-checks needs VK_LAYER_KHRONOS_validation (Debian: vulkan-validationlayers)");
+      throw std::runtime_error(
+          "--api-checks needs VK_LAYER_KHRONOS_validation (Debian: vulkan-validationlayers)");
     layers.push_back("VK_LAYER_KHRONOS_validation");
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
   }
@@ -90,8 +110,9 @@ VkInstance create_instance(bool validation, const VkDebugUtilsMessengerCreateInf
   VkInstance instance = VK_NULL_HANDLE;
   VkResult r = vkCreateInstance(&info, nullptr, &instance);
   if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
-    throw std::runtime_error("no Vulkan 1.2 driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER); "
-                             "Debian: mesa-vulkan-drivers gives lavapipe");
+    throw std::runtime_error(
+        "no Vulkan 1.2 driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER); "
+        "Debian: mesa-vulkan-drivers gives lavapipe");
   OMNISHADOW_VK(r);
   return instance;
 }
@@ -109,7 +130,8 @@ PhysicalDeviceSummary summarize(VkPhysicalDevice d, int index) {
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
   vkGetPhysicalDeviceProperties2(d, &props);
   return {index, props.properties.deviceName, type_name(props.properties.deviceType),
-          version_string(props.properties.apiVersion), std::string(driver.driverName) + " " + driver.driverInfo};
+          version_string(props.properties.apiVersion),
+          std::string(driver.driverName) + " " + driver.driverInfo};
 }
 
 }  // namespace
@@ -161,7 +183,8 @@ void VkContext::select_device(const std::string& selector) {
   std::string available;
   for (size_t i = 0; i < devices.size(); ++i)
     available += (i ? ", " : "") + std::to_string(i) + ": " + summarize(devices[i], static_cast<int>(i)).name;
-  if (devices.empty()) throw std::runtime_error("no Vulkan device (Debian: mesa-vulkan-drivers gives lavapipe)");
+  if (devices.empty())
+    throw std::runtime_error("no Vulkan device (Debian: mesa-vulkan-drivers gives lavapipe)");
   bool numeric = !selector.empty() && std::all_of(selector.begin(), selector.end(), ::isdigit);
   if (selector.empty()) {
     physical_ = devices[0];
@@ -172,9 +195,11 @@ void VkContext::select_device(const std::string& selector) {
     physical_ = devices[index];
   } else {
     for (size_t i = 0; i < devices.size() && !physical_; ++i)
-      if (lower(summarize(devices[i], 0).name).find(lower(selector)) != std::string::npos) physical_ = devices[i];
+      if (lower(summarize(devices[i], 0).name).find(lower(selector)) != std::string::npos)
+        physical_ = devices[i];
     if (!physical_)
-      throw std::runtime_error("--vk-device '" + selector + "' matches no Vulkan device (devices: " + available + ")");
+      throw std::runtime_error("--vk-device '" + selector +
+                               "' matches no Vulkan device (devices: " + available + ")");
   }
 }
 
@@ -226,11 +251,14 @@ void VkContext::read_properties() {
   for (const char* ext : {VK_NV_VIEWPORT_SWIZZLE_EXTENSION_NAME, VK_NV_VIEWPORT_ARRAY_2_EXTENSION_NAME,
                           VK_NV_GEOMETRY_SHADER_PASSTHROUGH_EXTENSION_NAME})
     if (!has(ext)) missing_for_swizzle_ += (missing_for_swizzle_.empty() ? "" : ", ") + std::string(ext);
-  if (!geometry_shader_) missing_for_swizzle_ += (missing_for_swizzle_.empty() ? "" : ", ") + std::string("geometryShader");
-  if (!multi_viewport_) missing_for_swizzle_ += (missing_for_swizzle_.empty() ? "" : ", ") + std::string("multiViewport");
+  if (!geometry_shader_)
+    missing_for_swizzle_ += (missing_for_swizzle_.empty() ? "" : ", ") + std::string("geometryShader");
+  if (!multi_viewport_)
+    missing_for_swizzle_ += (missing_for_swizzle_.empty() ? "" : ", ") + std::string("multiViewport");
   if (missing_for_swizzle_.empty())
-    extensions_.insert(extensions_.end(), {VK_NV_VIEWPORT_SWIZZLE_EXTENSION_NAME, VK_NV_VIEWPORT_ARRAY_2_EXTENSION_NAME,
-                                           VK_NV_GEOMETRY_SHADER_PASSTHROUGH_EXTENSION_NAME});
+    extensions_.insert(extensions_.end(),
+                       {VK_NV_VIEWPORT_SWIZZLE_EXTENSION_NAME, VK_NV_VIEWPORT_ARRAY_2_EXTENSION_NAME,
+                        VK_NV_GEOMETRY_SHADER_PASSTHROUGH_EXTENSION_NAME});
   if (has(VK_EXT_MESH_SHADER_EXTENSION_NAME)) {
     VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
     VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &mesh};
@@ -284,7 +312,8 @@ void VkContext::release() {
     device_ = VK_NULL_HANDLE;
   }
   // Nobody drains messages after this point: say them, so a leak found at shutdown is not lost.
-  for (const std::string& m : messages_) std::fprintf(stderr, "omnishadow: Vulkan validation: %s\n", m.c_str());
+  for (const std::string& m : messages_)
+    std::fprintf(stderr, "omnishadow: Vulkan validation: %s\n", m.c_str());
   messages_.clear();
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(

@@ -1,6 +1,6 @@
 #pragma once
-// A headless Vulkan 1.2+ device: instance (with the validation layer in the checking mode), the chosen physical
-// device, one graphics queue, a command pool and a fence. No surface, no window system.
+// A headless Vulkan 1.2+ device: instance (with the validation layer in the checking mode), the chosen
+// physical device, one graphics queue, a command pool and a fence. No surface, no window system.
 
 #include <vulkan/vulkan.h>
 
@@ -25,8 +25,9 @@ struct PhysicalDeviceSummary {
 
 class VkContext {
  public:
-  // selector: "" or an index ("0") or a case-insensitive part of the device name ("llvmpipe"). Never falls back
-  // to another device: no match is an error listing the devices. validation: VK_LAYER_KHRONOS_validation.
+  // selector: "" or an index ("0") or a case-insensitive part of the device name ("llvmpipe"). Never falls
+  // back to another device: no match is an error listing the devices. validation:
+  // VK_LAYER_KHRONOS_validation.
   VkContext(const std::string& selector, bool validation);
   ~VkContext();
   VkContext(const VkContext&) = delete;

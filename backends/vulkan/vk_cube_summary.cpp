@@ -6,10 +6,12 @@
 namespace omnishadow::vk {
 
 CubeSummarizer::CubeSummarizer(VkContext& ctx, ShaderModules& modules) : ctx_(ctx) {
-  compute_ = create_compute_pipeline(ctx_, modules, gpu::variant_key("cube_summary.comp", gpu::kNoVariant),
-                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                                     2 * sizeof(int32_t));  // size, stride
-  allocate_sets(ctx_, {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}},
+  compute_ =
+      create_compute_pipeline(ctx_, modules, gpu::variant_key("cube_summary.comp", gpu::kNoVariant),
+                              {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                              2 * sizeof(int32_t));  // size, stride
+  allocate_sets(ctx_,
+                {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}},
                 compute_.set_layout, 1, pool_, &set_);
 }
 
@@ -21,14 +23,15 @@ CubeSummarizer::~CubeSummarizer() {
 
 void CubeSummarizer::read(const Image& stored, VkSampler sampler, uint32_t cube_size, Images& img) {
   const size_t bytes = cube::summary_buffer_bytes(int(cube_size));
-  Buffer buffer = create_buffer(ctx_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                true);
+  Buffer buffer =
+      create_buffer(ctx_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
   VkImageView layers = VK_NULL_HANDLE;
   try {
     layers = create_view(ctx_, stored, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
     VkDescriptorImageInfo image_info{sampler, layers, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     VkDescriptorBufferInfo buffer_info{buffer.buffer, 0, bytes};
-    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                      {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
     writes[0].dstSet = writes[1].dstSet = set_;
     writes[0].dstBinding = 0;
     writes[0].descriptorCount = 1;
@@ -42,7 +45,8 @@ void CubeSummarizer::read(const Image& stored, VkSampler sampler, uint32_t cube_
     const int32_t params[2] = {int32_t(cube_size), int32_t(cube_sample_stride(int(cube_size)))};
     ctx_.submit_and_wait([&](VkCommandBuffer cb) {
       vkCmdFillBuffer(cb, buffer.buffer, 0, VK_WHOLE_SIZE, 0);  // the sums start at 0
-      // The fill, and the shadow pass's writes to the cube (an earlier submission), before the shader's accesses.
+      // The fill, and the shadow pass's writes to the cube (an earlier submission), before the shader's
+      // accesses.
       VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
       before.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
                              VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;

@@ -1,6 +1,6 @@
 #pragma once
-// The cube's summary and check grid computed on the GPU (shaders/cube_summary.comp) and read back: 96 bytes and
-// the grid instead of the whole cube. Its own descriptor set and compute pipeline, made once per device.
+// The cube's summary and check grid computed on the GPU (shaders/cube_summary.comp) and read back: 96 bytes
+// and the grid instead of the whole cube. Its own descriptor set and compute pipeline, made once per device.
 
 #include <vulkan/vulkan.h>
 
@@ -19,7 +19,8 @@ class CubeSummarizer {
   CubeSummarizer& operator=(const CubeSummarizer&) = delete;
 
   // `stored`: the cube (6 layers, SHADER_READ_ONLY_OPTIMAL, left so), last written by a finished submission;
-  // `sampler` must not compare. Fills img.cube_summary, img.cube_sample (stored values), img.cube_sample_stride.
+  // `sampler` must not compare. Fills img.cube_summary, img.cube_sample (stored values),
+  // img.cube_sample_stride.
   void read(const Image& stored, VkSampler sampler, uint32_t cube_size, Images& img);
 
  private:

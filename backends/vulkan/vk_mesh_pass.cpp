@@ -10,8 +10,9 @@ namespace {
 template <typename T>
 Buffer storage_buffer(VkContext& ctx, const std::vector<T>& data) {
   static const T zero{};  // a zero-sized buffer is invalid: an empty scene still binds one element
-  return data.empty() ? upload_buffer(ctx, &zero, sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)
-                      : upload_buffer(ctx, data.data(), data.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  return data.empty()
+             ? upload_buffer(ctx, &zero, sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)
+             : upload_buffer(ctx, data.data(), data.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
 }
 
 }  // namespace
@@ -21,18 +22,19 @@ VkMeshPass::VkMeshPass(VkContext& ctx, const scene::Scene& scene, const Buffer& 
     : ctx_(ctx), scene_(scene), data_(gpu::build_meshlets(scene)) {
   VkDevice d = ctx_.device();
   try {
-    draw_mesh_tasks_ = reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(d, "vkCmdDrawMeshTasksEXT"));
+    draw_mesh_tasks_ =
+        reinterpret_cast<PFN_vkCmdDrawMeshTasksEXT>(vkGetDeviceProcAddr(d, "vkCmdDrawMeshTasksEXT"));
     if (!draw_mesh_tasks_) throw std::runtime_error("vkCmdDrawMeshTasksEXT is not available on this device");
     buffers_ = {storage_buffer(ctx_, data_.meshlets), storage_buffer(ctx_, data_.spheres),
                 storage_buffer(ctx_, data_.vertices), storage_buffer(ctx_, data_.triangles)};
 
     const VkShaderStageFlags mesh_stages = VK_SHADER_STAGE_TASK_BIT_EXT | VK_SHADER_STAGE_MESH_BIT_EXT;
     std::vector<VkDescriptorSetLayoutBinding> bindings = {
-        {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, mesh_stages | VK_SHADER_STAGE_FRAGMENT_BIT,
-         nullptr}};
+        {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
+         mesh_stages | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
     for (int b = 0; b < gpu::kMeshBindingCount; ++b)
-      bindings.push_back({static_cast<uint32_t>(gpu::kFirstMeshBinding + b), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
-                          mesh_stages, nullptr});
+      bindings.push_back({static_cast<uint32_t>(gpu::kFirstMeshBinding + b),
+                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, mesh_stages, nullptr});
     VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set_info.bindingCount = static_cast<uint32_t>(bindings.size());
     set_info.pBindings = bindings.data();
@@ -46,8 +48,9 @@ VkMeshPass::VkMeshPass(VkContext& ctx, const scene::Scene& scene, const Buffer& 
     layout_info.pPushConstantRanges = &push;
     OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_));
 
-    allocate_sets(ctx_, {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, static_cast<uint32_t>(gpu::kMeshBindingCount)}},
+    allocate_sets(ctx_,
+                  {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, static_cast<uint32_t>(gpu::kMeshBindingCount)}},
                   set_layout_, 1, pool_, &set_);
 
     std::vector<VkDescriptorBufferInfo> infos = {{frame_uniforms.buffer, 0, sizeof(gpu::FrameUniforms)}};
@@ -90,7 +93,8 @@ void VkMeshPass::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& 
     const int want = scene_.objects[d.object].cull_back_faces ? 1 : 0;
     if (want != bound) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[static_cast<size_t>(want)]);
-      if (bound < 0) vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
+      if (bound < 0)
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
       bound = want;
     }
     const gpu::PassUniforms pass{0, 0, o.first_task, 0};

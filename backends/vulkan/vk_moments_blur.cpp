@@ -20,9 +20,10 @@ MomentsBlur::MomentsBlur(VkContext& ctx, ShaderModules& modules, ColourFormat fo
     : ctx_(ctx) {
   VkDevice d = ctx_.device();
   try {
-    compute_ = create_compute_pipeline(ctx_, modules, gpu::variant_key("moments_blur.comp", gpu::moments_blur_defines(format)),
-                                       {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                       2 * sizeof(int32_t));  // size, axis
+    compute_ = create_compute_pipeline(
+        ctx_, modules, gpu::variant_key("moments_blur.comp", gpu::moments_blur_defines(format)),
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+        2 * sizeof(int32_t));  // size, axis
     allocate_sets(ctx_, {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}}, compute_.set_layout, 2, pool_, sets_);
     views_[0] = create_view(ctx_, moments, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
     views_[1] = create_view(ctx_, intermediate, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
@@ -63,18 +64,21 @@ void MomentsBlur::release() {
 void MomentsBlur::record(VkCommandBuffer cb, uint32_t size) const {
   // The shadow pass's render pass made its moments visible to compute reads (its external dependency); the
   // intermediate's last readers and writers were the previous frame's dispatches.
-  compute_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  compute_barrier(
+      cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.pipeline);
   const uint32_t groups = (size + 7) / 8;
   for (int axis = 0; axis < 2; ++axis) {
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.layout, 0, 1, &sets_[axis], 0, nullptr);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.layout, 0, 1, &sets_[axis], 0,
+                            nullptr);
     const int32_t params[2] = {int32_t(size), axis};
     vkCmdPushConstants(cb, compute_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
     vkCmdDispatch(cb, groups, groups, 6);
     if (axis == 0)
-      compute_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+      compute_barrier(
+          cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   }
   compute_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                   VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,

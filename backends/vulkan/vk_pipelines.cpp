@@ -15,7 +15,8 @@ VkShaderModule ShaderModules::get(const std::string& key) {
   auto it = modules_.find(key);
   if (it != modules_.end()) return it->second;
   auto code = embedded_spirv().find(key);
-  if (code == embedded_spirv().end()) throw std::runtime_error("SPIR-V variant '" + key + "' was not compiled");
+  if (code == embedded_spirv().end())
+    throw std::runtime_error("SPIR-V variant '" + key + "' was not compiled");
   VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   info.codeSize = code->second.size() * sizeof(uint32_t);
   info.pCode = code->second.data();
@@ -28,14 +29,17 @@ VkShaderModule ShaderModules::get(const std::string& key) {
 namespace {
 
 // Constant k at offset 4k, 4 bytes each. `entries` must outlive the returned info's use.
-VkSpecializationInfo specialisation_of(const std::vector<int32_t>& values, std::vector<VkSpecializationMapEntry>& entries) {
+VkSpecializationInfo specialisation_of(const std::vector<int32_t>& values,
+                                       std::vector<VkSpecializationMapEntry>& entries) {
   for (uint32_t k = 0; k < values.size(); ++k)
     entries.push_back({k, static_cast<uint32_t>(k * sizeof(int32_t)), sizeof(int32_t)});
-  return {static_cast<uint32_t>(entries.size()), entries.data(), values.size() * sizeof(int32_t), values.data()};
+  return {static_cast<uint32_t>(entries.size()), entries.data(), values.size() * sizeof(int32_t),
+          values.data()};
 }
 
 // desc's stages, each with the specialisation constants it reads: the fragment stage its own, the stages that
-// place vertices (vertex, geometry, mesh) the raster perturbation's. The infos point at `fragment` and `vertex`.
+// place vertices (vertex, geometry, mesh) the raster perturbation's. The infos point at `fragment` and
+// `vertex`.
 std::vector<VkPipelineShaderStageCreateInfo> stage_infos(ShaderModules& modules, const PipelineDesc& desc,
                                                          const VkSpecializationInfo& fragment,
                                                          const VkSpecializationInfo& vertex) {
@@ -45,7 +49,8 @@ std::vector<VkPipelineShaderStageCreateInfo> stage_infos(ShaderModules& modules,
     s.stage = stage;
     s.module = modules.get(key);
     s.pName = "main";
-    if (stage == VK_SHADER_STAGE_FRAGMENT_BIT && fragment.mapEntryCount > 0) s.pSpecializationInfo = &fragment;
+    if (stage == VK_SHADER_STAGE_FRAGMENT_BIT && fragment.mapEntryCount > 0)
+      s.pSpecializationInfo = &fragment;
     if ((stage == VK_SHADER_STAGE_VERTEX_BIT || stage == VK_SHADER_STAGE_GEOMETRY_BIT ||
          stage == VK_SHADER_STAGE_MESH_BIT_EXT) &&
         vertex.mapEntryCount > 0)
@@ -62,26 +67,33 @@ VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const Pipelin
   const VkSpecializationInfo fragment = specialisation_of(desc.fragment_constants, fragment_entries);
   const VkSpecializationInfo vertex = specialisation_of(desc.vertex_constants, vertex_entries);
   const std::vector<VkPipelineShaderStageCreateInfo> stages = stage_infos(modules, desc, fragment, vertex);
-  const bool mesh_pipeline = std::any_of(stages.begin(), stages.end(), [](const VkPipelineShaderStageCreateInfo& s) {
-    return s.stage == VK_SHADER_STAGE_MESH_BIT_EXT;  // task + mesh stages: no vertex input or input assembly
-  });
-  VkVertexInputBindingDescription binding{0, static_cast<uint32_t>(gpu::kVertexStride), VK_VERTEX_INPUT_RATE_VERTEX};
+  const bool mesh_pipeline =
+      std::any_of(stages.begin(), stages.end(), [](const VkPipelineShaderStageCreateInfo& s) {
+        return s.stage ==
+               VK_SHADER_STAGE_MESH_BIT_EXT;  // task + mesh stages: no vertex input or input assembly
+      });
+  VkVertexInputBindingDescription binding{0, static_cast<uint32_t>(gpu::kVertexStride),
+                                          VK_VERTEX_INPUT_RATE_VERTEX};
   VkVertexInputAttributeDescription attributes[] = {
       {0, 0, VK_FORMAT_R32G32B32_SFLOAT, static_cast<uint32_t>(gpu::kPositionOffset)},
       {1, 0, VK_FORMAT_R32G32B32_SFLOAT, static_cast<uint32_t>(gpu::kNormalOffset)},
       {2, 0, VK_FORMAT_R32G32B32_SFLOAT, static_cast<uint32_t>(gpu::kColorOffset)}};
-  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  VkPipelineVertexInputStateCreateInfo vertex_input{
+      VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
   vertex_input.vertexBindingDescriptionCount = 1;
   vertex_input.pVertexBindingDescriptions = &binding;
   vertex_input.vertexAttributeDescriptionCount = desc.position_only ? 1 : 3;
   vertex_input.pVertexAttributeDescriptions = attributes;
-  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  VkPipelineInputAssemblyStateCreateInfo assembly{
+      VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
   assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  const uint32_t viewports = desc.viewport_swizzles.empty() ? 1u : static_cast<uint32_t>(desc.viewport_swizzles.size());
+  const uint32_t viewports =
+      desc.viewport_swizzles.empty() ? 1u : static_cast<uint32_t>(desc.viewport_swizzles.size());
   viewport.viewportCount = viewports;
   viewport.scissorCount = viewports;
-  VkPipelineViewportSwizzleStateCreateInfoNV swizzle{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_SWIZZLE_STATE_CREATE_INFO_NV};
+  VkPipelineViewportSwizzleStateCreateInfoNV swizzle{
+      VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_SWIZZLE_STATE_CREATE_INFO_NV};
   if (!desc.viewport_swizzles.empty()) {
     swizzle.viewportCount = viewports;
     swizzle.pViewportSwizzles = desc.viewport_swizzles.data();

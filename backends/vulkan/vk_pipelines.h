@@ -30,9 +30,11 @@ struct PipelineDesc {
   uint32_t color_attachments = 0;
   bool position_only = false;  // the shadow pass reads location 0 only
   VkCullModeFlags cull = VK_CULL_MODE_NONE;
-  // The fragment stage's specialisation constants: value k for constant_id k (4 bytes each; a bool is a VkBool32).
+  // The fragment stage's specialisation constants: value k for constant_id k (4 bytes each; a bool is a
+  // VkBool32).
   std::vector<int32_t> fragment_constants;
-  // The vertex and geometry stages' (shaders/raster_perturb.glsl: constant_id 0, a float's bits); empty: defaults.
+  // The vertex and geometry stages' (shaders/raster_perturb.glsl: constant_id 0, a float's bits); empty:
+  // defaults.
   std::vector<int32_t> vertex_constants;
   // nv_swizzle: one viewport per face with its swizzle (VK_NV_viewport_swizzle); empty: one plain viewport.
   std::vector<VkViewportSwizzleNV> viewport_swizzles;
@@ -41,7 +43,8 @@ struct PipelineDesc {
 
 VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const PipelineDesc& desc);
 
-// A compute pipeline with one descriptor set of `bindings` (compute stage) and `push_bytes` of push constants.
+// A compute pipeline with one descriptor set of `bindings` (compute stage) and `push_bytes` of push
+// constants.
 struct ComputePipeline {
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;

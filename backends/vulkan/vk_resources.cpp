@@ -27,9 +27,10 @@ Buffer create_buffer(VkContext& ctx, VkDeviceSize size, VkBufferUsageFlags usage
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(ctx.device(), b.buffer, &req);
   try {
-    b.memory = allocate(ctx, req,
-                        host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
-                                     : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    b.memory =
+        allocate(ctx, req,
+                 host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                              : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   } catch (...) {
     destroy(ctx, b);
     throw;
@@ -45,8 +46,9 @@ void destroy(VkContext& ctx, Buffer& b) {
   b = Buffer{};
 }
 
-void allocate_sets(VkContext& ctx, const std::vector<VkDescriptorPoolSize>& sizes, VkDescriptorSetLayout layout,
-                   uint32_t sets, VkDescriptorPool& pool, VkDescriptorSet* out) {
+void allocate_sets(VkContext& ctx, const std::vector<VkDescriptorPoolSize>& sizes,
+                   VkDescriptorSetLayout layout, uint32_t sets, VkDescriptorPool& pool,
+                   VkDescriptorSet* out) {
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool_info.maxSets = sets;
   pool_info.poolSizeCount = static_cast<uint32_t>(sizes.size());
@@ -79,8 +81,8 @@ Buffer upload_buffer(VkContext& ctx, const void* data, VkDeviceSize size, VkBuff
   return b;
 }
 
-Image create_image(VkContext& ctx, VkFormat format, uint32_t width, uint32_t height, uint32_t layers, bool cube,
-                   VkImageUsageFlags usage) {
+Image create_image(VkContext& ctx, VkFormat format, uint32_t width, uint32_t height, uint32_t layers,
+                   bool cube, VkImageUsageFlags usage) {
   Image i;
   i.format = format;
   i.width = width;
@@ -153,25 +155,29 @@ void barrier_to_host(VkCommandBuffer cb, VkPipelineStageFlags stage, VkAccessFla
   vkCmdPipelineBarrier(cb, stage, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0, nullptr, 0, nullptr);
 }
 
-std::vector<uint8_t> read_image(VkContext& ctx, const Image& image, VkImageLayout layout, uint32_t texel_bytes) {
+std::vector<uint8_t> read_image(VkContext& ctx, const Image& image, VkImageLayout layout,
+                                uint32_t texel_bytes) {
   VkDeviceSize size = VkDeviceSize(image.width) * image.height * image.layers * texel_bytes;
   Buffer staging = create_buffer(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
   try {
     ctx.submit_and_wait([&](VkCommandBuffer cb) {
-      VkAccessFlags written = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+      VkAccessFlags written =
+          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
       VkPipelineStageFlags producers = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
                                        VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
                                        VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT;
       if (layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
-        transition(cb, image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, written, VK_ACCESS_TRANSFER_READ_BIT,
-                   producers, VK_PIPELINE_STAGE_TRANSFER_BIT);
+        transition(cb, image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, written,
+                   VK_ACCESS_TRANSFER_READ_BIT, producers, VK_PIPELINE_STAGE_TRANSFER_BIT);
       VkBufferImageCopy region{};
       region.imageSubresource = {image.aspect, 0, 0, image.layers};
       region.imageExtent = {image.width, image.height, 1};
-      vkCmdCopyImageToBuffer(cb, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, 1, &region);
+      vkCmdCopyImageToBuffer(cb, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, 1,
+                             &region);
       if (layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
         transition(cb, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_ACCESS_TRANSFER_READ_BIT,
-                   VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+                   VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
       barrier_to_host(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
     });
   } catch (...) {

@@ -33,13 +33,13 @@ Buffer upload_buffer(VkContext& ctx, const void* data, VkDeviceSize size, VkBuff
 
 // A descriptor pool holding exactly `sizes`, and one set of `layout` for each of `sets` allocated from it.
 // The pool is returned in `pool` (destroying it frees the sets).
-void allocate_sets(VkContext& ctx, const std::vector<VkDescriptorPoolSize>& sizes, VkDescriptorSetLayout layout,
-                   uint32_t sets, VkDescriptorPool& pool, VkDescriptorSet* out);
+void allocate_sets(VkContext& ctx, const std::vector<VkDescriptorPoolSize>& sizes,
+                   VkDescriptorSetLayout layout, uint32_t sets, VkDescriptorPool& pool, VkDescriptorSet* out);
 
 // layers == 6 with cube = true gives a cube-compatible image (six_pass views its layers one by one, layered
 // techniques view all six as a 2D array, the lighting pass samples it as a cube).
-Image create_image(VkContext& ctx, VkFormat format, uint32_t width, uint32_t height, uint32_t layers, bool cube,
-                   VkImageUsageFlags usage);
+Image create_image(VkContext& ctx, VkFormat format, uint32_t width, uint32_t height, uint32_t layers,
+                   bool cube, VkImageUsageFlags usage);
 void destroy(VkContext& ctx, Image& i);
 VkImageView create_view(VkContext& ctx, const Image& image, VkImageViewType type, uint32_t first_layer,
                         uint32_t layer_count);
@@ -52,7 +52,9 @@ void transition(VkCommandBuffer cb, const Image& image, VkImageLayout from, VkIm
 // Makes writes of `stage` (with `access`) visible to the host once the submission's fence has signalled.
 void barrier_to_host(VkCommandBuffer cb, VkPipelineStageFlags stage, VkAccessFlags access);
 
-// Copies every layer of `image` (in `layout`, left there) into host memory, tightly packed, layer after layer.
-std::vector<uint8_t> read_image(VkContext& ctx, const Image& image, VkImageLayout layout, uint32_t texel_bytes);
+// Copies every layer of `image` (in `layout`, left there) into host memory, tightly packed, layer after
+// layer.
+std::vector<uint8_t> read_image(VkContext& ctx, const Image& image, VkImageLayout layout,
+                                uint32_t texel_bytes);
 
 }  // namespace omnishadow::vk

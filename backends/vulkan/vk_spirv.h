@@ -1,7 +1,7 @@
 #pragma once
-// SPIR-V of the shared GLSL in shaders/, compiled by glslc at build time (cmake/embed_spirv.py; the variants are
-// listed by list_spirv_variants from the C++ tables).
-// Keys: "<file>:<DEFINE>,<DEFINE>" with defines in the order list_spirv_variants gives them.
+// SPIR-V of the shared GLSL in shaders/, compiled by glslc at build time (cmake/embed_spirv.py; the variants
+// are listed by list_spirv_variants from the C++ tables). Keys: "<file>:<DEFINE>,<DEFINE>" with defines in
+// the order list_spirv_variants gives them.
 
 #include <cstdint>
 #include <map>

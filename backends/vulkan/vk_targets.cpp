@@ -22,8 +22,8 @@ VkAttachmentDescription attachment(VkFormat format, VkAttachmentStoreOp store, V
 // One subpass: `colors` colour attachments first, then the depth attachment. The external dependencies order
 // the pass after earlier reads of its images (sampling, copies) and make its writes visible to `consumer`.
 VkRenderPass create_render_pass(VkContext& ctx, const std::vector<VkAttachmentDescription>& attachments,
-                                uint32_t colors, VkPipelineStageFlags consumer_stage, VkAccessFlags consumer_access,
-                                uint32_t view_mask) {
+                                uint32_t colors, VkPipelineStageFlags consumer_stage,
+                                VkAccessFlags consumer_access, uint32_t view_mask) {
   std::vector<VkAttachmentReference> color_refs;
   for (uint32_t i = 0; i < colors; ++i) color_refs.push_back({i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
   VkAttachmentReference depth_ref{colors, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
@@ -84,22 +84,32 @@ VkFramebuffer create_framebuffer(VkContext& ctx, VkRenderPass pass, const std::v
 
 VkFormat depth_format_of(DepthFormat format) {
   switch (format) {
-    case DepthFormat::d16: return VK_FORMAT_D16_UNORM;
-    case DepthFormat::d24: return VK_FORMAT_X8_D24_UNORM_PACK32;
-    case DepthFormat::d32f: return VK_FORMAT_D32_SFLOAT;
+    case DepthFormat::d16:
+      return VK_FORMAT_D16_UNORM;
+    case DepthFormat::d24:
+      return VK_FORMAT_X8_D24_UNORM_PACK32;
+    case DepthFormat::d32f:
+      return VK_FORMAT_D32_SFLOAT;
   }
   return VK_FORMAT_D32_SFLOAT;
 }
 
 VkFormat colour_format_of(ColourFormat format) {
   switch (format) {
-    case ColourFormat::r32f: return VK_FORMAT_R32_SFLOAT;
-    case ColourFormat::rg32f: return VK_FORMAT_R32G32_SFLOAT;
-    case ColourFormat::rg16f: return VK_FORMAT_R16G16_SFLOAT;
-    case ColourFormat::r16f: return VK_FORMAT_R16_SFLOAT;
-    case ColourFormat::rgba32f: return VK_FORMAT_R32G32B32A32_SFLOAT;
-    case ColourFormat::rgba16f: return VK_FORMAT_R16G16B16A16_SFLOAT;
-    case ColourFormat::none: break;
+    case ColourFormat::r32f:
+      return VK_FORMAT_R32_SFLOAT;
+    case ColourFormat::rg32f:
+      return VK_FORMAT_R32G32_SFLOAT;
+    case ColourFormat::rg16f:
+      return VK_FORMAT_R16G16_SFLOAT;
+    case ColourFormat::r16f:
+      return VK_FORMAT_R16_SFLOAT;
+    case ColourFormat::rgba32f:
+      return VK_FORMAT_R32G32B32A32_SFLOAT;
+    case ColourFormat::rgba16f:
+      return VK_FORMAT_R16G16B16A16_SFLOAT;
+    case ColourFormat::none:
+      break;
   }
   return VK_FORMAT_UNDEFINED;
 }
@@ -117,9 +127,10 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
   const bool moments = traits(c.storage).moments != MomentKind::none;
   const VkFormat depth_format = depth_format_of(c.depth_format);
   try {
-    t.depth = create_image(ctx, depth_format, t.size, t.size, layers, cube,
-                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                               (colour_checked ? 0 : VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
+    t.depth =
+        create_image(ctx, depth_format, t.size, t.size, layers, cube,
+                     VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                         (colour_checked ? 0 : VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
     const VkImageUsageFlags storage_usage = moments ? VK_IMAGE_USAGE_STORAGE_BIT : 0;
     if (has_colour)
       t.color = create_image(ctx, colour, t.size, t.size, layers, cube,
@@ -127,20 +138,23 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT | storage_usage);
     if (moments) t.blur = create_image(ctx, colour, t.size, t.size, 6, false, VK_IMAGE_USAGE_STORAGE_BIT);
     // Layouts other than the cube sample their layers as a 2D array (the shader picks the layer).
-    t.sampled_view = create_view(ctx, moments ? t.color : t.stored(),
-                                 traits(c.layout).lookup == LayoutLookup::hardware_cube ? VK_IMAGE_VIEW_TYPE_CUBE
-                                                                                        : VK_IMAGE_VIEW_TYPE_2D_ARRAY,
-                                 0, layers);
+    t.sampled_view =
+        create_view(ctx, moments ? t.color : t.stored(),
+                    traits(c.layout).lookup == LayoutLookup::hardware_cube ? VK_IMAGE_VIEW_TYPE_CUBE
+                                                                           : VK_IMAGE_VIEW_TYPE_2D_ARRAY,
+                    0, layers);
 
-    // The moments stay in GENERAL: the blur reads and writes them as storage images, the lighting pass samples them.
+    // The moments stay in GENERAL: the blur reads and writes them as storage images, the lighting pass
+    // samples them.
     std::vector<VkAttachmentDescription> attachments;
     if (has_colour)
-      attachments.push_back(attachment(colour, VK_ATTACHMENT_STORE_OP_STORE,
-                                       moments ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
-    attachments.push_back(attachment(depth_format,
-                                     colour_checked ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
-                                     colour_checked ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
-                                                    : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+      attachments.push_back(
+          attachment(colour, VK_ATTACHMENT_STORE_OP_STORE,
+                     moments ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+    attachments.push_back(attachment(
+        depth_format, colour_checked ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
+        colour_checked ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+                       : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
     const TechniqueTraits& technique = traits(c.technique);
     const uint32_t view_mask = technique.multiview ? 0b111111u : 0u;
     t.render_pass = create_render_pass(
@@ -150,8 +164,9 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT | (moments ? VK_ACCESS_SHADER_WRITE_BIT : 0),
         view_mask);
 
-    // six_pass: each face a framebuffer of single-layer views. Layered: one framebuffer of 6-layer array views
-    // (layers = 6; gl_Layer picks the face). Multiview: the same views with layers = 1; the view mask routes.
+    // six_pass: each face a framebuffer of single-layer views. Layered: one framebuffer of 6-layer array
+    // views (layers = 6; gl_Layer picks the face). Multiview: the same views with layers = 1; the view mask
+    // routes.
     auto views_for = [&](uint32_t first, uint32_t count) {
       std::vector<VkImageView> views;
       VkImageViewType type = count == 1 ? VK_IMAGE_VIEW_TYPE_2D : VK_IMAGE_VIEW_TYPE_2D_ARRAY;
@@ -196,7 +211,8 @@ MapTargets create_map_targets(VkContext& ctx, uint32_t size, uint32_t layers, De
                                VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
     t.sampled_view = create_view(ctx, t.depth, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, layers);
     t.render_pass = create_render_pass(
-        ctx, {attachment(depth_format, VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)}, 0,
+        ctx,
+        {attachment(depth_format, VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)}, 0,
         VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT, 0);
     for (uint32_t l = 0; l < layers; ++l) {
@@ -224,7 +240,8 @@ LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t
   t.width = width;
   t.height = height;
   try {
-    const VkImageUsageFlags color_usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    const VkImageUsageFlags color_usage =
+        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
     t.color = create_image(ctx, VK_FORMAT_R8G8B8A8_UNORM, width, height, 1, false, color_usage);
     std::vector<const Image*> colors = {&t.color};
     if (check_outputs) {

@@ -17,17 +17,20 @@ struct ShadowTargets {
   Storage storage = Storage::linear_depth;
   uint32_t size = 0;    // a layer's edge: the cube's face, or a layout's own (layer_size in layouts.h)
   uint32_t layers = 6;  // 6 cube-compatible layers, or a layout's own (dual_paraboloid: 2, a plain 2D array)
-  Image depth;  // the depth test's cube; what the checks read unless r32f_distance
-  Image color;  // the colour cube beside it: r32f_distance's distances or the moments (GENERAL after the pass)
-  Image blur;   // moments filters: the blur's intermediate, six layers (GENERAL)
-  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE (2D_ARRAY for the other layouts) view of what the lighting pass samples (the moments for VSM)
+  Image depth;          // the depth test's cube; what the checks read unless r32f_distance
+  Image
+      color;   // the colour cube beside it: r32f_distance's distances or the moments (GENERAL after the pass)
+  Image blur;  // moments filters: the blur's intermediate, six layers (GENERAL)
+  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE (2D_ARRAY for the other layouts) view of what the
+                                              // lighting pass samples (the moments for VSM)
   std::vector<VkImageView> attachment_views;  // owned; referenced by the framebuffers
   VkRenderPass render_pass = VK_NULL_HANDLE;  // multiview pass for Technique::multiview
   std::vector<VkFramebuffer> framebuffers;    // six_pass: one per face (layer); otherwise one, all layers
   const Image& stored() const { return traits(storage).colour_checked ? color : depth; }
 };
 
-// The timed variant has the colour and depth only; the check variant adds the shadow factor and world position.
+// The timed variant has the colour and depth only; the check variant adds the shadow factor and world
+// position.
 struct LightingTargets {
   uint32_t width = 0, height = 0;
   Image color;          // RGBA8
@@ -39,9 +42,9 @@ struct LightingTargets {
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
 };
 
-// Spot/directional lights: a 2D depth array, one layer and framebuffer per light, sampled as one 2D_ARRAY view.
-// `layers` >= 1: a scene without such lights still gets one (1x1) layer, cleared each frame, so the lighting
-// pass's sampler always has an image in SHADER_READ_ONLY_OPTIMAL.
+// Spot/directional lights: a 2D depth array, one layer and framebuffer per light, sampled as one 2D_ARRAY
+// view. `layers` >= 1: a scene without such lights still gets one (1x1) layer, cleared each frame, so the
+// lighting pass's sampler always has an image in SHADER_READ_ONLY_OPTIMAL.
 struct MapTargets {
   uint32_t size = 0, layers = 0;
   Image depth;

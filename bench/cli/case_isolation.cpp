@@ -14,9 +14,8 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
-#include <set>
-
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "bench/cli/commands.h"
 #include "bench/results/file_io.h"
@@ -28,8 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// SIGINT / SIGTERM to the supervisor: passed on to the worker, which stops after the repetition in hand, saves its
-// results and exits 130 / 143, as a run without isolation does.
+// SIGINT / SIGTERM to the supervisor: passed on to the worker, which stops after the repetition in hand,
+// saves its results and exits 130 / 143, as a run without isolation does.
 volatile std::sig_atomic_t g_signal_to_forward = 0;
 extern "C" void forward_later(int signal_number) { g_signal_to_forward = signal_number; }
 
@@ -42,8 +41,8 @@ void pass_on_signal(pid_t worker) {
 
 // What the worker said before it ended (bench/run/case_progress.h).
 struct WorkerState {
-  int total = -1;                // the matrix's case count, skipped ones included
-  std::vector<std::string> ids;  // the cases whose checks it began, in order
+  int total = -1;                           // the matrix's case count, skipped ones included
+  std::vector<std::string> ids;             // the cases whose checks it began, in order
   std::map<std::string, std::string> axes;  // each one's axes (JSON text)
   std::string case_id, step, phase = "checks";
   void apply(const std::string& line) {
@@ -67,8 +66,8 @@ struct WorkerState {
 };
 
 struct WorkerEnd {
-  int exit_code = 0;    // when it exited
-  int signal = 0;       // when a signal ended it
+  int exit_code = 0;  // when it exited
+  int signal = 0;     // when a signal ended it
   bool timed_out = false;
   bool crashed() const { return signal != 0 || timed_out; }
 };
@@ -111,7 +110,8 @@ WorkerEnd watch_worker(pid_t pid, int read_fd, double timeout_s, WorkerState& st
       for (size_t nl; (nl = pending.find('\n')) != std::string::npos; pending.erase(0, nl + 1))
         state.apply(pending.substr(0, nl));
       last_heard = std::chrono::steady_clock::now();
-    } else if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_heard).count() > timeout_s) {
+    } else if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_heard).count() >
+               timeout_s) {
       kill(pid, SIGKILL);  // a hang: it will never answer a polite signal
       end.timed_out = true;
       break;
@@ -129,14 +129,17 @@ json crash_entry(const WorkerState& state, const WorkerEnd& end, double timeout_
   const auto known = state.axes.find(state.case_id);
   json axes = json::parse(known == state.axes.end() ? std::string("{}") : known->second, nullptr, false);
   if (axes.is_discarded()) axes = json::object();
-  const std::string where = "in step " + state.step + (state.phase == "timed" ? " of the timed rounds" : " of the checks");
+  const std::string where =
+      "in step " + state.step + (state.phase == "timed" ? " of the timed rounds" : " of the checks");
   char timeout[64];
   std::snprintf(timeout, sizeof timeout, "%g", timeout_s);
   const std::string what = end.timed_out ? "no progress for " + std::string(timeout) + " s (killed)"
                                          : "the process died by " + signal_name(end.signal);
   json crash = {{"phase", state.phase}, {"step", state.step}};
-  if (end.timed_out) crash["timeout_s"] = timeout_s;
-  else crash["signal"] = signal_name(end.signal);
+  if (end.timed_out)
+    crash["timeout_s"] = timeout_s;
+  else
+    crash["signal"] = signal_name(end.signal);
   return {{"id", state.case_id},
           {"axes", axes},
           {"status", std::string(to_string(Status::crashed))},
@@ -144,8 +147,8 @@ json crash_entry(const WorkerState& state, const WorkerEnd& end, double timeout_
           {"crash", crash}};
 }
 
-// One worker's share of the run: its results file and which of its cases are kept (all, unless it crashed: then
-// the ones before the crash; the crashed case and those after it are another's).
+// One worker's share of the run: its results file and which of its cases are kept (all, unless it crashed:
+// then the ones before the crash; the crashed case and those after it are another's).
 struct Part {
   std::string results;
   std::set<std::string> kept;  // empty with all_kept
@@ -160,8 +163,8 @@ bool benchmark_of(const json& b, const std::set<std::string>& ids) {
   return false;
 }
 
-// Every part's kept cases in matrix order, each crash in its place, into OUT/results.json. `complete`: every case of
-// the matrix has its result (a crashed case's is `crashed`), unless the last worker said otherwise.
+// Every part's kept cases in matrix order, each crash in its place, into OUT/results.json. `complete`: every
+// case of the matrix has its result (a crashed case's is `crashed`), unless the last worker said otherwise.
 void merge_parts(const std::vector<Part>& parts, const std::string& out_dir, bool complete) {
   json merged, cases = json::array(), benchmarks = json::array(), crashes = json::array();
   for (const Part& part : parts) {
@@ -193,7 +196,8 @@ void report_crashes(const std::vector<Part>& parts, const std::string& out_dir) 
   std::cout << text;
   const fs::path summary = fs::path(out_dir) / "summary.md";
   try {
-    write_file_atomic(summary.string(), (fs::exists(summary) ? read_file(summary.string()) : std::string()) + text);
+    write_file_atomic(summary.string(),
+                      (fs::exists(summary) ? read_file(summary.string()) : std::string()) + text);
   } catch (const std::exception& e) {
     print_error(e.what());
   }
@@ -212,16 +216,19 @@ int supervise_run(const IsolationSettings& settings) {
   int skip = 0, exit_code = 0;
   for (;;) {
     int fds[2];
-    if (pipe(fds) != 0) throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
+    if (pipe(fds) != 0)
+      throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
     fcntl(fds[0], F_SETFD, FD_CLOEXEC);
     std::vector<std::string> args = settings.args;
     args.insert(args.end(), {"--worker-skip", std::to_string(skip)});
     Part part;
-    part.results = parts.empty() ? first_results : (parts_dir / (std::to_string(parts.size()) + ".json")).string();
+    part.results =
+        parts.empty() ? first_results : (parts_dir / (std::to_string(parts.size()) + ".json")).string();
     if (!parts.empty()) args.insert(args.end(), {"--worker-results", part.results});
     const pid_t pid = spawn_worker(args, fds[1]);
     close(fds[1]);
-    if (pid < 0) throw std::runtime_error(std::string("cannot start a worker process: ") + std::strerror(errno));
+    if (pid < 0)
+      throw std::runtime_error(std::string("cannot start a worker process: ") + std::strerror(errno));
     WorkerState state;
     const WorkerEnd end = watch_worker(pid, fds[0], settings.case_timeout_s, state);
     close(fds[0]);
@@ -237,11 +244,13 @@ int supervise_run(const IsolationSettings& settings) {
       return 1;
     }
     part.crash = crash_entry(state, end, settings.case_timeout_s);
-    std::fprintf(stderr, "omnishadow: %s %s\n", state.case_id.c_str(), part.crash["reason"].get<std::string>().c_str());
+    std::fprintf(stderr, "omnishadow: %s %s\n", state.case_id.c_str(),
+                 part.crash["reason"].get<std::string>().c_str());
     const auto at = std::find(state.ids.begin(), state.ids.end(), state.case_id);
     part.kept.insert(state.ids.begin(), at);
     skip += int(at - state.ids.begin()) + 1;
-    if (parts.empty() && fs::exists(first_results)) {  // the next worker writes its own part; this one is kept aside
+    if (parts.empty() &&
+        fs::exists(first_results)) {  // the next worker writes its own part; this one is kept aside
       fs::create_directories(parts_dir);
       part.results = (parts_dir / "0.json").string();
       fs::rename(first_results, part.results);
@@ -252,7 +261,8 @@ int supervise_run(const IsolationSettings& settings) {
       break;
     }
   }
-  if (parts.size() == 1 && parts[0].crash.is_null()) return exit_code;  // no crash: the worker's files are the run's
+  if (parts.size() == 1 && parts[0].crash.is_null())
+    return exit_code;  // no crash: the worker's files are the run's
   merge_parts(parts, settings.out_dir, true);
   report_crashes(parts, settings.out_dir);
   std::error_code ec;

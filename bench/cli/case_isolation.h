@@ -1,12 +1,13 @@
 #pragma once
-// A crashing driver costs one case (deqp-runner and piglit run their tests this way). `omnishadow run` supervises:
-// it runs the matrix in a worker process (this binary again, with --worker-* flags), which names on a pipe each case
-// and step before it starts them (bench/run/case_progress.h). When the worker dies by a signal (a driver's SIGSEGV
-// or abort) or says nothing for --case-timeout-s (a hang; then it is killed), the case it was in is recorded
-// `crashed` with the signal or the timeout and the step, and a fresh worker goes on from the next case in matrix
-// order. The first worker writes OUT/results.json as a run without isolation does (each case saved as it
-// finishes); after a crash each part is kept under OUT/.parts/ and at the end they are merged into
-// OUT/results.json: every finished case, the crashed ones in their matrix places. Exit 1 when a case crashed.
+// A crashing driver costs one case (deqp-runner and piglit run their tests this way). `omnishadow run`
+// supervises: it runs the matrix in a worker process (this binary again, with --worker-* flags), which names
+// on a pipe each case and step before it starts them (bench/run/case_progress.h). When the worker dies by a
+// signal (a driver's SIGSEGV or abort) or says nothing for --case-timeout-s (a hang; then it is killed), the
+// case it was in is recorded `crashed` with the signal or the timeout and the step, and a fresh worker goes
+// on from the next case in matrix order. The first worker writes OUT/results.json as a run without isolation
+// does (each case saved as it finishes); after a crash each part is kept under OUT/.parts/ and at the end
+// they are merged into OUT/results.json: every finished case, the crashed ones in their matrix places. Exit 1
+// when a case crashed.
 #include <string>
 #include <vector>
 

@@ -22,7 +22,8 @@ template <typename T, typename Parse, typename Name>
 void list_option(CLI::App& sub, const std::string& flag, std::vector<T>& target, Parse parse, Name name,
                  const std::string& help) {
   sub.add_option_function<std::string>(
-         flag, [&target, parse, flag](const std::string& text) { target = parse_list_with(text, flag, parse); },
+         flag,
+         [&target, parse, flag](const std::string& text) { target = parse_list_with(text, flag, parse); },
          help)
       ->default_str(join(target, name));
 }
@@ -50,7 +51,8 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
          m.scenes_given = true;
        },
        "comma list of scene names (scenes/<name>.json), scene file paths, or model files (.glb, .gltf, .obj: "
-       "floor, light and camera placed by rule, docs/guide.md \"Your own model\"); case ids name a file by its stem")
+       "floor, light and camera placed by rule, docs/guide.md \"Your own model\"); case ids name a file by "
+       "its stem")
       ->default_str(join(m.scenes, text));
   r.add_option_function<std::string>(
        "--cube",
@@ -74,128 +76,164 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
        "comma list: " + valid_values<Technique>() +
            " (default: every technique the backend can do; one asked for by name is reported unsupported)")
       ->default_str(join(m.techniques, named));
-  list_option(r, "--filter", m.filters, [](const std::string& s) { return parse_enum<Filter>(s); }, named,
-              "comma list: " + valid_values<Filter>());
-  list_option(r, "--storage", m.storages, [](const std::string& s) { return parse_enum<Storage>(s); }, named,
-              "comma list: " + valid_values<Storage>());
-  list_option(r, "--depth-format", m.depth_formats, [](const std::string& s) { return parse_enum<DepthFormat>(s); },
-              named, "comma list: " + valid_values<DepthFormat>());
-  list_option(r, "--layout", m.layouts, [](const std::string& s) { return parse_enum<Layout>(s); }, named,
-              "comma list: " + valid_values<Layout>() +
-                  " (how the light's depth is stored and looked up: a cube map, its six faces as a 2D array "
-                  "whose layer the shader picks, or two paraboloids warped per vertex, sized to the cube's memory)");
+  list_option(
+      r, "--filter", m.filters, [](const std::string& s) { return parse_enum<Filter>(s); }, named,
+      "comma list: " + valid_values<Filter>());
+  list_option(
+      r, "--storage", m.storages, [](const std::string& s) { return parse_enum<Storage>(s); }, named,
+      "comma list: " + valid_values<Storage>());
+  list_option(
+      r, "--depth-format", m.depth_formats, [](const std::string& s) { return parse_enum<DepthFormat>(s); },
+      named, "comma list: " + valid_values<DepthFormat>());
+  list_option(
+      r, "--layout", m.layouts, [](const std::string& s) { return parse_enum<Layout>(s); }, named,
+      "comma list: " + valid_values<Layout>() +
+          " (how the light's depth is stored and looked up: a cube map, its six faces as a 2D array "
+          "whose layer the shader picks, or two paraboloids warped per vertex, sized to the cube's memory)");
   r.add_option_function<std::string>(
        "--tessellate",
        [&m](const std::string& t) {
          m.tessellations = parse_int_list(t, "--tessellate");
          for (int n : m.tessellations)
-           if (n > 64) throw std::invalid_argument("--tessellate: " + std::to_string(n) + " is more than 64 a side");
+           if (n > 64)
+             throw std::invalid_argument("--tessellate: " + std::to_string(n) + " is more than 64 a side");
        },
-       "comma list of subdivisions, 1 to 64: every triangle split into n^2 (1 = as loaded; the same surfaces in "
+       "comma list of subdivisions, 1 to 64: every triangle split into n^2 (1 = as loaded; the same surfaces "
+       "in "
        "smaller triangles, for a layout whose warp bends edges: dual_paraboloid)")
       ->default_str(join(m.tessellations, [](int v) { return std::to_string(v); }));
-  list_option(r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
-              [](const Optimizations& o) { return to_string(o); },
-              "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "
-              "cleared only), fit (far plane fitted to the scene), cache (static cube not re-rendered): "
-              "--optimize none,cull measures culling on and off");
-  list_option(r, "--remedy", m.remedies, [](const std::string& s) { return parse_remedies(s); },
-              [](const Remedies& o) { return to_string(o); },
-              "comma list of numerical remedies, each none or a '+' join of rebase (scene loaded relative to its "
-              "light in double precision), bias0, slope_bias (max(0.05 (1 - n.l), 0.005), docs/glossary.md), "
-              "normal_offset (lookup 1.5 texels along the normal), two_sided (casters without back-face culling)");
-  list_option(r, "--moments-tuning", m.moments_tunings,
-              [](const std::string& s) { return parse_moments_tuning(s); },
-              [](const MomentsTuning& t) { return to_string(t); },
-              "comma list of moments-filter tunings, each none or a '+' join of lbr<a> (light-bleeding reduction, "
-              "vsm/evsm/msm), exp<f> (esm/evsm exponent as a fraction of the format's overflow limit; default 0.9), "
-              "floor<s> (vsm variance floor / msm moment bias times s), world (vsm in world units)");
-  list_option(r, "--pcf-scale", m.pcf_scales, parse_pcf_scale, [](float v) { return std::to_string(int(v)); },
-              "comma list of PCF radius scales (0 to 100; 1 = the reference kernels, 0 = one direction)");
+  list_option(
+      r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
+      [](const Optimizations& o) { return to_string(o); },
+      "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "
+      "cleared only), fit (far plane fitted to the scene), cache (static cube not re-rendered): "
+      "--optimize none,cull measures culling on and off");
+  list_option(
+      r, "--remedy", m.remedies, [](const std::string& s) { return parse_remedies(s); },
+      [](const Remedies& o) { return to_string(o); },
+      "comma list of numerical remedies, each none or a '+' join of rebase (scene loaded relative to its "
+      "light in double precision), bias0, slope_bias (max(0.05 (1 - n.l), 0.005), docs/glossary.md), "
+      "normal_offset (lookup 1.5 texels along the normal), two_sided (casters without back-face culling)");
+  list_option(
+      r, "--moments-tuning", m.moments_tunings, [](const std::string& s) { return parse_moments_tuning(s); },
+      [](const MomentsTuning& t) { return to_string(t); },
+      "comma list of moments-filter tunings, each none or a '+' join of lbr<a> (light-bleeding reduction, "
+      "vsm/evsm/msm), exp<f> (esm/evsm exponent as a fraction of the format's overflow limit; default 0.9), "
+      "floor<s> (vsm variance floor / msm moment bias times s), world (vsm in world units)");
+  list_option(
+      r, "--pcf-scale", m.pcf_scales, parse_pcf_scale, [](float v) { return std::to_string(int(v)); },
+      "comma list of PCF radius scales (0 to 100; 1 = the reference kernels, 0 = one direction)");
 }
 
 void add_frame_options(CLI::App& r, RunOptions& o) {
   r.add_option("--out", o.out_dir, "output folder (must not hold a run already); default results/run-<time>");
-  r.add_option("--frames", o.frames, "timed frames per repetition")->capture_default_str()->check(
-      CLI::Range(1, 1000000));
-  r.add_option("--warmup", o.warmup_frames, "untimed warm-up frames per repetition")->capture_default_str()->check(
-      CLI::Range(0, 1000000));
-  r.add_option("--warmup-ms", o.warmup_ms,
-               "untimed warm-up time per repetition as well as frames: the warm-up frames repeat until this long "
-               "(default: 100 on a GPU, whose clock must ramp after each pause; 0 on a CPU driver)")
+  r.add_option("--frames", o.frames, "timed frames per repetition")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  r.add_option("--warmup", o.warmup_frames, "untimed warm-up frames per repetition")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  r.add_option(
+       "--warmup-ms", o.warmup_ms,
+       "untimed warm-up time per repetition as well as frames: the warm-up frames repeat until this long "
+       "(default: 100 on a GPU, whose clock must ramp after each pause; 0 on a CPU driver)")
       ->check(CLI::Range(0.0, 600000.0));
-  r.add_option("--repetition-ms", o.repetition_ms,
-               "a repetition's length in time as well as frames: each case gets as many more timed frames as "
-               "this takes (default: 100 on a GPU, whose sub-millisecond frames vary a lot; 0 on a CPU driver)")
+  r.add_option(
+       "--repetition-ms", o.repetition_ms,
+       "a repetition's length in time as well as frames: each case gets as many more timed frames as "
+       "this takes (default: 100 on a GPU, whose sub-millisecond frames vary a lot; 0 on a CPU driver)")
       ->check(CLI::Range(0.0, 600000.0));
-  r.add_option("--settle-s", o.settle_s,
-               "before a backend's first timed repetition, render until the device clock is steady, at most this "
-               "many seconds (0: don't)")
-      ->capture_default_str()->check(CLI::Range(0.0, 600.0));
-  r.add_flag("--lock-clocks", o.lock_clocks,
-             "lock the GPU's graphics clock for the run (NVIDIA, through NVML, where this process may: usually "
-             "root), restored when the run ends or is stopped; anywhere else a one-line refusal (exit 2)");
+  r.add_option(
+       "--settle-s", o.settle_s,
+       "before a backend's first timed repetition, render until the device clock is steady, at most this "
+       "many seconds (0: don't)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 600.0));
+  r.add_flag(
+      "--lock-clocks", o.lock_clocks,
+      "lock the GPU's graphics clock for the run (NVIDIA, through NVML, where this process may: usually "
+      "root), restored when the run ends or is stopped; anywhere else a one-line refusal (exit 2)");
   r.add_option("--check-frame", o.check_frame, "frame index whose images are written and compared")
-      ->capture_default_str()->check(CLI::Range(0, 100000000));
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000000));
   r.add_flag("--stability", o.stability,
              "also render the check frame + 1 and report how much of the shadow factor changed (flicker)");
 }
 
 void add_check_options(CLI::App& r, RunOptions& o) {
   r.add_option("--face-tolerance", o.face_tolerance, "allowed |difference| of cube texels, world units")
-      ->capture_default_str()->check(CLI::Range(0.0, 1e30));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e30));
   r.add_option("--lit-tolerance", o.lit_tolerance, "allowed |difference| of lit pixels, 8-bit levels")
-      ->capture_default_str()->check(CLI::Range(0.0, 255.0));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 255.0));
   r.add_option("--cross-lit-tolerance", o.cross_lit_tolerance,
                "across backends: allowed |difference| of lit pixels, 8-bit levels")
-      ->capture_default_str()->check(CLI::Range(0.0, 255.0));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 255.0));
   r.add_option("--cross-shadow-tolerance", o.cross_shadow_tolerance,
                "across backends: allowed |difference| of shadow factors")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  r.add_option("--cross-max-percent", o.cross_max_percent, "across backends: % of values allowed beyond those tolerances")
-      ->capture_default_str()->check(CLI::Range(0.0, 100.0));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  r.add_option("--cross-max-percent", o.cross_max_percent,
+               "across backends: % of values allowed beyond those tolerances")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 100.0));
   r.add_option("--light-radius", o.truth.light_radius,
                "radius of the spherical light of the soft reference, world units (0: point light only)")
-      ->capture_default_str()->check(CLI::Range(0.0f, 1e6f));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 1e6f));
   r.add_option("--light-samples", o.truth.samples_per_axis,
                "stratified samples per axis on that light (8 = 64 rays per pixel)")
-      ->capture_default_str()->check(CLI::Range(1, 64));
-  r.add_option("--sphere-stride", o.truth.sphere_stride,
-               "cast the soft reference at every Nth pixel in x and y (0: every pixel up to 800x600 pixels, above "
-               "that the stride that brings it under; mae_sphere/psnr_sphere are means over those pixels)")
-      ->capture_default_str()->check(CLI::Range(0, 64));
-  r.add_option("--max-error", o.max_error_percent,
-               "fail a case (failed_quality, error in the reason) whose shadow disagrees with exact visibility on "
-               "more than this % of pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  r.add_option(
+       "--sphere-stride", o.truth.sphere_stride,
+       "cast the soft reference at every Nth pixel in x and y (0: every pixel up to 800x600 pixels, above "
+       "that the stride that brings it under; mae_sphere/psnr_sphere are means over those pixels)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 64));
+  r.add_option(
+       "--max-error", o.max_error_percent,
+       "fail a case (failed_quality, error in the reason) whose shadow disagrees with exact visibility on "
+       "more than this % of pixels")
       ->check(CLI::Range(0.0, 100.0));
 }
 
 // Repetitions run in rounds (bench/run/repetition_policy.h); the fixed count stays Google Benchmark's flag
 // --benchmark_repetitions=N, read in finish_run_options.
 void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
-  r.add_option("--precision", p.precision_percent,
-               "repeat each case (in rounds, interleaved with the others) until the 95% confidence interval of its "
-               "median per-repetition frame time is within +-P% (at least 6 repetitions; at most "
-               "--max-repetitions)")
+  r.add_option(
+       "--precision", p.precision_percent,
+       "repeat each case (in rounds, interleaved with the others) until the 95% confidence interval of its "
+       "median per-repetition frame time is within +-P% (at least 6 repetitions; at most "
+       "--max-repetitions)")
       ->check(CLI::Range(0.01, 100.0));
   r.add_option_function<std::string>(
        "--precision-metric", [&p](const std::string& m) { p.metric = m; },
-       "what --precision judges: wall (frame wall time), cpu (process CPU time per frame; compare --metric cpu) "
-       "or gpu (timer-query time of the shadow and lighting passes per frame; compare --metric gpu; a repetition "
+       "what --precision judges: wall (frame wall time), cpu (process CPU time per frame; compare --metric "
+       "cpu) "
+       "or gpu (timer-query time of the shadow and lighting passes per frame; compare --metric gpu; a "
+       "repetition "
        "whose GPU timer failed its check adds no sample)")
-      ->check(CLI::IsMember({"wall", "cpu", "gpu"}))->default_str("wall");
+      ->check(CLI::IsMember({"wall", "cpu", "gpu"}))
+      ->default_str("wall");
   r.add_option("--max-repetitions", p.max_repetitions, "the cap on repetitions per case under --precision")
-      ->capture_default_str()->check(CLI::Range(1, 100000));
-  r.add_option("--sustain", p.sustain_seconds,
-               "loop the matrix in rounds for this many seconds and report each case's worst repetition against "
-               "its best (stability %; clocks recorded per repetition)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  r.add_option(
+       "--sustain", p.sustain_seconds,
+       "loop the matrix in rounds for this many seconds and report each case's worst repetition against "
+       "its best (stability %; clocks recorded per repetition)")
       ->check(CLI::Range(1.0, 7.0 * 24 * 3600));
 }
 
 }  // namespace
 
 std::map<std::string, std::string> CommonOptions::backend_options() const {
-  return {{"egl_platform", egl_platform}, {"gl_device", gl_device}, {"vk_device", vk_device},
+  return {{"egl_platform", egl_platform},
+          {"gl_device", gl_device},
+          {"vk_device", vk_device},
           {"api_checks", api_checks ? "1" : "0"}};
 }
 
@@ -203,15 +241,18 @@ void add_common_options(CLI::App& sub, CommonOptions& o) {
   sub.add_option("--scenes-dir", o.scenes_dir, "folder holding <scene>.json files")->capture_default_str();
   sub.add_option("--egl-platform", o.egl_platform, "surfaceless (Mesa) or device (EGL_EXT_platform_device)")
       ->capture_default_str();
-  sub.add_option("--gl-device", o.gl_device, "EGL device index with --egl-platform device")->capture_default_str();
+  sub.add_option("--gl-device", o.gl_device, "EGL device index with --egl-platform device")
+      ->capture_default_str();
   sub.add_option("--vk-device", o.vk_device, "Vulkan device: index or part of its name (default: device 0)");
-  sub.add_flag("--api-checks", o.api_checks,
-               "checking mode: GL debug context / Vulkan validation layer; any API error or validation message "
-               "fails its case (slower: not for timing)");
+  sub.add_flag(
+      "--api-checks", o.api_checks,
+      "checking mode: GL debug context / Vulkan validation layer; any API error or validation message "
+      "fails its case (slower: not for timing)");
 }
 
 // "X,Y,Z" or "X,Y,Z,A,B,C": world units, finite, below 1e30 like a scene file's numbers.
-std::vector<double> parse_placement(const std::string& text, const std::string& option, const char* expected) {
+std::vector<double> parse_placement(const std::string& text, const std::string& option,
+                                    const char* expected) {
   std::vector<double> v;
   size_t start = 0;
   while (start <= text.size()) {
@@ -232,7 +273,8 @@ std::vector<double> parse_placement(const std::string& text, const std::string& 
     start = end + 1;
   }
   if (v.size() != 3 && v.size() != 6)
-    throw std::invalid_argument(option + ": expected " + expected + ", got " + std::to_string(v.size()) + " numbers");
+    throw std::invalid_argument(option + ": expected " + expected + ", got " + std::to_string(v.size()) +
+                                " numbers");
   return v;
 }
 
@@ -247,8 +289,10 @@ void add_placement_options(CLI::App& r, RunOptions& o) {
         o.light = l;
         o.light_text = t;
       },
-      "the point light at X,Y,Z (world units) in every scene of the run, standing still; with AX,AY,AZ it sways, "
-      "position = X,Y,Z + A sin(0.5 t). A model's light planes are fitted to it, a scene file's stay (docs/guide.md "
+      "the point light at X,Y,Z (world units) in every scene of the run, standing still; with AX,AY,AZ it "
+      "sways, "
+      "position = X,Y,Z + A sin(0.5 t). A model's light planes are fitted to it, a scene file's stay "
+      "(docs/guide.md "
       "\"Your own model\")");
   r.add_option_function<std::string>(
       "--camera",
@@ -260,36 +304,46 @@ void add_placement_options(CLI::App& r, RunOptions& o) {
         o.camera = c;
         o.camera_text = t;
       },
-      "the camera at X,Y,Z looking at TX,TY,TZ (default: the scene's target; a model's centre) in every scene");
+      "the camera at X,Y,Z looking at TX,TY,TZ (default: the scene's target; a model's centre) in every "
+      "scene");
 }
 
-// A crashing or hanging driver costs one case (bench/cli/case_isolation.h), and the test-only faults that show it.
+// A crashing or hanging driver costs one case (bench/cli/case_isolation.h), and the test-only faults that
+// show it.
 static void add_isolation_options(CLI::App& r, RunCommand& run) {
   r.add_option_function<std::string>(
        "--isolation",
        [&run](const std::string& v) {
-         if (v != "process" && v != "none") throw std::invalid_argument("--isolation: '" + v + "' is not process or none");
+         if (v != "process" && v != "none")
+           throw std::invalid_argument("--isolation: '" + v + "' is not process or none");
          run.isolate = v == "process";
        },
-       "process: the matrix runs in a worker process; a case that kills it (a driver's SIGSEGV or abort) or hangs "
-       "is recorded crashed and a fresh worker goes on from the next case. none: one process, the first crash "
+       "process: the matrix runs in a worker process; a case that kills it (a driver's SIGSEGV or abort) or "
+       "hangs "
+       "is recorded crashed and a fresh worker goes on from the next case. none: one process, the first "
+       "crash "
        "ends the run")
       ->default_str("process");
-  r.add_option("--case-timeout-s", run.case_timeout_s,
-               "a worker that makes no progress (no new case, step or timed repetition) for this long is killed and "
-               "its case recorded crashed")
-      ->capture_default_str()->check(CLI::Range(1.0, 86400.0));
+  r.add_option(
+       "--case-timeout-s", run.case_timeout_s,
+       "a worker that makes no progress (no new case, step or timed repetition) for this long is killed and "
+       "its case recorded crashed")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 86400.0));
   r.add_option("--inject-crash", run.harness.inject_crash,
                "tests of the isolation only: SIGSEGV in the cases whose id matches this regex (--inject-in)");
-  r.add_option("--inject-hang", run.harness.inject_hang,
-               "tests of the isolation only: the cases whose id matches this regex never finish (--inject-in)");
+  r.add_option(
+      "--inject-hang", run.harness.inject_hang,
+      "tests of the isolation only: the cases whose id matches this regex never finish (--inject-in)");
   r.add_option_function<std::string>(
        "--inject-in",
        [&run](const std::string& v) {
-         if (v != "checks" && v != "timed") throw std::invalid_argument("--inject-in: '" + v + "' is not checks or timed");
+         if (v != "checks" && v != "timed")
+           throw std::invalid_argument("--inject-in: '" + v + "' is not checks or timed");
          run.harness.inject_in_timed = v == "timed";
        },
-       "where --inject-crash and --inject-hang strike: the check frame (checks) or a timed repetition (timed)")
+       "where --inject-crash and --inject-hang strike: the check frame (checks) or a timed repetition "
+       "(timed)")
       ->default_str("checks");
   // The supervisor's arguments to its workers (not for users: hidden from --help).
   r.add_option("--worker-skip", run.worker_skip)->group("");
@@ -323,44 +377,59 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
          if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
            throw std::invalid_argument("--inject-fragment-work: a value is given twice");
        },
-       "sensitivity experiments only: N extra dependent ALU steps per lighting fragment; a comma list makes it an "
+       "sensitivity experiments only: N extra dependent ALU steps per lighting fragment; a comma list makes "
+       "it an "
        "axis (case ids end in /inj<N>)")
       ->default_str("0");
   r.add_option("--replicas", run.matrix.replicas,
-               "sensitivity experiments only: measure K copies of every case in the same rounds (ids end in /rep<k>): "
+               "sensitivity experiments only: measure K copies of every case in the same rounds (ids end in "
+               "/rep<k>): "
                "a same-run A/A test of the timing noise")
-      ->capture_default_str()->check(CLI::Range(1, 16));
-  r.add_option("--raster-perturb", run.matrix.raster_perturb_steps,
-               "tests of the checks only: move every shadow- and map-pass vertex by up to STEPS of the device's "
-               "sub-pixel steps (deterministic per world position), as another conformant rasteriser may snap")
-      ->capture_default_str()->check(CLI::Range(0.0, 4.0));
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
+  r.add_option(
+       "--raster-perturb", run.matrix.raster_perturb_steps,
+       "tests of the checks only: move every shadow- and map-pass vertex by up to STEPS of the device's "
+       "sub-pixel steps (deterministic per world position), as another conformant rasteriser may snap")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 4.0));
   r.add_flag("--emulate-nv-swizzle", run.matrix.emulate_nv_swizzle,
-             "tests only: nv_swizzle without its NV extensions (an ordinary GS applies each face's swizzle): proves its "
+             "tests only: nv_swizzle without its NV extensions (an ordinary GS applies each face's swizzle): "
+             "proves its "
              "vertex stage, viewport mask, culling and reversed depth on any device; ids end in /emulated");
-  r.add_option("--lookup-perturb", run.matrix.lookup_perturb_texels,
-               "tests of the checks only: move every cube lookup of the lighting pass by TEXELS along each of the "
-               "face's two axes, as a sampler with coarser sub-texel precision may (the lookup check's bound)")
-      ->capture_default_str()->check(CLI::Range(0.0, 4.0));
+  r.add_option(
+       "--lookup-perturb", run.matrix.lookup_perturb_texels,
+       "tests of the checks only: move every cube lookup of the lighting pass by TEXELS along each of the "
+       "face's two axes, as a sampler with coarser sub-texel precision may (the lookup check's bound)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 4.0));
   r.add_flag("--no-accuracy", flags.no_accuracy, "skip the shadow error against the ray-cast reference");
-  r.add_option("--memory-budget", run.harness.memory_budget,
-               "plan as if the device had BYTES (1G, 512M, ...; on CPU drivers: host memory): a case that would not "
-               "fit fails as resource_error before it allocates")
+  r.add_option(
+       "--memory-budget", run.harness.memory_budget,
+       "plan as if the device had BYTES (1G, 512M, ...; on CPU drivers: host memory): a case that would not "
+       "fit fails as resource_error before it allocates")
       ->transform(CLI::AsSizeValue(false));
   r.add_flag("--no-memory-precheck", flags.no_memory_precheck,
              "allocate even when a case is predicted not to fit (tests the driver's own out-of-memory path)");
-  r.add_option("--images", flags.images,
-               "image files: failed (every case's PNGs; float buffers and diffs of cases that failed a check), "
-               "all (every file for every case), none")
-      ->capture_default_str()->check(CLI::IsMember({"failed", "all", "none"}));
+  r.add_option(
+       "--images", flags.images,
+       "image files: failed (every case's PNGs; float buffers and diffs of cases that failed a check), "
+       "all (every file for every case), none")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"failed", "all", "none"}));
   r.add_flag("--no-images", flags.no_images, "the same as --images none");
-  r.add_option("--cube-read-back", flags.cube_read_back,
-               "how much of each cube comes back to the host for the checks: auto (in full up to 1024 a face edge "
-               "or with --images all; above, the GPU's face hashes and check grid, in full only where hashes differ "
-               "from six_pass's), full, sampled")
-      ->capture_default_str()->check(CLI::IsMember({"auto", "full", "sampled"}));
+  r.add_option(
+       "--cube-read-back", flags.cube_read_back,
+       "how much of each cube comes back to the host for the checks: auto (in full up to 1024 a face edge "
+       "or with --images all; above, the GPU's face hashes and check grid, in full only where hashes differ "
+       "from six_pass's), full, sampled")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "full", "sampled"}));
   r.add_flag("--check", run.check, "exit 1 if any case failed or failed a check");
-  r.add_option("--shard", flags.shard, "i/N: run the i-th of N deterministic slices of the matrix (0-based); auto: from the CI engine's "
-               "variables (GitLab parallel, Slurm arrays, Kubernetes indexed jobs, OMNISHADOW_SHARD_INDEX/COUNT)");
+  r.add_option(
+      "--shard", flags.shard,
+      "i/N: run the i-th of N deterministic slices of the matrix (0-based); auto: from the CI engine's "
+      "variables (GitLab parallel, Slurm arrays, Kubernetes indexed jobs, OMNISHADOW_SHARD_INDEX/COUNT)");
   add_repetition_options(r, run.repetitions);
 }
 
@@ -379,7 +448,8 @@ void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOpti
   }
   for (const std::string& a : run.benchmark_args) {
     if (a.rfind("--benchmark_out", 0) == 0)
-      throw std::invalid_argument(a + ": omnishadow writes results.json itself; choose the folder with --out");
+      throw std::invalid_argument(a +
+                                  ": omnishadow writes results.json itself; choose the folder with --out");
     if (a.rfind("--benchmark_repetitions=", 0) == 0) {
       const std::string value = a.substr(24);
       size_t used = 0;
@@ -389,13 +459,15 @@ void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOpti
       } catch (const std::exception&) {
       }
       if (used != value.size() || n < 1 || n > 100000)
-        throw std::invalid_argument("--benchmark_repetitions: expected a count from 1 to 100000, got '" + value + "'");
+        throw std::invalid_argument("--benchmark_repetitions: expected a count from 1 to 100000, got '" +
+                                    value + "'");
       run.repetitions.repetitions = n;
     }
   }
   if (run.repetitions.precision_percent > 0.0 && run.repetitions.sustain_seconds > 0.0)
-    throw std::invalid_argument("--precision and --sustain: choose one (sustain loops for a time, precision until "
-                                "the interval is narrow enough)");
+    throw std::invalid_argument(
+        "--precision and --sustain: choose one (sustain loops for a time, precision until "
+        "the interval is narrow enough)");
   using Policy = RunOptions::ImagePolicy;
   run.harness.images = flags.no_images || flags.images == "none" ? Policy::none
                        : flags.images == "all"                   ? Policy::all
@@ -414,23 +486,29 @@ void add_compare_options(CLI::App& cmp, CompareOptions& compare, CompareFlags& f
   cmp.add_option("base", flags.base_run, "baseline run folder or results.json")->required();
   cmp.add_option("new", flags.new_run, "new run folder or results.json")->required();
   cmp.add_option("--alpha", compare.alpha, "family-wise significance level (Holm-corrected)")
-      ->capture_default_str()->check(CLI::Range(1e-9, 0.5));
+      ->capture_default_str()
+      ->check(CLI::Range(1e-9, 0.5));
   cmp.add_option("--min-effect", compare.min_effect, "smallest relative time change reported (0.05 = 5%)")
-      ->capture_default_str()->check(CLI::Range(0.0, 10.0));
-  cmp.add_option("--metric", compare.metric,
-                 "time to test: wall (frame wall time), cpu (process CPU time per frame, all threads: the work "
-                 "itself on CPU drivers, less disturbed by other load) or gpu (shadow + lighting pass GPU time per "
-                 "frame from timer queries, repetitions whose timer passed its sanity check: what a GPU spends, "
-                 "without the CPU's submission noise)")
-      ->capture_default_str()->check(CLI::IsMember({"wall", "cpu", "gpu"}));
-  cmp.add_option("--gate", flags.gate,
-                 "take --metric, --alpha and --min-effect from this gate file (results/baselines/<key>/gate.json, "
-                 "written by scripts/experiments/sensitivity.py --write-gate); overrides those options");
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
+  cmp.add_option(
+         "--metric", compare.metric,
+         "time to test: wall (frame wall time), cpu (process CPU time per frame, all threads: the work "
+         "itself on CPU drivers, less disturbed by other load) or gpu (shadow + lighting pass GPU time per "
+         "frame from timer queries, repetitions whose timer passed its sanity check: what a GPU spends, "
+         "without the CPU's submission noise)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"wall", "cpu", "gpu"}));
+  cmp.add_option(
+      "--gate", flags.gate,
+      "take --metric, --alpha and --min-effect from this gate file (results/baselines/<key>/gate.json, "
+      "written by scripts/experiments/sensitivity.py --write-gate); overrides those options");
   cmp.add_option("--out", compare.out_dir, "folder for summary.md and diffs/ (default NEW/compare)");
   cmp.add_flag("--no-timing", flags.no_timing, "compare work counters and images only");
   cmp.add_flag("--timing-report-only", flags.timing_report_only,
                "report timing verdicts but fail (exit 1) on work and image changes only");
-  cmp.add_flag("--allow-device-mismatch", compare.allow_device_mismatch, "compare runs from different devices anyway");
+  cmp.add_flag("--allow-device-mismatch", compare.allow_device_mismatch,
+               "compare runs from different devices anyway");
 }
 
 }  // namespace omnishadow::bench

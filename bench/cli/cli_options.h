@@ -1,9 +1,9 @@
 #pragma once
 // The command line, declared once: each option is bound straight to the structure that uses it (MatrixSpec,
-// RunOptions, RunCommand, CompareOptions), with that structure's default as its default. main() only dispatches.
+// RunOptions, RunCommand, CompareOptions), with that structure's default as its default. main() only
+// dispatches.
 
 #include <CLI/CLI.hpp>
-
 #include <map>
 #include <string>
 #include <vector>
@@ -35,7 +35,8 @@ struct RunFlags {
   std::string shard;
 };
 void add_run_options(CLI::App& sub, RunCommand& run, RunFlags& flags);
-// Applies the flags and checks what CLI11 cannot (shard syntax, --benchmark_out); throws std::invalid_argument.
+// Applies the flags and checks what CLI11 cannot (shard syntax, --benchmark_out); throws
+// std::invalid_argument.
 void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOptions& common);
 
 struct CompareFlags {

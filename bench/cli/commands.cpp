@@ -1,7 +1,6 @@
 #include "bench/cli/commands.h"
 
 #include <benchmark/benchmark.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,22 +8,22 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <set>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <regex>
+#include <set>
 
 #include "backends/vulkan/vk_context.h"
 #include "bench/cli/case_isolation.h"
-#include "bench/run/case_progress.h"
-#include "bench/run/case_runner.h"
 #include "bench/results/file_io.h"
-#include "bench/run/gbench_glue.h"
 #include "bench/results/results_reader.h"
 #include "bench/results/results_writer.h"
 #include "bench/results/summary_table.h"
+#include "bench/run/case_progress.h"
+#include "bench/run/case_runner.h"
+#include "bench/run/gbench_glue.h"
 #include "bench/run/memory_budget.h"
 
 namespace omnishadow::bench {
@@ -96,7 +95,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 // The default matrix asks every backend for every technique; one that a backend cannot do at all (GL and
 // multiview here) is left out of that backend's cases, with one line saying so, instead of a line per case.
-std::vector<CaseConfig> drop_techniques_a_backend_cannot_do(const std::vector<CaseConfig>& cases, Harness& harness) {
+std::vector<CaseConfig> drop_techniques_a_backend_cannot_do(const std::vector<CaseConfig>& cases,
+                                                            Harness& harness) {
   std::map<std::pair<std::string, Technique>, Support> verdicts;
   std::vector<CaseConfig> kept;
   for (const CaseConfig& c : cases) {
@@ -117,8 +117,8 @@ std::vector<CaseConfig> drop_techniques_a_backend_cannot_do(const std::vector<Ca
   return kept;
 }
 
-// --cube not given: the GPU default, or MatrixSpec::kCpuDriverCubeSizes where every backend of the run renders on
-// the CPU (said in one line).
+// --cube not given: the GPU default, or MatrixSpec::kCpuDriverCubeSizes where every backend of the run
+// renders on the CPU (said in one line).
 std::vector<int> default_cube_sizes(const MatrixSpec& asked, Harness& harness) {
   auto on_cpu = [&](const std::string& name) { return harness.backend(name).device().shares_host_memory; };
   if (asked.cube_sizes == MatrixSpec::kCpuDriverCubeSizes ||
@@ -132,8 +132,10 @@ std::vector<int> default_cube_sizes(const MatrixSpec& asked, Harness& harness) {
   std::string renderers;
   for (const std::string& name : asked.backends)
     renderers += (renderers.empty() ? "" : ", ") + harness.backend(name).device().renderer;
-  std::fprintf(stderr, "omnishadow: cube %s only: --cube not given and %s renders on the CPU (--cube %s for the GPU "
-               "default)\n", joined(MatrixSpec::kCpuDriverCubeSizes).c_str(), renderers.c_str(),
+  std::fprintf(stderr,
+               "omnishadow: cube %s only: --cube not given and %s renders on the CPU (--cube %s for the GPU "
+               "default)\n",
+               joined(MatrixSpec::kCpuDriverCubeSizes).c_str(), renderers.c_str(),
                joined(asked.cube_sizes).c_str());
   return MatrixSpec::kCpuDriverCubeSizes;
 }
@@ -154,7 +156,8 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
         scene_sizes[name] = {s.camera.width, s.camera.height};
       } catch (const scene::SceneError& e) {
         if (cmd.matrix.scenes_given) throw;
-        std::fprintf(stderr, "omnishadow: scene %s left out (not asked for by name): %s\n", name.c_str(), e.what());
+        std::fprintf(stderr, "omnishadow: scene %s left out (not asked for by name): %s\n", name.c_str(),
+                     e.what());
         continue;
       }
     }
@@ -167,26 +170,29 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
     for (int size : cmd.matrix.cube_sizes)
       if (size > b.device().max_cube_size)
         throw std::invalid_argument("--cube " + std::to_string(size) + " is above the largest cube map " +
-                                    b.device().renderer + " supports (" + std::to_string(b.device().max_cube_size) +
-                                    ")");
-    int max_2d = std::stoi(b.device().extra.count("max_2d_size") ? b.device().extra.at("max_2d_size") : "16384");
+                                    b.device().renderer + " supports (" +
+                                    std::to_string(b.device().max_cube_size) + ")");
+    int max_2d =
+        std::stoi(b.device().extra.count("max_2d_size") ? b.device().extra.at("max_2d_size") : "16384");
     for (const auto& [w, h] : cmd.matrix.frame_sizes)
       if (w > max_2d || h > max_2d)
         throw std::invalid_argument("--frame " + std::to_string(w) + "x" + std::to_string(h) +
-                                    " is above the largest render target " + b.device().renderer + " supports (" +
-                                    std::to_string(max_2d) + ")");
+                                    " is above the largest render target " + b.device().renderer +
+                                    " supports (" + std::to_string(max_2d) + ")");
   }
   if (!cmd.matrix.cube_sizes_given) matrix.cube_sizes = default_cube_sizes(cmd.matrix, harness);
   std::vector<CaseConfig> cases = expand(matrix, scene_sizes);
   if (!cmd.matrix.techniques_given) cases = drop_techniques_a_backend_cannot_do(cases, harness);
   cases = shard(cases, cmd.shard_index, cmd.shard_count);
   cases = apply_benchmark_filter(cases, cmd.benchmark_args);
-  if (cases.empty()) throw std::invalid_argument("the matrix (after --shard and --benchmark_filter) is empty");
+  if (cases.empty())
+    throw std::invalid_argument("the matrix (after --shard and --benchmark_filter) is empty");
   prepare_out_dir(harness.options().out_dir);
   return cases;
 }
 
-// One run in progress: its results so far, saved atomically after every step so that nothing measured is lost.
+// One run in progress: its results so far, saved atomically after every step so that nothing measured is
+// lost.
 struct RunState {
   RunInfo info;
   std::vector<CaseResult> results;
@@ -215,7 +221,8 @@ void run_untimed(Harness& harness, const std::vector<CaseConfig>& cases, RunStat
   for (size_t i = 0; i < cases.size() && !run.stopped(); ++i) {
     CaseResult& r = run.results[i];
     r.config = cases[i];
-    send_progress(harness.options().progress_fd, "case " + cases[i].id() + "\t" + axes_to_json(cases[i]).dump());
+    send_progress(harness.options().progress_fd,
+                  "case " + cases[i].id() + "\t" + axes_to_json(cases[i]).dump());
     harness.prepare(r);
     run.prepared = i + 1;
     double elapsed = seconds_since(start);
@@ -240,13 +247,13 @@ void run_untimed(Harness& harness, const std::vector<CaseConfig>& cases, RunStat
   run.save(nullptr, false);
 }
 
-// Google Benchmark takes its own flags; ours are gone by now. Returns false (after the error line) on a flag it
-// does not know. It keeps pointers into its argv (the executable's name in the JSON context): `gb_args` must
-// outlive the run.
-bool init_benchmark(const RunCommand& cmd, const RunInfo& info,
-                    std::vector<std::string>& gb_args) {
+// Google Benchmark takes its own flags; ours are gone by now. Returns false (after the error line) on a flag
+// it does not know. It keeps pointers into its argv (the executable's name in the JSON context): `gb_args`
+// must outlive the run.
+bool init_benchmark(const RunCommand& cmd, const RunInfo& info, std::vector<std::string>& gb_args) {
   gb_args = {"omnishadow"};
-  // The repetitions are the policy's (rounds), not Google Benchmark's; its JSON is written from the rounds' runs.
+  // The repetitions are the policy's (rounds), not Google Benchmark's; its JSON is written from the rounds'
+  // runs.
   for (const std::string& a : cmd.benchmark_args)
     if (a.rfind("--benchmark_repetitions=", 0) != 0) gb_args.push_back(a);
   std::vector<char*> gb_argv;
@@ -311,14 +318,16 @@ int run_command(const RunCommand& cmd) {
   run.info.repetitions = cmd.repetitions;
   run.info.shard_index = cmd.shard_index;
   run.info.shard_count = cmd.shard_count;
-  run.results_path = cmd.worker_results.empty() ? (fs::path(options.out_dir) / "results.json").string()
-                                                 : cmd.worker_results;
+  run.results_path =
+      cmd.worker_results.empty() ? (fs::path(options.out_dir) / "results.json").string() : cmd.worker_results;
   std::vector<CaseConfig> cases;
   try {
     cases = validate_request(cmd, harness, run.info);
     // A worker after a crash: the cases before the crashed one, and that one, are done.
     send_progress(options.progress_fd, "cases " + std::to_string(cases.size()));
-    if (cmd.worker_skip > 0) cases.erase(cases.begin(), cases.begin() + std::min<ptrdiff_t>(cmd.worker_skip, ptrdiff_t(cases.size())));
+    if (cmd.worker_skip > 0)
+      cases.erase(cases.begin(),
+                  cases.begin() + std::min<ptrdiff_t>(cmd.worker_skip, ptrdiff_t(cases.size())));
     if (options.lock_clocks) {
       std::set<std::string> locked;
       for (const CaseConfig& c : cases)
@@ -349,8 +358,9 @@ int run_command(const RunCommand& cmd) {
   auto timed_start = std::chrono::steady_clock::now();
   try {
     run.info.repetitions.compared_cases = compared_cases(run.results);
-    run_timed(harness, run.results, run.info.repetitions, raw_path, [&] { run.save(nullptr, false); },
-              [&] { return run.stopped(); });
+    run_timed(
+        harness, run.results, run.info.repetitions, raw_path, [&] { run.save(nullptr, false); },
+        [&] { return run.stopped(); });
   } catch (const std::exception& e) {
     print_error(std::string("writing Google Benchmark's output: ") + e.what());
   }
@@ -384,7 +394,8 @@ int report_command(const std::string& run, const std::vector<std::string>& histo
   const std::string script = project_path("scripts/analysis/report.py");
   std::error_code ec;
   if (!fs::exists(python, ec) || !fs::exists(script, ec)) {
-    print_error("report needs " + python + " and " + script + " (scripts/setup.sh installs Python's packages)");
+    print_error("report needs " + python + " and " + script +
+                " (scripts/setup.sh installs Python's packages)");
     return 2;
   }
   std::vector<std::string> args = {python, script, run};
@@ -415,7 +426,7 @@ int list_command(const std::string& scenes_dir, const std::map<std::string, std:
       const DeviceInfo& d = harness.backend(name).device();
       std::cout << "  " << name << ": " << d.renderer << " | " << d.version << " | " << d.platform
                 << " | max cube " << d.max_cube_size << " | "
-                << (d.shares_host_memory ? std::string("host memory (CPU driver)")
+                << (d.shares_host_memory    ? std::string("host memory (CPU driver)")
                     : d.device_memory_bytes ? format_bytes(d.device_memory_bytes) + " device memory"
                                             : std::string("device memory unknown"))
                 << "\n";
@@ -427,8 +438,8 @@ int list_command(const std::string& scenes_dir, const std::map<std::string, std:
   try {
     std::cout << "vulkan devices (--vk-device):\n";
     for (const auto& d : vk::VkContext::list_devices())
-      std::cout << "  " << d.index << ": " << d.name << " | " << d.type << " | Vulkan " << d.api_version << " | "
-                << d.driver << "\n";
+      std::cout << "  " << d.index << ": " << d.name << " | " << d.type << " | Vulkan " << d.api_version
+                << " | " << d.driver << "\n";
   } catch (const std::exception& e) {
     std::cout << "  none: " << e.what() << "\n";
   }
@@ -441,8 +452,8 @@ int list_command(const std::string& scenes_dir, const std::map<std::string, std:
   for (const fs::path& f : files) {
     try {
       const scene::Scene& s = harness.scene(f.stem().string());
-      std::cout << "  " << f.stem().string() << ": " << s.triangle_count() << " triangles, " << s.objects.size()
-                << " objects, frame " << s.camera.width << "x" << s.camera.height << "\n";
+      std::cout << "  " << f.stem().string() << ": " << s.triangle_count() << " triangles, "
+                << s.objects.size() << " objects, frame " << s.camera.width << "x" << s.camera.height << "\n";
     } catch (const std::exception& e) {
       std::cout << "  " << f.stem().string() << ": invalid: " << e.what() << "\n";
     }

@@ -21,17 +21,18 @@ std::string project_path(const std::string& relative);
 // only the command uses.
 struct RunCommand {
   MatrixSpec matrix;
-  RunOptions harness;          // out_dir empty: results/run-<time>
-  bool check = false;          // exit 1 if any case failed or failed its checks
+  RunOptions harness;  // out_dir empty: results/run-<time>
+  bool check = false;  // exit 1 if any case failed or failed its checks
   int shard_index = 0;
   int shard_count = 1;
   RepetitionPolicy repetitions;  // --benchmark_repetitions, --precision, --max-repetitions, --sustain
   std::vector<std::string> benchmark_args;  // --benchmark_* flags, passed to Google Benchmark
-  std::string command_line;   // as given, less the worker's own arguments
+  std::string command_line;                 // as given, less the worker's own arguments
   std::vector<std::string> args;  // every argument after the program's name ("run", then the options)
-  // Crash isolation (bench/cli/case_isolation.h): on by default (--isolation process); a case making no progress
-  // for case_timeout_s is a hang. A worker process has worker_skip >= 0: it skips that many cases of the matrix,
-  // names its cases and steps on worker_progress_fd, and writes its results to worker_results (empty: OUT's).
+  // Crash isolation (bench/cli/case_isolation.h): on by default (--isolation process); a case making no
+  // progress for case_timeout_s is a hang. A worker process has worker_skip >= 0: it skips that many cases of
+  // the matrix, names its cases and steps on worker_progress_fd, and writes its results to worker_results
+  // (empty: OUT's).
   bool isolate = true;
   double case_timeout_s = 300.0;
   int worker_skip = -1;
@@ -42,8 +43,9 @@ struct RunCommand {
 int run_command(const RunCommand& cmd);
 int list_command(const std::string& scenes_dir, const std::map<std::string, std::string>& backend_options);
 
-// `report RUN [--history ...] [--out FILE]`: scripts/analysis/report.py (the HTML page is written with matplotlib, in Python),
-// run with Debian's /usr/bin/python3 in place of this process. Exit 2 when either is missing.
+// `report RUN [--history ...] [--out FILE]`: scripts/analysis/report.py (the HTML page is written with
+// matplotlib, in Python), run with Debian's /usr/bin/python3 in place of this process. Exit 2 when either is
+// missing.
 int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out);
 
 // One line on stderr, "omnishadow: error: ...".

@@ -3,7 +3,6 @@
 // The options are declared in bench/cli/cli_options.cpp; this file only splits the arguments and dispatches.
 
 #include <CLI/CLI.hpp>
-
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -71,16 +70,19 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   CommonOptions common;
   common.scenes_dir = project_path("scenes");
-  CLI::App* list = app.add_subcommand("list", "backends, scenes, techniques, filters and what this machine supports");
+  CLI::App* list =
+      app.add_subcommand("list", "backends, scenes, techniques, filters and what this machine supports");
   add_common_options(*list, common);
   RunFlags run_flags;
-  CLI::App* r = app.add_subcommand("run", "run a benchmark matrix (Google Benchmark --benchmark_* flags apply)");
+  CLI::App* r =
+      app.add_subcommand("run", "run a benchmark matrix (Google Benchmark --benchmark_* flags apply)");
   add_common_options(*r, common);
   add_run_options(*r, run, run_flags);
   CompareOptions compare;
   CompareFlags compare_flags;
-  add_compare_options(*app.add_subcommand("compare", "compare two runs: timing (U-test), work counters, images"),
-                      compare, compare_flags);
+  add_compare_options(
+      *app.add_subcommand("compare", "compare two runs: timing (U-test), work counters, images"), compare,
+      compare_flags);
   std::string merge_out, key_run;
   std::vector<std::string> merge_inputs;
   CLI::App* mrg = app.add_subcommand("merge", "join the results of --shard runs into one run");
@@ -90,9 +92,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> report_history;
   CLI::App* rep = app.add_subcommand("report", "one self-contained HTML page of a run (and its history)");
   rep->add_option("run", report_run, "run folder")->required();
-  rep->add_option("--history", report_history, "run folders (or folders of runs) of the same device, any order");
+  rep->add_option("--history", report_history,
+                  "run folders (or folders of runs) of the same device, any order");
   rep->add_option("--out", report_out, "the HTML file (default RUN/report.html)");
-  CLI::App* key = app.add_subcommand("device-key", "print the device key of each backend of a run (baselines/)");
+  CLI::App* key =
+      app.add_subcommand("device-key", "print the device key of each backend of a run (baselines/)");
   key->add_option("run", key_run, "run folder or results.json")->required();
 
   try {

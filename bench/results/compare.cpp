@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "bench/results/file_io.h"
-#include "bench/truth/image_compare.h"
 #include "bench/results/image_io.h"
 #include "bench/results/results_writer.h"
 #include "bench/results/statistics.h"
+#include "bench/truth/image_compare.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -29,8 +29,10 @@ std::string slug(std::string s) {
   std::string out;
   for (char c : s) {
     c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.') out += c;
-    else if (!out.empty() && out.back() != '-') out += '-';
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.')
+      out += c;
+    else if (!out.empty() && out.back() != '-')
+      out += '-';
   }
   while (!out.empty() && out.back() == '-') out.pop_back();
   return out;
@@ -43,7 +45,8 @@ void compare_counters(const json& base, const json& fresh, CaseComparison& out) 
     if (!b.value("valid", false) || !n.value("valid", false)) continue;
     for (const auto& [field, value] : b.items()) {
       if (field == "valid" || !n.contains(field) || n[field] == value) continue;
-      out.work_changes.push_back(std::string(pass) + " " + field + " " + value.dump() + " -> " + n[field].dump());
+      out.work_changes.push_back(std::string(pass) + " " + field + " " + value.dump() + " -> " +
+                                 n[field].dump());
     }
   }
 }
@@ -56,8 +59,8 @@ std::string file_digest(const std::string& path) {
 }
 
 // One image role of a case: identical bytes pass at once; otherwise decode, measure and draw a diff.
-void compare_image(const RunData& base, const RunData& fresh, const json& bc, const json& nc, const std::string& role,
-                   const fs::path& diff_dir, CaseComparison& out) {
+void compare_image(const RunData& base, const RunData& fresh, const json& bc, const json& nc,
+                   const std::string& role, const fs::path& diff_dir, CaseComparison& out) {
   if (!bc.contains("images") || !nc.contains("images") || !bc["images"].contains(role) ||
       !nc["images"].contains(role))
     return;
@@ -110,7 +113,8 @@ void compare_image(const RunData& base, const RunData& fresh, const json& bc, co
   if (d.differing == 0) return;  // encodings differ, pixels do not
   fs::create_directories(diff_dir);
   std::string diff = (diff_dir / ("diff_" + role + ".png")).string();
-  write_png_rgb_top_down(diff, w, h, diff_image_rgb(a, b, grey, w, h, 0.0, bp.ends_with(".pfm") ? 1.0 : 64.0, flip));
+  write_png_rgb_top_down(diff, w, h,
+                         diff_image_rgb(a, b, grey, w, h, 0.0, bp.ends_with(".pfm") ? 1.0 : 64.0, flip));
   out.image_changes.push_back(role + ": " + fmt("%.4g", d.percent_differing()) + "% of values differ (max " +
                               fmt("%.4g", d.max_abs) + "), diff " + diff);
 }
@@ -124,7 +128,8 @@ std::map<std::string, std::string> device_keys(const RunData& run) {
   if (threads.rfind("unset", 0) == 0) threads = "unset";
   if (o.contains("devices") && o["devices"].is_object())
     for (const auto& [backend, d] : o["devices"].items())
-      keys[backend] = slug(backend + "-" + d.value("renderer", "") + "-" + d.value("version", "") + "-lp-" + threads);
+      keys[backend] =
+          slug(backend + "-" + d.value("renderer", "") + "-" + d.value("version", "") + "-lp-" + threads);
   return keys;
 }
 
@@ -132,7 +137,8 @@ static double median_clock(const RunData& run) {
   std::vector<double> clocks;
   for (const auto& [id, c] : run.cases) {
     const json* state = c->contains("device_state") ? &(*c)["device_state"] : nullptr;
-    if (!state || !state->is_object() || !state->contains("samples") || !(*state)["samples"].is_array()) continue;
+    if (!state || !state->is_object() || !state->contains("samples") || !(*state)["samples"].is_array())
+      continue;
     for (const json& s : (*state)["samples"])
       if (s.is_object() && s.contains("clock_mhz") && s["clock_mhz"].is_number())
         clocks.push_back(s["clock_mhz"].get<double>());
@@ -148,7 +154,9 @@ std::string Comparison::clock_note() const {
 
 namespace {
 
-std::string status_of(const nlohmann::json& c) { return c.contains("status") && c["status"].is_string() ? c["status"].get<std::string>() : "?"; }
+std::string status_of(const nlohmann::json& c) {
+  return c.contains("status") && c["status"].is_string() ? c["status"].get<std::string>() : "?";
+}
 
 const std::map<std::string, std::vector<double>>& samples_of(const RunData& run, const std::string& metric) {
   if (metric == "cpu") return run.cpu_samples;
@@ -158,11 +166,13 @@ const std::map<std::string, std::vector<double>>& samples_of(const RunData& run,
 
 std::string metric_words(const std::string& metric) {
   if (metric == "cpu") return "process CPU time";
-  if (metric == "gpu") return "GPU time (shadow + lighting passes, timer queries; repetitions whose timer passed its check)";
+  if (metric == "gpu")
+    return "GPU time (shadow + lighting passes, timer queries; repetitions whose timer passed its check)";
   return "wall time";
 }
 
-// Cases ok in the base that are not ok in the new run, or not there at all (an incomplete run was interrupted).
+// Cases ok in the base that are not ok in the new run, or not there at all (an incomplete run was
+// interrupted).
 std::vector<std::string> status_regressions(const RunData& base, const RunData& fresh) {
   const json& o = fresh.doc["omnishadow"];
   const bool complete = !o.contains("complete") || !o["complete"].is_boolean() || o["complete"].get<bool>();
@@ -180,7 +190,8 @@ std::vector<std::string> status_regressions(const RunData& base, const RunData& 
     const std::string now = status_of(*it->second);
     if (now == "ok") continue;
     const json& nc = *it->second;
-    const std::string reason = nc.contains("reason") && nc["reason"].is_string() ? nc["reason"].get<std::string>() : "";
+    const std::string reason =
+        nc.contains("reason") && nc["reason"].is_string() ? nc["reason"].get<std::string>() : "";
     out.push_back(id + ": ok -> " + now + (reason.empty() ? "" : " (" + reason + ")"));
   }
   return out;
@@ -207,7 +218,8 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
   for (const auto& [id, _] : fresh.cases)
     if (!base.cases.count(id)) c.only_in_new.push_back(id);
 
-  const fs::path out_dir = options.out_dir.empty() ? fs::path(fresh.dir) / "compare" : fs::path(options.out_dir);
+  const fs::path out_dir =
+      options.out_dir.empty() ? fs::path(fresh.dir) / "compare" : fs::path(options.out_dir);
   std::vector<double> p_values;
   for (const auto& [id, bc] : base.cases) {
     auto it = fresh.cases.find(id);
@@ -226,10 +238,12 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
       cc.new_ms = median(ns->second);
       cc.change = cc.base_ms > 0 ? cc.new_ms / cc.base_ms - 1.0 : 0.0;
       cc.p = mann_whitney_p(bs->second, ns->second);
-    } else if (options.timing && options.metric == "gpu" && base.samples.count(id) && fresh.samples.count(id)) {
+    } else if (options.timing && options.metric == "gpu" && base.samples.count(id) &&
+               fresh.samples.count(id)) {
       cc.verdict = "no GPU time";  // timed, but no repetition's GPU timer passed its check in one of the runs
     }
-    if (bc->contains("counters") && nc.contains("counters")) compare_counters((*bc)["counters"], nc["counters"], cc);
+    if (bc->contains("counters") && nc.contains("counters"))
+      compare_counters((*bc)["counters"], nc["counters"], cc);
     for (const char* role : {"lit", "shadow_factor", "cube_faces"})
       compare_image(base, fresh, *bc, nc, role, out_dir / "diffs" / id, cc);
     c.cases.push_back(cc);
@@ -243,9 +257,12 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
     cc.p_adjusted = adjusted[k++];
     cc.resolvable = can_resolve(cc.base_n, cc.new_n, p_values.size(), options.alpha);
     bool significant = cc.p_adjusted < options.alpha;
-    if (significant && cc.change > options.min_effect) cc.verdict = "regression";
-    else if (significant && cc.change < -options.min_effect) cc.verdict = "improvement";
-    else cc.verdict = "no change";
+    if (significant && cc.change > options.min_effect)
+      cc.verdict = "regression";
+    else if (significant && cc.change < -options.min_effect)
+      cc.verdict = "improvement";
+    else
+      cc.verdict = "no change";
   }
   return c;
 }
@@ -259,8 +276,9 @@ std::string Comparison::resolution_note(const CompareOptions& options) const {
   }
   if (blind == 0) return "";
   return std::to_string(blind) + " of " + std::to_string(timed) + " timed cases cannot be flagged at alpha " +
-         fmt("%g", options.alpha) + " whatever their change: too few repetitions (over " + std::to_string(timed) +
-         " cases the U test needs " + std::to_string(fewest_resolving_repetitions(timed, options.alpha)) +
+         fmt("%g", options.alpha) + " whatever their change: too few repetitions (over " +
+         std::to_string(timed) + " cases the U test needs " +
+         std::to_string(fewest_resolving_repetitions(timed, options.alpha)) +
          " a side; run more, or --precision, whose minimum allows for this)";
 }
 
@@ -270,7 +288,8 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
   if (c.cases.empty()) s << "no case in common: the two runs compare nothing (different matrices?)\n";
   size_t width = 10;
   for (const auto& cc : c.cases) width = std::max(width, cc.id.size());
-  s << std::string(width, ' ').replace(0, 4, "case") << "   base ms    new ms   change   p (Holm)  n     verdict\n";
+  s << std::string(width, ' ').replace(0, 4, "case")
+    << "   base ms    new ms   change   p (Holm)  n     verdict\n";
   for (const auto& cc : c.cases) {
     std::string id = cc.id + std::string(width - cc.id.size(), ' ');
     if (cc.base_n && cc.new_n)
@@ -301,13 +320,15 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
 std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
   std::ostringstream s;
   const std::string blind = c.resolution_note(o);
-  s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << metric_words(o.metric) << " per frame, Holm-corrected (alpha " << o.alpha
-    << "), minimum effect " << 100 * o.min_effect << "%. Work counters compared exactly; images by checksum, "
+  s << "# omnishadow compare\n\nMann-Whitney U over repetitions of " << metric_words(o.metric)
+    << " per frame, Holm-corrected (alpha " << o.alpha << "), minimum effect " << 100 * o.min_effect
+    << "%. Work counters compared exactly; images by checksum, "
     << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".")
     << (blind.empty() ? "" : " **" + blind + ".**") << "\n\n";
   if (!c.status_regressions.empty()) {
     s << "**Status regressions** (ok in the base, not in the new run):\n\n";
-    for (const auto& line : c.status_regressions) s << "- `" << line.substr(0, line.find(':')) << "`" << line.substr(line.find(':')) << "\n";
+    for (const auto& line : c.status_regressions)
+      s << "- `" << line.substr(0, line.find(':')) << "`" << line.substr(line.find(':')) << "\n";
     s << "\n";
   }
   if (c.cases.empty()) s << "**No case in common: the two runs compare nothing.**\n\n";
@@ -347,11 +368,16 @@ nlohmann::json comparison_json(const Comparison& c, const CompareOptions& o) {
                      {"resolvable", cc.resolvable},
                      {"work_changes", cc.work_changes},
                      {"image_changes", cc.image_changes}});
-  return {{"alpha", o.alpha},           {"min_effect", o.min_effect},       {"cases", cases},
-          {"status_regressions", c.status_regressions}, {"failed", c.failed(o)},
+  return {{"alpha", o.alpha},
+          {"min_effect", o.min_effect},
+          {"cases", cases},
+          {"status_regressions", c.status_regressions},
+          {"failed", c.failed(o)},
           {"metric", o.metric},
-          {"only_in_base", c.only_in_base}, {"only_in_new", c.only_in_new},
-          {"base_devices", c.base_devices}, {"new_devices", c.new_devices}};
+          {"only_in_base", c.only_in_base},
+          {"only_in_new", c.only_in_new},
+          {"base_devices", c.base_devices},
+          {"new_devices", c.new_devices}};
 }
 
 void apply_gate_file(const std::string& path, CompareOptions& options) {
@@ -366,18 +392,20 @@ void apply_gate_file(const std::string& path, CompareOptions& options) {
       throw CompareError("gate file " + path + ": field '" + field + "' missing or not a number");
     const double v = gate[field].get<double>();
     if (v < low || v > high)
-      throw CompareError("gate file " + path + ": field '" + field + "' out of range [" + std::to_string(low) + ", " +
-                         std::to_string(high) + "]");
+      throw CompareError("gate file " + path + ": field '" + field + "' out of range [" +
+                         std::to_string(low) + ", " + std::to_string(high) + "]");
     return v;
   };
   options.alpha = number("alpha", 1e-9, 0.5);
   options.min_effect = number("min_effect", 0.0, 10.0);
-  options.metric = gate.contains("metric") && gate["metric"].is_string() ? gate["metric"].get<std::string>() : "wall";
+  options.metric =
+      gate.contains("metric") && gate["metric"].is_string() ? gate["metric"].get<std::string>() : "wall";
   if (options.metric != "wall" && options.metric != "cpu" && options.metric != "gpu")
     throw CompareError("gate file " + path + ": field 'metric' must be wall, cpu or gpu");
 }
 
-int compare_command(const std::string& base_path, const std::string& new_path, const CompareOptions& options) {
+int compare_command(const std::string& base_path, const std::string& new_path,
+                    const CompareOptions& options) {
   RunData base = load_run(base_path), fresh = load_run(new_path);
   Comparison c = compare_runs(base, fresh, options);
   if (c.base_devices != c.new_devices && !options.allow_device_mismatch) {

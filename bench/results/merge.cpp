@@ -27,8 +27,8 @@ void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs
     if (const json& o = run.doc["omnishadow"]; o.contains("shard") && o["shard"].is_object()) {
       const int index = o["shard"].value("index", 0), count = o["shard"].value("count", 1);
       if (shard_count && count != shard_count)
-        throw CompareError("merge: " + run.file + " is a shard of " + std::to_string(count) + ", the others of " +
-                           std::to_string(shard_count));
+        throw CompareError("merge: " + run.file + " is a shard of " + std::to_string(count) +
+                           ", the others of " + std::to_string(shard_count));
       shard_count = count;
       if (!shards.insert(index).second)
         throw CompareError("merge: shard " + std::to_string(index) + " is given twice (" + run.file + ")");
@@ -36,7 +36,8 @@ void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs
     for (const auto& [backend, key] : device_keys(run)) {
       auto [it, inserted] = keys.emplace(backend, key);
       if (!inserted && it->second != key)
-        throw CompareError("merge: backend " + backend + " ran on different devices: " + it->second + " and " + key);
+        throw CompareError("merge: backend " + backend + " ran on different devices: " + it->second +
+                           " and " + key);
     }
     // Image paths were relative to the shard's folder; make them relative to the merged one.
     std::string prefix = fs::relative(fs::absolute(run.dir), fs::absolute(out_dir)).string();
@@ -45,7 +46,8 @@ void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs
       std::string id = c["id"];
       if (!ids.insert(id).second) throw CompareError("merge: case " + id + " is in more than one run");
       if (c.contains("images"))
-        for (auto& [role, rel] : c["images"].items()) rel = (fs::path(prefix) / rel.get<std::string>()).string();
+        for (auto& [role, rel] : c["images"].items())
+          rel = (fs::path(prefix) / rel.get<std::string>()).string();
     }
     complete = complete && run.doc["omnishadow"].value("complete", false);
     if (merged.is_null()) {
@@ -61,8 +63,8 @@ void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs
     }
     merged["omnishadow"]["merged_from"].push_back(run.file);
   }
-  // A missing shard's cases are simply absent: the merged run is incomplete, and says which shards it lacks, so that
-  // compare fails on the cases the baseline has and this run does not.
+  // A missing shard's cases are simply absent: the merged run is incomplete, and says which shards it lacks,
+  // so that compare fails on the cases the baseline has and this run does not.
   json missing = json::array();
   for (int i = 0; i < shard_count; ++i)
     if (!shards.count(i)) missing.push_back(i);

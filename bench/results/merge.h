@@ -1,6 +1,6 @@
 #pragma once
-// `omnishadow merge OUT RUN...`: joins the results of shards (`run --shard i/N`) into one results.json in OUT,
-// with image paths rewritten relative to OUT, so that compare works on the merged run.
+// `omnishadow merge OUT RUN...`: joins the results of shards (`run --shard i/N`) into one results.json in
+// OUT, with image paths rewritten relative to OUT, so that compare works on the merged run.
 
 #include <string>
 #include <vector>

@@ -38,8 +38,9 @@ class Shape {
     auto it = parent.find(key);
     if (it == parent.end()) return;
     bool ok = type == json::value_t::number_float ? it->is_number() || it->is_null() : it->type() == type;
-    if (!ok) fail(where + "/" + key, "expected " + std::string(json(type).type_name()) + ", found " +
-                                         std::string(it->type_name()));
+    if (!ok)
+      fail(where + "/" + key,
+           "expected " + std::string(json(type).type_name()) + ", found " + std::string(it->type_name()));
   }
 
  private:
@@ -62,7 +63,8 @@ void check_case(const Shape& shape, const json& c, const std::string& where, std
   auto id = c.find("id");
   if (id == c.end() || !id->is_string() || id->get_ref<const std::string&>().empty())
     shape.fail(where + "/id", "every case needs a non-empty string id");
-  if (!ids.insert(id->get<std::string>()).second) shape.fail(where + "/id", "case " + id->dump() + " appears twice");
+  if (!ids.insert(id->get<std::string>()).second)
+    shape.fail(where + "/id", "case " + id->dump() + " appears twice");
   shape.optional(c, where, "status", json::value_t::string);
   shape.optional(c, where, "reason", json::value_t::string);
   if (c.contains("counters")) check_counters(shape, c["counters"], where + "/counters");
@@ -99,8 +101,10 @@ json parse_gbench_json(const std::string& text) {
     char ch = text[i];
     if (in_string) {
       out += ch;
-      if (ch == '\\' && i + 1 < text.size()) out += text[++i];
-      else if (ch == '"') in_string = false;
+      if (ch == '\\' && i + 1 < text.size())
+        out += text[++i];
+      else if (ch == '"')
+        in_string = false;
       continue;
     }
     if (ch == '"') {
@@ -134,14 +138,16 @@ RunData parse_run(const std::string& text, const std::string& file, const std::s
   } catch (const json::parse_error& e) {
     throw CompareError(file + ": not valid JSON (truncated or corrupt) at byte " + std::to_string(e.byte));
   } catch (const json::exception& e) {  // out_of_range 406: a number beyond double ("1e400")
-    throw CompareError(file + ": not valid JSON: " + std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
+    throw CompareError(
+        file + ": not valid JSON: " + std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
   }
   const json& doc = run.doc;
   auto section = doc.is_object() ? doc.find("omnishadow") : doc.end();
   if (!doc.is_object() || section == doc.end() || !section->is_object() || !section->contains("format") ||
       (*section)["format"] != "omnishadow-results/1")
-    throw CompareError(file + ": not an omnishadow results file (no \"omnishadow\" section of format "
-                              "omnishadow-results/1)");
+    throw CompareError(file +
+                       ": not an omnishadow results file (no \"omnishadow\" section of format "
+                       "omnishadow-results/1)");
   const json& o = *section;
   shape.optional(o, "/omnishadow", "complete", json::value_t::boolean);
   if (o.contains("system")) {
@@ -180,10 +186,12 @@ RunData parse_run(const std::string& text, const std::string& file, const std::s
           shape.fail("/benchmarks/" + std::to_string(i) + "/frame_cpu_ms", "not a finite, non-negative time");
         run.cpu_samples[id].push_back(cpu);
       }
-      if (b.value("gpu_timer_reliable", 0.0) == 1.0 && b.contains("shadow_gpu_ms") && b.contains("lighting_gpu_ms")) {
+      if (b.value("gpu_timer_reliable", 0.0) == 1.0 && b.contains("shadow_gpu_ms") &&
+          b.contains("lighting_gpu_ms")) {
         double gpu = b["shadow_gpu_ms"].get<double>() + b["lighting_gpu_ms"].get<double>();
         if (!std::isfinite(gpu) || gpu < 0)
-          shape.fail("/benchmarks/" + std::to_string(i) + "/shadow_gpu_ms", "not a finite, non-negative time");
+          shape.fail("/benchmarks/" + std::to_string(i) + "/shadow_gpu_ms",
+                     "not a finite, non-negative time");
         run.gpu_samples[id].push_back(gpu);
       }
     }

@@ -4,9 +4,8 @@
 #include <set>
 
 #include "backends/common/storage_filter_tables.h"
-#include "bench/run/memory_budget.h"
-
 #include "bench/results/file_io.h"
+#include "bench/run/memory_budget.h"
 #include "bench/run/repetition_policy.h"
 #include "bench/run/system_info.h"
 
@@ -25,11 +24,12 @@ json counters_to_json(const PassCounters& c) {
 json summary_to_json(const std::vector<double>& values) {
   Summary s = summarize(values);
   if (s.count == 0) return nullptr;
-  return json{{"median", s.median}, {"mean", s.mean}, {"min", s.min},  {"max", s.max},
+  return json{{"median", s.median}, {"mean", s.mean}, {"min", s.min},       {"max", s.max},
               {"p90", s.p90},       {"p99", s.p99},   {"stddev", s.stddev}, {"count", s.count}};
 }
 
-json pass_timing_to_json(const std::vector<FrameTiming>& frames, PassTiming FrameTiming::*pass, bool gpu_reliable) {
+json pass_timing_to_json(const std::vector<FrameTiming>& frames, PassTiming FrameTiming::*pass,
+                         bool gpu_reliable) {
   std::vector<double> wall, submit, gpu;
   for (const FrameTiming& f : frames) {
     wall.push_back((f.*pass).cpu_wall_ms);
@@ -45,30 +45,36 @@ json pass_timing_to_json(const std::vector<FrameTiming>& frames, PassTiming Fram
 }  // namespace
 
 json device_to_json(const DeviceInfo& d) {
-  json j{{"api", d.api},          {"vendor", d.vendor},     {"renderer", d.renderer},
-         {"version", d.version},  {"platform", d.platform}, {"max_cube_size", d.max_cube_size},
-         {"subpixel_bits", d.subpixel_bits},      {"subtexel_bits", d.subtexel_bits},
-         {"device_memory_bytes", d.device_memory_bytes}, {"shares_host_memory", d.shares_host_memory}};
+  json j{{"api", d.api},
+         {"vendor", d.vendor},
+         {"renderer", d.renderer},
+         {"version", d.version},
+         {"platform", d.platform},
+         {"max_cube_size", d.max_cube_size},
+         {"subpixel_bits", d.subpixel_bits},
+         {"subtexel_bits", d.subtexel_bits},
+         {"device_memory_bytes", d.device_memory_bytes},
+         {"shares_host_memory", d.shares_host_memory}};
   for (const auto& [k, v] : d.extra) j["extra"][k] = v;
   return j;
 }
 
 json axes_to_json(const CaseConfig& c) {
   json axes = {{"backend", c.backend},
-          {"scene", c.scene},
-          {"cube_size", c.cube_size},
-          {"width", c.width},
-          {"height", c.height},
-          {"technique", to_string(c.technique)},
-          {"filter", to_string(c.filter)},
-          {"storage", to_string(c.storage)},
-          {"depth_format", to_string(c.depth_format)},
-          {"layout", to_string(c.layout)},
-          {"tessellation", c.tessellation},
-          {"optimizations", to_string(c.optimizations)},
-          {"remedies", to_string(c.remedies)},
-          {"moments_tuning", to_string(c.moments)},
-          {"pcf_scale", c.pcf_scale}};
+               {"scene", c.scene},
+               {"cube_size", c.cube_size},
+               {"width", c.width},
+               {"height", c.height},
+               {"technique", to_string(c.technique)},
+               {"filter", to_string(c.filter)},
+               {"storage", to_string(c.storage)},
+               {"depth_format", to_string(c.depth_format)},
+               {"layout", to_string(c.layout)},
+               {"tessellation", c.tessellation},
+               {"optimizations", to_string(c.optimizations)},
+               {"remedies", to_string(c.remedies)},
+               {"moments_tuning", to_string(c.moments)},
+               {"pcf_scale", c.pcf_scale}};
   if (!c.experiment.empty()) {  // only in sensitivity experiments (bench/run/matrix.h experiment axes)
     axes["experiment"] = c.experiment;
     axes["injected_fragment_work"] = c.injected_work;
@@ -84,7 +90,8 @@ namespace {
 json scene_loads_json(const std::vector<SceneLoad>& loads) {
   json a = json::array();
   for (const SceneLoad& l : loads)
-    a.push_back({{"scene", l.name}, {"source", l.source}, {"triangles", l.triangles}, {"seconds", l.seconds}});
+    a.push_back(
+        {{"scene", l.name}, {"source", l.source}, {"triangles", l.triangles}, {"seconds", l.seconds}});
   return a;
 }
 
@@ -114,8 +121,11 @@ json checks_to_json(const std::vector<CheckResult>& checks) {
 
 // What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
 json plan_to_json(const CaseResult& r) {
-  json j = {{"object_face_pairs", r.object_face_pairs}, {"empty_faces", r.empty_faces}, {"light_far", r.light_far},
-            {"storage_bytes", shadow_storage_bytes(r.config)}, {"texels", shadow_texels(r.config)}};
+  json j = {{"object_face_pairs", r.object_face_pairs},
+            {"empty_faces", r.empty_faces},
+            {"light_far", r.light_far},
+            {"storage_bytes", shadow_storage_bytes(r.config)},
+            {"texels", shadow_texels(r.config)}};
   if (traits(r.config.storage).checked == DistanceEncoding::linear_depth) {
     // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
     const int bits = r.config.depth_format == DepthFormat::d16 ? 16 : 24;
@@ -126,7 +136,8 @@ json plan_to_json(const CaseResult& r) {
 
 json accuracy_to_json(const Accuracy& a) {
   auto db = [](double v) { return v < 0 ? json(nullptr) : json(v); };  // null: identical to the reference
-  json j = {{"reference", "exact visibility by ray casting the scene's triangles (BVH) from the GPU's world positions"},
+  json j = {{"reference",
+             "exact visibility by ray casting the scene's triangles (BVH) from the GPU's world positions"},
             {"pixels", a.pixels},
             {"misclassified_percent", a.misclassified_percent},
             {"false_shadow_percent", a.false_shadow_percent},
@@ -144,12 +155,13 @@ json accuracy_to_json(const Accuracy& a) {
   std::vector<double> radii;
   for (float r : kFitRadii) radii.push_back(radius(r));
   if (a.fit_radius >= 0)
-    j["radius_fit"] = {{"radii", radii},
-                       {"mae", a.fit_mae},
-                       {"best_radius", radius(a.fit_radius)},
-                       {"best_mae", a.fit_mae_best},
-                       {"sampling", "every " + std::to_string(fit_stride_for(a.sphere_stride)) + "th pixel in x and y, " +
-                                        std::to_string(kFitSamplesPerAxis * kFitSamplesPerAxis) + " rays per radius"}};
+    j["radius_fit"] = {
+        {"radii", radii},
+        {"mae", a.fit_mae},
+        {"best_radius", radius(a.fit_radius)},
+        {"best_mae", a.fit_mae_best},
+        {"sampling", "every " + std::to_string(fit_stride_for(a.sphere_stride)) + "th pixel in x and y, " +
+                         std::to_string(kFitSamplesPerAxis * kFitSamplesPerAxis) + " rays per radius"}};
   return j;
 }
 
@@ -174,20 +186,25 @@ json floor_to_json(const CaseResult& r) {
   return j;
 }
 
-// The per-repetition frame times, how sure their median is, and how stable they were (bench/run/repetition_policy.h).
+// The per-repetition frame times, how sure their median is, and how stable they were
+// (bench/run/repetition_policy.h).
 json repetitions_to_json(const CaseResult& r) {
   MedianInterval ci = median_interval(r.precision_samples());
   json interval = nullptr;
   if (ci.defined)
-    interval = {{"metric", "frame_" + (r.precision_metric == "wall" ? std::string() : r.precision_metric + "_") + "ms"},
-                {"median_ms", ci.median},     {"low_ms", ci.low},
-                {"high_ms", ci.high},         {"coverage", ci.coverage},
+    interval = {{"metric",
+                 "frame_" + (r.precision_metric == "wall" ? std::string() : r.precision_metric + "_") + "ms"},
+                {"median_ms", ci.median},
+                {"low_ms", ci.low},
+                {"high_ms", ci.high},
+                {"coverage", ci.coverage},
                 {"half_width_percent", ci.half_width_percent}};
   return {{"frame_ms", r.repetition_frame_ms},
           {"frame_cpu_ms", r.repetition_cpu_ms},
           {"frame_gpu_ms", r.repetition_gpu_ms},  // only repetitions whose GPU timer passed its check
           {"ended_by", r.repetitions_ended_by},
-          {"precision_target_percent", r.precision_target_percent > 0 ? json(r.precision_target_percent) : json(nullptr)},
+          {"precision_target_percent",
+           r.precision_target_percent > 0 ? json(r.precision_target_percent) : json(nullptr)},
           {"median_interval_95", interval},
           {"stability_percent", stability_percent(r.repetition_frame_ms)}};
 }
@@ -197,13 +214,23 @@ template <typename Report>
 json texels_to_json(const Report& k, const char* reference, double limit_percent) {
   json worst = json::array();
   for (const TexelFinding& w : k.worst)  // "nothing" (no surface) as null
-    worst.push_back({{"layer", w.layer}, {"s", w.s}, {"t", w.t}, {"got", w.got < 0 ? json() : json(w.got)},
+    worst.push_back({{"layer", w.layer},
+                     {"s", w.s},
+                     {"t", w.t},
+                     {"got", w.got < 0 ? json() : json(w.got)},
                      {"want", w.want < 0 ? json() : json(w.want)},
                      {"edge_texels", w.edge_texels < 0 ? json() : json(w.edge_texels)}});
-  return {{"reference", reference},     {"stride", k.stride},       {"texels", k.texels},
-          {"bad_percent", k.bad_percent()}, {"wrong", k.wrong},      {"spurious", k.spurious},
-          {"missing", k.missing},       {"max_error", k.max_error}, {"limit_percent", limit_percent},
-          {"reach_texels", k.reach_texels}, {"worst", worst}};
+  return {{"reference", reference},
+          {"stride", k.stride},
+          {"texels", k.texels},
+          {"bad_percent", k.bad_percent()},
+          {"wrong", k.wrong},
+          {"spurious", k.spurious},
+          {"missing", k.missing},
+          {"max_error", k.max_error},
+          {"limit_percent", limit_percent},
+          {"reach_texels", k.reach_texels},
+          {"worst", worst}};
 }
 
 json timing_to_json(const CaseResult& r) {
@@ -228,15 +255,18 @@ json case_to_json(const CaseResult& r) {
          {"reason", r.reason},
          {"findings", json::array()}};
   for (const Finding& f : r.findings)
-    j["findings"].push_back(
-        {{"status", to_string(f.status)}, {"check", f.check}, {"message", f.message}, {"figures", f.figures}});
+    j["findings"].push_back({{"status", to_string(f.status)},
+                             {"check", f.check},
+                             {"message", f.message},
+                             {"figures", f.figures}});
   if (r.status == Status::unsupported) return j;
   j["counters"] = {{"shadow", counters_to_json(r.counters.shadow)},
                    {"lighting", counters_to_json(r.counters.lighting)}};
   j["checks"] = checks_to_json(r.checks);
   j["images"] = r.images;
   j["shadow_plan"] = plan_to_json(r);
-  j["non_finite"] = {{"cube", r.non_finite_cube}, {"shadow_factor", r.non_finite_shadow},
+  j["non_finite"] = {{"cube", r.non_finite_cube},
+                     {"shadow_factor", r.non_finite_shadow},
                      {"world_position", r.non_finite_position}};
   if (r.flicker_percent)
     j["stability"] = {{"next_frame", "check_frame + 1"},
@@ -251,19 +281,23 @@ json case_to_json(const CaseResult& r) {
   if (!r.cube_read_back.empty()) j["cube_read_back"] = r.cube_read_back;
   if (r.floor) j["floor"] = floor_to_json(r);
   if (r.moments)
-    j["moments"] = {{"bound", "the blur of the stored depths' moments, widened by each step's rounding "
-                              "(bench/truth/moments_check.h)"},
+    j["moments"] = {{"bound",
+                     "the blur of the stored depths' moments, widened by each step's rounding "
+                     "(bench/truth/moments_check.h)"},
                     {"values", r.moments->values},
                     {"outside", r.moments->outside},
                     {"non_finite", r.moments->non_finite}};
   if (r.cube_texels) {
-    j["cube_texels"] = texels_to_json(*r.cube_texels, "exact first-hit distance along each checked texel centre's "
-                                      "direction", kCubeTexelLimitPercent);
+    j["cube_texels"] = texels_to_json(*r.cube_texels,
+                                      "exact first-hit distance along each checked texel centre's "
+                                      "direction",
+                                      kCubeTexelLimitPercent);
     j["cube_texels"]["bad_per_face"] = r.cube_texels->bad_per_face;
   }
   if (r.lookups)
-    j["lookups"] = {{"bound", "every texel within the sampler's sub-texel precision and the direction's rounding "
-                              "of the cube-map rule's, comparisons within 1e-4 (bench/truth/lookup_check.h)"},
+    j["lookups"] = {{"bound",
+                     "every texel within the sampler's sub-texel precision and the direction's rounding "
+                     "of the cube-map rule's, comparisons within 1e-4 (bench/truth/lookup_check.h)"},
                     {"pixels", r.lookups->pixels},
                     {"outside", r.lookups->outside},
                     {"taps", r.lookups->taps},
@@ -271,12 +305,15 @@ json case_to_json(const CaseResult& r) {
   else if (!r.lookups_skipped.empty())
     j["lookups"] = {{"skipped", r.lookups_skipped}};
   if (r.map_texels) {
-    j["map_texels"] = texels_to_json(*r.map_texels, "exact window depth of the first kept surface along each "
-                                     "checked texel's ray", kMapTexelLimitPercent);
+    j["map_texels"] = texels_to_json(*r.map_texels,
+                                     "exact window depth of the first kept surface along each "
+                                     "checked texel's ray",
+                                     kMapTexelLimitPercent);
     j["map_texels"]["bad_per_map"] = r.map_texels->bad_per_map;
   }
   if (!r.device_states.empty()) {
-    j["device_state"] = {{"source", r.device_state_source}, {"samples", json::array()},
+    j["device_state"] = {{"source", r.device_state_source},
+                         {"samples", json::array()},
                          {"warning", clock_warning(r.device_states)}};
     for (const DeviceState& d : r.device_states) j["device_state"]["samples"].push_back(to_json(d));
   }
@@ -312,48 +349,50 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
   json devices = json::object();
   for (const auto& [name, d] : run.devices) devices[name] = device_to_json(d);
   const RunOptions& o = run.options;
-  out["omnishadow"] = {{"format", "omnishadow-results/1"},
-                       {"complete", complete},
-                       {"stopped_by", run.stopped_by.empty() ? json(nullptr) : json(run.stopped_by)},
-                       {"shard", {{"index", run.shard_index}, {"count", run.shard_count}}},
-                       {"commit", build_commit()},
-                       {"commit_date", build_commit_date()},
-                       {"command_line", run.command_line},
-                       {"phases",
-                        {{"untimed_seconds", run.phases.untimed_seconds < 0 ? json(nullptr) : json(run.phases.untimed_seconds)},
-                         {"timed_seconds", run.phases.timed_seconds < 0 ? json(nullptr) : json(run.phases.timed_seconds)},
-                         {"scene_loads", scene_loads_json(run.phases.scene_loads)}}},
-                       {"repetition_policy",
-                        {{"repetitions", run.repetitions.repetitions},
-                         {"precision_percent", run.repetitions.precision_percent},
-                         {"max_repetitions", run.repetitions.max_repetitions},
-                         {"minimum", run.repetitions.minimum()},
-                         {"compared_cases", run.repetitions.compared_cases},
-                         {"sustain_seconds", run.repetitions.sustain_seconds},
-                         {"precision_metric", run.repetitions.metric},
-                         {"order", "rounds: one repetition of every unfinished case per round"}}},
-                       {"options",
-                        {{"warmup_frames", o.warmup_frames},
-                         {"warmup_ms", o.warmup_ms},  // negative: automatic (100 on a GPU, 0 on a CPU driver)
-                         {"settle_s", o.settle_s},
-                         {"repetition_ms", o.repetition_ms},  // negative: automatic (100 on a GPU, 0 on a CPU driver)
-                         {"injected_fragment_work", injected_work_values(results)},
-                         {"frames", o.frames},
-                         {"check_frame", o.check_frame},
-                         {"face_tolerance", o.face_tolerance},
-                         {"lit_tolerance", o.lit_tolerance},
-                         {"cross_lit_tolerance", o.cross_lit_tolerance},
-                         {"cross_shadow_tolerance", o.cross_shadow_tolerance},
-                         {"cross_max_percent", o.cross_max_percent},
-                         {"accuracy", o.accuracy},
-                         {"light_radius", o.truth.light_radius},
-                         {"light_samples", o.truth.samples_per_axis * o.truth.samples_per_axis},
-                         // --light / --camera: every scene's point light and camera were placed by hand
-                         {"light", o.light_text.empty() ? json(nullptr) : json(o.light_text)},
-                         {"camera", o.camera_text.empty() ? json(nullptr) : json(o.camera_text)}}},
-                       {"system", system_info()},
-                       {"devices", devices},
-                       {"cases", cases}};
+  out["omnishadow"] = {
+      {"format", "omnishadow-results/1"},
+      {"complete", complete},
+      {"stopped_by", run.stopped_by.empty() ? json(nullptr) : json(run.stopped_by)},
+      {"shard", {{"index", run.shard_index}, {"count", run.shard_count}}},
+      {"commit", build_commit()},
+      {"commit_date", build_commit_date()},
+      {"command_line", run.command_line},
+      {"phases",
+       {{"untimed_seconds",
+         run.phases.untimed_seconds < 0 ? json(nullptr) : json(run.phases.untimed_seconds)},
+        {"timed_seconds", run.phases.timed_seconds < 0 ? json(nullptr) : json(run.phases.timed_seconds)},
+        {"scene_loads", scene_loads_json(run.phases.scene_loads)}}},
+      {"repetition_policy",
+       {{"repetitions", run.repetitions.repetitions},
+        {"precision_percent", run.repetitions.precision_percent},
+        {"max_repetitions", run.repetitions.max_repetitions},
+        {"minimum", run.repetitions.minimum()},
+        {"compared_cases", run.repetitions.compared_cases},
+        {"sustain_seconds", run.repetitions.sustain_seconds},
+        {"precision_metric", run.repetitions.metric},
+        {"order", "rounds: one repetition of every unfinished case per round"}}},
+      {"options",
+       {{"warmup_frames", o.warmup_frames},
+        {"warmup_ms", o.warmup_ms},  // negative: automatic (100 on a GPU, 0 on a CPU driver)
+        {"settle_s", o.settle_s},
+        {"repetition_ms", o.repetition_ms},  // negative: automatic (100 on a GPU, 0 on a CPU driver)
+        {"injected_fragment_work", injected_work_values(results)},
+        {"frames", o.frames},
+        {"check_frame", o.check_frame},
+        {"face_tolerance", o.face_tolerance},
+        {"lit_tolerance", o.lit_tolerance},
+        {"cross_lit_tolerance", o.cross_lit_tolerance},
+        {"cross_shadow_tolerance", o.cross_shadow_tolerance},
+        {"cross_max_percent", o.cross_max_percent},
+        {"accuracy", o.accuracy},
+        {"light_radius", o.truth.light_radius},
+        {"light_samples", o.truth.samples_per_axis * o.truth.samples_per_axis},
+        // --light / --camera: every scene's point light and camera were placed by hand
+        {"light", o.light_text.empty() ? json(nullptr) : json(o.light_text)},
+        {"camera", o.camera_text.empty() ? json(nullptr) : json(o.camera_text)}}},
+      {"system", system_info()},
+      {"devices", devices},
+      {"cases", cases}};
   write_file_atomic(path, out.dump(2) + "\n");
 }
 

@@ -3,14 +3,13 @@
 // every case's axes, status, checks, work counters, timing summaries and images, plus device and machine.
 // Written atomically after every case, so a run killed at any point leaves a valid file with what finished.
 
-#include <nlohmann/json.hpp>
-
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "bench/run/case_runner.h"
 #include "bench/results/summary_table.h"
+#include "bench/run/case_runner.h"
 
 namespace omnishadow::bench {
 
@@ -18,7 +17,7 @@ struct RunInfo {
   std::string command_line;
   std::map<std::string, DeviceInfo> devices;  // by backend name
   RunOptions options;
-  std::string stopped_by;  // "SIGINT" / "SIGTERM" when the run was interrupted
+  std::string stopped_by;                // "SIGINT" / "SIGTERM" when the run was interrupted
   int shard_index = 0, shard_count = 1;  // --shard i/N: merge checks that every shard of N is there
   RunPhases phases;
   RepetitionPolicy repetitions;

@@ -59,8 +59,7 @@ double mann_whitney_p(const std::vector<double>& a, const std::vector<double>& b
     return std::min(1.0, tail / total);
   }
   const double nn = static_cast<double>(n);
-  const double variance =
-      static_cast<double>(n1 * n2) / 12.0 * ((nn + 1.0) - tie_term / (nn * (nn - 1.0)));
+  const double variance = static_cast<double>(n1 * n2) / 12.0 * ((nn + 1.0) - tie_term / (nn * (nn - 1.0)));
   if (variance <= 0.0) return 1.0;  // every value equal
   const double z = (std::fabs(u - mean_u) - 0.5) / std::sqrt(variance);
   return std::min(1.0, std::erfc(std::max(z, 0.0) / std::sqrt(2.0)));

@@ -32,8 +32,8 @@ std::string cell(const Summary& s, double base) {
 // The axes a pass's cost depends on, as a row key: the shadow pass does not depend on the filter and the
 // lighting pass not on the technique, so each row pools every case of its group over the other axis.
 std::string pass_group(const CaseConfig& c) {
-  return c.backend + "/" + c.scene + "/c" + std::to_string(c.cube_size) + "/f" + std::to_string(c.width) + "x" +
-         std::to_string(c.height) + "/" + std::string(to_string(c.storage)) + "/" +
+  return c.backend + "/" + c.scene + "/c" + std::to_string(c.cube_size) + "/f" + std::to_string(c.width) +
+         "x" + std::to_string(c.height) + "/" + std::string(to_string(c.storage)) + "/" +
          std::string(to_string(c.depth_format)) +
          (c.layout == Layout::cube ? std::string() : "/" + std::string(to_string(c.layout))) +
          (c.tessellation == 1 ? std::string() : "/t" + std::to_string(c.tessellation));
@@ -63,7 +63,8 @@ void ratio_table(std::ostringstream& md, const std::vector<CaseResult>& results,
     auto& row = by_group[key];
     double base_value = row.count(base) ? summary_of(row[base], metric).median : 0.0;
     md << "| `" << key << "` |";
-    for (E v : values) md << " " << (row.count(v) ? cell(summary_of(row[v], metric), base_value) : "-") << " |";
+    for (E v : values)
+      md << " " << (row.count(v) ? cell(summary_of(row[v], metric), base_value) : "-") << " |";
     md << "\n";
   }
 }
@@ -74,10 +75,12 @@ void floor_table(std::ostringstream& md, const std::vector<CaseResult>& results)
   std::ostringstream rows;
   for (const CaseResult& r : results) {
     if (!r.floor || r.frames.empty()) continue;
-    const double shadow = summary_of(r.frames, shadow_wall).median, lighting = summary_of(r.frames, lighting_wall).median;
+    const double shadow = summary_of(r.frames, shadow_wall).median,
+                 lighting = summary_of(r.frames, lighting_wall).median;
     char buf[200];
-    std::snprintf(buf, sizeof buf, "| `%s` | %.2f ms = %.1fx %.2f | %.2f ms = %.1fx %.2f |\n", r.config.id().c_str(),
-                  shadow, r.floor->shadow.cpu_wall_ms > 0 ? shadow / r.floor->shadow.cpu_wall_ms : 0.0,
+    std::snprintf(buf, sizeof buf, "| `%s` | %.2f ms = %.1fx %.2f | %.2f ms = %.1fx %.2f |\n",
+                  r.config.id().c_str(), shadow,
+                  r.floor->shadow.cpu_wall_ms > 0 ? shadow / r.floor->shadow.cpu_wall_ms : 0.0,
                   r.floor->shadow.cpu_wall_ms, lighting,
                   r.floor->lighting.cpu_wall_ms > 0 ? lighting / r.floor->lighting.cpu_wall_ms : 0.0,
                   r.floor->lighting.cpu_wall_ms);
@@ -85,14 +88,16 @@ void floor_table(std::ostringstream& md, const std::vector<CaseResult>& results)
   }
   if (rows.str().empty()) return;
   md << "\n## Passes against their floor (median wall time = multiple x floor)\n\n"
-     << "Floor: the case's shadow render passes cleared with nothing drawn; the frame shaded with a constant.\n\n"
+     << "Floor: the case's shadow render passes cleared with nothing drawn; the frame shaded with a "
+        "constant.\n\n"
      << "| case | shadow pass | lighting pass |\n|---|---|---|\n"
      << rows.str();
 }
 
-// Under --precision: the interval each case reached and the cases that hit the cap. Under --sustain: each case's
-// worst repetition against its best, the clocks it ran at, and the cases below kStabilityPassPercent.
-void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& results, const RepetitionPolicy& p) {
+// Under --precision: the interval each case reached and the cases that hit the cap. Under --sustain: each
+// case's worst repetition against its best, the clocks it ran at, and the cases below kStabilityPassPercent.
+void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& results,
+                      const RepetitionPolicy& p) {
   if (p.precision_percent <= 0.0 && p.sustain_seconds <= 0.0) return;
   int total = 0, capped = 0, unstable = 0;
   std::ostringstream rows;
@@ -108,12 +113,14 @@ void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& res
     if (p.sustain_seconds > 0.0)
       std::snprintf(buf, sizeof buf, "| `%s` | %zu | %.3f | %.3f | %.1f%%%s | %s |\n", r.config.id().c_str(),
                     r.repetition_frame_ms.size(), *best, *worst, stability,
-                    stability < kStabilityPassPercent ? " **below 97%**" : "", clock_range(r.device_states).c_str());
+                    stability < kStabilityPassPercent ? " **below 97%**" : "",
+                    clock_range(r.device_states).c_str());
     else
-      std::snprintf(buf, sizeof buf, "| `%s` | %zu | %.3f | %s | %s |\n", r.config.id().c_str(),
-                    r.repetition_frame_ms.size(), ci.median,
-                    ci.defined ? ("+-" + std::to_string(ci.half_width_percent).substr(0, 5) + "%").c_str() : "-",
-                    r.repetitions_ended_by.c_str());
+      std::snprintf(
+          buf, sizeof buf, "| `%s` | %zu | %.3f | %s | %s |\n", r.config.id().c_str(),
+          r.repetition_frame_ms.size(), ci.median,
+          ci.defined ? ("+-" + std::to_string(ci.half_width_percent).substr(0, 5) + "%").c_str() : "-",
+          r.repetitions_ended_by.c_str());
     rows << buf;
   }
   if (p.sustain_seconds > 0.0) {
@@ -123,10 +130,15 @@ void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& res
        << "| case | repetitions | best ms | worst ms | stability | clocks |\n|---|---|---|---|---|---|\n";
   } else {
     md << "\n## Repetitions to +-" << p.precision_percent
-       << "% (95% interval of the median per-repetition frame " << (p.metric == "wall" ? "wall" : p.metric == "cpu" ? "CPU" : "GPU") << " time)\n\n"
+       << "% (95% interval of the median per-repetition frame "
+       << (p.metric == "wall"  ? "wall"
+           : p.metric == "cpu" ? "CPU"
+                               : "GPU")
+       << " time)\n\n"
        << total << " repetitions in all (a fixed count of " << p.cap() << " would take "
-       << p.cap() * static_cast<int>(std::count_if(results.begin(), results.end(),
-                                                   [](const CaseResult& r) { return !r.repetition_frame_ms.empty(); }))
+       << p.cap() * static_cast<int>(
+                        std::count_if(results.begin(), results.end(),
+                                      [](const CaseResult& r) { return !r.repetition_frame_ms.empty(); }))
        << "); " << capped << " cases hit the cap of " << p.cap() << "; at least " << p.minimum()
        << " each (never fewer than `omnishadow compare` over " << p.compared_cases << " cases at alpha "
        << kDefaultAlpha << " needs to flag one)\n\n"
@@ -145,8 +157,10 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
   md << "## Cases\n\n";
   if (phases.untimed_seconds >= 0 && phases.timed_seconds >= 0) {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "Run: %.1f s untimed (checks, read-backs, reference, images) + %.1f s timed "
-                  "(%.2fx the timed part)\n\n", phases.untimed_seconds, phases.timed_seconds,
+    std::snprintf(buf, sizeof buf,
+                  "Run: %.1f s untimed (checks, read-backs, reference, images) + %.1f s timed "
+                  "(%.2fx the timed part)\n\n",
+                  phases.untimed_seconds, phases.timed_seconds,
                   phases.timed_seconds > 0 ? phases.untimed_seconds / phases.timed_seconds : 0.0);
     md << buf;
   }
@@ -178,8 +192,8 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
   for (const CaseResult& r : results)
     if (r.status == Status::unsupported) unsupported[r.reason].push_back(r.config.id());
   for (const auto& [reason, ids] : unsupported)
-    md << "  - unsupported, " << ids.size() << (ids.size() == 1 ? " case" : " cases") << " (e.g. `" << ids.front()
-       << "`): " << reason << "\n";
+    md << "  - unsupported, " << ids.size() << (ids.size() == 1 ? " case" : " cases") << " (e.g. `"
+       << ids.front() << "`): " << reason << "\n";
   for (const CaseResult& r : results)
     if (r.status != Status::ok && r.status != Status::unsupported)
       md << "  - `" << r.config.id() << "` " << to_string(r.status) << ": " << r.reason << "\n";
@@ -190,10 +204,12 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
 
   repetition_table(md, results, policy);
   floor_table(md, results);
-  ratio_table<Technique>(md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
-                         &CaseConfig::technique, Technique::six_pass, shadow_wall);
-  ratio_table<Filter>(md, results, "Lighting pass: median wall time per filter, all techniques pooled (ratio to hard)", &CaseConfig::filter,
-                      Filter::hard, lighting_wall);
+  ratio_table<Technique>(
+      md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
+      &CaseConfig::technique, Technique::six_pass, shadow_wall);
+  ratio_table<Filter>(md, results,
+                      "Lighting pass: median wall time per filter, all techniques pooled (ratio to hard)",
+                      &CaseConfig::filter, Filter::hard, lighting_wall);
   return md.str();
 }
 

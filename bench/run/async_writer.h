@@ -1,8 +1,8 @@
 #pragma once
-// Image files encoded and written on a worker thread while the next case's check frame renders: on a GPU the PNG
-// and PFM encoding of every case was most of the untimed part. The queue is bounded (submit waits while it is
-// full, so memory stays a few cases' images) and drained before any timed frame, so the worker never runs beside
-// a measurement.
+// Image files encoded and written on a worker thread while the next case's check frame renders: on a GPU the
+// PNG and PFM encoding of every case was most of the untimed part. The queue is bounded (submit waits while
+// it is full, so memory stays a few cases' images) and drained before any timed frame, so the worker never
+// runs beside a measurement.
 
 #include <condition_variable>
 #include <deque>

@@ -27,7 +27,8 @@ void send_progress(int fd, const std::string& line) {
 void inject_fault(const RunOptions& o, const std::string& id, bool timed) {
   if (timed != o.inject_in_timed) return;
   if (!o.inject_crash.empty() && std::regex_search(id, std::regex(o.inject_crash))) {
-    std::signal(SIGSEGV, SIG_DFL);  // a sanitizer's handler would report and exit 1: die by the signal, as a driver's crash does
+    std::signal(SIGSEGV, SIG_DFL);  // a sanitizer's handler would report and exit 1: die by the signal, as a
+                                    // driver's crash does
     std::raise(SIGSEGV);
   }
   if (!o.inject_hang.empty() && std::regex_search(id, std::regex(o.inject_hang)))

@@ -1,11 +1,12 @@
 #pragma once
-// What a run in a worker process tells the process that supervises it (bench/cli/case_isolation.h), one line a
-// message on a pipe, before the thing it names starts: so when the worker dies or stops making progress, the
-// supervisor knows the case and the step it had reached. And the test-only faults that show it (--inject-crash,
+// What a run in a worker process tells the process that supervises it (bench/cli/case_isolation.h), one line
+// a message on a pipe, before the thing it names starts: so when the worker dies or stops making progress,
+// the supervisor knows the case and the step it had reached. And the test-only faults that show it
+// (--inject-crash,
 // --inject-hang): a SIGSEGV, or a wait that never ends, where a driver's crash or hang would strike.
 //
-// Lines: "cases N" (the worker's case count, after the matrix is validated), "case ID<TAB>AXES-JSON" (its checks
-// begin), "step NAME" (a step of the checks begins), "timed ID" (a timed repetition begins).
+// Lines: "cases N" (the worker's case count, after the matrix is validated), "case ID<TAB>AXES-JSON" (its
+// checks begin), "step NAME" (a step of the checks begins), "timed ID" (a timed repetition begins).
 #include <string>
 
 namespace omnishadow::bench {
@@ -15,8 +16,8 @@ struct RunOptions;
 // Sends one line to the supervisor; nothing when this process has none (fd < 0).
 void send_progress(int fd, const std::string& line);
 
-// The test-only faults: when `id` matches --inject-crash (--inject-hang) and `timed` is where --inject-in puts
-// them, raises SIGSEGV (waits forever). Nothing otherwise.
+// The test-only faults: when `id` matches --inject-crash (--inject-hang) and `timed` is where --inject-in
+// puts them, raises SIGSEGV (waits forever). Nothing otherwise.
 void inject_fault(const RunOptions& o, const std::string& id, bool timed);
 
 }  // namespace omnishadow::bench

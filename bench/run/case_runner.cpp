@@ -1,30 +1,30 @@
 #include "bench/run/case_runner.h"
 
-#include "backends/common/layouts.h"
-#include "scenes/tessellate.h"
-
-#include <cctype>
 #include <algorithm>
+#include <cctype>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
 #include "backends/common/cube_faces.h"
 #include "backends/common/driver_log.h"
-#include "bench/run/case_progress.h"
+#include "backends/common/layouts.h"
 #include "backends/common/shadow_plan.h"
 #include "bench/results/image_io.h"
+#include "bench/run/case_progress.h"
 #include "bench/run/memory_budget.h"
 #include "bench/run/timing_stats.h"
+#include "scenes/tessellate.h"
 
 namespace omnishadow::bench {
 
 namespace fs = std::filesystem;
 
 // The case every other case of its group is checked against: six_pass without culling or caching (which must
-// not change a single value). fit_range stays: it changes the stored depth's scale, so it has its own reference.
+// not change a single value). fit_range stays: it changes the stored depth's scale, so it has its own
+// reference.
 CaseConfig reference_config(const CaseConfig& c) {
   CaseConfig k = c;
   k.technique = Technique::six_pass;
@@ -40,8 +40,8 @@ int face_edge(const Images& img) {
 }
 
 std::vector<float> concat_faces(const Images& img) {
-  // Faces side by side, face order left to right, so one PNG shows the whole cube (the check grid when only that
-  // came back: every stride-th texel).
+  // Faces side by side, face order left to right, so one PNG shows the whole cube (the check grid when only
+  // that came back: every stride-th texel).
   const int n = face_edge(img);
   const auto& faces = img.has_full_cube() ? img.cube_distance : img.cube_sample;
   std::vector<float> strip(static_cast<size_t>(n) * static_cast<size_t>(n) * 6);
@@ -57,16 +57,21 @@ CubeReadBack Harness::cube_read_back_for(const CaseConfig& c) const {
   // The cube summary's compute shader walks six cube faces; other layouts' layers are read in full.
   if (traits(c.layout).texel_map != TexelMap::cube_faces) return CubeReadBack::full;
   switch (options_.cube_read_back) {
-    case P::full: return CubeReadBack::full;
-    case P::sampled: return CubeReadBack::sampled;
-    case P::automatic: break;
+    case P::full:
+      return CubeReadBack::full;
+    case P::sampled:
+      return CubeReadBack::sampled;
+    case P::automatic:
+      break;
   }
   const bool small = c.cube_size <= RunOptions::kFullCubeReadBackMax;
-  return small || options_.images == RunOptions::ImagePolicy::all ? CubeReadBack::full : CubeReadBack::sampled;
+  return small || options_.images == RunOptions::ImagePolicy::all ? CubeReadBack::full
+                                                                  : CubeReadBack::sampled;
 }
 
-// The case's check frame again, its cube read in full into `images` (for a value-by-value comparison once hashes
-// differed). Rendering is deterministic, so it is the frame already checked; the floor frame cleared the cube since.
+// The case's check frame again, its cube read in full into `images` (for a value-by-value comparison once
+// hashes differed). Rendering is deterministic, so it is the frame already checked; the floor frame cleared
+// the cube since.
 void Harness::read_full_cube(const CaseConfig& c, Images& images) {
   Backend& b = activate(c);
   b.render(options_.check_frame, FrameKind::check);
@@ -75,14 +80,22 @@ void Harness::read_full_cube(const CaseConfig& c, Images& images) {
 
 std::string_view to_string(Status s) {
   switch (s) {
-    case Status::ok: return "ok";
-    case Status::failed_quality: return "failed_quality";
-    case Status::failed_check: return "failed_check";
-    case Status::interrupted: return "interrupted";
-    case Status::resource_error: return "resource_error";
-    case Status::failed: return "failed";
-    case Status::crashed: return "crashed";
-    case Status::unsupported: return "unsupported";
+    case Status::ok:
+      return "ok";
+    case Status::failed_quality:
+      return "failed_quality";
+    case Status::failed_check:
+      return "failed_check";
+    case Status::interrupted:
+      return "interrupted";
+    case Status::resource_error:
+      return "resource_error";
+    case Status::failed:
+      return "failed";
+    case Status::crashed:
+      return "crashed";
+    case Status::unsupported:
+      return "unsupported";
   }
   return "?";
 }
@@ -148,7 +161,8 @@ void Harness::add_backend(const std::string& name, std::unique_ptr<Backend> back
 
 // A name without '/' or a file extension is a bundled scene, anything else a file.
 static std::string file_of_scene(const std::string& name, const std::string& scenes_dir) {
-  if (name.find('/') != std::string::npos || name.ends_with(".json") || scene::is_model_file(name)) return name;
+  if (name.find('/') != std::string::npos || name.ends_with(".json") || scene::is_model_file(name))
+    return name;
   return (fs::path(scenes_dir) / (name + ".json")).string();
 }
 
@@ -170,8 +184,8 @@ std::string Harness::add_scene(const std::string& name_or_path) {
   auto same_file = [&](const std::string& a, const std::string& b) {
     return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
   };
-  // `--scene room,other/room.json` would give one id to two scenes. (A file named like a bundled scene that this
-  // run does not use is fine: ids are per run.)
+  // `--scene room,other/room.json` would give one id to two scenes. (A file named like a bundled scene that
+  // this run does not use is fine: ids are per run.)
   if (auto it = scene_files_.find(name); it != scene_files_.end() && !same_file(it->second, file))
     throw std::invalid_argument("--scene: " + file + " and " + it->second + " would both be named '" + name +
                                 "' in case ids; rename one of them");
@@ -181,9 +195,12 @@ std::string Harness::add_scene(const std::string& name_or_path) {
 
 // Scenes are cached per name and load option: the rebased room is another scene.
 std::string scene_key(const std::string& name, bool rebase_origin, int tessellation) {
-  return name + (rebase_origin ? "#rebase" : "") + (tessellation != 1 ? "#t" + std::to_string(tessellation) : "");
+  return name + (rebase_origin ? "#rebase" : "") +
+         (tessellation != 1 ? "#t" + std::to_string(tessellation) : "");
 }
-std::string scene_key(const CaseConfig& c) { return scene_key(c.scene, c.remedies.rebase_origin, c.tessellation); }
+std::string scene_key(const CaseConfig& c) {
+  return scene_key(c.scene, c.remedies.rebase_origin, c.tessellation);
+}
 
 const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin, int tessellation) {
   const std::string key = scene_key(name, rebase_origin, tessellation);
@@ -212,13 +229,14 @@ Backend& Harness::activate(const CaseConfig& config) {
   return b;
 }
 
-// Whether the case can run here at all: supported by the backend and the scene, and (unless told not to check)
-// fitting in memory. Adds the finding that says why not.
+// Whether the case can run here at all: supported by the backend and the scene, and (unless told not to
+// check) fitting in memory. Adds the finding that says why not.
 bool Harness::admit(CaseResult& r, Backend& b) {
   Support s = b.supports(r.config);
   if (s.ok && r.config.technique != Technique::six_pass && !scene_of(r.config).has_point_light)
-    s = {false, "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
-                "(measured by six_pass); the single-pass techniques apply to cube maps"};
+    s = {false,
+         "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
+         "(measured by six_pass); the single-pass techniques apply to cube maps"};
   if (!s.ok) {
     r.add({Status::unsupported, "support", s.reason, {}});
     return false;
@@ -229,16 +247,20 @@ bool Harness::admit(CaseResult& r, Backend& b) {
   available.device_budget = options_.memory_budget;
   std::string shortfall = memory_shortfall(need, available, b.device());
   if (shortfall.empty()) return true;
-  r.add({Status::resource_error, "memory", shortfall,
+  r.add({Status::resource_error,
+         "memory",
+         shortfall,
          {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});
   return false;
 }
 
-// The shadow plan's figures at the check frame (faces with no caster, object x face draws) and the work counters.
+// The shadow plan's figures at the check frame (faces with no caster, object x face draws) and the work
+// counters.
 void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
   const scene::Scene& sc = scene_of(r.config);
-  cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, sc.light.path.at(options_.check_frame), sc.light.near_plane,
-                                                      light_far, r.config.optimizations.face_culling);
+  cube::ShadowDrawPlan plan =
+      cube::plan_shadow_draws(sc, sc.light.path.at(options_.check_frame), sc.light.near_plane, light_far,
+                              r.config.optimizations.face_culling);
   r.empty_faces = plan.empty_faces;
   for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
   // With static caching the work of a frame depends on the one before: count the frame after the check frame,
@@ -249,9 +271,10 @@ void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
 // What a case's floor depends on: backend, scene, cube, frame size, storage and depth format. Not the filter,
 // remedies or PCF scale (the floor's lighting has no lookup), nor the optimisations (no draws).
 static std::string floor_key(const CaseConfig& c) {
-  return c.backend + "/" + scene_key(c) + "/c" + std::to_string(c.cube_size) +
-         "/f" + std::to_string(c.width) + "x" + std::to_string(c.height) + "/" + std::string(to_string(c.technique)) +
-         "/" + std::string(to_string(c.storage)) + "/" + std::string(to_string(c.depth_format));
+  return c.backend + "/" + scene_key(c) + "/c" + std::to_string(c.cube_size) + "/f" +
+         std::to_string(c.width) + "x" + std::to_string(c.height) + "/" +
+         std::string(to_string(c.technique)) + "/" + std::string(to_string(c.storage)) + "/" +
+         std::string(to_string(c.depth_format));
 }
 
 void Harness::measure_floor(CaseResult& r, Backend& b) {
@@ -285,7 +308,8 @@ void Harness::prepare(CaseResult& r) {
     send_progress(options_.progress_fd, std::string("step ") + name);
     const auto start = std::chrono::steady_clock::now();
     body();
-    r.untimed_ms[name] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    r.untimed_ms[name] +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   };
   try {
     Backend& b = backend(r.config.backend);
@@ -308,8 +332,10 @@ void Harness::prepare(CaseResult& r) {
     if (options_.stability) measure_flicker(r, b, images);
     step("work_counters", [&] { count_work(r, b, images.light_far); });
     if (std::vector<std::string> errors = b.drain_api_errors(); !errors.empty()) {
-      r.add({Status::failed, "api",
-             "API error (checking mode): " + std::to_string(errors.size()) + " message(s): " + one_line_log(errors),
+      r.add({Status::failed,
+             "api",
+             "API error (checking mode): " + std::to_string(errors.size()) +
+                 " message(s): " + one_line_log(errors),
              {{"api_errors", double(errors.size())}}});
       return;
     }
@@ -339,7 +365,8 @@ void Harness::prepare(CaseResult& r) {
     reference_key_.clear();
     reference_ = Images{};
     MemoryNeed need = estimate_case_memory(r.config, cube_read_back_for(r.config));
-    r.add({Status::resource_error, "memory",
+    r.add({Status::resource_error,
+           "memory",
            "out of host memory (std::bad_alloc): the case needs about " + format_bytes(need.device_bytes) +
                " of targets and " + format_bytes(need.host_bytes) + " of read-back copies",
            {{"device_bytes", double(need.device_bytes)}, {"host_bytes", double(need.host_bytes)}}});
@@ -356,13 +383,15 @@ void Harness::prepare(CaseResult& r) {
 
 void Harness::count_non_finite(CaseResult& r, const Images& images) {
   auto count = [](const std::vector<float>& v) {
-    return static_cast<uint64_t>(std::count_if(v.begin(), v.end(), [](float x) { return !std::isfinite(x); }));
+    return static_cast<uint64_t>(
+        std::count_if(v.begin(), v.end(), [](float x) { return !std::isfinite(x); }));
   };
   for (const CubeFaceSummary& face : images.cube_summary) r.non_finite_cube += face.non_finite;
   r.non_finite_shadow = count(images.shadow_factor);
   r.non_finite_position = count(images.world_position);
   if (r.non_finite_cube + r.non_finite_shadow + r.non_finite_position > 0) {
-    r.add({Status::failed_check, "non_finite",
+    r.add({Status::failed_check,
+           "non_finite",
            "non-finite values read back: " + std::to_string(r.non_finite_cube) + " in the cube, " +
                std::to_string(r.non_finite_shadow) + " in the shadow factor, " +
                std::to_string(r.non_finite_position) + " in world positions",
@@ -390,8 +419,8 @@ void Harness::measure_flicker(CaseResult& r, Backend& b, const Images& images) {
   r.flicker_mean_abs = covered ? sum / double(covered) : 0.0;
 }
 
-// The case's image files (--images): the lit frame and shadow factor as PNG, and the float buffers as PFM (every
-// case with --images all, failing cases with failed), encoded on the writer thread where there is one.
+// The case's image files (--images): the lit frame and shadow factor as PNG, and the float buffers as PFM
+// (every case with --images all, failing cases with failed), encoded on the writer thread where there is one.
 void Harness::write_images(CaseResult& r, const Images& img) {
   fs::path rel = fs::path("images") / r.config.id();
   fs::path dir = fs::path(options_.out_dir) / rel;
@@ -401,23 +430,27 @@ void Harness::write_images(CaseResult& r, const Images& img) {
     return (dir / file).string();
   };
   const bool failed = r.status == Status::failed_check || r.status == Status::failed_quality;
-  // The float buffers (24 bytes a pixel, 1.9 MB per 800x600 buffer) are what a failed check needs to be examined.
+  // The float buffers (24 bytes a pixel, 1.9 MB per 800x600 buffer) are what a failed check needs to be
+  // examined.
   const bool floats = options_.images == RunOptions::ImagePolicy::all || failed;
   struct Files {
     std::string lit, shadow_png, cube, shadow_pfm, position, coverage, cube_pfm;
     std::vector<std::string> maps;
-  } files{out("lit", "lit.png"), out("shadow_factor_png", "shadow_factor.png"), out("cube_faces", "cube_faces.png")};
+  } files{out("lit", "lit.png"), out("shadow_factor_png", "shadow_factor.png"),
+          out("cube_faces", "cube_faces.png")};
   if (floats) {
     files.shadow_pfm = out("shadow_factor", "shadow_factor.pfm");
     files.position = out("world_position", "world_position.pfm");
     files.coverage = out("coverage", "coverage.pfm");
-    // What the texel truths read, for studying a finding offline: the cube as distances (faces side by side, row
-    // t = 0 first, i.e. PFM's bottom row), each 2D map as window depth (row 0 = NDC y = -1, PFM's bottom row).
+    // What the texel truths read, for studying a finding offline: the cube as distances (faces side by side,
+    // row t = 0 first, i.e. PFM's bottom row), each 2D map as window depth (row 0 = NDC y = -1, PFM's bottom
+    // row).
     if (img.cube_size > 0) files.cube_pfm = out("cube_distance", "cube_distance.pfm");
     for (size_t m = 0; m < img.map_depth.size(); ++m)
       files.maps.push_back(out("map_depth_" + std::to_string(m), "map_" + std::to_string(m) + "_depth.pfm"));
   }
-  // The writer gets its own copies: `img` may be reused (the six_pass reference) before the files are written.
+  // The writer gets its own copies: `img` may be reused (the six_pass reference) before the files are
+  // written.
   write_later(r, [files, w = img.width, h = img.height, n = face_edge(img), far_plane = img.light_far,
                   lit = img.lit_rgba8, shadow = img.shadow_factor, cube = concat_faces(img),
                   position = floats ? img.world_position : std::vector<float>{}, map_size = img.map_size,
@@ -431,13 +464,15 @@ void Harness::write_images(CaseResult& r, const Images& img) {
     xyz.reserve(position.size() / 4 * 3);
     coverage.reserve(position.size() / 4);
     for (size_t i = 0; i < position.size(); i += 4) {
-      xyz.insert(xyz.end(), position.begin() + static_cast<ptrdiff_t>(i), position.begin() + static_cast<ptrdiff_t>(i) + 3);
+      xyz.insert(xyz.end(), position.begin() + static_cast<ptrdiff_t>(i),
+                 position.begin() + static_cast<ptrdiff_t>(i) + 3);
       coverage.push_back(position[i + 3]);
     }
     write_pfm(files.position, w, h, 3, xyz);
     write_pfm(files.coverage, w, h, 1, coverage);
     if (!files.cube_pfm.empty()) write_pfm(files.cube_pfm, n * 6, n, 1, cube);
-    for (size_t m = 0; m < files.maps.size() && m < maps.size(); ++m) write_pfm(files.maps[m], map_size, map_size, 1, maps[m]);
+    for (size_t m = 0; m < files.maps.size() && m < maps.size(); ++m)
+      write_pfm(files.maps[m], map_size, map_size, 1, maps[m]);
   });
 }
 

@@ -58,8 +58,9 @@ class NvmlProbe final : public DeviceStateProbe {
     if (throttle_ && throttle_(device_, &reasons) == 0) s.throttle = throttle_words(reasons);
     return s;
   }
-  // Locks the graphics clock at the device's default applications clock: a clock it sustains under load, where
-  // boost would wander with temperature and power. Needs root (or the driver's permission for this user).
+  // Locks the graphics clock at the device's default applications clock: a clock it sustains under load,
+  // where boost would wander with temperature and power. Needs root (or the driver's permission for this
+  // user).
   std::string lock_clocks() override {
     if (!set_locked_ || !reset_locked_) return "this NVML has no nvmlDeviceSetGpuLockedClocks";
     unsigned mhz = 0;
@@ -68,11 +69,16 @@ class NvmlProbe final : public DeviceStateProbe {
     switch (int rc = set_locked_(device_, mhz, mhz)) {
       case 0:
         locked_ = true;
-        std::fprintf(stderr, "[lock-clocks] graphics clock locked at %u MHz (NVML; reset when the run ends)\n", mhz);
+        std::fprintf(stderr,
+                     "[lock-clocks] graphics clock locked at %u MHz (NVML; reset when the run ends)\n", mhz);
         return "";
-      case 4: return "NVML: no permission to lock clocks (run as root, or lock them with nvidia-smi --lock-gpu-clocks)";
-      case 3: return "NVML: locking clocks is not supported on this GPU";
-      default: return "NVML error " + std::to_string(rc) + " locking clocks at " + std::to_string(mhz) + " MHz";
+      case 4:
+        return "NVML: no permission to lock clocks (run as root, or lock them with nvidia-smi "
+               "--lock-gpu-clocks)";
+      case 3:
+        return "NVML: locking clocks is not supported on this GPU";
+      default:
+        return "NVML error " + std::to_string(rc) + " locking clocks at " + std::to_string(mhz) + " MHz";
     }
   }
 
@@ -102,7 +108,8 @@ class NvmlProbe final : public DeviceStateProbe {
     for (unsigned i = 0; i < count; ++i) {
       Device d = nullptr;
       char name[96] = {};
-      if (handle_(i, &d) == 0 && name_(d, name, sizeof name) == 0 && renderer.find(name) != std::string::npos) {
+      if (handle_(i, &d) == 0 && name_(d, name, sizeof name) == 0 &&
+          renderer.find(name) != std::string::npos) {
         device_ = d;
         break;
       }
@@ -111,8 +118,8 @@ class NvmlProbe final : public DeviceStateProbe {
   }
   static std::string throttle_words(unsigned long long r) {
     static const std::pair<unsigned long long, const char*> kReasons[] = {
-        {0x2, "applications_clocks"}, {0x4, "sw_power_cap"},        {0x8, "hw_slowdown"},
-        {0x10, "sync_boost"},        {0x20, "sw_thermal_slowdown"}, {0x40, "hw_thermal_slowdown"},
+        {0x2, "applications_clocks"}, {0x4, "sw_power_cap"},         {0x8, "hw_slowdown"},
+        {0x10, "sync_boost"},         {0x20, "sw_thermal_slowdown"}, {0x40, "hw_thermal_slowdown"},
         {0x80, "hw_power_brake"}};  // 0x1 (GPU idle) is not a throttle while a case runs
     std::string out;
     for (const auto& [bit, word] : kReasons)
@@ -162,8 +169,8 @@ class SysfsProbe final : public DeviceStateProbe {
     s.memory_clock_mhz = current_level(card_ / "device" / "pp_dpm_mclk");
     std::error_code ec;
     for (const auto& hw : fs::directory_iterator(card_ / "device" / "hwmon", ec)) {
-      s.temperature_c = read_number(hw.path() / "temp1_input", 1e-3);     // millidegrees
-      s.power_w = read_number(hw.path() / "power1_average", 1e-6);        // microwatts
+      s.temperature_c = read_number(hw.path() / "temp1_input", 1e-3);  // millidegrees
+      s.power_w = read_number(hw.path() / "power1_average", 1e-6);     // microwatts
     }
     return s;
   }
@@ -238,7 +245,8 @@ std::unique_ptr<DeviceStateProbe> make_device_state_probe(const DeviceInfo& devi
     const bool nvidia = r.find("NVIDIA") != std::string::npos || device.vendor == "0x10de";
     if (nvidia)
       if (auto p = NvmlProbe::open(r)) return p;
-    if (r.find("AMD") != std::string::npos || r.find("Radeon") != std::string::npos || device.vendor == "0x1002")
+    if (r.find("AMD") != std::string::npos || r.find("Radeon") != std::string::npos ||
+        device.vendor == "0x1002")
       if (auto p = SysfsProbe::find("0x1002")) return p;
     if (r.find("Intel") != std::string::npos || device.vendor == "0x8086")
       if (auto p = SysfsProbe::find("0x8086")) return p;
@@ -256,7 +264,8 @@ std::string clock_warning(const std::vector<DeviceState>& samples, double tolera
     for (const DeviceState* s : {&before, &after})
       if (!s->throttle.empty() && throttle.empty()) throttle = s->throttle;
     if (before.clock_mhz <= 0 || after.clock_mhz <= 0) continue;
-    const double a = std::min(before.clock_mhz, after.clock_mhz), b = std::max(before.clock_mhz, after.clock_mhz);
+    const double a = std::min(before.clock_mhz, after.clock_mhz),
+                 b = std::max(before.clock_mhz, after.clock_mhz);
     if (b - a <= tolerance * b) continue;
     ++moved;
     lo = lo == 0 ? a : std::min(lo, a);
@@ -264,8 +273,8 @@ std::string clock_warning(const std::vector<DeviceState>& samples, double tolera
   }
   char buf[160] = "";
   if (moved > 0)
-    std::snprintf(buf, sizeof buf, "clocks moved inside %d of %d timed repetitions: %.0f-%.0f MHz", moved, repetitions,
-                  lo, hi);
+    std::snprintf(buf, sizeof buf, "clocks moved inside %d of %d timed repetitions: %.0f-%.0f MHz", moved,
+                  repetitions, lo, hi);
   std::string out = buf;
   if (!throttle.empty()) out += (out.empty() ? "" : "; ") + std::string("throttled: ") + throttle;
   return out;
@@ -299,7 +308,8 @@ std::string clock_range(const std::vector<DeviceState>& samples) {
     return buf;
   };
   std::string out = range(&DeviceState::clock_mhz, "MHz");
-  if (std::string t = range(&DeviceState::temperature_c, "C"); !t.empty()) out += (out.empty() ? "" : ", ") + t;
+  if (std::string t = range(&DeviceState::temperature_c, "C"); !t.empty())
+    out += (out.empty() ? "" : ", ") + t;
   return out.empty() ? "-" : out;
 }
 

@@ -1,10 +1,5 @@
 #include "bench/run/gbench_glue.h"
 
-#include "bench/run/gbench_report.h"
-
-#include "backends/common/driver_log.h"
-#include "bench/run/case_progress.h"
-
 #include <benchmark/benchmark.h>
 #include <valgrind/callgrind.h>
 
@@ -15,6 +10,10 @@
 #include <ctime>
 #include <functional>
 #include <set>
+
+#include "backends/common/driver_log.h"
+#include "bench/run/case_progress.h"
+#include "bench/run/gbench_report.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -37,8 +36,8 @@ FrameTiming render_measured(Backend& b, int frame) {
 
 void set_pass_counters(benchmark::State& state, const std::string& pass, const PassCounters& c) {
   if (!c.valid) return;
-  // Work counters are per frame and identical every frame; kDefaults keeps them as-is. Named as in results.json's
-  // "counters" section (the shared table), after the pass.
+  // Work counters are per frame and identical every frame; kDefaults keeps them as-is. Named as in
+  // results.json's "counters" section (the shared table), after the pass.
   state.counters[pass + "_draw_calls"] = Counter(static_cast<double>(c.draw_calls));
   for (const PipelineStatistic& s : kPipelineStatistics)
     state.counters[pass + "_" + s.name] = Counter(static_cast<double>(c.*s.member));
@@ -56,25 +55,27 @@ struct Progress {
   void step(const std::string& id, int in_round, int round_size) {
     ++done;
     std::string of = policy.cap() > 0 ? "/" + std::to_string(policy.cap()) : "";
-    std::fprintf(stderr, "[time round %d%s, %d/%d] %s  (elapsed %.0fs)\n", round, of.c_str(), in_round, round_size,
-                 id.c_str(), elapsed());
+    std::fprintf(stderr, "[time round %d%s, %d/%d] %s  (elapsed %.0fs)\n", round, of.c_str(), in_round,
+                 round_size, id.c_str(), elapsed());
   }
 };
 
 constexpr int kMaxTimedWarmupFrames = 100000;  // --warmup-ms ends at this many frames whatever the time
 
-// Renders `config`'s frames without a pause until the device clock reads steady (clock_steady: within 2% for a
-// second, readings 50 ms apart) or `limit_s` passed; one line on stderr either way. Frame 0 again and again:
-// untimed, nothing recorded.
+// Renders `config`'s frames without a pause until the device clock reads steady (clock_steady: within 2% for
+// a second, readings 50 ms apart) or `limit_s` passed; one line on stderr either way. Frame 0 again and
+// again: untimed, nothing recorded.
 void settle_clock(Harness& harness, const CaseConfig& config, double limit_s) {
   Backend& b = harness.activate(config);
   const auto start = std::chrono::steady_clock::now();
-  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
   std::vector<ClockReading> clocks{{0.0, harness.sample_device(config.backend).clock_mhz}};
   const std::string source = harness.device_state_source(config.backend);
   if (clocks.back().mhz <= 0) {
-    std::fprintf(stderr, "[settle] %s: no clock reading (%s): timing without waiting for one\n", config.backend.c_str(),
-                 source.c_str());
+    std::fprintf(stderr, "[settle] %s: no clock reading (%s): timing without waiting for one\n",
+                 config.backend.c_str(), source.c_str());
     return;
   }
   while (!clock_steady(clocks) && seconds() < limit_s) {
@@ -85,34 +86,41 @@ void settle_clock(Harness& harness, const CaseConfig& config, double limit_s) {
   double lo = clocks.back().mhz, hi = lo;
   for (const ClockReading& c : clocks)
     if (c.seconds >= clocks.back().seconds - 1.0) lo = std::min(lo, c.mhz), hi = std::max(hi, c.mhz);
-  std::fprintf(stderr, "[settle] %s: clock %s at %.0f-%.0f MHz over the last second, after %.1f s (%s, started at %.0f MHz)\n",
-               config.backend.c_str(), clock_steady(clocks) ? "steady" : "NOT steady", lo, hi, seconds(),
-               source.c_str(), clocks.front().mhz);
+  std::fprintf(
+      stderr,
+      "[settle] %s: clock %s at %.0f-%.0f MHz over the last second, after %.1f s (%s, started at %.0f MHz)\n",
+      config.backend.c_str(), clock_steady(clocks) ? "steady" : "NOT steady", lo, hi, seconds(),
+      source.c_str(), clocks.front().mhz);
 }
 
 // Cases whose checks ran (passed or not) are timed; cases that could not be prepared are not.
-bool is_timed(Status s) { return s == Status::ok || s == Status::failed_check || s == Status::failed_quality; }
+bool is_timed(Status s) {
+  return s == Status::ok || s == Status::failed_check || s == Status::failed_quality;
+}
 
-// Timed frames per repetition for each case: RunOptions::frames, or more where a repetition of that many frames
-// would last less than RunOptions::repetition_ms (measured here over a few frames after warm-up frames).
+// Timed frames per repetition for each case: RunOptions::frames, or more where a repetition of that many
+// frames would last less than RunOptions::repetition_ms (measured here over a few frames after warm-up
+// frames).
 void size_repetitions(Harness& harness, std::vector<CaseResult>& results, const std::function<bool()>& stop) {
   const RunOptions& o = harness.options();
   for (CaseResult& r : results) {
     if (!is_timed(r.status) || stop()) continue;
     r.frames_per_repetition = o.frames;
     try {
-      // The target first, from the device alone: a case is configured (activated) only when it is sized by time,
-      // so CPU drivers (target 0) pay no extra configure per case.
-      const double target_ms =
-          o.repetition_ms >= 0 ? o.repetition_ms
-                               : (harness.backend(r.config.backend).device().shares_host_memory ? 0.0
-                                                                                               : RunOptions::kGpuRepetitionMs);
+      // The target first, from the device alone: a case is configured (activated) only when it is sized by
+      // time, so CPU drivers (target 0) pay no extra configure per case.
+      const double target_ms = o.repetition_ms >= 0
+                                   ? o.repetition_ms
+                                   : (harness.backend(r.config.backend).device().shares_host_memory
+                                          ? 0.0
+                                          : RunOptions::kGpuRepetitionMs);
       if (target_ms <= 0) continue;
       Backend& b = harness.activate(r.config);
       for (int i = 0; i < std::max(o.warmup_frames, 1); ++i) b.render(i, FrameKind::timed);
       double ms = 0.0;
       int n = 0;
-      while (n < 3 || (ms < 10.0 && n < 100)) ms += b.render(n++ % std::max(o.warmup_frames, 1), FrameKind::timed).frame_wall_ms;
+      while (n < 3 || (ms < 10.0 && n < 100))
+        ms += b.render(n++ % std::max(o.warmup_frames, 1), FrameKind::timed).frame_wall_ms;
       const double per_frame = std::max(ms / n, 1e-3);
       r.frames_per_repetition =
           std::clamp(static_cast<int>(std::ceil(target_ms / per_frame)), o.frames, kMaxTimedWarmupFrames);
@@ -120,7 +128,6 @@ void size_repetitions(Harness& harness, std::vector<CaseResult>& results, const 
     }
   }
 }
-
 
 // Warm-up frames: shader compilation on first use, caches, clocks. Never reported as timings. Then by time
 // (RunOptions::warmup_ms), cycling over the same frame indices so that the timed frames stay the same frames.
@@ -133,8 +140,8 @@ void warm_up(Backend& b, const RunOptions& o, CaseResult& r) {
     r.warmup.push_back(render_measured(b, i));
     warmed_ms += r.warmup.back().frame_wall_ms;
   }
-  const double warmup_ms = o.warmup_ms >= 0 ? o.warmup_ms
-                                            : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuWarmupMs);
+  const double warmup_ms =
+      o.warmup_ms >= 0 ? o.warmup_ms : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuWarmupMs);
   for (int i = 0; warmed_ms < warmup_ms && i < kMaxTimedWarmupFrames; ++i) {
     r.warmup.push_back(render_measured(b, o.warmup_frames > 0 ? i % o.warmup_frames : 0));
     warmed_ms += std::max(r.warmup.back().frame_wall_ms, 0.0);
@@ -154,9 +161,10 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
     warm_up(b, o, r);
     int frame = o.warmup_frames;
     double sums[7] = {0, 0, 0, 0, 0, 0, 0};
-    // Under `valgrind --tool=callgrind --collect-atstart=no` (scripts/ci/instruction_counts.sh) exactly the timed
-    // frames are counted, and each case's count is dumped under its id: instructions are a deterministic measure
-    // of work on CPU drivers. Outside valgrind these requests are a few no-op instructions.
+    // Under `valgrind --tool=callgrind --collect-atstart=no` (scripts/ci/instruction_counts.sh) exactly the
+    // timed frames are counted, and each case's count is dumped under its id: instructions are a
+    // deterministic measure of work on CPU drivers. Outside valgrind these requests are a few no-op
+    // instructions.
     CALLGRIND_TOGGLE_COLLECT;
     for (auto _ : state) {
       FrameTiming t = render_measured(b, frame++);
@@ -175,7 +183,7 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
     const std::string dump_label = r.config.id() + " frames=" + std::to_string(frame - o.warmup_frames);
     CALLGRIND_DUMP_STATS_AT(dump_label.c_str());
     r.device_states.push_back(harness.sample_device(r.config.backend));  // after them
-    std::vector<std::string> api_errors = b.drain_api_errors();  // outside the timed loop
+    std::vector<std::string> api_errors = b.drain_api_errors();          // outside the timed loop
     if (!api_errors.empty())
       throw std::runtime_error("API error (checking mode): " + std::to_string(api_errors.size()) +
                                " message(s): " + one_line_log(api_errors));
@@ -191,7 +199,8 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
     if (gpu.reliable) {
       state.counters["shadow_gpu_ms"] = Counter(sums[4], Counter::kAvgIterations);
       state.counters["lighting_gpu_ms"] = Counter(sums[5], Counter::kAvgIterations);
-      if (!frames.empty()) r.repetition_gpu_ms.push_back((sums[4] + sums[5]) / static_cast<double>(frames.size()));
+      if (!frames.empty())
+        r.repetition_gpu_ms.push_back((sums[4] + sums[5]) / static_cast<double>(frames.size()));
     }
     set_pass_counters(state, "shadow", r.counters.shadow);
     set_pass_counters(state, "lighting", r.counters.lighting);
@@ -226,8 +235,8 @@ std::string ended_by(const RepetitionPolicy& policy, const CaseResult& r, bool s
   if (!needs_repetition(policy, r.precision_samples(), elapsed)) {
     if (policy.sustain_seconds > 0.0) return "sustain";
     if (policy.precision_percent <= 0.0) return "count";
-    return r.repetitions >= policy.cap() && median_interval(r.precision_samples()).half_width_percent >
-                                                policy.precision_percent
+    return r.repetitions >= policy.cap() &&
+                   median_interval(r.precision_samples()).half_width_percent > policy.precision_percent
                ? "cap"
                : "precision";
   }
@@ -295,7 +304,10 @@ void run_timed(Harness& harness, std::vector<CaseResult>& results, const Repetit
   for (CaseResult& r : results) {
     if (r.repetitions == 0) {
       if (is_timed(r.status) && stopped)
-        r.add({Status::interrupted, "timing", "interrupted: the run was stopped before this case was timed", {}});
+        r.add({Status::interrupted,
+               "timing",
+               "interrupted: the run was stopped before this case was timed",
+               {}});
       continue;
     }
     r.precision_target_percent = policy.precision_percent;

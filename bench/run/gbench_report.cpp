@@ -94,10 +94,11 @@ std::vector<Run> aggregate_runs(const std::vector<Run>& runs) {
     double (*compute)(const std::vector<double>&);
     benchmark::StatisticUnit unit;
   };
-  const Stat stats[] = {{"mean", mean_of, benchmark::kTime},
-                        {"median", [](const std::vector<double>& v) { return median_of(v); }, benchmark::kTime},
-                        {"stddev", stddev_of, benchmark::kTime},
-                        {"cv", cv_of, benchmark::kPercentage}};
+  const Stat stats[] = {
+      {"mean", mean_of, benchmark::kTime},
+      {"median", [](const std::vector<double>& v) { return median_of(v); }, benchmark::kTime},
+      {"stddev", stddev_of, benchmark::kTime},
+      {"cv", cv_of, benchmark::kPercentage}};
   const double n = static_cast<double>(ok.size());
   // GetAdjusted*Time() = accumulated * unit multiplier / iterations; a percentage is written as accumulated.
   const double to_accumulated = n / benchmark::GetTimeUnitMultiplier(ok.front().time_unit);

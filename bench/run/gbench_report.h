@@ -2,8 +2,8 @@
 // Google Benchmark's output for a run timed in rounds. Each round is one RunSpecifiedBenchmarks call with one
 // repetition per case, so Google Benchmark neither numbers the repetitions nor aggregates them: RoundReporter
 // collects every round's runs (numbering them per case) while printing them, and write_gbench_json writes the
-// file Google Benchmark would have written for the same repetitions, aggregates (_mean, _median, _stddev, _cv)
-// included, which tools/compare.py and `omnishadow compare` read.
+// file Google Benchmark would have written for the same repetitions, aggregates (_mean, _median, _stddev,
+// _cv) included, which tools/compare.py and `omnishadow compare` read.
 
 #include <benchmark/benchmark.h>
 
@@ -18,7 +18,8 @@ class RoundReporter : public benchmark::ConsoleReporter {
   RoundReporter() : benchmark::ConsoleReporter(OO_Tabular) {}
   // Prints the context once (the first round), not once per round.
   bool ReportContext(const Context& context) override;
-  // Keeps the runs (repetition_index = this case's count so far), prints them with the headline counters only.
+  // Keeps the runs (repetition_index = this case's count so far), prints them with the headline counters
+  // only.
   void ReportRuns(const std::vector<Run>& runs) override;
   // Every case's runs in the order they ran; with its aggregates when it has more than one repetition.
   std::vector<Run> all_runs() const;
@@ -29,8 +30,8 @@ class RoundReporter : public benchmark::ConsoleReporter {
   std::map<std::string, std::vector<Run>> runs_;  // by benchmark name
 };
 
-// mean, median, stddev and cv over `runs` (iteration runs of one benchmark, without errors) of the real and CPU
-// time per iteration and of every counter, as Google Benchmark computes them for --benchmark_repetitions.
+// mean, median, stddev and cv over `runs` (iteration runs of one benchmark, without errors) of the real and
+// CPU time per iteration and of every counter, as Google Benchmark computes them for --benchmark_repetitions.
 std::vector<benchmark::BenchmarkReporter::Run> aggregate_runs(
     const std::vector<benchmark::BenchmarkReporter::Run>& runs);
 

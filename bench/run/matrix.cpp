@@ -1,8 +1,8 @@
 #include "bench/run/matrix.h"
 
-#include "backends/common/storage_filter_tables.h"
-
 #include <stdexcept>
+
+#include "backends/common/storage_filter_tables.h"
 
 namespace omnishadow::bench {
 
@@ -71,44 +71,47 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec,
         for (const auto& [w, h] : sizes)
           for (Storage storage : spec.storages)
             for (DepthFormat depth : spec.depth_formats)
-            for (Layout layout : spec.layouts)
-            for (int tessellation : spec.tessellations)
-              for (Filter filter : spec.filters)
-                for (float pcf_scale : spec.pcf_scales)
-                for (const Remedies& remedies : spec.remedies)
-                for (const MomentsTuning& moments : spec.moments_tunings)
-                for (const Optimizations& optimizations : spec.optimizations)
-                for (Technique technique : spec.techniques)
-                for (int injected : spec.injected_work)
-                for (int replica = 0; replica < spec.replicas; ++replica) {
-                  // A moments filter stores its own moments whatever the storage axis says: one case, not one per
-                  // storage named.
-                  if (traits(filter).own_storage && storage != spec.storages.front()) continue;
-                  CaseConfig c;
-                  c.injected_work = injected;
-                  if (spec.injected_work.size() > 1) c.experiment = "inj" + std::to_string(injected);
-                  if (spec.replicas > 1)
-                    c.experiment += (c.experiment.empty() ? "rep" : "/rep") + std::to_string(replica);
-                  c.backend = backend;
-                  c.scene = scene;
-                  c.cube_size = cube;
-                  c.width = w;
-                  c.height = h;
-                  c.storage = storage_for(filter, storage);
-                  c.depth_format = depth;
-                  c.layout = layout;
-                  c.tessellation = tessellation;
-                  c.filter = filter;
-                  c.technique = technique;
-                  c.optimizations = optimizations;
-                  c.remedies = remedies;
-                  c.moments = moments;
-                  c.pcf_scale = pcf_scale;
-                  c.raster_perturb_steps = spec.raster_perturb_steps;
-                  c.lookup_perturb_texels = spec.lookup_perturb_texels;
-                  c.emulate_nv_swizzle = spec.emulate_nv_swizzle;
-                  cases.push_back(c);
-                }
+              for (Layout layout : spec.layouts)
+                for (int tessellation : spec.tessellations)
+                  for (Filter filter : spec.filters)
+                    for (float pcf_scale : spec.pcf_scales)
+                      for (const Remedies& remedies : spec.remedies)
+                        for (const MomentsTuning& moments : spec.moments_tunings)
+                          for (const Optimizations& optimizations : spec.optimizations)
+                            for (Technique technique : spec.techniques)
+                              for (int injected : spec.injected_work)
+                                for (int replica = 0; replica < spec.replicas; ++replica) {
+                                  // A moments filter stores its own moments whatever the storage axis says:
+                                  // one case, not one per storage named.
+                                  if (traits(filter).own_storage && storage != spec.storages.front())
+                                    continue;
+                                  CaseConfig c;
+                                  c.injected_work = injected;
+                                  if (spec.injected_work.size() > 1)
+                                    c.experiment = "inj" + std::to_string(injected);
+                                  if (spec.replicas > 1)
+                                    c.experiment +=
+                                        (c.experiment.empty() ? "rep" : "/rep") + std::to_string(replica);
+                                  c.backend = backend;
+                                  c.scene = scene;
+                                  c.cube_size = cube;
+                                  c.width = w;
+                                  c.height = h;
+                                  c.storage = storage_for(filter, storage);
+                                  c.depth_format = depth;
+                                  c.layout = layout;
+                                  c.tessellation = tessellation;
+                                  c.filter = filter;
+                                  c.technique = technique;
+                                  c.optimizations = optimizations;
+                                  c.remedies = remedies;
+                                  c.moments = moments;
+                                  c.pcf_scale = pcf_scale;
+                                  c.raster_perturb_steps = spec.raster_perturb_steps;
+                                  c.lookup_perturb_texels = spec.lookup_perturb_texels;
+                                  c.emulate_nv_swizzle = spec.emulate_nv_swizzle;
+                                  cases.push_back(c);
+                                }
     }
   return cases;
 }
@@ -134,8 +137,8 @@ int env_int(const std::function<const char*(const char*)>& getenv, const char* n
   } catch (const std::exception&) {
   }
   if (value.empty() || used != value.size() || v < min)
-    throw std::invalid_argument(std::string("--shard auto: ") + name + "='" + value + "' is not an integer >= " +
-                                std::to_string(min));
+    throw std::invalid_argument(std::string("--shard auto: ") + name + "='" + value +
+                                "' is not an integer >= " + std::to_string(min));
   return v;
 }
 
@@ -145,9 +148,11 @@ ShardFromEnvironment shard_from_environment(const std::function<const char*(cons
   auto has = [&](const char* name) { return getenv(name) != nullptr; };
   ShardFromEnvironment s;
   if (has("OMNISHADOW_SHARD_INDEX")) {
-    s = {env_int(getenv, "OMNISHADOW_SHARD_INDEX", 0), env_int(getenv, "OMNISHADOW_SHARD_COUNT", 1), "OMNISHADOW_SHARD_INDEX"};
+    s = {env_int(getenv, "OMNISHADOW_SHARD_INDEX", 0), env_int(getenv, "OMNISHADOW_SHARD_COUNT", 1),
+         "OMNISHADOW_SHARD_INDEX"};
   } else if (has("CI_NODE_INDEX")) {
-    s = {env_int(getenv, "CI_NODE_INDEX", 1) - 1, env_int(getenv, "CI_NODE_TOTAL", 1), "GitLab CI_NODE_INDEX"};
+    s = {env_int(getenv, "CI_NODE_INDEX", 1) - 1, env_int(getenv, "CI_NODE_TOTAL", 1),
+         "GitLab CI_NODE_INDEX"};
   } else if (has("SLURM_ARRAY_TASK_ID")) {
     int min = has("SLURM_ARRAY_TASK_MIN") ? env_int(getenv, "SLURM_ARRAY_TASK_MIN", 0) : 0;
     s = {env_int(getenv, "SLURM_ARRAY_TASK_ID", 0) - min, env_int(getenv, "SLURM_ARRAY_TASK_COUNT", 1),
@@ -159,8 +164,8 @@ ShardFromEnvironment shard_from_environment(const std::function<const char*(cons
     return {0, 1, "none"};
   }
   if (s.index < 0 || s.index >= s.count)
-    throw std::invalid_argument("--shard auto: " + s.source + " gives shard " + std::to_string(s.index) + " of " +
-                                std::to_string(s.count) + " (0-based): out of range");
+    throw std::invalid_argument("--shard auto: " + s.source + " gives shard " + std::to_string(s.index) +
+                                " of " + std::to_string(s.count) + " (0-based): out of range");
   s.source += " -> shard " + std::to_string(s.index) + "/" + std::to_string(s.count);
   return s;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // The benchmark matrix: lists per axis, expanded into cases in a fixed order (backend, scene, cube size,
-// frame size, storage, depth format, layout, filter, optimisations, technique). Technique is innermost so that each
-// single-pass case runs right after the six_pass case it is checked against.
+// frame size, storage, depth format, layout, filter, optimisations, technique). Technique is innermost so
+// that each single-pass case runs right after the six_pass case it is checked against.
 
 #include <functional>
 #include <map>
@@ -25,46 +25,48 @@ struct MatrixSpec {
   std::vector<Filter> filters{Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20};
   std::vector<Storage> storages{Storage::linear_depth};
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
-  std::vector<Layout> layouts{Layout::cube};                  // --layout cube,face_array
-  std::vector<int> tessellations{1};                          // --tessellate 1,4,16
-  std::vector<Optimizations> optimizations{Optimizations{}};  // --optimize none,cull,...
-  std::vector<Remedies> remedies{Remedies{}};                // --remedy none,rebase
+  std::vector<Layout> layouts{Layout::cube};                    // --layout cube,face_array
+  std::vector<int> tessellations{1};                            // --tessellate 1,4,16
+  std::vector<Optimizations> optimizations{Optimizations{}};    // --optimize none,cull,...
+  std::vector<Remedies> remedies{Remedies{}};                   // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01
-  std::vector<float> pcf_scales{1.0f};                        // --pcf-scale 0,1,20
-  // Experiment axes (scripts/experiments/sensitivity_same_run.py): extra fragment work per case, and copies of every
-  // case measured in the same rounds. Each is in the case id only when it has more than one value
+  std::vector<float> pcf_scales{1.0f};                          // --pcf-scale 0,1,20
+  // Experiment axes (scripts/experiments/sensitivity_same_run.py): extra fragment work per case, and copies
+  // of every case measured in the same rounds. Each is in the case id only when it has more than one value
   // (/inj<N>, /rep<k>), so a run with one value keeps the ids of a run without them.
-  std::vector<int> injected_work{0};  // --inject-fragment-work 0,18
-  int replicas = 1;                   // --replicas 2
-  float raster_perturb_steps = 0.0f;  // --raster-perturb 1 (test only: CaseConfig::raster_perturb_steps)
+  std::vector<int> injected_work{0};   // --inject-fragment-work 0,18
+  int replicas = 1;                    // --replicas 2
+  float raster_perturb_steps = 0.0f;   // --raster-perturb 1 (test only: CaseConfig::raster_perturb_steps)
   float lookup_perturb_texels = 0.0f;  // --lookup-perturb 0.05 (test only: CaseConfig::lookup_perturb_texels)
   bool emulate_nv_swizzle = false;     // --emulate-nv-swizzle (test only: CaseConfig::emulate_nv_swizzle)
-  // --technique not given: techniques a backend cannot do at all are left out of its cases (said once on stderr)
-  // rather than reported unsupported case by case; a technique asked for by name is always reported.
+  // --technique not given: techniques a backend cannot do at all are left out of its cases (said once on
+  // stderr) rather than reported unsupported case by case; a technique asked for by name is always reported.
   bool techniques_given = false;
-  // Whether --scene was given: a default scene that cannot load (bunny.json without glmark2-data) is left out with
-  // one line, a scene asked for by name is an error.
+  // Whether --scene was given: a default scene that cannot load (bunny.json without glmark2-data) is left out
+  // with one line, a scene asked for by name is an error.
   bool scenes_given = false;
-  // Whether --cube was given. Not given and every backend of the run a CPU driver (llvmpipe, lavapipe): the cube
-  // sizes are kCpuDriverCubeSizes, said once on stderr. A CPU driver renders the 1024 cube's fragments on the same
-  // two-odd cores as everything else, so those cases cost about half the default run there while telling a GPU
-  // user nothing; the first run on such a machine stays about a minute (issue 23).
+  // Whether --cube was given. Not given and every backend of the run a CPU driver (llvmpipe, lavapipe): the
+  // cube sizes are kCpuDriverCubeSizes, said once on stderr. A CPU driver renders the 1024 cube's fragments
+  // on the same two-odd cores as everything else, so those cases cost about half the default run there while
+  // telling a GPU user nothing; the first run on such a machine stays about a minute (issue 23).
   bool cube_sizes_given = false;
   static inline const std::vector<int> kCpuDriverCubeSizes{512};
 };
 
 // scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.
-std::vector<CaseConfig> expand(const MatrixSpec& spec, const std::map<std::string, std::pair<int, int>>& scene_sizes);
+std::vector<CaseConfig> expand(const MatrixSpec& spec,
+                               const std::map<std::string, std::pair<int, int>>& scene_sizes);
 
 // Deterministic sharding: shard `index` of `count` keeps cases whose position modulo count equals index.
 std::vector<CaseConfig> shard(const std::vector<CaseConfig>& cases, int index, int count);
 
 // `--shard auto`: the shard (0-based index, count) from the variables a CI engine or batch system sets, first
-// found wins: OMNISHADOW_SHARD_INDEX / OMNISHADOW_SHARD_COUNT (0-based; what our GitHub Actions workflow exports
-// from its matrix, GitHub itself numbers nothing), GitLab's CI_NODE_INDEX / CI_NODE_TOTAL (`parallel:`, 1-based),
-// Slurm's SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN / SLURM_ARRAY_TASK_COUNT, Kubernetes indexed jobs'
-// JOB_COMPLETION_INDEX with OMNISHADOW_SHARD_COUNT (Kubernetes does not export the completions). No variables:
-// the whole matrix (0, 1), and `source` says so. Throws std::invalid_argument naming a variable that is malformed.
+// found wins: OMNISHADOW_SHARD_INDEX / OMNISHADOW_SHARD_COUNT (0-based; what our GitHub Actions workflow
+// exports from its matrix, GitHub itself numbers nothing), GitLab's CI_NODE_INDEX / CI_NODE_TOTAL
+// (`parallel:`, 1-based), Slurm's SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN / SLURM_ARRAY_TASK_COUNT,
+// Kubernetes indexed jobs' JOB_COMPLETION_INDEX with OMNISHADOW_SHARD_COUNT (Kubernetes does not export the
+// completions). No variables: the whole matrix (0, 1), and `source` says so. Throws std::invalid_argument
+// naming a variable that is malformed.
 struct ShardFromEnvironment {
   int index = 0;
   int count = 1;

@@ -1,14 +1,14 @@
 #include "bench/run/memory_budget.h"
 
-#include "backends/common/layouts.h"
-#include "backends/common/storage_filter_tables.h"
-
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+
+#include "backends/common/layouts.h"
+#include "backends/common/storage_filter_tables.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -46,8 +46,10 @@ uint64_t read_number(const char* file) {
 std::string format_bytes(uint64_t bytes) {
   char buf[32];
   double b = static_cast<double>(bytes);
-  if (b >= 1024.0 * 1024 * 1024) std::snprintf(buf, sizeof buf, "%.1f GiB", b / (1024.0 * 1024 * 1024));
-  else std::snprintf(buf, sizeof buf, "%.0f MiB", b / (1024.0 * 1024));
+  if (b >= 1024.0 * 1024 * 1024)
+    std::snprintf(buf, sizeof buf, "%.1f GiB", b / (1024.0 * 1024 * 1024));
+  else
+    std::snprintf(buf, sizeof buf, "%.0f MiB", b / (1024.0 * 1024));
   return buf;
 }
 
@@ -70,9 +72,10 @@ MemoryNeed estimate_case_memory(const CaseConfig& c, CubeReadBack cube) {
   need.device_bytes = shadow_storage_bytes(c);
   // Check variant: RGBA8 lit, R32F shadow factor, RGBA32F position, D32F depth; timed variant: RGBA8 + D32F.
   need.device_bytes += pixels * (4 + 4 + 16 + 4) + pixels * (4 + 4);
-  // Host: the read-back cube as floats, held twice (this case and the six_pass reference kept for checks), plus
-  // the face strip written as an image (one more float copy and bytes), and the per-pixel buffers four times over.
-  // A sampled read-back brings only the check grid (a cube read in full after all is a failing case's path).
+  // Host: the read-back cube as floats, held twice (this case and the six_pass reference kept for checks),
+  // plus the face strip written as an image (one more float copy and bytes), and the per-pixel buffers four
+  // times over. A sampled read-back brings only the check grid (a cube read in full after all is a failing
+  // case's path).
   const int grid = c.cube_size / cube_sample_stride(c.cube_size);
   const uint64_t host_texels = cube == CubeReadBack::full ? texels : 6ull * uint64_t(grid) * uint64_t(grid);
   need.host_bytes = host_texels * 4 * 3 + host_texels + pixels * (4 + 4 + 4 + 16) * 4;
@@ -127,8 +130,9 @@ std::string shortfall_against(const MemoryNeed& need, const MemoryAvailable& hos
   uint64_t host_need = need.host_bytes + (shares_host_memory ? need.device_bytes : 0);
   if (host_need > usable(host.host_bytes))
     return "out of memory (predicted): needs " + format_bytes(host_need) + " of host memory (" +
-           format_bytes(need.device_bytes) + " of targets" + (shares_host_memory ? ", which this driver keeps in host memory" : "") +
-           ", " + format_bytes(need.host_bytes) + " of read-back copies), " + format_bytes(host.host_bytes) +
+           format_bytes(need.device_bytes) + " of targets" +
+           (shares_host_memory ? ", which this driver keeps in host memory" : "") + ", " +
+           format_bytes(need.host_bytes) + " of read-back copies), " + format_bytes(host.host_bytes) +
            " available (" + host.host_limit + ")";
   if (!shares_host_memory && device_bytes > 0 && need.device_bytes > usable(device_bytes))
     return "out of memory (predicted): needs " + format_bytes(need.device_bytes) + " of device memory, " +

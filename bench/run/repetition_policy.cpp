@@ -29,7 +29,8 @@ MedianInterval median_interval(std::vector<double> samples, double confidence) {
   double cdf = 0.0;
   int k = 0;  // ranks (k, n + 1 - k), 1-based; 0 = none qualifies
   for (int j = 0; j < n; ++j) {
-    double log_pmf = std::lgamma(n + 1.0) - std::lgamma(j + 1.0) - std::lgamma(n - j + 1.0) - n * std::log(2.0);
+    double log_pmf =
+        std::lgamma(n + 1.0) - std::lgamma(j + 1.0) - std::lgamma(n - j + 1.0) - n * std::log(2.0);
     cdf += std::exp(log_pmf);
     if (cdf > tail) break;
     k = j + 1;
@@ -44,7 +45,8 @@ MedianInterval median_interval(std::vector<double> samples, double confidence) {
   return out;
 }
 
-bool needs_repetition(const RepetitionPolicy& policy, const std::vector<double>& samples, double elapsed_seconds) {
+bool needs_repetition(const RepetitionPolicy& policy, const std::vector<double>& samples,
+                      double elapsed_seconds) {
   const int n = static_cast<int>(samples.size());
   if (n < policy.minimum()) return true;
   if (policy.sustain_seconds > 0.0) return elapsed_seconds < policy.sustain_seconds;

@@ -37,7 +37,8 @@ GpuTimerCheck check_gpu_timer(const std::vector<FrameTiming>& frames) {
   GpuTimerCheck c;
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameTiming& f = frames[i];
-    const std::pair<const char*, const PassTiming*> passes[] = {{"shadow", &f.shadow}, {"lighting", &f.lighting}};
+    const std::pair<const char*, const PassTiming*> passes[] = {{"shadow", &f.shadow},
+                                                                {"lighting", &f.lighting}};
     bool frame_ok = true;
     for (const auto& [name, p] : passes) {
       if (p->gpu_ms < 0) continue;  // the backend has no GPU figure for this pass

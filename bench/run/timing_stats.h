@@ -9,8 +9,9 @@
 
 namespace omnishadow::bench {
 
-// Of every timed frame (not of Google Benchmark's per-repetition means): a technique that is faster on median but
-// stutters shows it in p99 and max. Percentiles interpolate linearly between order statistics (numpy's default).
+// Of every timed frame (not of Google Benchmark's per-repetition means): a technique that is faster on median
+// but stutters shows it in p99 and max. Percentiles interpolate linearly between order statistics (numpy's
+// default).
 struct Summary {
   int count = 0;
   double mean = 0, median = 0, min = 0, max = 0, stddev = 0;

@@ -1,8 +1,5 @@
 #include "bench/truth/accuracy.h"
 
-#include "backends/common/map_lights.h"
-#include "bench/truth/parallel_rows.h"
-
 #include <algorithm>
 #include <atomic>
 #include <bit>
@@ -10,6 +7,9 @@
 #include <cstring>
 #include <numbers>
 #include <thread>
+
+#include "backends/common/map_lights.h"
+#include "bench/truth/parallel_rows.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -46,10 +46,10 @@ double psnr(double squared_error_sum, uint64_t values) {
   return 10.0 * std::log10(static_cast<double>(values) / squared_error_sum);  // peak 1.0
 }
 
-// The hidden fraction of a spherical light of radius r centred at `light`, seen from p: the sphere seen from p is a
-// disk facing p, sampled on k x k strata jittered per pixel (deterministic).
-float hidden_fraction(const reference::RayCaster& caster, const glm::vec3& light, const glm::vec3& p, float r, int k,
-                      uint32_t pixel, float eps, uint32_t* last_blocker) {
+// The hidden fraction of a spherical light of radius r centred at `light`, seen from p: the sphere seen from
+// p is a disk facing p, sampled on k x k strata jittered per pixel (deterministic).
+float hidden_fraction(const reference::RayCaster& caster, const glm::vec3& light, const glm::vec3& p, float r,
+                      int k, uint32_t pixel, float eps, uint32_t* last_blocker) {
   glm::vec3 w = glm::normalize(light - p);
   glm::vec3 helper = std::fabs(w.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
   glm::vec3 u = glm::normalize(glm::cross(helper, w)), v = glm::cross(w, u);
@@ -92,8 +92,8 @@ Truth blank_truth(const Images& img, const TruthOptions& options) {
   return t;
 }
 
-// The radius fit's slots hold every fit_stride-th pixel (-1 where nothing was drawn): keep the covered ones only,
-// in image order.
+// The radius fit's slots hold every fit_stride-th pixel (-1 where nothing was drawn): keep the covered ones
+// only, in image order.
 void keep_covered_fit_slots(Truth& t, const std::vector<int64_t>& slot_pixel) {
   for (size_t slot = 0; slot < slot_pixel.size(); ++slot) {
     if (slot_pixel[slot] < 0) continue;
@@ -137,19 +137,21 @@ class PriorPixels {
       : positions_(prior.positions), camera_(camera.position) {
     const Truth* p = prior.truth;
     if (p && positions_ && p->width == img.width && p->height == img.height &&
-        positions_->size() == img.world_position.size() && p->options.light_radius == t.options.light_radius &&
+        positions_->size() == img.world_position.size() &&
+        p->options.light_radius == t.options.light_radius &&
         p->options.samples_per_axis == t.options.samples_per_axis && p->sphere_stride == t.sphere_stride)
       before_ = p;
     // The radians one pixel spans vertically: its footprint at distance d is about d times that.
-    pixel_angle_ = 2.0f * std::tan(glm::radians(camera.fov_y_degrees) * 0.5f) / float(std::max(img.height, 1));
+    pixel_angle_ =
+        2.0f * std::tan(glm::radians(camera.fov_y_degrees) * 0.5f) / float(std::max(img.height, 1));
     if (before_ && !before_->fit_pixels.empty()) {  // each prior fit pixel's index into its fit arrays
       fit_index_.assign(before_->covered.size(), -1);
       for (size_t j = 0; j < before_->fit_pixels.size(); ++j) fit_index_[before_->fit_pixels[j]] = int32_t(j);
     }
   }
 
-  // Copies pixel i's values (and its fit slot's, when it is a fit pixel: slot >= 0) where the prior saw the same
-  // surface point there; false where it must be cast.
+  // Copies pixel i's values (and its fit slot's, when it is a fit pixel: slot >= 0) where the prior saw the
+  // same surface point there; false where it must be cast.
   bool take(size_t i, const glm::vec3& p, int64_t slot, Truth& t) {
     if (!before_ || !before_->covered[i]) return false;
     const float* q = positions_->data() + 4 * i;
@@ -177,20 +179,24 @@ class PriorPixels {
 
 }  // namespace
 
-Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, const Images& img,
-                    const TruthOptions& options, const TruthPrior& prior) {
+Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame,
+                    const Images& img, const TruthOptions& options, const TruthPrior& prior) {
   Truth t = blank_truth(img, options);
-  // The light whose shadow the images report (lighting.frag): the point light, else the first spot/directional
-  // light. A directional light is a point far along its reverse direction; a spot light reaches only its map.
-  const scene::MapLight* map = scene.has_point_light || scene.map_lights.empty() ? nullptr : &scene.map_lights[0];
+  // The light whose shadow the images report (lighting.frag): the point light, else the first
+  // spot/directional light. A directional light is a point far along its reverse direction; a spot light
+  // reaches only its map.
+  const scene::MapLight* map =
+      scene.has_point_light || scene.map_lights.empty() ? nullptr : &scene.map_lights[0];
   const bool directional = map && map->type == scene::MapLightType::directional;
   const glm::vec3 light_color = map ? map->color : scene.light.color;
   float scene_size = 1.0f;
-  for (const scene::Object& o : scene.objects) scene_size = std::max(scene_size, glm::length(o.bounds_max - o.bounds_min));
-  const glm::mat4 spot_view_proj = map && !directional
-                                       ? gpu::map_view_projection(scene, *map, frame, cube::DepthRange::minus_one_to_one)
-                                       : glm::mat4(1.0f);
-  const glm::vec3 fixed_light = map ? (directional ? glm::vec3(0.0f) : map->path.at(frame)) : scene.light.path.at(frame);
+  for (const scene::Object& o : scene.objects)
+    scene_size = std::max(scene_size, glm::length(o.bounds_max - o.bounds_min));
+  const glm::mat4 spot_view_proj =
+      map && !directional ? gpu::map_view_projection(scene, *map, frame, cube::DepthRange::minus_one_to_one)
+                          : glm::mat4(1.0f);
+  const glm::vec3 fixed_light =
+      map ? (directional ? glm::vec3(0.0f) : map->path.at(frame)) : scene.light.path.at(frame);
   auto light_for = [&](const glm::vec3& p) {
     return directional ? p - map->direction * (4.0f * scene_size) : fixed_light;
   };
@@ -201,22 +207,26 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   const glm::vec3 camera = scene.camera.position;
   const int k = std::max(1, options.samples_per_axis);
   PriorPixels from_prior(prior, img, t, scene.camera);
-  // Radius-fit slots: one per fit_stride-th pixel of every fit_stride-th row, filled where covered; large frames
-  // thin the fit as they thin the soft reference.
+  // Radius-fit slots: one per fit_stride-th pixel of every fit_stride-th row, filled where covered; large
+  // frames thin the fit as they thin the soft reference.
   const bool fit = options.light_radius > 0 && map == nullptr;
   const int fit_stride = fit_stride_for(t.sphere_stride);
-  const int fit_w = (img.width + fit_stride - 1) / fit_stride, fit_h = (img.height + fit_stride - 1) / fit_stride;
+  const int fit_w = (img.width + fit_stride - 1) / fit_stride,
+            fit_h = (img.height + fit_stride - 1) / fit_stride;
   std::vector<int64_t> fit_slot_pixel(fit ? static_cast<size_t>(fit_w) * fit_h : 0, -1);
   if (fit) t.fit_shadow.assign(kFitRadii.size(), std::vector<float>(fit_slot_pixel.size(), 0.0f));
 
   parallel_rows(img.height, [&](int y) {
-    // Neighbouring pixels' shadow rays are mostly blocked by the same triangle: tried first (exactness unchanged).
-    uint32_t point_blocker = reference::RayCaster::kNoBlocker, soft_blocker = reference::RayCaster::kNoBlocker;
+    // Neighbouring pixels' shadow rays are mostly blocked by the same triangle: tried first (exactness
+    // unchanged).
+    uint32_t point_blocker = reference::RayCaster::kNoBlocker,
+             soft_blocker = reference::RayCaster::kNoBlocker;
     for (int x = 0; x < img.width; ++x) {
       const size_t i = static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x);
       if (img.world_position[4 * i + 3] != 1.0f) continue;
       t.covered[i] = 1;
-      const glm::vec3 p(img.world_position[4 * i], img.world_position[4 * i + 1], img.world_position[4 * i + 2]);
+      const glm::vec3 p(img.world_position[4 * i], img.world_position[4 * i + 1],
+                        img.world_position[4 * i + 2]);
       const int64_t slot = fit && x % fit_stride == 0 && y % fit_stride == 0
                                ? int64_t(y / fit_stride) * fit_w + int64_t(x / fit_stride)
                                : -1;
@@ -231,16 +241,17 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       if (options.light_radius > 0 && (map != nullptr)) {
         t.sphere_shadow[i] = t.point_shadow[i];  // the soft reference models the point light only
       } else if (options.light_radius > 0 && x % t.sphere_stride == 0 && y % t.sphere_stride == 0) {
-        t.sphere_shadow[i] =
-            hidden_fraction(caster, light, p, options.light_radius, k, static_cast<uint32_t>(i), eps, &soft_blocker);
+        t.sphere_shadow[i] = hidden_fraction(caster, light, p, options.light_radius, k,
+                                             static_cast<uint32_t>(i), eps, &soft_blocker);
       }
       for (size_t r = 0; slot >= 0 && r < kFitRadii.size(); ++r)
-          t.fit_shadow[r][size_t(slot)] = kFitRadii[r] == 0.0f ? t.point_shadow[i]
-                                                        : hidden_fraction(caster, light, p, kFitRadii[r],
-                                                                          kFitSamplesPerAxis, static_cast<uint32_t>(i), eps,
-                                                                          &soft_blocker);
+        t.fit_shadow[r][size_t(slot)] =
+            kFitRadii[r] == 0.0f ? t.point_shadow[i]
+                                 : hidden_fraction(caster, light, p, kFitRadii[r], kFitSamplesPerAxis,
+                                                   static_cast<uint32_t>(i), eps, &soft_blocker);
       const glm::vec3 l = directional ? -map->direction : glm::normalize(light - p);
-      t.has_direct[i] = unshadowed_light(caster, camera, p, l, reached ? light_color : glm::vec3(0.0f), t.direct[i]);
+      t.has_direct[i] =
+          unshadowed_light(caster, camera, p, l, reached ? light_color : glm::vec3(0.0f), t.direct[i]);
     }
   });
   keep_covered_fit_slots(t, fit_slot_pixel);
@@ -292,10 +303,12 @@ Accuracy measure_accuracy(const Truth& t, const Images& img) {
   if (!t.fit_pixels.empty()) {
     for (const std::vector<float>& shadow : t.fit_shadow) {
       double sum = 0;
-      for (size_t j = 0; j < t.fit_pixels.size(); ++j) sum += std::fabs(img.shadow_factor[t.fit_pixels[j]] - shadow[j]);
+      for (size_t j = 0; j < t.fit_pixels.size(); ++j)
+        sum += std::fabs(img.shadow_factor[t.fit_pixels[j]] - shadow[j]);
       a.fit_mae.push_back(sum / static_cast<double>(t.fit_pixels.size()));
     }
-    const size_t best = static_cast<size_t>(std::min_element(a.fit_mae.begin(), a.fit_mae.end()) - a.fit_mae.begin());
+    const size_t best =
+        static_cast<size_t>(std::min_element(a.fit_mae.begin(), a.fit_mae.end()) - a.fit_mae.begin());
     a.fit_radius = kFitRadii[best];
     a.fit_mae_best = a.fit_mae[best];
   }
@@ -306,22 +319,27 @@ std::vector<uint8_t> error_heatmap(const Truth& t, const Images& img) {
   std::vector<uint8_t> rgb(static_cast<size_t>(t.width) * static_cast<size_t>(t.height) * 3, 0);
   for (int y = 0; y < t.height; ++y)
     for (int x = 0; x < t.width; ++x) {
-      size_t src = static_cast<size_t>(t.height - 1 - y) * static_cast<size_t>(t.width) + static_cast<size_t>(x);
+      size_t src =
+          static_cast<size_t>(t.height - 1 - y) * static_cast<size_t>(t.width) + static_cast<size_t>(x);
       size_t o = (static_cast<size_t>(y) * static_cast<size_t>(t.width) + static_cast<size_t>(x)) * 3;
       if (!t.covered[src]) continue;
       float d = img.shadow_factor[src] - t.point_shadow[src];
       auto level = static_cast<uint8_t>(std::clamp(80.0f + 175.0f * std::fabs(d), 0.0f, 255.0f));
-      if (d > 0.01f) rgb[o] = level;            // false shadow
-      else if (d < -0.01f) rgb[o + 2] = level;  // missed shadow
-      else rgb[o] = rgb[o + 1] = rgb[o + 2] = t.point_shadow[src] > 0.5f ? 60 : 150;
+      if (d > 0.01f)
+        rgb[o] = level;  // false shadow
+      else if (d < -0.01f)
+        rgb[o + 2] = level;  // missed shadow
+      else
+        rgb[o] = rgb[o + 1] = rgb[o + 2] = t.point_shadow[src] > 0.5f ? 60 : 150;
     }
   return rgb;
 }
 
 uint64_t positions_fingerprint(const Images& img) {
-  // Eight bytes a step (a 7.7 MB buffer at 800x600 every case): multiply, rotate, multiply, as a 64-bit hash's
-  // rounds do, so that every bit of a word reaches the whole state.
-  uint64_t h = 0x9E3779B97F4A7C15ull ^ (static_cast<uint64_t>(img.width) << 32) ^ static_cast<uint64_t>(img.height);
+  // Eight bytes a step (a 7.7 MB buffer at 800x600 every case): multiply, rotate, multiply, as a 64-bit
+  // hash's rounds do, so that every bit of a word reaches the whole state.
+  uint64_t h =
+      0x9E3779B97F4A7C15ull ^ (static_cast<uint64_t>(img.width) << 32) ^ static_cast<uint64_t>(img.height);
   const auto* bytes = reinterpret_cast<const uint8_t*>(img.world_position.data());
   const size_t size = img.world_position.size() * sizeof(float);
   size_t i = 0;

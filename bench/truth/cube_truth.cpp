@@ -9,8 +9,8 @@
 
 #include "backends/common/cube_faces.h"
 #include "backends/common/paraboloid.h"
-#include "backends/common/tetrahedron.h"
 #include "backends/common/storage_filter_tables.h"
+#include "backends/common/tetrahedron.h"
 
 namespace omnishadow::bench {
 
@@ -24,7 +24,8 @@ std::vector<uint8_t> culled_triangles(const scene::Scene& scene, CulledFaces clo
 }
 
 double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& scene,
-                      const std::vector<uint8_t>& culled, glm::vec3 origin, const glm::vec3& unit, double length) {
+                      const std::vector<uint8_t>& culled, glm::vec3 origin, const glm::vec3& unit,
+                      double length) {
   double travelled = 0.0;
   for (int guard = 0; guard < 64; ++guard) {
     reference::Hit hit = caster.closest(origin, unit, length - travelled);
@@ -42,25 +43,30 @@ double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& sc
   return -1.0;
 }
 
-CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene, const glm::vec3& light,
-                             float near_plane, float far_plane, int cube_size, bool two_sided, TexelMap map) {
+CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene,
+                             const glm::vec3& light, float near_plane, float far_plane, int cube_size,
+                             bool two_sided, TexelMap map) {
   auto culled = std::make_shared<const std::vector<uint8_t>>(
       culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back));
   CubeTruth t;
   t.map = map;
-  t.layers = map == TexelMap::paraboloid ? paraboloid::kLayerCount : map == TexelMap::tetrahedral ? tetra::kFaceCount : 6;
+  t.layers = map == TexelMap::paraboloid    ? paraboloid::kLayerCount
+             : map == TexelMap::tetrahedral ? tetra::kFaceCount
+                                            : 6;
   t.size = cube_size;
   t.stride = cube_sample_stride(cube_size);
   t.far_plane = far_plane;
-  t.cast = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size, map](int face, double s,
-                                                                                                   double tt) {
+  t.cast = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size, map](
+               int face, double s, double tt) {
     if (map == TexelMap::paraboloid) {
-      // A layer clips the other hemisphere (forward < 0: outside the unit disk) and its near and far are radial.
+      // A layer clips the other hemisphere (forward < 0: outside the unit disk) and its near and far are
+      // radial.
       const glm::dvec3 d = paraboloid::texel_point_direction(face, s, tt, cube_size);
       if ((face == 0 ? d.z : -d.z) < 0.0) return -1.0;
       const glm::vec3 unit(d);
       const double start = double(near_plane) * (1.0 - 1e-5), end = double(far_plane);
-      const double hit = first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
+      const double hit =
+          first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
       return hit >= 0.0 ? start + hit : -1.0;
     }
     // A perspective face (the cube's, a tetrahedron's): its near and far are axis distances.
@@ -69,10 +75,11 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
     const double len = glm::length(d);  // the face axis component is 1: axis distance = distance / len
     const glm::vec3 unit(d / len);
     // The face frustum clips at the axis distances near and far. A surface lying exactly on the near plane is
-    // kept by the rasteriser (the room's cube face at x = -1 with the light at the origin and near 1), so the ray
-    // starts a hair before it.
+    // kept by the rasteriser (the room's cube face at x = -1 with the light at the origin and near 1), so the
+    // ray starts a hair before it.
     const double start = double(near_plane) * len * (1.0 - 1e-5), end = double(far_plane) * len;
-    const double hit = first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
+    const double hit =
+        first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
     return hit >= 0.0 ? start + hit : -1.0;
   };
   const int n = cube_size / t.stride;
@@ -95,11 +102,14 @@ namespace {
 
 double storage_step(Storage storage, DepthFormat format, double distance, double axis, double near_plane,
                     double far_plane) {
-  const double q = format == DepthFormat::d16 ? 1.0 / 65535.0 : format == DepthFormat::d24 ? 1.0 / 16777215.0
-                                                                                           : std::ldexp(1.0, -23);
+  const double q = format == DepthFormat::d16   ? 1.0 / 65535.0
+                   : format == DepthFormat::d24 ? 1.0 / 16777215.0
+                                                : std::ldexp(1.0, -23);
   switch (traits(storage).checked) {
-    case DistanceEncoding::linear_depth: return far_plane * q;
-    case DistanceEncoding::colour_distance: return distance * std::ldexp(1.0, -23);
+    case DistanceEncoding::linear_depth:
+      return far_plane * q;
+    case DistanceEncoding::colour_distance:
+      return distance * std::ldexp(1.0, -23);
     case DistanceEncoding::projective_depth:
       // d(axis)/d(window depth) = axis^2 (f - n) / (n f), along the texel's direction; GL's [-1, 1] range
       // doubles the window-depth step.
@@ -120,11 +130,13 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
   WorstTexels worst;
   const int n = truth.size / truth.stride;
   if (images.cube_size != truth.size) return r;
-  if (!images.has_full_cube() && (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
+  if (!images.has_full_cube() &&
+      (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
     return r;
   const double far_plane = images.light_far;
   for (int f = 0; f < truth.layers; ++f) {
-    // The check grid is the truth's grid: read from the device's sample, or from the full cube where it came back.
+    // The check grid is the truth's grid: read from the device's sample, or from the full cube where it came
+    // back.
     const bool full = images.has_full_cube();
     const auto& stored = full ? images.cube_distance[size_t(f)] : images.cube_sample[size_t(f)];
     const auto& exact = truth.distance[size_t(f)];
@@ -132,24 +144,27 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
       for (int x = 0; x < n; ++x) {
         const int s = x * truth.stride + truth.stride / 2, t = y * truth.stride + truth.stride / 2;
         if (truth.map == TexelMap::paraboloid && !paraboloid::texel_in_disk(s, t, truth.size)) continue;
-        const double got = full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
+        const double got =
+            full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
         const double want = exact[size_t(y) * size_t(n) + size_t(x)];
         // "Nothing here": the clear value, far (depth storages) or FLT_MAX (r32f).
         const bool got_surface = got < far_plane * (1.0 - 1e-6) && got != double(FLT_MAX);
         ++r.texels;
         if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
         // Axis distance over distance: 1 where the depth is radial (the paraboloid's).
-        const double len = truth.map == TexelMap::paraboloid    ? 1.0
-                           : truth.map == TexelMap::tetrahedral ? glm::length(tetra::face_point_direction(f, s + 0.5, t + 0.5, truth.size))
-                                                                : glm::length(cube::texel_direction(f, s, t, truth.size));
+        const double len = truth.map == TexelMap::paraboloid ? 1.0
+                           : truth.map == TexelMap::tetrahedral
+                               ? glm::length(tetra::face_point_direction(f, s + 0.5, t + 0.5, truth.size))
+                               : glm::length(cube::texel_direction(f, s, t, truth.size));
         auto agree = [&](double stored_distance, double exact_distance) {
           return std::fabs(stored_distance - exact_distance) <=
-                 2.0 * storage_step(storage, format, exact_distance, exact_distance / len, near_plane, far_plane) +
+                 2.0 * storage_step(storage, format, exact_distance, exact_distance / len, near_plane,
+                                    far_plane) +
                      1e-4 * exact_distance;
         };
-        // What the storage reports for a point of the reach square: its distance for the storages that compute
-        // one per fragment; hardware_depth stores the point's axis depth and the read-back scales it by the
-        // centre's direction (cube::projective_depth_to_distance), so the same scaling applies here.
+        // What the storage reports for a point of the reach square: its distance for the storages that
+        // compute one per fragment; hardware_depth stores the point's axis depth and the read-back scales it
+        // by the centre's direction (cube::projective_depth_to_distance), so the same scaling applies here.
         auto cast = [&](double cs, double ct) {
           double d = truth.cast(f, cs, ct);
           if (d >= 0.0 && traits(storage).checked == DistanceEncoding::projective_depth)
@@ -193,7 +208,8 @@ std::string describe(const CubeTexelReport& r) {
       faces += (faces.empty() ? "" : ", ") + std::string(buf);
     }
   if (!faces.empty()) out += " (" + faces + ")";
-  std::snprintf(buf, sizeof buf, ": %llu beyond the depth step, %llu spurious, %llu missing, max error %.4g units",
+  std::snprintf(buf, sizeof buf,
+                ": %llu beyond the depth step, %llu spurious, %llu missing, max error %.4g units",
                 static_cast<unsigned long long>(r.wrong), static_cast<unsigned long long>(r.spurious),
                 static_cast<unsigned long long>(r.missing), r.max_error);
   return out + buf + describe_worst(r.worst, "", names);

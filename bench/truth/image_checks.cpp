@@ -1,6 +1,7 @@
-// The Harness's image checks: the timed variant against the check variant, every technique against the six_pass
-// rendering of its group (cube faces, shadow factor, lit frame, with the driver's evidence when the images point
-// at it), and each case against the same case on the other API. A failing check writes its diff image.
+// The Harness's image checks: the timed variant against the check variant, every technique against the
+// six_pass rendering of its group (cube faces, shadow factor, lit frame, with the driver's evidence when the
+// images point at it), and each case against the same case on the other API. A failing check writes its diff
+// image.
 
 #include <algorithm>
 #include <cfloat>
@@ -12,8 +13,8 @@
 #include "backends/common/cube_faces.h"
 #include "backends/common/layouts.h"
 #include "backends/common/techniques.h"
-#include "bench/run/case_runner.h"
 #include "bench/results/image_io.h"
+#include "bench/run/case_runner.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -73,9 +74,11 @@ std::string driver_evidence(const Images& img, const Images& ref, float far_plan
     if (std::find(theirs.begin(), theirs.end(), f) == theirs.end()) lost.push_back(f);
   if (lost.empty()) return "";
   std::string names;
-  for (int f : lost) names += (names.empty() ? "" : " ") + std::string(cube::kFaceNames[static_cast<size_t>(f)]);
+  for (int f : lost)
+    names += (names.empty() ? "" : " ") + std::string(cube::kFaceNames[static_cast<size_t>(f)]);
   return std::to_string(lost.size()) + " of 6 faces (" + names +
-         ") were never written while six_pass wrote them: the driver did not route every layer/view to its face";
+         ") were never written while six_pass wrote them: the driver did not route every layer/view to its "
+         "face";
 }
 
 std::map<std::string, double> check_figures(const CheckResult& c) {
@@ -90,40 +93,42 @@ std::string fmt(double v) {
   return buf;
 }
 
-// What a technique's check allows beyond six_pass's exact values: the stored distances' tolerance (world units),
-// and whether the shadow factor and the lit image may differ in --cross-max-percent of their values.
+// What a technique's check allows beyond six_pass's exact values: the stored distances' tolerance (world
+// units), and whether the shadow factor and the lit image may differ in --cross-max-percent of their values.
 struct TechniqueAllowance {
   double face_tolerance;
   bool images_may_differ;
 };
 
-TechniqueAllowance technique_allowance(const CaseConfig& c, double face_tolerance, double near_plane, double far_plane) {
+TechniqueAllowance technique_allowance(const CaseConfig& c, double face_tolerance, double near_plane,
+                                       double far_plane) {
   TechniqueAllowance a{face_tolerance, false};
   // Outside the cube, a layout's stored distance comes from the world position interpolated across triangles
-  // projected by a warp (dual_paraboloid, w = 1) or an asymmetric frustum (tetrahedral); pipelines with and without
-  // a geometry stage may set that interpolation up from window coordinates that round differently (llvmpipe's
-  // differed by 2-19 ulps of the distance, on whole triangles; its cube faces, whose matrices hold 0 and +-1 beside
-  // the translation, agree bit for bit, and the cube is held to that). GL asks of each float
-  // operation a relative error of 1e-5 (GL 4.5, 2.3.4.1); the interpolation and the length are about ten of them,
-  // so stored distances may differ by 1e-4 of the far plane, the bound the cube texel check allows for the same
-  // interpolation. A lookup whose receiver sits within that of a stored distance may then compare the other way:
-  // the shadow factor and the lit image may differ in as few values as across backends (cross_max_percent), whose
-  // pipelines differ in the same last bits.
+  // projected by a warp (dual_paraboloid, w = 1) or an asymmetric frustum (tetrahedral); pipelines with and
+  // without a geometry stage may set that interpolation up from window coordinates that round differently
+  // (llvmpipe's differed by 2-19 ulps of the distance, on whole triangles; its cube faces, whose matrices
+  // hold 0 and +-1 beside the translation, agree bit for bit, and the cube is held to that). GL asks of each
+  // float operation a relative error of 1e-5 (GL 4.5, 2.3.4.1); the interpolation and the length are about
+  // ten of them, so stored distances may differ by 1e-4 of the far plane, the bound the cube texel check
+  // allows for the same interpolation. A lookup whose receiver sits within that of a stored distance may then
+  // compare the other way: the shadow factor and the lit image may differ in as few values as across backends
+  // (cross_max_percent), whose pipelines differ in the same last bits.
   if (traits(c.layout).texel_map != TexelMap::cube_faces) {  // warped or asymmetric
     a.face_tolerance = std::max(a.face_tolerance, 1e-4 * far_plane);
     a.images_may_differ = true;
   }
-  // nv_swizzle with a storage that writes no depth (r32f_distance) keeps the nearest fragment by a reversed depth,
-  // near / w, where six_pass keeps it by its projective depth A + B / w (|B| = near far / (far - near) for D32F's
-  // [0, 1]); both are affine in the interpolated 1 / w, so they order fragments alike except where six_pass's depth
-  // rounds two of them together. Its float depth near 1 has a unit roundoff of 2^-24; allowing 8 of them (the
-  // interpolation's few operations, either side) fragments whose w differ by dw = 8 2^-24 w^2 / |B| can swap, and
-  // their stored distances then differ by up to sqrt 3 dw (a distance is at most sqrt 3 times its axis), largest at
-  // w = far. The colours written are the fragments' own, so only such ties differ; lookups near them may then
-  // compare the other way, as across backends (cross_max_percent).
+  // nv_swizzle with a storage that writes no depth (r32f_distance) keeps the nearest fragment by a reversed
+  // depth, near / w, where six_pass keeps it by its projective depth A + B / w (|B| = near far / (far - near)
+  // for D32F's [0, 1]); both are affine in the interpolated 1 / w, so they order fragments alike except where
+  // six_pass's depth rounds two of them together. Its float depth near 1 has a unit roundoff of 2^-24;
+  // allowing 8 of them (the interpolation's few operations, either side) fragments whose w differ by dw = 8
+  // 2^-24 w^2 / |B| can swap, and their stored distances then differ by up to sqrt 3 dw (a distance is at
+  // most sqrt 3 times its axis), largest at w = far. The colours written are the fragments' own, so only such
+  // ties differ; lookups near them may then compare the other way, as across backends (cross_max_percent).
   if (reversed_depth_test(c)) {
     const double n = near_plane, f = far_plane;
-    a.face_tolerance = std::max(a.face_tolerance, std::sqrt(3.0) * 8.0 * std::ldexp(1.0, -24) * f * (f - n) / n);
+    a.face_tolerance =
+        std::max(a.face_tolerance, std::sqrt(3.0) * 8.0 * std::ldexp(1.0, -24) * f * (f - n) / n);
     a.images_may_differ = true;
   }
   return a;
@@ -131,12 +136,14 @@ TechniqueAllowance technique_allowance(const CaseConfig& c, double face_toleranc
 
 }  // namespace
 
-CheckResult timed_variant_check(const std::vector<uint8_t>& timed, const std::vector<uint8_t>& check_variant) {
+CheckResult timed_variant_check(const std::vector<uint8_t>& timed,
+                                const std::vector<uint8_t>& check_variant) {
   CheckResult check{"timed_lit", "check variant"};
   check.difference = compare_values(timed, check_variant, 0.0);
   check.max_percent = kTimedLitMaxPercent;
   check.max_abs = 1.0;
-  check.passed = check.difference.percent_differing() <= check.max_percent && check.difference.max_abs <= check.max_abs;
+  check.passed =
+      check.difference.percent_differing() <= check.max_percent && check.difference.max_abs <= check.max_abs;
   return check;
 }
 
@@ -144,13 +151,14 @@ void Harness::check_timed_variant(CaseResult& r, const Images& images) {
   CheckResult check = timed_variant_check(images.timed_lit_rgba8, images.lit_rgba8);
   check.against = r.config.id() + " (check variant)";
   std::vector<float> diff = max_channel_difference(images.timed_lit_rgba8, images.lit_rgba8);
-  record_check(r, check, diff, std::vector<float>(diff.size(), 0.0f), luminance(images.lit_rgba8), images.width,
-               images.height, 64.0, true);
+  record_check(r, check, diff, std::vector<float>(diff.size(), 0.0f), luminance(images.lit_rgba8),
+               images.width, images.height, 64.0, true);
   if (!r.checks.back().passed)
     r.add({Status::failed_check, "timed_lit",
            "timed_lit: the timed lighting variant's colour differs from the check variant's in " +
-               fmt(check.difference.percent_differing()) + "% of values (max abs " + fmt(check.difference.max_abs) +
-               "; allowed: 1 level in " + fmt(kTimedLitMaxPercent) + "%): the timed frame does not render what was checked",
+               fmt(check.difference.percent_differing()) + "% of values (max abs " +
+               fmt(check.difference.max_abs) + "; allowed: 1 level in " + fmt(kTimedLitMaxPercent) +
+               "%): the timed frame does not render what was checked",
            check_figures(check)});
 }
 
@@ -166,13 +174,14 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
   }
   const float far_plane = reference_->light_far;
 
-  // Cube faces, in world units: the technique must store what six_pass stores. Equal face hashes (the device's, or
-  // the host's for full read-backs) settle it without the values; otherwise both cubes are compared value by
-  // value, read in full if they were not (the case's own, and six_pass's, rendered again: frames are deterministic).
+  // Cube faces, in world units: the technique must store what six_pass stores. Equal face hashes (the
+  // device's, or the host's for full read-backs) settle it without the values; otherwise both cubes are
+  // compared value by value, read in full if they were not (the case's own, and six_pass's, rendered again:
+  // frames are deterministic).
   CheckResult faces_check{"cube_faces", ref_config.id()};
   faces_check.tolerance = options_.face_tolerance;
-  const TechniqueAllowance allowance = technique_allowance(r.config, options_.face_tolerance,
-                                                           scene_of(r.config).light.near_plane, far_plane);
+  const TechniqueAllowance allowance =
+      technique_allowance(r.config, options_.face_tolerance, scene_of(r.config).light.near_plane, far_plane);
   faces_check.tolerance = allowance.face_tolerance;
   if (images.cube_summary_on_device == reference_->cube_summary_on_device &&
       images.cube_summary == reference_->cube_summary && reference_->light_far == images.light_far) {
@@ -201,16 +210,16 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
   shadow_check.tolerance = 0.0;
   if (allowance.images_may_differ) shadow_check.max_percent = options_.cross_max_percent;
   shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, 0.0);
-  record_check(r, shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height, 1.0,
-         true);
+  record_check(r, shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width,
+               images.height, 1.0, true);
 
   CheckResult lit_check{"lit", ref_config.id()};
   lit_check.tolerance = options_.lit_tolerance;
   if (allowance.images_may_differ) lit_check.max_percent = options_.cross_max_percent;
   lit_check.difference = compare_values(images.lit_rgba8, ref.lit_rgba8, options_.lit_tolerance);
   std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit_rgba8);
-  record_check(r, lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8), images.width,
-         images.height, 64.0, true);
+  record_check(r, lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8),
+               images.width, images.height, 64.0, true);
 
   bool failed = false;
   for (const CheckResult& c : r.checks)
@@ -226,10 +235,12 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
       r.add({Status::failed_check, "driver_evidence", evidence, {}});
 }
 
-void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float>& a, const std::vector<float>& b,
-                           const std::vector<float>& grey, int width, int height, double scale, bool flip) {
-  c.passed = (c.max_percent > 0 ? c.difference.percent_differing() <= c.max_percent : c.difference.differing == 0) &&
-             (c.max_abs < 0 || c.difference.max_abs <= c.max_abs);
+void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float>& a,
+                           const std::vector<float>& b, const std::vector<float>& grey, int width, int height,
+                           double scale, bool flip) {
+  c.passed =
+      (c.max_percent > 0 ? c.difference.percent_differing() <= c.max_percent : c.difference.differing == 0) &&
+      (c.max_abs < 0 || c.difference.max_abs <= c.max_abs);
   if (!c.passed && options_.write_images()) {
     fs::path dir = fs::path("images") / r.config.id();
     c.diff_image = (dir / ("diff_" + c.name + ".png")).string();
@@ -256,9 +267,10 @@ void Harness::check_against_other_backend(CaseResult& r, const Images& images) {
   CheckResult shadow{"cross_backend_shadow_factor", ref.case_id};
   shadow.tolerance = options_.cross_shadow_tolerance;
   shadow.max_percent = options_.cross_max_percent;
-  shadow.difference = compare_values(images.shadow_factor, ref.shadow_factor, options_.cross_shadow_tolerance);
-  record_check(r, shadow, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width, images.height,
-               1.0, true);
+  shadow.difference =
+      compare_values(images.shadow_factor, ref.shadow_factor, options_.cross_shadow_tolerance);
+  record_check(r, shadow, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width,
+               images.height, 1.0, true);
   CheckResult lit{"cross_backend_lit", ref.case_id};
   lit.tolerance = options_.cross_lit_tolerance;
   lit.max_percent = options_.cross_max_percent;
@@ -269,8 +281,8 @@ void Harness::check_against_other_backend(CaseResult& r, const Images& images) {
   for (const CheckResult* c : {&r.checks[r.checks.size() - 2], &r.checks.back()})
     if (!c->passed)
       r.add({Status::failed_check, c->name,
-             c->name + ": " + fmt(c->difference.percent_differing()) + "% of values differ from " + c->against +
-                 " (allowed " + fmt(c->max_percent) + "%)",
+             c->name + ": " + fmt(c->difference.percent_differing()) + "% of values differ from " +
+                 c->against + " (allowed " + fmt(c->max_percent) + "%)",
              check_figures(*c)});
 }
 

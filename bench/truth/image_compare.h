@@ -10,7 +10,7 @@ namespace omnishadow::bench {
 struct Difference {
   uint64_t total = 0;      // values compared
   uint64_t differing = 0;  // values whose absolute difference exceeds the tolerance
-  double max_abs = 0.0;    // largest absolute difference (infinite if one side is not finite and the other is)
+  double max_abs = 0.0;  // largest absolute difference (infinite if one side is not finite and the other is)
   double percent_differing() const { return total ? 100.0 * static_cast<double>(differing) / total : 0.0; }
 };
 

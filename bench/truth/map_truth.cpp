@@ -1,9 +1,8 @@
 #include "bench/truth/map_truth.h"
 
-#include <glm/gtc/matrix_inverse.hpp>
-
 #include <cmath>
 #include <cstdio>
+#include <glm/gtc/matrix_inverse.hpp>
 #include <memory>
 
 #include "backends/common/map_lights.h"
@@ -11,8 +10,8 @@
 
 namespace omnishadow::bench {
 
-MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, int map_size,
-                           cube::DepthRange range) {
+MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame,
+                           int map_size, cube::DepthRange range) {
   MapTruth t;
   t.size = map_size;
   t.stride = map_size > kMapTruthGrid ? map_size / kMapTruthGrid : 1;
@@ -24,8 +23,9 @@ MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scen
   auto lights = std::make_shared<std::vector<Light>>();
   for (const scene::MapLight& light : scene.map_lights) {
     const glm::mat4 view_proj = gpu::map_view_projection(scene, light, frame, range);
-    lights->push_back({glm::dmat4(view_proj), glm::dmat4(glm::inverse(view_proj)),
-                       culled_triangles(scene, light.cull_front_faces ? CulledFaces::front : CulledFaces::back)});
+    lights->push_back(
+        {glm::dmat4(view_proj), glm::dmat4(glm::inverse(view_proj)),
+         culled_triangles(scene, light.cull_front_faces ? CulledFaces::front : CulledFaces::back)});
   }
   t.cast = [caster = &caster, scene = &scene, lights, map_size, zo](size_t m, double x, double y) {
     const Light& l = (*lights)[m];
@@ -40,7 +40,8 @@ MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scen
     const double length = glm::length(along);
     const glm::dvec3 unit = along / length;
     const glm::dvec3 start = near_point - unit * (1e-5 * length);
-    const double hit = first_kept_hit(*caster, *scene, l.culled, glm::vec3(start), glm::vec3(unit), length * 1.00002);
+    const double hit =
+        first_kept_hit(*caster, *scene, l.culled, glm::vec3(start), glm::vec3(unit), length * 1.00002);
     if (hit < 0.0) return 1.0;
     const glm::dvec4 clip = l.view_proj * glm::dvec4(start + unit * hit, 1.0);
     const double ndc_z = clip.z / clip.w;
@@ -59,12 +60,15 @@ MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scen
   return t;
 }
 
-MapTexelReport check_map_texels(const MapTruth& truth, const Images& images, DepthFormat format, int subpixel_bits) {
+MapTexelReport check_map_texels(const MapTruth& truth, const Images& images, DepthFormat format,
+                                int subpixel_bits) {
   MapTexelReport r;
   r.stride = truth.stride;
   r.reach_texels = raster_reach_texels(subpixel_bits);
   WorstTexels worst;
-  const double step = format == DepthFormat::d16 ? 1.0 / 65535.0 : format == DepthFormat::d24 ? 1.0 / 16777215.0 : 0.0;
+  const double step = format == DepthFormat::d16   ? 1.0 / 65535.0
+                      : format == DepthFormat::d24 ? 1.0 / 16777215.0
+                                                   : 0.0;
   auto agree = [&](double stored, double exact) {
     return std::fabs(stored - exact) <= 2.0 * (step > 0 ? step : std::ldexp(std::fabs(exact), -23)) + 1e-5;
   };
@@ -82,10 +86,12 @@ MapTexelReport check_map_texels(const MapTruth& truth, const Images& images, Dep
         const double exact = truth.depth[m][size_t(y) * size_t(n) + size_t(x)];
         ++r.texels;
         if (stored < 1.0 && exact < 1.0) r.max_error = std::max(r.max_error, std::fabs(stored - exact));
-        // A surface at the far plane itself stores ~1, as the clear does: equal depths agree whatever they mean.
+        // A surface at the far plane itself stores ~1, as the clear does: equal depths agree whatever they
+        // mean.
         if (agree(stored, exact)) continue;
-        const TexelVerdict v = judge_texel({stored < 1.0, stored}, {exact < 1.0, exact}, agree,
-                                           [&] { return reach_corners(s + 0.5, t + 0.5, r.reach_texels, cast); });
+        const TexelVerdict v = judge_texel({stored < 1.0, stored}, {exact < 1.0, exact}, agree, [&] {
+          return reach_corners(s + 0.5, t + 0.5, r.reach_texels, cast);
+        });
         if (v == TexelVerdict::ok) continue;
         ++(v == TexelVerdict::wrong ? r.wrong : v == TexelVerdict::spurious ? r.spurious : r.missing);
         ++bad;

@@ -1,11 +1,11 @@
 #pragma once
-// Truth for the 2D shadow maps of spot and directional lights, as bench/truth/cube_truth.h is for the cube: for texel
-// centres of every map (all of them up to 128 a side, above that a regular grid of 128 x 128), the window depth of
-// the first surface the map pass keeps along the texel's ray, by casting it against the scene's triangles. The ray
-// comes from unprojecting the texel centre with the map's own view-projection at the near and far planes (texel row
-// 0 is NDC y = -1 in both APIs), so a wrong map matrix does not fool it only if the matrix is what is being tested:
-// it catches a broken depth range, an upside-down or mirrored map, culling of the wrong faces and a map that was
-// not rendered or cleared.
+// Truth for the 2D shadow maps of spot and directional lights, as bench/truth/cube_truth.h is for the cube:
+// for texel centres of every map (all of them up to 128 a side, above that a regular grid of 128 x 128), the
+// window depth of the first surface the map pass keeps along the texel's ray, by casting it against the
+// scene's triangles. The ray comes from unprojecting the texel centre with the map's own view-projection at
+// the near and far planes (texel row 0 is NDC y = -1 in both APIs), so a wrong map matrix does not fool it
+// only if the matrix is what is being tested: it catches a broken depth range, an upside-down or mirrored
+// map, culling of the wrong faces and a map that was not rendered or cleared.
 
 #include <array>
 #include <cstdint>
@@ -34,8 +34,8 @@ struct MapTruth {
   // k + 0.5), 1 where nothing is met: the checks cast off-centre rays through it (texel_bounds.h).
   std::function<double(size_t m, double x, double y)> cast;
 };
-MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame, int map_size,
-                           cube::DepthRange range);
+MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame,
+                           int map_size, cube::DepthRange range);
 
 struct MapTexelReport {
   int stride = 1;
@@ -51,9 +51,10 @@ struct MapTexelReport {
   double bad_percent() const { return texels ? 100.0 * double(bad()) / double(texels) : 0.0; }
 };
 // A texel passes when its stored depth agrees with the exact one at its centre or at some point within the
-// rasteriser's reach (texel_bounds.h). Two depths agree within two steps of the depth format (UNORM 2^-bits, D32F
-// 2^-23 relative) plus 1e-5 for the rasteriser's interpolation against the ray's float arithmetic.
-MapTexelReport check_map_texels(const MapTruth& truth, const Images& images, DepthFormat format, int subpixel_bits);
+// rasteriser's reach (texel_bounds.h). Two depths agree within two steps of the depth format (UNORM 2^-bits,
+// D32F 2^-23 relative) plus 1e-5 for the rasteriser's interpolation against the ray's float arithmetic.
+MapTexelReport check_map_texels(const MapTruth& truth, const Images& images, DepthFormat format,
+                                int subpixel_bits);
 
 // "map_texels: 3.1% of 16384 texels wrong (map 0 3.1%), max error 0.02" for a finding.
 std::string describe(const MapTexelReport& r);

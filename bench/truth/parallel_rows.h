@@ -1,6 +1,6 @@
 #pragma once
-// Rows of an image shared among the machine's cores, row y to thread y mod N: the truths and the lookup replay are
-// per pixel and independent. `body(y)` must touch only row y's outputs.
+// Rows of an image shared among the machine's cores, row y to thread y mod N: the truths and the lookup
+// replay are per pixel and independent. `body(y)` must touch only row y's outputs.
 
 #include <algorithm>
 #include <thread>

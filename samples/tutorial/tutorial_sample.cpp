@@ -1,18 +1,19 @@
-// The point-shadow tutorial's sample, rendered the way the tutorial renders it (the point-shadow tutorial: depth cube map filled in
-// one geometry-shader pass storing distance / far_plane, then the room lit into the window's framebuffer: one
-// RGBA8 colour buffer and a 24-bit depth buffer, both cleared each frame, one program with the tutorial's shaders
-// and its wood texture), headless. It exists to hold the harness's timed frame against an independent renderer of
-// the same scene: scripts/experiments/tutorial_ab.py runs both alternately. Not part of the product's checks.
+// The point-shadow tutorial's sample, rendered the way the tutorial renders it (the point-shadow tutorial:
+// depth cube map filled in one geometry-shader pass storing distance / far_plane, then the room lit into the
+// window's framebuffer: one RGBA8 colour buffer and a 24-bit depth buffer, both cleared each frame, one
+// program with the tutorial's shaders and its wood texture), headless. It exists to hold the harness's timed
+// frame against an independent renderer of the same scene: scripts/experiments/tutorial_ab.py runs both
+// alternately. Not part of the product's checks.
 //
 // Usage: omnishadow_tutorial_sample [--filter hard|pcf_grid64|pcf_disk20] [--albedo texture|constant]
 //                                   [--depth-format d32f|d24|unsized] [--cube 1024] [--size 800x600]
 //                                   [--camera-depth d24s8|d32f] [--frames 30] [--warmup 5] [--png FILE]
 // --depth-format: the cube's depth format, d32f by default as the harness's (the tutorial's unsized
 // GL_DEPTH_COMPONENT is 24-bit on NVIDIA: a different format costs differently, so A/B runs name one).
-// --camera-depth: the window's depth buffer, d24s8 by default (GLFW's default framebuffer); d32f is the harness's
-// lighting target's (gl_targets.cpp), to tell a difference in the lighting pass's cost by that format alone.
-// Prints one JSON object: per pass the median wall time from the first command to glFinish (as the harness times
-// its passes) and the median GPU time (GL_TIME_ELAPSED around the pass), in milliseconds.
+// --camera-depth: the window's depth buffer, d24s8 by default (GLFW's default framebuffer); d32f is the
+// harness's lighting target's (gl_targets.cpp), to tell a difference in the lighting pass's cost by that
+// format alone. Prints one JSON object: per pass the median wall time from the first command to glFinish (as
+// the harness times its passes) and the median GPU time (GL_TIME_ELAPSED around the pass), in milliseconds.
 
 #include <epoxy/gl.h>
 
@@ -21,13 +22,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <stdexcept>
-#include <string>
-#include <vector>
-
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "backends/gl/egl_context.h"
 #include "bench/results/image_io.h"
@@ -48,20 +48,31 @@ Options parse(int argc, char** argv) {
     const std::string arg = argv[i];
     if (i + 1 >= argc) throw std::invalid_argument("option " + arg + " needs a value");
     const std::string value = argv[++i];
-    if (arg == "--filter") o.filter = value;
-    else if (arg == "--albedo") o.albedo = value;
-    else if (arg == "--depth-format") o.depth_format = value;
-    else if (arg == "--camera-depth") o.camera_depth = value;
-    else if (arg == "--png") o.png = value;
-    else if (arg == "--cube") o.cube = std::stoi(value);
-    else if (arg == "--frames") o.frames = std::stoi(value);
-    else if (arg == "--warmup") o.warmup = std::stoi(value);
-    else if (arg == "--size" && std::sscanf(value.c_str(), "%dx%d", &o.width, &o.height) == 2) continue;
-    else throw std::invalid_argument("unknown option or bad value: " + arg + " " + value);
+    if (arg == "--filter")
+      o.filter = value;
+    else if (arg == "--albedo")
+      o.albedo = value;
+    else if (arg == "--depth-format")
+      o.depth_format = value;
+    else if (arg == "--camera-depth")
+      o.camera_depth = value;
+    else if (arg == "--png")
+      o.png = value;
+    else if (arg == "--cube")
+      o.cube = std::stoi(value);
+    else if (arg == "--frames")
+      o.frames = std::stoi(value);
+    else if (arg == "--warmup")
+      o.warmup = std::stoi(value);
+    else if (arg == "--size" && std::sscanf(value.c_str(), "%dx%d", &o.width, &o.height) == 2)
+      continue;
+    else
+      throw std::invalid_argument("unknown option or bad value: " + arg + " " + value);
   }
   if (o.filter != "hard" && o.filter != "pcf_grid64" && o.filter != "pcf_disk20")
     throw std::invalid_argument("--filter: hard, pcf_grid64 or pcf_disk20, not " + o.filter);
-  if (o.albedo != "texture" && o.albedo != "constant") throw std::invalid_argument("--albedo: texture or constant");
+  if (o.albedo != "texture" && o.albedo != "constant")
+    throw std::invalid_argument("--albedo: texture or constant");
   if (o.camera_depth != "d24s8" && o.camera_depth != "d32f")
     throw std::invalid_argument("--camera-depth: d24s8 or d32f, not " + o.camera_depth);
   if (o.depth_format != "d32f" && o.depth_format != "d24" && o.depth_format != "unsized")
@@ -96,8 +107,8 @@ GLuint link(const std::vector<std::pair<GLenum, std::string>>& stages) {
   return p;
 }
 
-// The tutorial's unit cube: 36 vertices of position, outward normal and texture coordinates, counter-clockwise
-// from outside. Generated per face rather than listed.
+// The tutorial's unit cube: 36 vertices of position, outward normal and texture coordinates,
+// counter-clockwise from outside. Generated per face rather than listed.
 GLuint cube_vao() {
   std::vector<float> v;
   for (int axis = 0; axis < 3; ++axis)
@@ -150,10 +161,11 @@ GLuint wood_texture() {
   return tex;
 }
 
-// The tutorial's renderScene: the room (a cube scaled 5, seen from inside: culling off, normals reversed) and five
-// cubes. `program` takes a `model` matrix and the `reverse_normals` flag.
+// The tutorial's renderScene: the room (a cube scaled 5, seen from inside: culling off, normals reversed) and
+// five cubes. `program` takes a `model` matrix and the `reverse_normals` flag.
 void render_scene(GLuint program, GLuint vao) {
-  const GLint model = glGetUniformLocation(program, "model"), reverse = glGetUniformLocation(program, "reverse_normals");
+  const GLint model = glGetUniformLocation(program, "model"),
+              reverse = glGetUniformLocation(program, "reverse_normals");
   glBindVertexArray(vao);
   auto draw = [&](const glm::mat4& m) {
     glUniformMatrix4fv(model, 1, GL_FALSE, glm::value_ptr(m));
@@ -164,7 +176,9 @@ void render_scene(GLuint program, GLuint vao) {
   draw(glm::scale(glm::mat4(1.0f), glm::vec3(5.0f)));
   glUniform1i(reverse, 0);
   glEnable(GL_CULL_FACE);
-  auto placed = [](glm::vec3 t, float s) { return glm::scale(glm::translate(glm::mat4(1.0f), t), glm::vec3(s)); };
+  auto placed = [](glm::vec3 t, float s) {
+    return glm::scale(glm::translate(glm::mat4(1.0f), t), glm::vec3(s));
+  };
   draw(placed({4.0f, -3.5f, 0.0f}, 0.5f));
   draw(placed({2.0f, 3.0f, 1.0f}, 0.75f));
   draw(placed({-3.0f, -1.0f, 0.0f}, 0.5f));
@@ -183,11 +197,14 @@ double median(std::vector<double> v) {
 GLuint depth_cube_framebuffer(int size, const std::string& format, GLuint& depth_cube) {
   glGenTextures(1, &depth_cube);
   glBindTexture(GL_TEXTURE_CUBE_MAP, depth_cube);
-  const GLint internal = format == "d32f" ? GL_DEPTH_COMPONENT32F : format == "d24" ? GL_DEPTH_COMPONENT24
-                                                                                     : GL_DEPTH_COMPONENT;
+  const GLint internal = format == "d32f"  ? GL_DEPTH_COMPONENT32F
+                         : format == "d24" ? GL_DEPTH_COMPONENT24
+                                           : GL_DEPTH_COMPONENT;
   for (GLenum f = 0; f < 6; ++f)
-    glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, internal, size, size, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
-  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glTexParameteri(GL_TEXTURE_CUBE_MAP, p, GL_NEAREST);
+    glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, internal, size, size, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                 nullptr);
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, p, GL_NEAREST);
   for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
     glTexParameteri(GL_TEXTURE_CUBE_MAP, p, GL_CLAMP_TO_EDGE);
   GLuint fbo = 0;
@@ -210,8 +227,8 @@ GLuint window_framebuffer(int width, int height, bool d32f) {
   glRenderbufferStorage(GL_RENDERBUFFER, d32f ? GL_DEPTH_COMPONENT32F : GL_DEPTH24_STENCIL8, width, height);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, buffers[0]);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, d32f ? GL_DEPTH_ATTACHMENT : GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
-                            buffers[1]);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, d32f ? GL_DEPTH_ATTACHMENT : GL_DEPTH_STENCIL_ATTACHMENT,
+                            GL_RENDERBUFFER, buffers[1]);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("the headless window framebuffer is incomplete");
   return fbo;
@@ -235,13 +252,14 @@ class TutorialRenderer {
     const glm::mat4 shadow_proj = glm::perspective(glm::radians(90.0f), 1.0f, kNear, kFar);
     const glm::vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     const glm::vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-    for (int f = 0; f < 6; ++f) shadow_matrices_[size_t(f)] = shadow_proj * glm::lookAt(kLight, kLight + dirs[f], ups[f]);
+    for (int f = 0; f < 6; ++f)
+      shadow_matrices_[size_t(f)] = shadow_proj * glm::lookAt(kLight, kLight + dirs[f], ups[f]);
     projection_ = glm::perspective(glm::radians(45.0f), float(o.width) / float(o.height), 0.1f, 100.0f);
     view_ = glm::lookAt(kCamera, kCamera + glm::vec3(0, 0, -1), glm::vec3(0, 1, 0));
   }
 
-  // Each pass inside a GL_TIME_ELAPSED query, as the harness times its passes (GPU time beside the wall time);
-  // read after the pass's glFinish, when the result is available without a wait.
+  // Each pass inside a GL_TIME_ELAPSED query, as the harness times its passes (GPU time beside the wall
+  // time); read after the pass's glFinish, when the result is available without a wait.
   void shadow_pass() {
     glBeginQuery(GL_TIME_ELAPSED, queries_[0]);
     glViewport(0, 0, o_.cube, o_.cube);
@@ -298,7 +316,9 @@ class TutorialRenderer {
   // The scene's light at frame 0 (the origin), the tutorial's camera and light planes.
   static constexpr glm::vec3 kLight{0.0f, 0.0f, 0.0f}, kCamera{0.0f, 0.0f, 3.0f};
   static constexpr float kNear = 1.0f, kFar = 25.0f;
-  static GLint uniform(GLuint program, const std::string& name) { return glGetUniformLocation(program, name.c_str()); }
+  static GLint uniform(GLuint program, const std::string& name) {
+    return glGetUniformLocation(program, name.c_str());
+  }
 
   const Options& o_;
   GLuint depth_program_, light_program_, vao_, wood_, depth_cube_ = 0, depth_fbo_, window_fbo_;
@@ -316,7 +336,9 @@ int run(const Options& o) {
   omnishadow::gl::EglContext context("surfaceless", 0, false);
   TutorialRenderer renderer(o);
   using clock = std::chrono::steady_clock;
-  auto ms = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  auto ms = [](clock::time_point a, clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
   std::vector<double> shadow_ms, lighting_ms, shadow_gpu_ms, lighting_gpu_ms;
   for (int frame = 0; frame < o.warmup + o.frames; ++frame) {
     const auto t0 = clock::now();
@@ -332,12 +354,13 @@ int run(const Options& o) {
   }
   if (!o.png.empty()) renderer.write_png(o.png);
   if (GLenum e = glGetError(); e != GL_NO_ERROR) throw std::runtime_error("GL error " + std::to_string(e));
-  std::printf("{\"filter\": \"%s\", \"albedo\": \"%s\", \"depth_format\": \"%s\", \"cube\": %d, \"size\": [%d, %d], "
-              "\"frames\": %d, \"shadow_ms\": %.4f, \"lighting_ms\": %.4f, \"shadow_gpu_ms\": %.4f, "
-              "\"lighting_gpu_ms\": %.4f, \"renderer\": \"%s\"}\n",
-              o.filter.c_str(), o.albedo.c_str(), o.depth_format.c_str(), o.cube, o.width, o.height, o.frames, median(shadow_ms),
-              median(lighting_ms), median(shadow_gpu_ms), median(lighting_gpu_ms),
-              reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+  std::printf(
+      "{\"filter\": \"%s\", \"albedo\": \"%s\", \"depth_format\": \"%s\", \"cube\": %d, \"size\": [%d, %d], "
+      "\"frames\": %d, \"shadow_ms\": %.4f, \"lighting_ms\": %.4f, \"shadow_gpu_ms\": %.4f, "
+      "\"lighting_gpu_ms\": %.4f, \"renderer\": \"%s\"}\n",
+      o.filter.c_str(), o.albedo.c_str(), o.depth_format.c_str(), o.cube, o.width, o.height, o.frames,
+      median(shadow_ms), median(lighting_ms), median(shadow_gpu_ms), median(lighting_gpu_ms),
+      reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
   return 0;
 }
 

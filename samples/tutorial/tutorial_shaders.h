@@ -1,8 +1,9 @@
 #pragma once
-// The point-shadow tutorial's shaders as its chapter gives them (the chapter's text: point_shadows_depth.vs/.gs/.fs and
-// point_shadows.vs/.fs), for samples/tutorial only: the harness's own shaders live in shaders/. The lighting
-// fragment shader takes one of the chapter's three ShadowCalculation bodies (hard, the 64-sample grid, the
-// 20-direction disk with the view-distance radius) and the tutorial's diffuse texture or a constant albedo.
+// The point-shadow tutorial's shaders as its chapter gives them (the chapter's text:
+// point_shadows_depth.vs/.gs/.fs and point_shadows.vs/.fs), for samples/tutorial only: the harness's own
+// shaders live in shaders/. The lighting fragment shader takes one of the chapter's three ShadowCalculation
+// bodies (hard, the 64-sample grid, the 20-direction disk with the view-distance radius) and the tutorial's
+// diffuse texture or a constant albedo.
 
 #include <string>
 
@@ -129,7 +130,9 @@ void main() {
 )";
 
 inline std::string lighting_fragment(const std::string& filter, const std::string& albedo) {
-  const char* define = filter == "hard" ? "FILTER_HARD" : filter == "pcf_grid64" ? "FILTER_GRID64" : "FILTER_DISK20";
+  const char* define = filter == "hard"         ? "FILTER_HARD"
+                       : filter == "pcf_grid64" ? "FILTER_GRID64"
+                                                : "FILTER_DISK20";
   return std::string("#version 330 core\n#define ") + define + "\n" +
          (albedo == "texture" ? "#define ALBEDO_TEXTURE\n" : "") + kLightingFragmentBody;
 }
