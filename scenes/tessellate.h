@@ -1,5 +1,5 @@
 #pragma once
-// Subdivides every triangle of a scene into n^2 (issue 27: a layout that warps vertices, dual_paraboloid,
+// Subdivides every triangle of a scene into n^2 (a layout that warps vertices, dual_paraboloid,
 // draws straight edges where the exact map curves, so its error depends on how finely casters are
 // tessellated; the
 // `--tessellate` axis measures that). The surfaces are the same: each sub-triangle lies in its triangle's

@@ -13,7 +13,7 @@
 #              tetrahedral and dual_paraboloid layouts, and ctest;
 #              PASS or FAIL per part
 #   multiview  GL and Vulkan multiview against six_pass with --check
-#   singlepass nv_swizzle and mesh_shader (issue 27) against six_pass and geometry_shader with --check, GL and
+#   singlepass nv_swizzle and mesh_shader against six_pass and geometry_shader with --check, GL and
 #              Vulkan, room and heavy, cubes 512 and 1024, linear_depth and r32f_distance, culling off and on: PASS
 #              when no check fails and, on an NVIDIA GPU (whose drivers expose every extension they need), none is
 #              unsupported; the shadow pass's GPU time per technique beside six_pass's
@@ -64,7 +64,7 @@ if clocks:
 PY
 }
 
-# PASS when the run's untimed part is at most $2 times its timed part (issue 23: checks cheaper than the timing).
+# PASS when the run's untimed part is at most $2 times its timed part (checks cheaper than the timing).
 judge_untimed() {
   /usr/bin/python3 - "$1" "$2" <<'PY' | tee -a "$summary"
 import json, sys
@@ -97,7 +97,7 @@ step_multiview() {
   describe_run "$out/multiview/run"
 }
 
-# Issue 27's GPU paths. On NVIDIA (/dev/nvidiactl) every nv_swizzle and mesh_shader case must run: an
+# The GPU-specific single passes. On NVIDIA (/dev/nvidiactl) every nv_swizzle and mesh_shader case must run: an
 # `unsupported` there is a bug in the feature checks, not a missing extension.
 step_singlepass() {
   note "## singlepass"
@@ -202,7 +202,7 @@ step_checks() {
     --out "$out/checks/moments" >"$out/checks/moments.log" 2>&1
   note "- moments filters run --check: exit $? (1 expected: 16-bit moments on heavy fail their quality limit)"
   judge_checks "$out/checks/moments" '/d16' || failed=1
-  # Layouts (issue 27): face_array's shader-side face selection and per-face clamped filtering against exact
+  # Layouts: face_array's shader-side face selection and per-face clamped filtering against exact
   # visibility and within the layout across techniques, on the GPU's own sampler rounding; any failed check a FAIL.
   "$bin" run --backend gl,vulkan --scene room,heavy --cube 256 --layout face_array,tetrahedral \
     --technique six_pass,geometry_shader,multiview --filter hard,pcf_disk20,hw_compare2x2,vsm --check --frames 2 \
@@ -229,7 +229,7 @@ step_checks() {
 
 # PASS when no case warns that its clock moved inside a timed repetition and every case's first and last
 # repetitions agree within 5% in GPU time (the timer queries, where they passed their check; frame wall time
-# otherwise): issue 23's target for the run a new user starts first. GPU time is what a steady clock steadies; the
+# otherwise): the target for the run a new user starts first. GPU time is what a steady clock steadies; the
 # frame wall time adds the host's side (submission, fence waits, the host CPU's own clock) and is reported beside
 # it. Seen on an H200 (session 14): GPU time 0 of 120 cases beyond 5%, wall time 22 of 120, mostly Vulkan.
 judge_clocks() {
@@ -286,7 +286,7 @@ step_clocks() {
   # GPU with `omnishadow run --lock-clocks` (docs/guide.md "Stable numbers on a GPU").
 }
 
-# Issue 27's equal-memory table on this GPU: each layout against the cube at the same texels, room and heavy, GL and
+# The equal-memory table on this GPU: each layout against the cube at the same texels, room and heavy, GL and
 # Vulkan, with --check (a failed check is a FAIL; the table is scripts/analysis/layout_table.py's).
 step_layouts() {
   note "## layouts"
@@ -318,7 +318,7 @@ step_tutorial() {
   grep -E "^\||^\*\*(PASS|FAIL)" "$out/tutorial/ab.log" | tee -a "$summary"
 }
 
-# Issue 23's target: a 2% slowdown found at <= 1% false alarms, in GPU time, on the GPU-sized CI-style matrix
+# The target: a 2% slowdown found at <= 1% false alarms, in GPU time, on the GPU-sized CI-style matrix
 # (CI_MATRIX_SIZE=gpu: 1920x1080, cubes 1024). Injected work calibrated on this GPU by doubling (calibration.py);
 # the same count is then used inside one run. Each part runs on a time budget (trials as many as fit, at least two)
 # so that the step fits a 10-minute device call. --warmup-ms 0: the GPU stays busy through the interleaved rounds

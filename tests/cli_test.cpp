@@ -394,7 +394,7 @@ TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
   }
 }
 
-// Issue 23: a run whose every backend renders on the CPU defaults to cube 512 only, said in one line; on a
+// A run whose every backend renders on the CPU defaults to cube 512 only, said in one line; on a
 // GPU, or with --cube given, the cube sizes are the GPU default or what was asked for.
 TEST_F(CliRun, CpuDriversDefaultToOneCubeSizeAndSaySo) {
   const std::string common =
@@ -419,7 +419,7 @@ TEST_F(CliRun, CpuDriversDefaultToOneCubeSizeAndSaySo) {
   EXPECT_EQ(k["omnishadow"]["cases"].size(), 2u);
 }
 
-// Issue 27: the GPU-specific single passes, asked for by name with --check on both APIs, beside six_pass with
+// The GPU-specific single passes, asked for by name with --check on both APIs, beside six_pass with
 // culling on and off. A device without their extensions (Mesa's CPU drivers) reports each case unsupported
 // with the missing extension named, and the matrix goes on; a device with them (an NVIDIA GPU) must pass
 // every check. nv_swizzle refuses hardware_depth on every device, with its reason.
@@ -504,7 +504,7 @@ TEST_F(CliRun, EmulatedNvSwizzlePassesEveryCheckOnBothApis) {
   EXPECT_EQ(emulated, (backends == "gl" ? 1 : 2) * 2 * 2 * 2) << "backends x scenes x storages x culling";
 }
 
-// Issue 27: the face_array layout runs with --check on both APIs (truth, timing, the technique checks within
+// The face_array layout runs with --check on both APIs (truth, timing, the technique checks within
 // the layout), beside the cube; its cases carry the layout in the id and the JSON axes.
 TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {
   std::string why;
@@ -532,7 +532,7 @@ TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {
   EXPECT_GE(face_array_ok, backends == "gl,vulkan" ? 14 : 8);
 }
 
-// dual_paraboloid (issue 27) passes its checks on both APIs: its techniques agree with its six_pass, its
+// dual_paraboloid passes its checks on both APIs: its techniques agree with its six_pass, its
 // texels are a figure (the warp bends edges), and against exact visibility its error falls with tessellation
 // to the cube's. The techniques it has no pass for yet are unsupported with the reason.
 TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
@@ -578,14 +578,14 @@ TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
     EXPECT_NEAR(fine, cube, 1.0) << "tessellated 8x, the paraboloid comes within a point of the cube";
   }
 }
-// tetrahedral (issue 27): four perspective faces, so its texels are held to the exact ray-cast truth as the
+// tetrahedral: four perspective faces, so its texels are held to the exact ray-cast truth as the
 // cube's are (cube_texels is a check here, not a figure), its techniques agree with its six_pass, and both
 // APIs agree.
 TEST_F(CliRun, TetrahedralPassesItsChecksAndItsExactTexelTruth) {
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   fs::path out = scratch("tetrahedral");
-  // tetra_seams: casters on its faces' corners, edges and tie planes (issue 27's layout extremes).
+  // tetra_seams: casters on its faces' corners, edges and tie planes (the layouts' extremes).
   const std::string seams = std::string(OMNISHADOW_TEST_SCENES_DIR) + "/extremes/tetra_seams.json";
   Outcome o =
       run("run --backend " + backends + " --scene room,mixed," + seams +

@@ -209,7 +209,7 @@ TEST(Matrix, EnumNamesRoundTrip) {
   for (Layout l : all_values<Layout>()) EXPECT_EQ(parse_enum<Layout>(to_string(l)), l);
 }
 
-// The layout axis (issue 27): a cube case keeps the id it had before layouts existed (baselines and histories
+// The layout axis: a cube case keeps the id it had before layouts existed (baselines and histories
 // still match), another layout appends its name after the depth format; each layout's six_pass is its own
 // reference, so the equality checks apply within a layout; a bad name is one line naming --layout.
 TEST(Matrix, LayoutsExpandIntoTheIdAfterTheDepthFormat) {

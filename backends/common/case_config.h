@@ -61,7 +61,7 @@ enum class Storage {
                   // filter's storage
 };
 enum class DepthFormat { d16, d24, d32f };
-// How the point light's depth is stored and looked up (issue 27; backends/common/layouts.h holds each
+// How the point light's depth is stored and looked up (backends/common/layouts.h holds each
 // layout's row).
 enum class Layout {
   cube,  // a cube map sampled by direction: the hardware picks the face and filters across seams (seamless)

@@ -1,5 +1,5 @@
 #pragma once
-// A layout is how a point light's depth is stored and looked up (issue 27): N layers, a texel <-> direction
+// A layout is how a point light's depth is stored and looked up: N layers, a texel <-> direction
 // map, a projection per layer and the lookup that picks the layer. One row per layout; the spellings (CLI,
 // case ids, JSON), the shader-variant list and both backends read it. Adding a layout: a Layout value, a row
 // here, its lookup in shaders/shadow_filters.glsl under its define, and each backend's storage for it.
@@ -62,7 +62,7 @@ constexpr bool every_layout_has_its_row() {
 static_assert(every_layout_has_its_row(), "kLayouts lists the layouts in enum order");
 
 // A layer's edge in texels for `--cube N`: the size axis is memory, so every layout stores about 6 N^2 texels
-// (the equal-memory comparison of issue 27): a cube face N, a paraboloid layer round(N sqrt 3), a
+// (the equal-memory comparison): a cube face N, a paraboloid layer round(N sqrt 3), a
 // tetrahedron's face round(N sqrt 1.5).
 int layer_size(Layout layout, int cube_size);
 

@@ -1,5 +1,5 @@
 #pragma once
-// Dual-paraboloid conventions (issue 27, layout dual_paraboloid): the one source of truth for the texel <->
+// Dual-paraboloid conventions (layout dual_paraboloid): the one source of truth for the texel <->
 // direction map, used by the truths and the tests; shaders/paraboloid.glsl is the same arithmetic in GLSL
 // (warp in the shadow pass, lookup in the lighting pass): change both together.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Tetrahedral layout conventions (issue 27, layout tetrahedral; bgfx's point-light example renders the same
+// Tetrahedral layout conventions (layout tetrahedral; bgfx's point-light example renders the same
 // four frusta): the one source of truth for its faces, used by the frame uniforms (shadow pass), the truths
 // and the tests; shaders/shadow_filters.glsl's LAYOUT_TETRAHEDRAL lookup computes the same bases from the
 // same rule (change both together).

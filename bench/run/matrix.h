@@ -48,7 +48,7 @@ struct MatrixSpec {
   // Whether --cube was given. Not given and every backend of the run a CPU driver (llvmpipe, lavapipe): the
   // cube sizes are kCpuDriverCubeSizes, said once on stderr. A CPU driver renders the 1024 cube's fragments
   // on the same two-odd cores as everything else, so those cases cost about half the default run there while
-  // telling a GPU user nothing; the first run on such a machine stays about a minute (issue 23).
+  // telling a GPU user nothing; the first run on such a machine stays about a minute.
   bool cube_sizes_given = false;
   static inline const std::vector<int> kCpuDriverCubeSizes{512};
 };

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes a large model for measuring the loaders (issue 26: the loader's time for a 1M-triangle model).
+"""Writes a large model for measuring the loaders (the loader's time for a 1M-triangle model).
 
 A wavy UV sphere of LON x LAT quads, two triangles each (default 1000 x 500 = 1,000,000 triangles), as
   OUT.glb  one indexed glTF 2.0 mesh (float32 positions and normals, uint32 indices) in a GLB container, and

@@ -124,7 +124,7 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("  ivec3 p = texel_point(face, s, t, size);",
              "  return ivec3(clamp(s, 0, size - 1), clamp(t, 0, size - 1), face);\n  ivec3 p = texel_point(face, s, t, size);"),
      "the moments blur clamps at a face's edge instead of reading the adjacent face", MOMENTS_FILTERS),
-    # Layouts (issue 27): the face_array lookup picks the layer and (s, t) in the shader; its matrix names the layout.
+    # Layouts: the face_array lookup picks the layer and (s, t) in the shader; its matrix names the layout.
     ("face_array_y_layers_swapped", "shaders/shadow_filters.glsl",
      replace("face = dir.y >= 0.0 ? 2.0 : 3.0;", "face = dir.y >= 0.0 ? 3.0 : 2.0;"),
      "the face_array lookup reads the -Y layer for +Y directions and the +Y layer for -Y", FACE_ARRAY),
@@ -143,7 +143,7 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("tetra_lookup_up_to_wrong_corner", "shaders/shadow_filters.glsl",
      replace("corner = -kTetraAxes[(face + 1) % 4];", "corner = -kTetraAxes[(face + 2) % 4];"),
      "the tetrahedral lookup turns each face's up towards another corner than the shadow pass's camera", TETRA),
-    # nv_swizzle (issue 27): the swizzle table, the GS's culling, the reversed depth of r32f_distance.
+    # nv_swizzle: the swizzle table, the GS's culling, the reversed depth of r32f_distance.
     ("swizzle_y_negated", "backends/common/viewport_swizzle.cpp",
      replace("axis_of_row(view, 1, 1.0f, f)", "axis_of_row(view, 1, -1.0f, f)"),
      "every face's swizzle negates clip y (each face stored upside down)", SWIZZLE),

@@ -45,7 +45,7 @@ hazard "${moments[@]}" --scene nf_25,nf_1e3 --filter vsm --depth-format d32f,d16
   --out "$out/moments_world" "$@"
 hazard "${moments[@]}" --scene nf_25,seams --filter hard,pcf_disk20,vsm,esm,evsm2,evsm4,msm \
   --out "$out/moments_seams" "$@"
-# Layouts at their extremes (issue 27): face_array and tetrahedral against the cube where faces meet (seams: casters
+# Layouts at their extremes: face_array and tetrahedral against the cube where faces meet (seams: casters
 # on the cube's diagonals; tetra_seams: on the tetrahedral faces' corners, edges and tie planes) and at grazing
 # angles, with the filters that read across a seam (hw_compare2x2's 2x2, vsm's bilinear) beside the NEAREST ones;
 # --check holds each layout's texels and lookups to its own rule.

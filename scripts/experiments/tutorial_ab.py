@@ -27,7 +27,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BUILD = os.path.join(ROOT, "build", "release")
 FILTERS = ["hard", "pcf_grid64", "pcf_disk20"]
-LIMIT = 1.1  # issue 23: a pass above 1.1x the tutorial's own rendering on a GPU means the harness adds something
+LIMIT = 1.1  # a pass above 1.1x the tutorial's own rendering on a GPU means the harness adds something
 
 
 def run_harness(out, frames):
