@@ -10,9 +10,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
-source scripts/lib/stages.sh
 stages=("$@")
 [ ${#stages[@]} -eq 0 ] && stages=(plays mutants sanitize fuzz)
+for s in "${stages[@]}"; do
+  case "$s" in
+    plays | mutants | sanitize | fuzz) ;;
+    *) echo "extended.sh: unknown stage '$s' (plays, mutants, sanitize, fuzz)" >&2; exit 2 ;;
+  esac
+done
+source scripts/lib/stages.sh
 status=0
 for s in "${stages[@]}"; do
   case "$s" in
@@ -20,7 +26,6 @@ for s in "${stages[@]}"; do
     mutants) stage mutants /usr/bin/python3 scripts/experiments/mutants.py --out build/mutants || status=1 ;;
     sanitize) stage sanitize bash scripts/sanitize.sh || status=1 ;;
     fuzz) stage fuzz bash scripts/fuzz.sh "${FUZZ_SECONDS:-300}" || status=1 ;;
-    *) echo "extended.sh: unknown stage '$s' (plays, mutants, sanitize, fuzz)" >&2; exit 2 ;;
   esac
 done
 exit $status
