@@ -767,14 +767,16 @@ TEST_F(CliRun, ExperimentAxesRunEveryCopyInOneRun) {
 // --warmup-ms repeats the warm-up frames until that long (a GPU's clock ramps after each pause), cycling over
 // the warm-up frames' indices so the timed frames stay the same frames (gbench_glue.cpp): the run's work and
 // images are those of a run without it; and each backend's clock settles before its first timed repetition,
-// said on stderr.
+// said on stderr. Frames count 10 ms each (--inject-frame-ms), so the count is exact on any machine: 2
+// frames, then 18 more to reach 200 ms, in each of 2 repetitions (HarnessTest holds the measured path,
+// scripted).
 TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
   const std::string args =
       "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
       "--frames 2 --warmup 2 --images all --no-accuracy --benchmark_repetitions=2 --out ";
   fs::path none = scratch("warmup_none"), timed = scratch("warmup_timed");
   Outcome a = run(args + none.string() + " --warmup-ms 0");
-  Outcome b = run(args + timed.string() + " --warmup-ms 200");
+  Outcome b = run(args + timed.string() + " --warmup-ms 200 --inject-frame-ms 10");
   ASSERT_EQ(a.exit_code, 0) << a.err;
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_NE(b.err.find("[settle] gl: clock "), std::string::npos) << b.err;
@@ -783,7 +785,7 @@ TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
     return j["omnishadow"]["cases"][0]["timing"]["warmup_frames"].get<int>();
   };
   EXPECT_EQ(warmup_frames(none), 4) << "2 frames in each of 2 repetitions";
-  EXPECT_GT(warmup_frames(timed), 4) << "200 ms of a 64x48 frame is more than two frames";
+  EXPECT_EQ(warmup_frames(timed), 40) << "20 frames of 10 ms in each of 2 repetitions";
   Outcome same = run("compare " + none.string() + " " + timed.string() + " --no-timing --out " +
                      scratch("warmup_cmp").string());
   EXPECT_EQ(same.exit_code, 0) << same.out;
@@ -794,15 +796,16 @@ TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
 
 // --repetition-ms sizes each case's repetitions by time (gbench_glue.cpp, size_repetitions): at least
 // --frames timed frames, more until a repetition lasts that long. The plain run says --repetition-ms 0 (a CPU
-// driver's default; a GPU's is 100 ms, which would add frames there). 400 ms is over a hundred times a 64x48
-// frame here. The work per frame and the images are those of a run without it.
+// driver's default; a GPU's is 100 ms, which would add frames there). Frames count 10 ms each
+// (--inject-frame-ms), so 400 ms is exactly 40 frames on any machine. The work per frame and the images are
+// those of a run without it.
 TEST_F(CliRun, RepetitionLengthInTimeAddsTimedFrames) {
   const std::string args =
       "run --backend gl --scene room --cube 32 --frame 64x48 --technique six_pass --filter hard "
       "--frames 2 --warmup 1 --no-accuracy --benchmark_repetitions=2 --out ";
   fs::path plain = scratch("repetition_plain"), sized = scratch("repetition_sized");
   Outcome a = run(args + plain.string() + " --repetition-ms 0");
-  Outcome b = run(args + sized.string() + " --repetition-ms 400");
+  Outcome b = run(args + sized.string() + " --repetition-ms 400 --inject-frame-ms 10");
   ASSERT_EQ(a.exit_code, 0) << a.err;
   ASSERT_EQ(b.exit_code, 0) << b.err;
   auto timing = [](const fs::path& out) {
@@ -811,9 +814,8 @@ TEST_F(CliRun, RepetitionLengthInTimeAddsTimedFrames) {
   };
   EXPECT_EQ(timing(plain)["frames_per_repetition"], 2) << "--repetition-ms 0 keeps --frames";
   EXPECT_EQ(timing(plain)["timed_frames"], 4);
-  const int sized_frames = timing(sized)["frames_per_repetition"].get<int>();
-  EXPECT_GT(sized_frames, 2) << "400 ms of a 64x48 frame is more than two frames";
-  EXPECT_EQ(timing(sized)["timed_frames"].get<int>(), 2 * sized_frames) << "every repetition the same length";
+  EXPECT_EQ(timing(sized)["frames_per_repetition"], 40) << "400 ms of 10 ms frames";
+  EXPECT_EQ(timing(sized)["timed_frames"], 80) << "every repetition the same length";
   Outcome same = run("compare " + plain.string() + " " + sized.string() + " --no-timing --out " +
                      scratch("repetition_cmp").string());
   EXPECT_EQ(same.exit_code, 0) << same.out;

@@ -143,6 +143,10 @@ void add_frame_options(CLI::App& r, RunOptions& o) {
        "a repetition's length in time as well as frames: each case gets as many more timed frames as "
        "this takes (default: 100 on a GPU, whose sub-millisecond frames vary a lot; 0 on a CPU driver)")
       ->check(CLI::Range(0.0, 600000.0));
+  r.add_option("--inject-frame-ms", o.inject_frame_ms,
+               "tests of the sizing by time only: --warmup-ms and --repetition-ms count every frame as this "
+               "many ms instead of its measured wall time (0: measured); the timings reported stay measured")
+      ->check(CLI::Range(0.0, 600000.0));
   r.add_option(
        "--settle-s", o.settle_s,
        "before a backend's first timed repetition, render until the device clock is steady, at most this "

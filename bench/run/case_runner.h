@@ -113,6 +113,10 @@ struct RunOptions {
   int progress_fd = -1;
   std::string inject_crash, inject_hang;
   bool inject_in_timed = false;
+  // Tests of the sizing by time only (--inject-frame-ms): the warm-up by time and the repetitions' sizing
+  // count every frame as this many milliseconds instead of its measured wall time, so a test gets exact frame
+  // counts on any machine. 0: measured. The timings reported are measured either way.
+  double inject_frame_ms = 0.0;
 };
 
 struct CheckResult;

@@ -98,6 +98,11 @@ bool is_timed(Status s) {
   return s == Status::ok || s == Status::failed_check || s == Status::failed_quality;
 }
 
+// A frame's length as the sizing by time counts it: its measured wall time, or --inject-frame-ms in tests.
+double sizing_ms(const RunOptions& o, const FrameTiming& frame) {
+  return o.inject_frame_ms > 0 ? o.inject_frame_ms : std::max(frame.frame_wall_ms, 0.0);
+}
+
 // Timed frames per repetition for each case: RunOptions::frames, or more where a repetition of that many
 // frames would last less than RunOptions::repetition_ms (measured here over a few frames after warm-up
 // frames).
@@ -120,7 +125,7 @@ void size_repetitions(Harness& harness, std::vector<CaseResult>& results, const 
       double ms = 0.0;
       int n = 0;
       while (n < 3 || (ms < 10.0 && n < 100))
-        ms += b.render(n++ % std::max(o.warmup_frames, 1), FrameKind::timed).frame_wall_ms;
+        ms += sizing_ms(o, b.render(n++ % std::max(o.warmup_frames, 1), FrameKind::timed));
       const double per_frame = std::max(ms / n, 1e-3);
       r.frames_per_repetition =
           std::clamp(static_cast<int>(std::ceil(target_ms / per_frame)), o.frames, kMaxTimedWarmupFrames);
@@ -138,13 +143,13 @@ void warm_up(Backend& b, const RunOptions& o, CaseResult& r) {
   double warmed_ms = 0.0;
   for (int i = 0; i < o.warmup_frames; ++i) {
     r.warmup.push_back(render_measured(b, i));
-    warmed_ms += r.warmup.back().frame_wall_ms;
+    warmed_ms += sizing_ms(o, r.warmup.back());
   }
   const double warmup_ms =
       o.warmup_ms >= 0 ? o.warmup_ms : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuWarmupMs);
   for (int i = 0; warmed_ms < warmup_ms && i < kMaxTimedWarmupFrames; ++i) {
     r.warmup.push_back(render_measured(b, o.warmup_frames > 0 ? i % o.warmup_frames : 0));
-    warmed_ms += std::max(r.warmup.back().frame_wall_ms, 0.0);
+    warmed_ms += sizing_ms(o, r.warmup.back());
   }
 }
 
