@@ -250,45 +250,58 @@ Shape build_shape(const Node& n, const std::string& type, const std::string& sce
   n.at("type").fail("unknown object type '" + type + "' (valid: box, plane, sphere, obj, gltf)");
 }
 
-void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_t index) {
-  const glm::dvec3& origin = scene.origin;
-  n.expect_object(
-      {"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file", "array"});
-  std::string type = n.at("type").string();
-  const Shape shape = build_shape(n, type, scene_dir);
-  if (!shape.note.empty()) scene.notes.push_back(shape.note);
-  const std::vector<MeshVertex>& mesh = shape.mesh;
+// An object's placement as its node gives it: translation (relative to the scene's origin), rotation, scale,
+// colour, and the optional grid of copies (count [x,y,z], spacing [x,y,z]) that keeps a geometry-heavy scene
+// a short file.
+struct ObjectPlacement {
+  glm::vec3 translate{0.0f}, scale{1.0f}, color{0.8f};
+  glm::mat4 rotation{1.0f};
+  glm::ivec3 count{1};
+  glm::vec3 spacing{0.0f};
+};
 
-  glm::vec3 translate(0.0f), scale(1.0f), color(0.8f);
-  glm::mat4 rotation(1.0f);
-  translate = glm::vec3(-origin);
-  if (n.has("translate")) translate = n.at("translate").position(origin);
-  if (n.has("scale")) scale = n.at("scale").scale();
+ObjectPlacement read_placement(const Node& n, const glm::dvec3& origin) {
+  ObjectPlacement p;
+  p.translate = glm::vec3(-origin);
+  if (n.has("translate")) p.translate = n.at("translate").position(origin);
+  if (n.has("scale")) p.scale = n.at("scale").scale();
   if (n.has("color")) {
-    color = n.at("color").vec3();
-    if (glm::any(glm::lessThan(color, glm::vec3(0.0f)))) n.at("color").fail("colour components must be >= 0");
+    p.color = n.at("color").vec3();
+    if (glm::any(glm::lessThan(p.color, glm::vec3(0.0f))))
+      n.at("color").fail("colour components must be >= 0");
   }
   if (n.has("rotate")) {
     Node r = n.at("rotate");
     r.expect_object({"degrees", "axis"});
     glm::vec3 axis = r.at("axis").vec3();
     if (glm::length(axis) == 0.0f) r.at("axis").fail("axis must not be zero");
-    rotation = glm::rotate(glm::mat4(1.0f), glm::radians(static_cast<float>(r.at("degrees").number())),
-                           glm::normalize(axis));
+    p.rotation = glm::rotate(glm::mat4(1.0f), glm::radians(static_cast<float>(r.at("degrees").number())),
+                             glm::normalize(axis));
   }
-  bool inside = n.has("inside") && n.at("inside").boolean();
-
-  // Optional grid replication, so a geometry-heavy scene stays a short file: count [x,y,z], spacing [x,y,z].
-  glm::ivec3 count(1);
-  glm::vec3 spacing(0.0f);
   if (n.has("array")) {
     Node a = n.at("array");
     a.expect_object({"count", "spacing"});
     Node c = a.at("count");
     if (!c.value().is_array() || c.value().size() != 3) c.fail("expected [nx, ny, nz]");
-    for (int k = 0; k < 3; ++k) count[k] = c.at(static_cast<size_t>(k)).integer_in(1, 1000);
-    spacing = a.at("spacing").vec3();
+    for (int k = 0; k < 3; ++k) p.count[k] = c.at(static_cast<size_t>(k)).integer_in(1, 1000);
+    p.spacing = a.at("spacing").vec3();
   }
+  return p;
+}
+
+void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_t index) {
+  n.expect_object(
+      {"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file", "array"});
+  std::string type = n.at("type").string();
+  const Shape shape = build_shape(n, type, scene_dir);
+  if (!shape.note.empty()) scene.notes.push_back(shape.note);
+  const std::vector<MeshVertex>& mesh = shape.mesh;
+  const ObjectPlacement placement = read_placement(n, scene.origin);
+  const glm::vec3 &translate = placement.translate, &scale = placement.scale, &color = placement.color,
+                  &spacing = placement.spacing;
+  const glm::mat4& rotation = placement.rotation;
+  const glm::ivec3& count = placement.count;
+  bool inside = n.has("inside") && n.at("inside").boolean();
   if (static_cast<uint64_t>(count.x) * count.y * count.z * mesh.size() + scene.vertices.size() >
       kMaxSceneVertices)
     n.fail("object too large: more than " + std::to_string(kMaxSceneVertices) + " vertices in the scene");

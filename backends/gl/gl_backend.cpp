@@ -97,7 +97,11 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);  // messages arrive before the call returns: attributable to a case
     glDebugMessageCallback(collect_debug_message, &api_errors_);
   }
+  create_shared_objects();
+}
 
+// What every case uses: the frame and pass uniform buffers, the three samplers, and the state set once.
+void GlBackend::create_shared_objects() {
   glCreateBuffers(1, &frame_ubo_);
   glNamedBufferStorage(frame_ubo_, sizeof(gpu::FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
   std::vector<uint8_t> pass_data(static_cast<size_t>(uniform_alignment_) * gpu::kPassUniformEntries, 0);

@@ -31,6 +31,7 @@ class GlBackend final : public Backend {
   Support supports(const CaseConfig& config) const override;
 
  private:
+  void create_shared_objects();
   void upload_scene(const scene::Scene& scene) override;
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // each pass bracketed by glFinish

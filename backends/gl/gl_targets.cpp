@@ -105,46 +105,9 @@ GLenum colour_internal_format(ColourFormat format) {
   return GL_NONE;
 }
 
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview,
-                                    int layers) {
-  ShadowTargets t;
-  t.storage = storage;
-  t.size = size;
-  t.layers = layers;
-  const bool arrays =
-      multiview || layers != 6;  // rendered into 2D arrays (and sampled through cube views of six)
-  const ColourFormat colour_format = omnishadow::colour_format(storage, depth_format);
-  const GLenum colour_internal = colour_internal_format(colour_format);
-  const bool has_colour = colour_format != ColourFormat::none;
-  if (arrays) {
-    t.depth_array = create_cube_array(depth_internal_format(depth_format), size, t.depth, layers);
-    if (has_colour) t.colour_array = create_cube_array(colour_internal, size, t.colour, layers);
-  } else {
-    t.depth = create_cube(depth_internal_format(depth_format), size);
-    if (has_colour) t.colour = create_cube(colour_internal, size);
-  }
-  const bool colour_checked = traits(storage).colour_checked;
-  t.stored = colour_checked ? t.colour : t.depth;
-  t.stored_array = colour_checked ? t.colour_array : t.depth_array;
-  t.sampled = traits(storage).moments != MomentKind::none ? t.colour : t.stored;
-  // 2D array views for the compute passes (a cube sampler has no texelFetch; image units bind layers).
-  auto layers_of = [&](GLuint cube, GLuint array, GLenum format) {
-    if (arrays) return array;
-    GLuint view = 0;
-    glGenTextures(1, &view);
-    glTextureView(view, GL_TEXTURE_2D_ARRAY, cube, format, 0, 1, 0, 6);
-    return view;
-  };
-  t.stored_layers = layers_of(t.stored, t.stored_array,
-                              colour_checked ? colour_internal : depth_internal_format(depth_format));
-  if (traits(storage).moments != MomentKind::none) {
-    t.colour_format = colour_internal;
-    t.colour_layers = layers_of(t.colour, t.colour_array, colour_internal);
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t.blur_layers);  // the blur's first pass writes here
-    glTextureStorage3D(t.blur_layers, 1, colour_internal, size, size, 6);
-  }
-  t.sampled_layers = traits(storage).moments != MomentKind::none ? t.colour_layers : t.stored_layers;
-  check_allocation("the shadow cube");
+// The framebuffers of a shadow target: one per face (six_pass) and one layered over every face.
+static void create_shadow_framebuffers(ShadowTargets& t, bool arrays, bool multiview, bool has_colour) {
+  const int layers = t.layers;
   const GLuint depth_target = arrays ? t.depth_array : t.depth;
   const GLuint colour_target = arrays ? t.colour_array : t.colour;
 
@@ -185,6 +148,49 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
   glCreateFramebuffers(1, &t.layered_fbo);
   attach(t.layered_fbo, -1);
   check_complete(t.layered_fbo, multiview ? "multiview shadow" : "layered shadow");
+}
+
+ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview,
+                                    int layers) {
+  ShadowTargets t;
+  t.storage = storage;
+  t.size = size;
+  t.layers = layers;
+  const bool arrays =
+      multiview || layers != 6;  // rendered into 2D arrays (and sampled through cube views of six)
+  const ColourFormat colour_format = omnishadow::colour_format(storage, depth_format);
+  const GLenum colour_internal = colour_internal_format(colour_format);
+  const bool has_colour = colour_format != ColourFormat::none;
+  if (arrays) {
+    t.depth_array = create_cube_array(depth_internal_format(depth_format), size, t.depth, layers);
+    if (has_colour) t.colour_array = create_cube_array(colour_internal, size, t.colour, layers);
+  } else {
+    t.depth = create_cube(depth_internal_format(depth_format), size);
+    if (has_colour) t.colour = create_cube(colour_internal, size);
+  }
+  const bool colour_checked = traits(storage).colour_checked;
+  t.stored = colour_checked ? t.colour : t.depth;
+  t.stored_array = colour_checked ? t.colour_array : t.depth_array;
+  t.sampled = traits(storage).moments != MomentKind::none ? t.colour : t.stored;
+  // 2D array views for the compute passes (a cube sampler has no texelFetch; image units bind layers).
+  auto layers_of = [&](GLuint cube, GLuint array, GLenum format) {
+    if (arrays) return array;
+    GLuint view = 0;
+    glGenTextures(1, &view);
+    glTextureView(view, GL_TEXTURE_2D_ARRAY, cube, format, 0, 1, 0, 6);
+    return view;
+  };
+  t.stored_layers = layers_of(t.stored, t.stored_array,
+                              colour_checked ? colour_internal : depth_internal_format(depth_format));
+  if (traits(storage).moments != MomentKind::none) {
+    t.colour_format = colour_internal;
+    t.colour_layers = layers_of(t.colour, t.colour_array, colour_internal);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t.blur_layers);  // the blur's first pass writes here
+    glTextureStorage3D(t.blur_layers, 1, colour_internal, size, size, 6);
+  }
+  t.sampled_layers = traits(storage).moments != MomentKind::none ? t.colour_layers : t.stored_layers;
+  check_allocation("the shadow cube");
+  create_shadow_framebuffers(t, arrays, multiview, has_colour);
   return t;
 }
 

@@ -40,7 +40,8 @@ float parse_pcf_scale(const std::string& t) {
   return v;
 }
 
-void add_matrix_options(CLI::App& r, MatrixSpec& m) {
+// The axes that say what is drawn and at what size: backends, scenes, cube and frame sizes.
+void add_scene_axes(CLI::App& r, MatrixSpec& m) {
   auto text = [](const std::string& s) { return s; };
   auto same = [](const std::string& s) { return s; };
   list_option(r, "--backend", m.backends, same, text, "comma list of backends: gl, vulkan");
@@ -66,6 +67,10 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
   r.add_option_function<std::string>(
       "--frame", [&m](const std::string& t) { m.frame_sizes = parse_size_list(t, "--frame"); },
       "comma list of WIDTHxHEIGHT (default: each scene's camera size)");
+}
+
+// The axes that say how it is drawn: technique, filter, storage, layout and what tunes them.
+void add_technique_axes(CLI::App& r, MatrixSpec& m) {
   auto named = [](auto v) { return std::string(to_string(v)); };
   r.add_option_function<std::string>(
        "--technique",
@@ -123,6 +128,11 @@ void add_matrix_options(CLI::App& r, MatrixSpec& m) {
   list_option(
       r, "--pcf-scale", m.pcf_scales, parse_pcf_scale, [](float v) { return std::to_string(int(v)); },
       "comma list of PCF radius scales (0 to 100; 1 = the reference kernels, 0 = one direction)");
+}
+
+void add_matrix_options(CLI::App& r, MatrixSpec& m) {
+  add_scene_axes(r, m);
+  add_technique_axes(r, m);
 }
 
 void add_frame_options(CLI::App& r, RunOptions& o) {
@@ -355,12 +365,8 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
   r.add_option("--worker-results", run.worker_results)->group("");
 }
 
-void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
-  add_matrix_options(r, run.matrix);
-  add_isolation_options(r, run);
-  add_placement_options(r, run.harness);
-  add_frame_options(r, run.harness);
-  add_check_options(r, run.harness);
+// Sensitivity experiments and tests of the checks: options a measurement never uses.
+static void add_experiment_options(CLI::App& r, RunCommand& run) {
   r.add_option_function<std::string>(
        "--inject-fragment-work",
        [&run](const std::string& t) {
@@ -407,6 +413,15 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
        "face's two axes, as a sampler with coarser sub-texel precision may (the lookup check's bound)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 4.0));
+}
+
+void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
+  add_matrix_options(r, run.matrix);
+  add_isolation_options(r, run);
+  add_placement_options(r, run.harness);
+  add_frame_options(r, run.harness);
+  add_check_options(r, run.harness);
+  add_experiment_options(r, run);
   r.add_flag("--no-accuracy", flags.no_accuracy, "skip the shadow error against the ray-cast reference");
   r.add_option(
        "--memory-budget", run.harness.memory_budget,

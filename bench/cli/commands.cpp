@@ -12,6 +12,7 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <regex>
 #include <set>
 
@@ -294,6 +295,31 @@ void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
   std::cout << "\n" << summary << "\nresults: " << run.results_path << "\n";
 }
 
+// The cases this process runs (a worker after a crash skips those done), with the clocks locked where asked;
+// nullopt, the error printed, when the request cannot run.
+std::optional<std::vector<CaseConfig>> cases_to_run(const RunCommand& cmd, Harness& harness, RunState& run) {
+  const RunOptions& options = harness.options();
+  try {
+    std::vector<CaseConfig> cases = validate_request(cmd, harness, run.info);
+    // A worker after a crash: the cases before the crashed one, and that one, are done.
+    send_progress(options.progress_fd, "cases " + std::to_string(cases.size()));
+    if (cmd.worker_skip > 0)
+      cases.erase(cases.begin(),
+                  cases.begin() + std::min<ptrdiff_t>(cmd.worker_skip, ptrdiff_t(cases.size())));
+    if (options.lock_clocks) {
+      std::set<std::string> locked;
+      for (const CaseConfig& c : cases)
+        if (locked.insert(c.backend).second)
+          if (std::string why = harness.lock_clocks(c.backend); !why.empty())
+            throw std::runtime_error("--lock-clocks: " + c.backend + ": " + why);
+    }
+    return cases;
+  } catch (const std::exception& e) {
+    print_error(e.what());
+    return std::nullopt;
+  }
+}
+
 }  // namespace
 
 int run_command(const RunCommand& cmd) {
@@ -320,25 +346,9 @@ int run_command(const RunCommand& cmd) {
   run.info.shard_count = cmd.shard_count;
   run.results_path =
       cmd.worker_results.empty() ? (fs::path(options.out_dir) / "results.json").string() : cmd.worker_results;
-  std::vector<CaseConfig> cases;
-  try {
-    cases = validate_request(cmd, harness, run.info);
-    // A worker after a crash: the cases before the crashed one, and that one, are done.
-    send_progress(options.progress_fd, "cases " + std::to_string(cases.size()));
-    if (cmd.worker_skip > 0)
-      cases.erase(cases.begin(),
-                  cases.begin() + std::min<ptrdiff_t>(cmd.worker_skip, ptrdiff_t(cases.size())));
-    if (options.lock_clocks) {
-      std::set<std::string> locked;
-      for (const CaseConfig& c : cases)
-        if (locked.insert(c.backend).second)
-          if (std::string why = harness.lock_clocks(c.backend); !why.empty())
-            throw std::runtime_error("--lock-clocks: " + c.backend + ": " + why);
-    }
-  } catch (const std::exception& e) {
-    print_error(e.what());
-    return 2;
-  }
+  std::optional<std::vector<CaseConfig>> planned = cases_to_run(cmd, harness, run);
+  if (!planned) return 2;
+  std::vector<CaseConfig>& cases = *planned;
   run.results.resize(cases.size());
   g_stop_signal = 0;
   std::signal(SIGINT, request_stop);
