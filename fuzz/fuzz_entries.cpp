@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "bench/results/compare.h"
+#include "bench/report/compare.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/obj_loader.h"
 #include "scenes/scene.h"

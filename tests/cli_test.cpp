@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
 
 namespace {
 

@@ -1,15 +1,15 @@
 // Regression decisions: the U-test against scipy's figures, Holm's correction, and `compare` on synthetic
 // runs (timing, work counters, images, devices, bad input).
 
-#include "bench/results/compare.h"
+#include "bench/report/compare.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "bench/results/file_io.h"
-#include "bench/results/image_io.h"
-#include "bench/results/statistics.h"
+#include "bench/io/file_io.h"
+#include "bench/io/image_io.h"
+#include "bench/io/statistics.h"
 
 namespace omnishadow::bench {
 namespace {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <functional>
 
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
 #include "fuzz/fuzz_entries.h"
 
 namespace fs = std::filesystem;

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
 
 namespace omnishadow::scene {
 namespace {

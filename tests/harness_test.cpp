@@ -9,10 +9,10 @@
 #include <fstream>
 
 #include "backends/common/cube_summary.h"
-#include "bench/results/file_io.h"
-#include "bench/results/results_reader.h"
-#include "bench/results/results_writer.h"
-#include "bench/results/summary_table.h"
+#include "bench/io/file_io.h"
+#include "bench/io/results_reader.h"
+#include "bench/report/results_writer.h"
+#include "bench/report/summary_table.h"
 #include "bench/run/case_runner.h"
 #include "bench/run/gbench_glue.h"
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "bench/results/file_io.h"
-#include "bench/results/image_io.h"
+#include "bench/io/file_io.h"
+#include "bench/io/image_io.h"
 #include "bench/truth/image_compare.h"
 
 namespace omnishadow::bench {

@@ -18,7 +18,7 @@
 #include <set>
 
 #include "bench/cli/commands.h"
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
 #include "bench/run/case_runner.h"
 
 namespace omnishadow::bench {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "bench/cli/commands.h"
-#include "bench/results/compare.h"
+#include "bench/report/compare.h"
 
 namespace omnishadow::bench {
 

@@ -11,8 +11,8 @@
 #include "bench/cli/case_isolation.h"
 #include "bench/cli/cli_options.h"
 #include "bench/cli/commands.h"
-#include "bench/results/compare.h"
-#include "bench/results/merge.h"
+#include "bench/report/compare.h"
+#include "bench/report/merge.h"
 
 using namespace omnishadow;
 using namespace omnishadow::bench;

@@ -1,7 +1,6 @@
 #include "bench/run/case_runner.h"
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,45 +11,15 @@
 #include "backends/common/driver_log.h"
 #include "backends/common/layouts.h"
 #include "backends/common/shadow_plan.h"
-#include "bench/results/image_io.h"
+#include "bench/io/image_io.h"
 #include "bench/run/case_progress.h"
 #include "bench/run/memory_budget.h"
 #include "bench/run/timing_stats.h"
-#include "scenes/tessellate.h"
+#include "bench/truth/truth_cache.h"
 
 namespace omnishadow::bench {
 
 namespace fs = std::filesystem;
-
-// The case every other case of its group is checked against: six_pass without culling or caching (which must
-// not change a single value). fit_range stays: it changes the stored depth's scale, so it has its own
-// reference.
-CaseConfig reference_config(const CaseConfig& c) {
-  CaseConfig k = c;
-  k.technique = Technique::six_pass;
-  k.optimizations.face_culling = false;
-  k.optimizations.static_cache = false;
-  return k;
-}
-
-std::string group_key(const CaseConfig& c) { return reference_config(c).id(); }
-
-int face_edge(const Images& img) {
-  return img.has_full_cube() ? img.cube_size : img.cube_size / std::max(img.cube_sample_stride, 1);
-}
-
-std::vector<float> concat_faces(const Images& img) {
-  // Faces side by side, face order left to right, so one PNG shows the whole cube (the check grid when only
-  // that came back: every stride-th texel).
-  const int n = face_edge(img);
-  const auto& faces = img.has_full_cube() ? img.cube_distance : img.cube_sample;
-  std::vector<float> strip(static_cast<size_t>(n) * static_cast<size_t>(n) * 6);
-  for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < n && faces[size_t(f)].size() >= size_t(n) * size_t(n); ++y)
-      std::copy_n(faces[static_cast<size_t>(f)].begin() + static_cast<ptrdiff_t>(y) * n, n,
-                  strip.begin() + (static_cast<ptrdiff_t>(y) * 6 + f) * n);
-  return strip;
-}
 
 CubeReadBack Harness::cube_read_back_for(const CaseConfig& c) const {
   using P = RunOptions::CubeReadBackPolicy;
@@ -78,40 +47,8 @@ void Harness::read_full_cube(const CaseConfig& c, Images& images) {
   images.cube_distance = b.read_back(CubeReadBack::full).cube_distance;
 }
 
-std::string_view to_string(Status s) {
-  switch (s) {
-    case Status::ok:
-      return "ok";
-    case Status::failed_quality:
-      return "failed_quality";
-    case Status::failed_check:
-      return "failed_check";
-    case Status::interrupted:
-      return "interrupted";
-    case Status::resource_error:
-      return "resource_error";
-    case Status::failed:
-      return "failed";
-    case Status::crashed:
-      return "crashed";
-    case Status::unsupported:
-      return "unsupported";
-  }
-  return "?";
-}
-
-bool fails_run(Status s) {
-  return s == Status::failed_quality || s == Status::failed_check || s == Status::resource_error ||
-         s == Status::failed || s == Status::crashed;
-}
-
-void CaseResult::add(Finding finding) {
-  if (static_cast<int>(finding.status) > static_cast<int>(status)) status = finding.status;
-  reason += (reason.empty() ? "" : "; ") + finding.message;
-  findings.push_back(std::move(finding));
-}
-
-Harness::Harness(RunOptions options) : options_(std::move(options)) {
+Harness::Harness(RunOptions options)
+    : options_(std::move(options)), scenes_(options_.scenes_dir, options_.light, options_.camera) {
   if (options_.async_images) writer_ = std::make_unique<AsyncWriter>();
 }
 
@@ -159,62 +96,10 @@ void Harness::add_backend(const std::string& name, std::unique_ptr<Backend> back
   loaded_scene_.erase(name);
 }
 
-// A name without '/' or a file extension is a bundled scene, anything else a file.
-static std::string file_of_scene(const std::string& name, const std::string& scenes_dir) {
-  if (name.find('/') != std::string::npos || name.ends_with(".json") || scene::is_model_file(name))
-    return name;
-  return (fs::path(scenes_dir) / (name + ".json")).string();
-}
-
-std::string Harness::scene_path(const std::string& name) const {
-  if (auto it = scene_files_.find(name); it != scene_files_.end()) return it->second;
-  return file_of_scene(name, options_.scenes_dir);
-}
-
-std::string Harness::add_scene(const std::string& name_or_path) {
-  const std::string file = file_of_scene(name_or_path, options_.scenes_dir);
-  std::string name = name_or_path;
-  if (file != (fs::path(options_.scenes_dir) / (name_or_path + ".json")).string()) {
-    name = fs::path(file).stem().string();
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') c = '_';
-    if (name.empty()) throw std::invalid_argument("--scene: '" + name_or_path + "' names no file");
-  }
-  std::error_code ec;
-  auto same_file = [&](const std::string& a, const std::string& b) {
-    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
-  };
-  // `--scene room,other/room.json` would give one id to two scenes. (A file named like a bundled scene that
-  // this run does not use is fine: ids are per run.)
-  if (auto it = scene_files_.find(name); it != scene_files_.end() && !same_file(it->second, file))
-    throw std::invalid_argument("--scene: " + file + " and " + it->second + " would both be named '" + name +
-                                "' in case ids; rename one of them");
-  scene_files_[name] = file;
-  return name;
-}
-
-// Scenes are cached per name and load option: the rebased room is another scene.
-std::string scene_key(const std::string& name, bool rebase_origin, int tessellation) {
-  return name + (rebase_origin ? "#rebase" : "") +
-         (tessellation != 1 ? "#t" + std::to_string(tessellation) : "");
-}
-std::string scene_key(const CaseConfig& c) {
-  return scene_key(c.scene, c.remedies.rebase_origin, c.tessellation);
-}
+std::string Harness::add_scene(const std::string& name_or_path) { return scenes_.add(name_or_path); }
 
 const scene::Scene& Harness::scene(const std::string& name, bool rebase_origin, int tessellation) {
-  const std::string key = scene_key(name, rebase_origin, tessellation);
-  auto it = scenes_.find(key);
-  if (it != scenes_.end()) return it->second;
-  scene::LoadOptions load;
-  load.rebase_origin = rebase_origin;
-  load.light = options_.light;
-  load.camera = options_.camera;
-  scene::Scene s = scene::load_scene_file(scene_path(name), load);
-  s.name = name;
-  scene::tessellate(s, tessellation);
-  for (const std::string& note : s.notes) std::fprintf(stderr, "scene %s: %s\n", name.c_str(), note.c_str());
-  return scenes_.emplace(key, std::move(s)).first->second;
+  return scenes_.get(name, rebase_origin, tessellation);
 }
 
 Backend& Harness::activate(const CaseConfig& config) {
@@ -328,7 +213,7 @@ void Harness::prepare(CaseResult& r) {
     r.cube_read_back = images.has_full_cube() ? "full" : "sampled";
     r.light_far = images.light_far;
     count_non_finite(r, images);
-    check_timed_variant(r, images);
+    check_timed_variant(r, images, check_context(r));
     if (options_.stability) measure_flicker(r, b, images);
     step("work_counters", [&] { count_work(r, b, images.light_far); });
     if (std::vector<std::string> errors = b.drain_api_errors(); !errors.empty()) {
@@ -339,15 +224,16 @@ void Harness::prepare(CaseResult& r) {
              {{"api_errors", double(errors.size())}}});
       return;
     }
+    const CheckContext checks = check_context(r);
     if (options_.accuracy) {
       step("cube_and_map_truth", [&] {
-        check_cube(r, images);
+        check_cube(r, images, checks, truths_);
         check_moment_cube(r, images);
-        check_maps(r, images);
+        check_maps(r, images, checks, truths_);
       });
-      step("accuracy", [&] { check_accuracy(r, images); });
+      step("accuracy", [&] { check_accuracy(r, images, checks, truths_); });
     }
-    step("lookups", [&] { check_lookups_of(r, images); });
+    step("lookups", [&] { check_lookups_of(r, images, checks); });
     step("floor", [&] { measure_floor(r, b); });
     const bool is_reference = r.config == reference_config(r.config);
     step("comparisons", [&] {
@@ -379,6 +265,57 @@ void Harness::prepare(CaseResult& r) {
                         what.find("OUT_OF_HOST_MEMORY") != std::string::npos;
     r.add({memory ? Status::resource_error : Status::failed, memory ? "memory" : "error", what, {}});
   }
+}
+
+CheckContext Harness::check_context(const CaseResult& r) {
+  CheckContext ctx{scene_of(r.config), backend(r.config.backend).device(), options_, {}};
+  if (options_.write_images())
+    ctx.write_image = [this, &r](const std::string& rel, int width, int height, std::vector<uint8_t> rgb) {
+      const fs::path path = fs::path(options_.out_dir) / rel;
+      fs::create_directories(path.parent_path());
+      write_later(r, [path = path.string(), width, height, rgb = std::move(rgb)] {
+        write_png_rgb_top_down(path, width, height, rgb);
+      });
+    };
+  return ctx;
+}
+
+// The six_pass rendering of the case's group (rendered now if six_pass is not in the matrix or ran in another
+// shard), and both cubes read in full when their face hashes differ, for the checks to compare.
+void Harness::check_against_six_pass(CaseResult& r, Images& images) {
+  CaseConfig ref_config = reference_config(r.config);
+  if (reference_key_ != group_key(r.config)) {
+    Backend& b = activate(ref_config);
+    b.render(options_.check_frame, FrameKind::check);
+    reference_ = b.read_back(cube_read_back_for(ref_config));
+    reference_key_ = group_key(r.config);
+    activate(r.config);  // leave the backend on the case being measured
+  }
+  if (!cubes_equal_by_hash(images, *reference_)) {
+    if (!images.has_full_cube()) {
+      read_full_cube(r.config, images);
+      r.cube_read_back = "sampled+full";
+    }
+    if (!reference_->has_full_cube()) {
+      read_full_cube(ref_config, *reference_);
+      activate(r.config);
+    }
+  }
+  check_against_reference(r, images, *reference_, check_context(r));
+}
+
+// The first API to render a case keeps its images; the same case on another API is held to them.
+void Harness::check_against_other_backend(CaseResult& r, const Images& images) {
+  std::string id = r.config.id();
+  std::string key = id.substr(id.find('/'));
+  auto it = cross_.find(key);
+  if (it == cross_.end()) {
+    cross_[key] = {id, images.lit_rgba8, images.shadow_factor};
+    return;
+  }
+  const CrossReference& ref = it->second;
+  if (ref.case_id.substr(0, ref.case_id.find('/')) == r.config.backend) return;
+  check_against_other_api(r, images, ref, check_context(r));
 }
 
 void Harness::count_non_finite(CaseResult& r, const Images& images) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bench/results/statistics.h"
+#include "bench/io/statistics.h"
 
 namespace omnishadow::bench {
 

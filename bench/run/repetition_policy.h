@@ -29,7 +29,7 @@ struct RepetitionPolicy {
   static constexpr int kMinForInterval = 6;
   // Under --precision, the most of: the fixed count, kMinForInterval, and the fewest repetitions at which
   // `omnishadow compare` over compared_cases cases at its default alpha could flag a case at all (7 for 24
-  // cases, 8 for 96: bench/results/statistics.h). A quiet case could otherwise stop precise and still be
+  // cases, 8 for 96: bench/io/statistics.h). A quiet case could otherwise stop precise and still be
   // undetectable.
   int minimum() const;
   int cap() const;  // the most repetitions a case can get (sustain: none, -1)

@@ -1,4 +1,4 @@
-// The Harness's image checks: the timed variant against the check variant, every technique against the
+// The image checks: the timed variant against the check variant, every technique against the
 // six_pass rendering of its group (cube faces, shadow factor, lit frame, with the driver's evidence when the
 // images point at it), and each case against the same case on the other API. A failing check writes its diff
 // image.
@@ -13,8 +13,7 @@
 #include "backends/common/cube_faces.h"
 #include "backends/common/layouts.h"
 #include "backends/common/techniques.h"
-#include "bench/results/image_io.h"
-#include "bench/run/case_runner.h"
+#include "bench/truth/case_checks.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -136,6 +135,36 @@ TechniqueAllowance technique_allowance(const CaseConfig& c, double face_toleranc
 
 }  // namespace
 
+// The case every other case of its group is checked against: six_pass without culling or caching (which must
+// not change a single value). fit_range stays: it changes the stored depth's scale, so it has its own
+// reference.
+CaseConfig reference_config(const CaseConfig& c) {
+  CaseConfig k = c;
+  k.technique = Technique::six_pass;
+  k.optimizations.face_culling = false;
+  k.optimizations.static_cache = false;
+  return k;
+}
+
+std::string group_key(const CaseConfig& c) { return reference_config(c).id(); }
+
+int face_edge(const Images& img) {
+  return img.has_full_cube() ? img.cube_size : img.cube_size / std::max(img.cube_sample_stride, 1);
+}
+
+std::vector<float> concat_faces(const Images& img) {
+  // Faces side by side, face order left to right, so one PNG shows the whole cube (the check grid when only
+  // that came back: every stride-th texel).
+  const int n = face_edge(img);
+  const auto& faces = img.has_full_cube() ? img.cube_distance : img.cube_sample;
+  std::vector<float> strip(static_cast<size_t>(n) * static_cast<size_t>(n) * 6);
+  for (int f = 0; f < 6; ++f)
+    for (int y = 0; y < n && faces[size_t(f)].size() >= size_t(n) * size_t(n); ++y)
+      std::copy_n(faces[static_cast<size_t>(f)].begin() + static_cast<ptrdiff_t>(y) * n, n,
+                  strip.begin() + (static_cast<ptrdiff_t>(y) * 6 + f) * n);
+  return strip;
+}
+
 CheckResult timed_variant_check(const std::vector<uint8_t>& timed,
                                 const std::vector<uint8_t>& check_variant) {
   CheckResult check{"timed_lit", "check variant"};
@@ -147,12 +176,27 @@ CheckResult timed_variant_check(const std::vector<uint8_t>& timed,
   return check;
 }
 
-void Harness::check_timed_variant(CaseResult& r, const Images& images) {
+// Judges a check from its difference and its limits, and has a failed one's diff image written.
+static void record_check(CaseFindings& r, CheckResult c, const std::vector<float>& a,
+                         const std::vector<float>& b, const std::vector<float>& grey, int width, int height,
+                         double scale, bool flip, const CheckContext& ctx) {
+  c.passed =
+      (c.max_percent > 0 ? c.difference.percent_differing() <= c.max_percent : c.difference.differing == 0) &&
+      (c.max_abs < 0 || c.difference.max_abs <= c.max_abs);
+  if (!c.passed && ctx.write_image) {
+    c.diff_image = (fs::path("images") / r.config.id() / ("diff_" + c.name + ".png")).string();
+    ctx.write_image(c.diff_image, width, height,
+                    diff_image_rgb(a, b, grey, width, height, c.tolerance, scale, flip));
+  }
+  r.checks.push_back(c);
+}
+
+void check_timed_variant(CaseFindings& r, const Images& images, const CheckContext& ctx) {
   CheckResult check = timed_variant_check(images.timed_lit_rgba8, images.lit_rgba8);
   check.against = r.config.id() + " (check variant)";
   std::vector<float> diff = max_channel_difference(images.timed_lit_rgba8, images.lit_rgba8);
   record_check(r, check, diff, std::vector<float>(diff.size(), 0.0f), luminance(images.lit_rgba8),
-               images.width, images.height, 64.0, true);
+               images.width, images.height, 64.0, true, ctx);
   if (!r.checks.back().passed)
     r.add({Status::failed_check, "timed_lit",
            "timed_lit: the timed lighting variant's colour differs from the check variant's in " +
@@ -162,64 +206,51 @@ void Harness::check_timed_variant(CaseResult& r, const Images& images) {
            check_figures(check)});
 }
 
-void Harness::check_against_six_pass(CaseResult& r, Images& images) {
-  CaseConfig ref_config = reference_config(r.config);
-  if (reference_key_ != group_key(r.config)) {
-    // six_pass is not in the matrix (or ran in another shard): render it now, untimed.
-    Backend& b = activate(ref_config);
-    b.render(options_.check_frame, FrameKind::check);
-    reference_ = b.read_back(cube_read_back_for(ref_config));
-    reference_key_ = group_key(r.config);
-    activate(r.config);  // leave the backend on the case being measured
-  }
-  const float far_plane = reference_->light_far;
+bool cubes_equal_by_hash(const Images& images, const Images& reference) {
+  return images.cube_summary_on_device == reference.cube_summary_on_device &&
+         images.cube_summary == reference.cube_summary && reference.light_far == images.light_far;
+}
+
+void check_against_reference(CaseFindings& r, const Images& images, const Images& ref,
+                             const CheckContext& ctx) {
+  const CheckOptions& options = ctx.options;
+  const std::string ref_id = reference_config(r.config).id();
+  const float far_plane = ref.light_far;
 
   // Cube faces, in world units: the technique must store what six_pass stores. Equal face hashes (the
   // device's, or the host's for full read-backs) settle it without the values; otherwise both cubes are
-  // compared value by value, read in full if they were not (the case's own, and six_pass's, rendered again:
-  // frames are deterministic).
-  CheckResult faces_check{"cube_faces", ref_config.id()};
-  faces_check.tolerance = options_.face_tolerance;
+  // compared value by value (the caller read them in full: frames are deterministic).
+  CheckResult faces_check{"cube_faces", ref_id};
   const TechniqueAllowance allowance =
-      technique_allowance(r.config, options_.face_tolerance, scene_of(r.config).light.near_plane, far_plane);
+      technique_allowance(r.config, options.face_tolerance, ctx.scene.light.near_plane, far_plane);
   faces_check.tolerance = allowance.face_tolerance;
-  if (images.cube_summary_on_device == reference_->cube_summary_on_device &&
-      images.cube_summary == reference_->cube_summary && reference_->light_far == images.light_far) {
+  if (cubes_equal_by_hash(images, ref)) {
     const uint64_t texels = 6ull * uint64_t(images.cube_size) * uint64_t(images.cube_size);
     faces_check.difference = {texels, 0, 0.0};
     faces_check.method = "hash";
     faces_check.passed = true;
     r.checks.push_back(faces_check);
   } else {
-    if (!images.has_full_cube()) {
-      read_full_cube(r.config, images);
-      r.cube_read_back = "sampled+full";
-    }
-    if (!reference_->has_full_cube()) {
-      read_full_cube(ref_config, *reference_);
-      activate(r.config);
-    }
-    std::vector<float> faces = concat_faces(images), ref_faces = concat_faces(*reference_);
+    std::vector<float> faces = concat_faces(images), ref_faces = concat_faces(ref);
     faces_check.difference = compare_values(faces, ref_faces, faces_check.tolerance);
     record_check(r, faces_check, faces, ref_faces, scaled(ref_faces, 1.0f / far_plane), images.cube_size * 6,
-                 images.cube_size, far_plane * 0.05, false);
+                 images.cube_size, far_plane * 0.05, false, ctx);
   }
-  const Images& ref = *reference_;
 
-  CheckResult shadow_check{"shadow_factor", ref_config.id()};
+  CheckResult shadow_check{"shadow_factor", ref_id};
   shadow_check.tolerance = 0.0;
-  if (allowance.images_may_differ) shadow_check.max_percent = options_.cross_max_percent;
+  if (allowance.images_may_differ) shadow_check.max_percent = options.cross_max_percent;
   shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, 0.0);
   record_check(r, shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width,
-               images.height, 1.0, true);
+               images.height, 1.0, true, ctx);
 
-  CheckResult lit_check{"lit", ref_config.id()};
-  lit_check.tolerance = options_.lit_tolerance;
-  if (allowance.images_may_differ) lit_check.max_percent = options_.cross_max_percent;
-  lit_check.difference = compare_values(images.lit_rgba8, ref.lit_rgba8, options_.lit_tolerance);
+  CheckResult lit_check{"lit", ref_id};
+  lit_check.tolerance = options.lit_tolerance;
+  if (allowance.images_may_differ) lit_check.max_percent = options.cross_max_percent;
+  lit_check.difference = compare_values(images.lit_rgba8, ref.lit_rgba8, options.lit_tolerance);
   std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit_rgba8);
   record_check(r, lit_check, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit_rgba8),
-               images.width, images.height, 64.0, true);
+               images.width, images.height, 64.0, true, ctx);
 
   bool failed = false;
   for (const CheckResult& c : r.checks)
@@ -235,49 +266,22 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images) {
       r.add({Status::failed_check, "driver_evidence", evidence, {}});
 }
 
-void Harness::record_check(CaseResult& r, CheckResult c, const std::vector<float>& a,
-                           const std::vector<float>& b, const std::vector<float>& grey, int width, int height,
-                           double scale, bool flip) {
-  c.passed =
-      (c.max_percent > 0 ? c.difference.percent_differing() <= c.max_percent : c.difference.differing == 0) &&
-      (c.max_abs < 0 || c.difference.max_abs <= c.max_abs);
-  if (!c.passed && options_.write_images()) {
-    fs::path dir = fs::path("images") / r.config.id();
-    c.diff_image = (dir / ("diff_" + c.name + ".png")).string();
-    fs::create_directories(fs::path(options_.out_dir) / dir);
-    write_later(r, [path = (fs::path(options_.out_dir) / c.diff_image).string(), width, height,
-                    rgb = diff_image_rgb(a, b, grey, width, height, c.tolerance, scale, flip)] {
-      write_png_rgb_top_down(path, width, height, rgb);
-    });
-  }
-  r.checks.push_back(c);
-}
-
-void Harness::check_against_other_backend(CaseResult& r, const Images& images) {
-  std::string id = r.config.id();
-  std::string key = id.substr(id.find('/'));
-  auto it = cross_.find(key);
-  if (it == cross_.end()) {
-    cross_[key] = {id, images.lit_rgba8, images.shadow_factor};
-    return;
-  }
-  const CrossReference& ref = it->second;
-  if (ref.case_id.substr(0, ref.case_id.find('/')) == r.config.backend) return;
-
+void check_against_other_api(CaseFindings& r, const Images& images, const CrossReference& ref,
+                             const CheckContext& ctx) {
+  const CheckOptions& options = ctx.options;
   CheckResult shadow{"cross_backend_shadow_factor", ref.case_id};
-  shadow.tolerance = options_.cross_shadow_tolerance;
-  shadow.max_percent = options_.cross_max_percent;
-  shadow.difference =
-      compare_values(images.shadow_factor, ref.shadow_factor, options_.cross_shadow_tolerance);
+  shadow.tolerance = options.cross_shadow_tolerance;
+  shadow.max_percent = options.cross_max_percent;
+  shadow.difference = compare_values(images.shadow_factor, ref.shadow_factor, options.cross_shadow_tolerance);
   record_check(r, shadow, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width,
-               images.height, 1.0, true);
+               images.height, 1.0, true, ctx);
   CheckResult lit{"cross_backend_lit", ref.case_id};
-  lit.tolerance = options_.cross_lit_tolerance;
-  lit.max_percent = options_.cross_max_percent;
-  lit.difference = compare_values(images.lit_rgba8, ref.lit, options_.cross_lit_tolerance);
+  lit.tolerance = options.cross_lit_tolerance;
+  lit.max_percent = options.cross_max_percent;
+  lit.difference = compare_values(images.lit_rgba8, ref.lit, options.cross_lit_tolerance);
   std::vector<float> lit_diff = max_channel_difference(images.lit_rgba8, ref.lit);
   record_check(r, lit, lit_diff, std::vector<float>(lit_diff.size(), 0.0f), luminance(ref.lit), images.width,
-               images.height, 64.0, true);
+               images.height, 64.0, true, ctx);
   for (const CheckResult* c : {&r.checks[r.checks.size() - 2], &r.checks.back()})
     if (!c->passed)
       r.add({Status::failed_check, c->name,

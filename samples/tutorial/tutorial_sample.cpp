@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "backends/gl/egl_context.h"
-#include "bench/results/image_io.h"
+#include "bench/io/image_io.h"
 #include "samples/tutorial/tutorial_shaders.h"
 
 namespace {

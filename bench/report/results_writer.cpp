@@ -1,10 +1,10 @@
-#include "bench/results/results_writer.h"
+#include "bench/report/results_writer.h"
 
 #include <cmath>
 #include <set>
 
 #include "backends/common/storage_filter_tables.h"
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
 #include "bench/run/memory_budget.h"
 #include "bench/run/repetition_policy.h"
 #include "bench/run/system_info.h"

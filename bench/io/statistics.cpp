@@ -1,4 +1,4 @@
-#include "bench/results/statistics.h"
+#include "bench/io/statistics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "bench/results/compare.h"
+#include "bench/report/compare.h"
 
 #include <algorithm>
 #include <cctype>
@@ -7,10 +7,10 @@
 #include <iostream>
 #include <sstream>
 
-#include "bench/results/file_io.h"
-#include "bench/results/image_io.h"
-#include "bench/results/results_writer.h"
-#include "bench/results/statistics.h"
+#include "bench/io/file_io.h"
+#include "bench/io/image_io.h"
+#include "bench/io/statistics.h"
+#include "bench/report/results_writer.h"
 #include "bench/truth/image_compare.h"
 
 namespace omnishadow::bench {

@@ -1,4 +1,4 @@
-#include "bench/results/image_io.h"
+#include "bench/io/image_io.h"
 
 #include <algorithm>
 #include <cstring>
@@ -15,7 +15,7 @@
 #include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
 
 namespace omnishadow::bench {
 namespace {

@@ -1,4 +1,4 @@
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
 
 #include <unistd.h>
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "bench/results/results_reader.h"
-#include "bench/results/statistics.h"
+#include "bench/io/results_reader.h"
+#include "bench/io/statistics.h"
 
 namespace omnishadow::bench {
 
@@ -44,7 +44,7 @@ struct CaseComparison {
   std::vector<std::string> work_changes;   // "shadow gs_primitives 432 -> 72"
   std::vector<std::string> image_changes;  // "lit: 1.2% of values differ (max 64), diff: ..."
   // Whether base_n against new_n repetitions could reach significance at all over this comparison's cases
-  // (bench/results/statistics.h can_resolve): false means "no change" says nothing about the change.
+  // (bench/io/statistics.h can_resolve): false means "no change" says nothing about the change.
   bool resolvable = true;
   bool regressed(bool timing_counts = true) const {
     return (timing_counts && verdict == "regression") || !work_changes.empty() || !image_changes.empty();

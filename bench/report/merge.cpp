@@ -1,10 +1,10 @@
-#include "bench/results/merge.h"
+#include "bench/report/merge.h"
 
 #include <filesystem>
 #include <set>
 
-#include "bench/results/compare.h"
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
+#include "bench/report/compare.h"
 
 namespace omnishadow::bench {
 

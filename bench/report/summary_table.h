@@ -6,8 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "bench/run/case_runner.h"
+#include "bench/run/case_result.h"
 #include "bench/run/repetition_policy.h"
+#include "bench/run/run_options.h"
 
 namespace omnishadow::bench {
 

@@ -8,8 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "bench/results/summary_table.h"
-#include "bench/run/case_runner.h"
+#include "bench/report/summary_table.h"
+#include "bench/run/case_result.h"
+#include "bench/run/run_options.h"
 
 namespace omnishadow::bench {
 

@@ -1,11 +1,11 @@
-#include "bench/results/summary_table.h"
+#include "bench/report/summary_table.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <map>
 #include <sstream>
 
-#include "bench/results/statistics.h"
+#include "bench/io/statistics.h"
 #include "bench/run/timing_stats.h"
 
 namespace omnishadow::bench {

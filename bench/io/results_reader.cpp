@@ -1,10 +1,10 @@
-#include "bench/results/results_reader.h"
+#include "bench/io/results_reader.h"
 
 #include <cmath>
 #include <filesystem>
 #include <set>
 
-#include "bench/results/file_io.h"
+#include "bench/io/file_io.h"
 
 namespace omnishadow::bench {
 namespace {

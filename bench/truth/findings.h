@@ -1,0 +1,96 @@
+#pragma once
+// What the checks of one case found: its status (the worst finding's), every finding, every image check with
+// its figures, and the reports of the truths it was held to. The run floor's CaseResult extends it with what
+// was timed and counted; the checks (bench/truth/case_checks.h) read and write only this part.
+
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "backends/common/case_config.h"
+#include "bench/truth/accuracy.h"
+#include "bench/truth/cube_truth.h"
+#include "bench/truth/image_compare.h"
+#include "bench/truth/lookup_check.h"
+#include "bench/truth/map_truth.h"
+#include "bench/truth/moments_check.h"
+
+namespace omnishadow::bench {
+
+// A case's result code, the worst of its findings (dEQP's result codes are the model): users filter on these.
+//   ok              every check passed
+//   failed_quality  the shadow disagrees with exact visibility beyond --max-error (the measured error is a
+//                   figure)
+//   failed_check    a check failed: technique vs six_pass, timed vs check variant, across APIs, non-finite
+//                   values
+//   interrupted     the run was stopped (SIGINT/SIGTERM) before the case was timed
+//   resource_error  the case does not fit in memory (predicted, or the allocation failed)
+//   failed          an error: the API failed, the checking mode reported an API error, an exception
+//   crashed         the process died (a signal: a driver's SIGSEGV or abort) or made no progress for
+//                   --case-timeout-s while on this case; written by the supervisor
+//                   (bench/cli/case_isolation.h), whose next worker process goes on from the next case
+//   unsupported     the device or the technique cannot do the case; the matrix goes on
+// Worse is later in that list.
+enum class Status {
+  ok,
+  failed_quality,
+  failed_check,
+  interrupted,
+  resource_error,
+  failed,
+  crashed,
+  unsupported
+};
+std::string_view to_string(Status s);
+// A case with this status makes `run --check` exit 1.
+bool fails_run(Status s);
+
+// One thing a check or a step found: what it does to the case, which check, a one-line message, and figures.
+struct Finding {
+  Status status = Status::failed;
+  std::string
+      check;  // timed_lit, cube_faces, cross_backend_lit, max_error, non_finite, memory, api, timing, ...
+  std::string message;
+  std::map<std::string, double> figures;
+};
+
+struct CheckResult {
+  std::string
+      name;  // timed_lit; cube_faces, shadow_factor, lit; cross_backend_lit, cross_backend_shadow_factor
+  std::string against;  // id of the case compared with
+  Difference difference;
+  double tolerance = 0.0;    // per value
+  double max_percent = 0.0;  // of values beyond the tolerance; 0 = none may differ
+  double max_abs = -1.0;     // >= 0: and no value may differ by more than this (timed_lit: 1 level)
+  bool passed = true;
+  std::string diff_image;  // relative to out_dir, written on failure only
+  // "values": compared value by value; "hash": the face hashes were equal, so were the values (cubes).
+  std::string method = "values";
+};
+
+struct CaseFindings {
+  CaseConfig config;
+  Status status = Status::ok;  // the worst finding's (ok without any)
+  std::string reason;          // the findings' messages joined by "; " (one line); empty when ok
+  std::vector<Finding> findings;
+  // Adds a finding: the status becomes the worse of the two, the message joins the reason.
+  void add(Finding finding);
+  std::vector<CheckResult> checks;
+  std::map<std::string, std::string> images;  // role -> path relative to out_dir
+  std::optional<Accuracy> accuracy;           // against the ray-cast reference, for the check frame
+  std::optional<MomentsReport>
+      moments;  // a moments storage read back in full: its moments against its depths
+  std::optional<CubeTexelReport>
+      cube_texels;  // the cube against exact first-hit distances (bench/truth/cube_truth.h)
+  std::optional<MapTexelReport>
+      map_texels;  // spot/directional maps against exact depths (bench/truth/map_truth.h)
+  // The lighting pass's lookups replayed from the read-back cube (bench/truth/lookup_check.h); the reason it
+  // was not replayed otherwise (a technique other than six_pass is held to six_pass's shadow factor bit for
+  // bit).
+  std::optional<LookupReport> lookups;
+  std::string lookups_skipped;
+};
+
+}  // namespace omnishadow::bench
