@@ -9,8 +9,13 @@ layout(location = 2) in vec4 layer_clip1[];
 layout(location = 3) in vec2 layer_forward[];
 #endif
 
+// The layout's layer count, from its row (backends/common/layouts.h); the cube's six faces without one.
+#if !defined(LAYOUT_LAYERS)
+#define LAYOUT_LAYERS 6
+#endif
+
 #if defined(GS_INSTANCED)
-layout(triangles, invocations = 6) in;      // one invocation per face
+layout(triangles, invocations = LAYOUT_LAYERS) in;  // one invocation per face
 layout(triangle_strip, max_vertices = 3) out;
 #else
 layout(triangles) in;                        // the point-shadow tutorial: one invocation loops over the faces
@@ -70,12 +75,6 @@ void main() {
 #if defined(GS_INSTANCED)
   emit_face(gl_InvocationID);
 #else
-#if defined(LAYOUT_DUAL_PARABOLOID)
-  for (int layer = 0; layer < 2; ++layer) emit_face(layer);
-#elif defined(LAYOUT_TETRAHEDRAL)
-  for (int face = 0; face < 4; ++face) emit_face(face);  // the tetrahedron's four frusta (frame.face_view_proj[0..3])
-#else
-  for (int face = 0; face < 6; ++face) emit_face(face);
-#endif
+  for (int layer = 0; layer < LAYOUT_LAYERS; ++layer) emit_face(layer);
 #endif
 }

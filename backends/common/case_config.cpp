@@ -34,24 +34,20 @@ constexpr Names<Layout, kLayouts.size()> layout_names() {
   return names;
 }
 constexpr auto kLayoutNames = layout_names();
-constexpr Names<Filter, 10> kFilters = {{{Filter::hard, "hard"},
-                                         {Filter::pcf_grid64, "pcf_grid64"},
-                                         {Filter::pcf_disk20, "pcf_disk20"},
-                                         {Filter::hw_compare2x2, "hw_compare2x2"},
-                                         {Filter::pcss, "pcss"},
-                                         {Filter::vsm, "vsm"},
-                                         {Filter::esm, "esm"},
-                                         {Filter::evsm2, "evsm2"},
-                                         {Filter::evsm4, "evsm4"},
-                                         {Filter::msm, "msm"}}};
-constexpr Names<Storage, 8> kStorages = {{{Storage::linear_depth, "linear_depth"},
-                                          {Storage::r32f_distance, "r32f_distance"},
-                                          {Storage::hardware_depth, "hardware_depth"},
-                                          {Storage::vsm_moments, "vsm_moments"},
-                                          {Storage::esm_exp, "esm_exp"},
-                                          {Storage::evsm2_moments, "evsm2_moments"},
-                                          {Storage::evsm4_moments, "evsm4_moments"},
-                                          {Storage::msm_moments, "msm_moments"}}};
+// Filter and storage spellings come from their tables (backends/common/storage_filter_tables.h).
+constexpr Names<Filter, kFilterTable.size()> filter_names() {
+  Names<Filter, kFilterTable.size()> names{};
+  for (size_t i = 0; i < kFilterTable.size(); ++i) names[i] = {kFilterTable[i].filter, kFilterTable[i].name};
+  return names;
+}
+constexpr auto kFilters = filter_names();
+constexpr Names<Storage, kStorageTable.size()> storage_names() {
+  Names<Storage, kStorageTable.size()> names{};
+  for (size_t i = 0; i < kStorageTable.size(); ++i)
+    names[i] = {kStorageTable[i].storage, kStorageTable[i].name};
+  return names;
+}
+constexpr auto kStorages = storage_names();
 constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
 
@@ -157,20 +153,8 @@ Support moments_tuning_support(Filter filter, const MomentsTuning& t) {
 }
 }  // namespace
 
-int layer_size(Layout layout, int cube_size) {
-  switch (traits(layout).texel_map) {
-    case TexelMap::paraboloid:
-      return paraboloid::layer_size_for_cube(cube_size);
-    case TexelMap::tetrahedral:
-      return tetra::layer_size_for_cube(cube_size);
-    case TexelMap::cube_faces:
-      break;
-  }
-  return cube_size;
-}
-
 Support common_support(const CaseConfig& c) {
-  if (traits(c.layout).texel_map != TexelMap::cube_faces) {
+  if (traits(c.layout).geometry.map != TexelMap::cube_faces) {
     const std::string name(to_string(c.layout));
     if (c.technique != Technique::six_pass && c.technique != Technique::geometry_shader)
       return {false, name + " is drawn by six_pass (one pass per layer) and geometry_shader so far"};

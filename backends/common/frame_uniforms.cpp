@@ -8,7 +8,6 @@
 #include "backends/common/map_lights.h"
 #include "backends/common/shadow_plan.h"
 #include "backends/common/storage_filter_tables.h"
-#include "backends/common/tetrahedron.h"
 
 namespace omnishadow::gpu {
 
@@ -29,13 +28,13 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
   const float far_plane = config.optimizations.fit_range
                               ? cube::fitted_far(scene, light_position, light.near_plane, light.far_plane)
                               : light.far_plane;
+  // Each layer's own view-projection (the layout's geometry); layers beyond its own hold the cube's faces.
   auto faces = cube::face_view_projections(light_position, light.near_plane, far_plane, range);
   std::copy(faces.begin(), faces.end(), u.face_view_proj.begin());
-  if (traits(config.layout).texel_map ==
-      TexelMap::tetrahedral)  // its four faces' own frusta, the rest unused
-    for (int f = 0; f < tetra::kFaceCount; ++f)
-      u.face_view_proj[size_t(f)] =
-          tetra::face_view_projection(f, light_position, light.near_plane, far_plane, range);
+  const TexelGeometry& geometry = traits(config.layout).geometry;
+  for (int f = 0; f < geometry.layers; ++f)
+    u.face_view_proj[size_t(f)] =
+        geometry.view_projection(f, light_position, light.near_plane, far_plane, range);
   u.camera_position = glm::vec4(cam.position, 1.0f);
   u.light_position = glm::vec4(light_position, far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);

@@ -1,13 +1,22 @@
 #pragma once
 // A layout is how a point light's depth is stored and looked up: N layers, a texel <-> direction
-// map, a projection per layer and the lookup that picks the layer. One row per layout; the spellings (CLI,
-// case ids, JSON), the shader-variant list and both backends read it. Adding a layout: a Layout value, a row
-// here, its lookup in shaders/shadow_filters.glsl under its define, and each backend's storage for it.
+// map, a projection per layer and the lookup that picks the layer. One row per layout, carrying its geometry
+// (TexelGeometry: layer count and size, texel directions, view-projections, clipping); the spellings (CLI,
+// case ids, JSON), the shader variants (its define, and LAYOUT_LAYERS for the shadow pass), the texel truths,
+// the frame uniforms and both backends read it. Adding a layout: a Layout value, a row here (a TexelGeometry
+// for a new texel map, with its functions in layouts.cpp), its shadow-pass warp and its lookup in shaders/
+// under its define, and each backend's API calls where it needs a feature (as clip distances).
 
 #include <array>
+#include <glm/glm.hpp>
+#include <optional>
+#include <span>
 #include <string_view>
 
 #include "backends/common/case_config.h"
+#include "backends/common/cube_faces.h"
+#include "backends/common/paraboloid.h"
+#include "backends/common/tetrahedron.h"
 
 namespace omnishadow {
 
@@ -30,23 +39,93 @@ enum class LayoutLookup {
   shader_tetrahedral,  // sampler2DArray: the shader selects the nearest face axis and projects onto that face
 };
 
+// The ray through a point of a layer: its unit direction, and the factor that turns the layer's near and far
+// (and a stored depth) into distances along it: 1 / the axis component of the unit direction for a
+// perspective layer (near and far are axis distances), 1 where depth is radial.
+struct LayerRay {
+  glm::dvec3 unit;
+  double depth_to_distance;
+};
+
+// What varies with a layout's texel map. Layers beyond `layers` (up to six) are unused; their frame uniforms
+// hold the cube's faces.
+struct TexelGeometry {
+  TexelMap map;
+  int layers;
+  std::span<const char* const> layer_names;  // one per layer, for the texel truths' findings
+  // A layer's edge for `--cube N`: the size axis is memory, so every layout stores about 6 N^2 texels.
+  int (*layer_size_for_cube)(int cube_size);
+  // The ray through continuous texel coordinates (s, t) of a layer of `size` (texel k's centre at k + 0.5);
+  // nullopt where the layer stores nothing (beyond a paraboloid's hemisphere).
+  std::optional<LayerRay> (*point_ray)(int layer, double s, double t, int size);
+  // Whether texel (s, t) can be read by a lookup (inside a paraboloid's disk).
+  bool (*texel_read)(int s, int t, int size);
+  // Layer f's view-projection from the light (the frame uniforms' face_view_proj[f]).
+  glm::mat4 (*view_projection)(int layer, const glm::vec3& light, float near_plane, float far_plane,
+                               cube::DepthRange range);
+  // Whether its texels are held to the exact truth: a paraboloid's straight-edged triangles are not the
+  // curves the exact map draws (its error is reported, not judged).
+  bool texels_exact;
+  // Whether the shadow pass clips each layer to its hemisphere with a clip distance (GL_CLIP_DISTANCE0,
+  // Vulkan's shaderClipDistance).
+  bool clips_to_hemisphere;
+};
+
+namespace layout_geometry {
+int cube_layer_size(int cube_size);
+std::optional<LayerRay> cube_point_ray(int layer, double s, double t, int size);
+std::optional<LayerRay> paraboloid_point_ray(int layer, double s, double t, int size);
+std::optional<LayerRay> tetrahedral_point_ray(int layer, double s, double t, int size);
+bool every_texel(int s, int t, int size);
+glm::mat4 cube_view_projection(int layer, const glm::vec3& light, float near_plane, float far_plane,
+                               cube::DepthRange range);
+}  // namespace layout_geometry
+
+inline constexpr TexelGeometry kCubeFaceGeometry{TexelMap::cube_faces,
+                                                 6,
+                                                 cube::kFaceNames,
+                                                 &layout_geometry::cube_layer_size,
+                                                 &layout_geometry::cube_point_ray,
+                                                 &layout_geometry::every_texel,
+                                                 &layout_geometry::cube_view_projection,
+                                                 true,
+                                                 false};
+inline constexpr TexelGeometry kParaboloidGeometry{
+    TexelMap::paraboloid,
+    2,
+    paraboloid::kLayerNames,
+    &paraboloid::layer_size_for_cube,
+    &layout_geometry::paraboloid_point_ray,
+    &paraboloid::texel_in_disk,
+    &layout_geometry::cube_view_projection,  // unused: the vertex stage warps (shaders/paraboloid.glsl)
+    false,
+    true};
+inline constexpr TexelGeometry kTetrahedralGeometry{
+    TexelMap::tetrahedral,
+    4,
+    tetra::kFaceNames,
+    &tetra::layer_size_for_cube,
+    &layout_geometry::tetrahedral_point_ray,
+    &layout_geometry::every_texel,
+    &tetra::face_view_projection,  // its four faces' own frusta
+    true,
+    false};
+
 struct LayoutTraits {
   Layout layout;
   std::string_view name;             // CLI, case ids, JSON
   std::string_view lighting_define;  // shadow_filters.glsl's variant; empty for the cube (the default source)
-  int layers;                        // layers of the stored image
-  TexelMap texel_map;
   LayoutLookup lookup;
+  const TexelGeometry& geometry;
 };
 
 inline constexpr std::array<LayoutTraits, 4> kLayouts = {{
-    {Layout::cube, "cube", "", 6, TexelMap::cube_faces, LayoutLookup::hardware_cube},
-    {Layout::face_array, "face_array", "LAYOUT_FACE_ARRAY", 6, TexelMap::cube_faces,
-     LayoutLookup::shader_face},
-    {Layout::dual_paraboloid, "dual_paraboloid", "LAYOUT_DUAL_PARABOLOID", 2, TexelMap::paraboloid,
-     LayoutLookup::shader_paraboloid},
-    {Layout::tetrahedral, "tetrahedral", "LAYOUT_TETRAHEDRAL", 4, TexelMap::tetrahedral,
-     LayoutLookup::shader_tetrahedral},
+    {Layout::cube, "cube", "", LayoutLookup::hardware_cube, kCubeFaceGeometry},
+    {Layout::face_array, "face_array", "LAYOUT_FACE_ARRAY", LayoutLookup::shader_face, kCubeFaceGeometry},
+    {Layout::dual_paraboloid, "dual_paraboloid", "LAYOUT_DUAL_PARABOLOID", LayoutLookup::shader_paraboloid,
+     kParaboloidGeometry},
+    {Layout::tetrahedral, "tetrahedral", "LAYOUT_TETRAHEDRAL", LayoutLookup::shader_tetrahedral,
+     kTetrahedralGeometry},
 }};
 
 constexpr const LayoutTraits& traits(Layout l) {
@@ -61,9 +140,10 @@ constexpr bool every_layout_has_its_row() {
 }
 static_assert(every_layout_has_its_row(), "kLayouts lists the layouts in enum order");
 
-// A layer's edge in texels for `--cube N`: the size axis is memory, so every layout stores about 6 N^2 texels
-// (the equal-memory comparison): a cube face N, a paraboloid layer round(N sqrt 3), a
-// tetrahedron's face round(N sqrt 1.5).
-int layer_size(Layout layout, int cube_size);
+// A layer's edge in texels for `--cube N` (TexelGeometry::layer_size_for_cube): a cube face N, a paraboloid
+// layer round(N sqrt 3), a tetrahedron's face round(N sqrt 1.5).
+inline int layer_size(Layout layout, int cube_size) {
+  return traits(layout).geometry.layer_size_for_cube(cube_size);
+}
 
 }  // namespace omnishadow

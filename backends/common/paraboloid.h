@@ -13,11 +13,13 @@
 // the first row in memory, texel column s grows with x and row t with y. Depth is linear in the distance from
 // the light: (distance - near) / (far - near), with w = 1, so nothing is perspective-divided.
 
+#include <array>
 #include <glm/glm.hpp>
 
 namespace omnishadow::paraboloid {
 
 inline constexpr int kLayerCount = 2;
+inline constexpr std::array<const char*, kLayerCount> kLayerNames = {"+Z half", "-Z half"};
 
 // Layer size for a layout at the memory of a cube of `cube_size` (6 cube_size^2 texels): 2 S^2 = 6 N^2.
 int layer_size_for_cube(int cube_size);

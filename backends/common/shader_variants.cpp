@@ -16,7 +16,7 @@ std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
   std::vector<std::string> d{std::string(t.vertex_define)};
   if (t.culling == CullingForm::per_object_masks && c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
-  if (traits(c.layout).texel_map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
+  if (traits(c.layout).geometry.map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
   return d;
 }
 
@@ -39,7 +39,10 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   if (t.gs_instanced) d.push_back("GS_INSTANCED");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
-  if (traits(c.layout).texel_map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
+  if (const LayoutTraits& layout = traits(c.layout); layout.geometry.map != TexelMap::cube_faces) {
+    d.emplace_back(layout.lighting_define);
+    d.push_back("LAYOUT_LAYERS=" + std::to_string(layout.geometry.layers));  // the loop over its layers
+  }
   return d;
 }
 
@@ -67,7 +70,7 @@ std::vector<std::string> shadow_mesh_defines(const CaseConfig& c) {
 
 std::vector<std::string> shadow_fragment_defines(const CaseConfig& c) {
   std::vector<std::string> d{storage_define(c.storage)};
-  if (traits(c.layout).texel_map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
+  if (traits(c.layout).geometry.map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
   return d;
 }
 
@@ -157,7 +160,7 @@ std::vector<std::string> spirv_variant_keys() {
         c.layout = layout.layout;
         c.technique = t.technique;
         c.storage = storage;
-        if (layout.texel_map == TexelMap::cube_faces || !common_support(c).ok) continue;
+        if (layout.geometry.map == TexelMap::cube_faces || !common_support(c).ok) continue;
         insert_shadow_keys(keys, c);
       }
   c = CaseConfig{};
@@ -178,7 +181,7 @@ std::vector<std::string> spirv_variant_keys() {
               c.layout = layout.layout;
               c.remedies.bias = bias;
               c.remedies.normal_offset = normal_offset;
-              if (layout.texel_map != TexelMap::cube_faces && !common_support(c).ok) continue;
+              if (layout.geometry.map != TexelMap::cube_faces && !common_support(c).ok) continue;
               keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
             }
     }

@@ -3,9 +3,9 @@
 // variants, the memory budget, the truth bounds, the results and both backends read these rows; a backend
 // only maps a row's colour format to its API's format.
 //
-// Adding a lookup-only filter: a Filter value and its spelling (case_config.{h,cpp}), a row in kFilterTable
-// and its branch of shadow_factor() in shaders/shadow_filters.glsl. Adding a moments filter: also a Storage
-// value and spelling, a row in kStorageTable naming its moments, its branch of shaders/moments.glsl (the
+// Adding a lookup-only filter: a Filter value (case_config.h), a row in kFilterTable (its spelling first) and
+// its branch of shadow_factor() in shaders/shadow_filters.glsl. Adding a moments filter: also a Storage value
+// and a row in kStorageTable naming its moments, its branch of shaders/moments.glsl (the
 // moments written and the lookup), and the moments' C++ form in bench/truth/moments_check.cpp that checks
 // them.
 
@@ -39,6 +39,7 @@ enum class ColourFormat { none, r32f, rg32f, rg16f, r16f, rgba32f, rgba16f };
 
 struct StorageTraits {
   Storage storage;
+  std::string_view name;       // CLI, case ids, JSON
   std::string_view define;     // STORAGE_* in the shaders (CMakeLists.txt compiles SPIR-V per storage)
   DistanceEncoding checked;    // what the checked cube stores
   bool colour_checked;         // the checked cube is the colour attachment (else the depth attachment)
@@ -50,23 +51,23 @@ struct StorageTraits {
 };
 
 inline constexpr std::array<StorageTraits, 8> kStorageTable = {{
-    {Storage::linear_depth, "STORAGE_LINEAR_DEPTH", DistanceEncoding::linear_depth, false, true, 0, false,
-     MomentKind::none},
-    {Storage::r32f_distance, "STORAGE_R32F_DISTANCE", DistanceEncoding::colour_distance, true, false, 1,
-     false, MomentKind::none},
-    {Storage::hardware_depth, "STORAGE_HARDWARE_DEPTH", DistanceEncoding::projective_depth, false, false, 0,
-     false, MomentKind::none},
+    {Storage::linear_depth, "linear_depth", "STORAGE_LINEAR_DEPTH", DistanceEncoding::linear_depth, false,
+     true, 0, false, MomentKind::none},
+    {Storage::r32f_distance, "r32f_distance", "STORAGE_R32F_DISTANCE", DistanceEncoding::colour_distance,
+     true, false, 1, false, MomentKind::none},
+    {Storage::hardware_depth, "hardware_depth", "STORAGE_HARDWARE_DEPTH", DistanceEncoding::projective_depth,
+     false, false, 0, false, MomentKind::none},
     // The depth is linear_depth's (the checks read it as such); the moments of the same z are the colour.
-    {Storage::vsm_moments, "STORAGE_VSM_MOMENTS", DistanceEncoding::linear_depth, false, true, 2, true,
-     MomentKind::vsm},
-    {Storage::esm_exp, "STORAGE_ESM_EXP", DistanceEncoding::linear_depth, false, true, 1, true,
+    {Storage::vsm_moments, "vsm_moments", "STORAGE_VSM_MOMENTS", DistanceEncoding::linear_depth, false, true,
+     2, true, MomentKind::vsm},
+    {Storage::esm_exp, "esm_exp", "STORAGE_ESM_EXP", DistanceEncoding::linear_depth, false, true, 1, true,
      MomentKind::esm},
-    {Storage::evsm2_moments, "STORAGE_EVSM2_MOMENTS", DistanceEncoding::linear_depth, false, true, 2, true,
-     MomentKind::evsm},
-    {Storage::evsm4_moments, "STORAGE_EVSM4_MOMENTS", DistanceEncoding::linear_depth, false, true, 4, true,
-     MomentKind::evsm},
-    {Storage::msm_moments, "STORAGE_MSM_MOMENTS", DistanceEncoding::linear_depth, false, true, 4, true,
-     MomentKind::msm},
+    {Storage::evsm2_moments, "evsm2_moments", "STORAGE_EVSM2_MOMENTS", DistanceEncoding::linear_depth, false,
+     true, 2, true, MomentKind::evsm},
+    {Storage::evsm4_moments, "evsm4_moments", "STORAGE_EVSM4_MOMENTS", DistanceEncoding::linear_depth, false,
+     true, 4, true, MomentKind::evsm},
+    {Storage::msm_moments, "msm_moments", "STORAGE_MSM_MOMENTS", DistanceEncoding::linear_depth, false, true,
+     4, true, MomentKind::msm},
 }};
 
 // How the lighting pass samples what the filter reads.
@@ -84,8 +85,9 @@ enum class Prefilter {
 
 struct FilterTraits {
   Filter filter;
+  std::string_view name;    // CLI, case ids, JSON
   std::string_view define;  // FILTER_* in shaders/shadow_filters.glsl
-  bool soft;  // the default misclassification limit is the soft filters' (bench/run/case_runner.h)
+  bool soft;  // the default misclassification limit is the soft filters' (bench/truth/case_checks.h)
   FilterSampler sampler;
   std::optional<Storage>
       own_storage;  // a moments filter reads the moments it stores; nullopt: any distance storage
@@ -93,22 +95,24 @@ struct FilterTraits {
 };
 
 inline constexpr std::array<FilterTraits, 10> kFilterTable = {{
-    {Filter::hard, "FILTER_HARD", false, FilterSampler::nearest, std::nullopt, Prefilter::none},
-    {Filter::pcf_grid64, "FILTER_PCF_GRID64", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
-    {Filter::pcf_disk20, "FILTER_PCF_DISK20", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
-    // Soft only within one texel (a 2x2 bilinear weighting of four 0/1 comparisons): the hard limit applies.
-    {Filter::hw_compare2x2, "FILTER_HW_COMPARE2X2", false, FilterSampler::linear_compare, std::nullopt,
+    {Filter::hard, "hard", "FILTER_HARD", false, FilterSampler::nearest, std::nullopt, Prefilter::none},
+    {Filter::pcf_grid64, "pcf_grid64", "FILTER_PCF_GRID64", true, FilterSampler::nearest, std::nullopt,
      Prefilter::none},
-    {Filter::pcss, "FILTER_PCSS", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
-    {Filter::vsm, "FILTER_VSM", true, FilterSampler::linear_moments, Storage::vsm_moments,
+    {Filter::pcf_disk20, "pcf_disk20", "FILTER_PCF_DISK20", true, FilterSampler::nearest, std::nullopt,
+     Prefilter::none},
+    // Soft only within one texel (a 2x2 bilinear weighting of four 0/1 comparisons): the hard limit applies.
+    {Filter::hw_compare2x2, "hw_compare2x2", "FILTER_HW_COMPARE2X2", false, FilterSampler::linear_compare,
+     std::nullopt, Prefilter::none},
+    {Filter::pcss, "pcss", "FILTER_PCSS", true, FilterSampler::nearest, std::nullopt, Prefilter::none},
+    {Filter::vsm, "vsm", "FILTER_VSM", true, FilterSampler::linear_moments, Storage::vsm_moments,
      Prefilter::separable_blur},
-    {Filter::esm, "FILTER_ESM", true, FilterSampler::linear_moments, Storage::esm_exp,
+    {Filter::esm, "esm", "FILTER_ESM", true, FilterSampler::linear_moments, Storage::esm_exp,
      Prefilter::separable_blur},
-    {Filter::evsm2, "FILTER_EVSM2", true, FilterSampler::linear_moments, Storage::evsm2_moments,
+    {Filter::evsm2, "evsm2", "FILTER_EVSM2", true, FilterSampler::linear_moments, Storage::evsm2_moments,
      Prefilter::separable_blur},
-    {Filter::evsm4, "FILTER_EVSM4", true, FilterSampler::linear_moments, Storage::evsm4_moments,
+    {Filter::evsm4, "evsm4", "FILTER_EVSM4", true, FilterSampler::linear_moments, Storage::evsm4_moments,
      Prefilter::separable_blur},
-    {Filter::msm, "FILTER_MSM", true, FilterSampler::linear_moments, Storage::msm_moments,
+    {Filter::msm, "msm", "FILTER_MSM", true, FilterSampler::linear_moments, Storage::msm_moments,
      Prefilter::separable_blur},
 }};
 

@@ -12,7 +12,8 @@ ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDr
   const TechniqueTraits& t = traits(config.technique);
   const bool cull = config.optimizations.face_culling;
   ShadowPassDraws out;
-  out.count = t.passes == 6 ? traits(config.layout).layers : t.passes;  // one pass per face, or per layer
+  out.count =
+      t.passes == 6 ? traits(config.layout).geometry.layers : t.passes;  // one pass per face, or per layer
   if (t.passes == 6) {  // the plan's per-face lists hold every object when culling is off
     for (size_t f = 0; f < static_cast<size_t>(out.count); ++f)
       for (uint32_t object : plan.face_objects[f]) out.draws[f].push_back({object, t.instances, 0});

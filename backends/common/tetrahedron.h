@@ -22,6 +22,7 @@
 namespace omnishadow::tetra {
 
 inline constexpr int kFaceCount = 4;
+inline constexpr std::array<const char*, kFaceCount> kFaceNames = {"T0", "T1", "T2", "T3"};
 
 struct Face {
   glm::dvec3 axis, right, up;  // unit, orthogonal: window x along right, window y along up

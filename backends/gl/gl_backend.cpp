@@ -256,7 +256,7 @@ void GlBackend::configure_case(const CaseConfig& c) {
     blur_program_ = program({{GL_COMPUTE_SHADER, "moments_blur.comp"}},
                             gpu::moments_blur_defines(colour_format(c.storage, c.depth_format)));
   shadow_ = create_shadow_targets(layer_size(c.layout, c.cube_size), c.storage, c.depth_format,
-                                  traits(c.technique).multiview, traits(c.layout).layers);
+                                  traits(c.technique).multiview, traits(c.layout).geometry.layers);
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
   lighting_[size_t(gpu::LightingVariant::timed)] = create_lighting_targets(c.width, c.height, false);
@@ -348,7 +348,7 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   // dual_paraboloid: each layer's pass clips the other hemisphere away (gl_ClipDistance[0],
   // shaders/paraboloid.glsl).
-  const bool clip_hemisphere = traits(config_->layout).texel_map == TexelMap::paraboloid;
+  const bool clip_hemisphere = traits(config_->layout).geometry.clips_to_hemisphere;
   if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
   const bool swizzle = config_->technique == Technique::nv_swizzle && !config_->emulate_nv_swizzle;
   const bool mesh = traits(config_->technique).stages == ShadowStages::task_mesh;

@@ -265,10 +265,10 @@ Support VkBackend::moments_support(const CaseConfig& c, const std::string& devic
 }
 
 Support VkBackend::supports(const CaseConfig& c) const {
-  if (traits(c.layout).texel_map == TexelMap::paraboloid && !ctx_->has_clip_distance())
-    return {false,
-            "dual_paraboloid clips each layer's other hemisphere: shaderClipDistance is not supported by " +
-                std::string(ctx_->properties().deviceName)};
+  if (traits(c.layout).geometry.clips_to_hemisphere && !ctx_->has_clip_distance())
+    return {false, std::string(to_string(c.layout)) +
+                       " clips each layer's other hemisphere: shaderClipDistance is not supported by " +
+                       std::string(ctx_->properties().deviceName)};
   if (Support s = common_support(c); !s.ok) return s;
   const std::string device = info_.renderer;
   switch (traits(c.technique).feature) {

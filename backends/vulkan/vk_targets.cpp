@@ -119,7 +119,7 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
   t.storage = c.storage;
   t.size = static_cast<uint32_t>(layer_size(c.layout, c.cube_size));
   // Six cube-compatible layers, or a layout's own (dual_paraboloid: two of a plain 2D array).
-  const uint32_t layers = static_cast<uint32_t>(traits(c.layout).layers);
+  const uint32_t layers = static_cast<uint32_t>(traits(c.layout).geometry.layers);
   const bool cube = layers == 6;
   t.layers = layers;
   const VkFormat colour = colour_format_of(colour_format(c.storage, c.depth_format));

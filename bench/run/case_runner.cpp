@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 CubeReadBack Harness::cube_read_back_for(const CaseConfig& c) const {
   using P = RunOptions::CubeReadBackPolicy;
   // The cube summary's compute shader walks six cube faces; other layouts' layers are read in full.
-  if (traits(c.layout).texel_map != TexelMap::cube_faces) return CubeReadBack::full;
+  if (traits(c.layout).geometry.map != TexelMap::cube_faces) return CubeReadBack::full;
   switch (options_.cube_read_back) {
     case P::full:
       return CubeReadBack::full;

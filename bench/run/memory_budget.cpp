@@ -55,7 +55,7 @@ std::string format_bytes(uint64_t bytes) {
 
 uint64_t shadow_texels(const CaseConfig& c) {
   const uint64_t edge = uint64_t(layer_size(c.layout, c.cube_size));
-  return uint64_t(traits(c.layout).layers) * edge * edge;
+  return uint64_t(traits(c.layout).geometry.layers) * edge * edge;
 }
 
 uint64_t shadow_storage_bytes(const CaseConfig& c) {

@@ -45,39 +45,24 @@ double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& sc
 
 CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene,
                              const glm::vec3& light, float near_plane, float far_plane, int cube_size,
-                             bool two_sided, TexelMap map) {
+                             bool two_sided, const TexelGeometry& geometry) {
   auto culled = std::make_shared<const std::vector<uint8_t>>(
       culled_triangles(scene, two_sided ? CulledFaces::none : CulledFaces::back));
   CubeTruth t;
-  t.map = map;
-  t.layers = map == TexelMap::paraboloid    ? paraboloid::kLayerCount
-             : map == TexelMap::tetrahedral ? tetra::kFaceCount
-                                            : 6;
+  t.geometry = &geometry;
   t.size = cube_size;
   t.stride = cube_sample_stride(cube_size);
   t.far_plane = far_plane;
-  t.cast = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size, map](
-               int face, double s, double tt) {
-    if (map == TexelMap::paraboloid) {
-      // A layer clips the other hemisphere (forward < 0: outside the unit disk) and its near and far are
-      // radial.
-      const glm::dvec3 d = paraboloid::texel_point_direction(face, s, tt, cube_size);
-      if ((face == 0 ? d.z : -d.z) < 0.0) return -1.0;
-      const glm::vec3 unit(d);
-      const double start = double(near_plane) * (1.0 - 1e-5), end = double(far_plane);
-      const double hit =
-          first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
-      return hit >= 0.0 ? start + hit : -1.0;
-    }
-    // A perspective face (the cube's, a tetrahedron's): its near and far are axis distances.
-    const glm::dvec3 d = map == TexelMap::tetrahedral ? tetra::face_point_direction(face, s, tt, cube_size)
-                                                      : cube::face_point_direction(face, s, tt, cube_size);
-    const double len = glm::length(d);  // the face axis component is 1: axis distance = distance / len
-    const glm::vec3 unit(d / len);
-    // The face frustum clips at the axis distances near and far. A surface lying exactly on the near plane is
-    // kept by the rasteriser (the room's cube face at x = -1 with the light at the origin and near 1), so the
-    // ray starts a hair before it.
-    const double start = double(near_plane) * len * (1.0 - 1e-5), end = double(far_plane) * len;
+  t.cast = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size,
+            ray_at = geometry.point_ray](int face, double s, double tt) {
+    const std::optional<LayerRay> ray = ray_at(face, s, tt, cube_size);
+    if (!ray) return -1.0;
+    // The layer clips at near and far (axis distances for a perspective face, radial for a paraboloid). A
+    // surface lying exactly on the near plane is kept by the rasteriser (the room's cube face at x = -1 with
+    // the light at the origin and near 1), so the ray starts a hair before it.
+    const glm::vec3 unit(ray->unit);
+    const double start = double(near_plane) * ray->depth_to_distance * (1.0 - 1e-5),
+                 end = double(far_plane) * ray->depth_to_distance;
     const double hit =
         first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
     return hit >= 0.0 ? start + hit : -1.0;
@@ -93,8 +78,8 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
     return out;
   };
   std::array<std::future<std::vector<float>>, 6> faces;
-  for (int f = 0; f < t.layers; ++f) faces[size_t(f)] = std::async(std::launch::async, face_truth, f);
-  for (int f = 0; f < t.layers; ++f) t.distance[size_t(f)] = faces[size_t(f)].get();
+  for (int f = 0; f < geometry.layers; ++f) faces[size_t(f)] = std::async(std::launch::async, face_truth, f);
+  for (int f = 0; f < geometry.layers; ++f) t.distance[size_t(f)] = faces[size_t(f)].get();
   return t;
 }
 
@@ -123,8 +108,8 @@ double storage_step(Storage storage, DepthFormat format, double distance, double
 CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
                                   DepthFormat format, float near_plane, int subpixel_bits) {
   CubeTexelReport r;
-  r.map = truth.map;
-  r.layers = truth.layers;
+  const TexelGeometry& geometry = *truth.geometry;
+  r.geometry = truth.geometry;
   r.stride = truth.stride;
   r.reach_texels = raster_reach_texels(subpixel_bits);
   WorstTexels worst;
@@ -134,7 +119,13 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
       (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
     return r;
   const double far_plane = images.light_far;
-  for (int f = 0; f < truth.layers; ++f) {
+  // Distance over the stored depth's measure at a point of layer f: axis distance for a perspective face, 1
+  // where the depth is radial (the paraboloid's).
+  auto depth_to_distance = [&](int f, double cs, double ct) {
+    const std::optional<LayerRay> ray = geometry.point_ray(f, cs, ct, truth.size);
+    return ray ? ray->depth_to_distance : 1.0;
+  };
+  for (int f = 0; f < geometry.layers; ++f) {
     // The check grid is the truth's grid: read from the device's sample, or from the full cube where it came
     // back.
     const bool full = images.has_full_cube();
@@ -143,7 +134,7 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const int s = x * truth.stride + truth.stride / 2, t = y * truth.stride + truth.stride / 2;
-        if (truth.map == TexelMap::paraboloid && !paraboloid::texel_in_disk(s, t, truth.size)) continue;
+        if (!geometry.texel_read(s, t, truth.size)) continue;
         const double got =
             full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
         const double want = exact[size_t(y) * size_t(n) + size_t(x)];
@@ -151,11 +142,7 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
         const bool got_surface = got < far_plane * (1.0 - 1e-6) && got != double(FLT_MAX);
         ++r.texels;
         if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
-        // Axis distance over distance: 1 where the depth is radial (the paraboloid's).
-        const double len = truth.map == TexelMap::paraboloid ? 1.0
-                           : truth.map == TexelMap::tetrahedral
-                               ? glm::length(tetra::face_point_direction(f, s + 0.5, t + 0.5, truth.size))
-                               : glm::length(cube::texel_direction(f, s, t, truth.size));
+        const double len = depth_to_distance(f, s + 0.5, t + 0.5);
         auto agree = [&](double stored_distance, double exact_distance) {
           return std::fabs(stored_distance - exact_distance) <=
                  2.0 * storage_step(storage, format, exact_distance, exact_distance / len, near_plane,
@@ -168,7 +155,7 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
         auto cast = [&](double cs, double ct) {
           double d = truth.cast(f, cs, ct);
           if (d >= 0.0 && traits(storage).checked == DistanceEncoding::projective_depth)
-            d *= len / glm::length(cube::face_point_direction(f, cs, ct, truth.size));
+            d *= len / depth_to_distance(f, cs, ct);
           return TexelSample{d >= 0.0, d};
         };
         const TexelVerdict v = judge_texel({got_surface, got}, {want >= 0.0, want}, agree, [&] {
@@ -195,13 +182,10 @@ std::string describe(const CubeTexelReport& r) {
                 static_cast<unsigned long long>(r.texels), r.stride, r.stride == 1 ? "" : "th in s and t");
   std::string out = buf;
   std::string faces;
-  static const char* const kHemispheres[] = {"+Z half", "-Z half"};
-  static const char* const kTetraFaces[] = {"T0", "T1", "T2", "T3"};
-  const char* const* names = r.map == TexelMap::paraboloid    ? kHemispheres
-                             : r.map == TexelMap::tetrahedral ? kTetraFaces
-                                                              : cube::kFaceNames.data();
-  const uint64_t per_face = r.texels / uint64_t(std::max(r.layers, 1));  // a paraboloid's: texels of the disk
-  for (int f = 0; f < r.layers; ++f)
+  const TexelGeometry& geometry = *r.geometry;
+  const char* const* names = geometry.layer_names.data();
+  const uint64_t per_face = r.texels / uint64_t(geometry.layers);  // a paraboloid's: texels of the disk
+  for (int f = 0; f < geometry.layers; ++f)
     if (r.bad_per_face[size_t(f)] && per_face) {
       std::snprintf(buf, sizeof buf, "%s %.3g%%", names[f],
                     100.0 * double(r.bad_per_face[size_t(f)]) / double(per_face));

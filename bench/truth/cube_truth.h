@@ -41,8 +41,8 @@ double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& sc
 inline constexpr double kCubeTexelLimitPercent = 0.1;
 
 struct CubeTruth {
-  TexelMap map = TexelMap::cube_faces;  // how a layer's texels map to directions (backends/common/layouts.h)
-  int layers = 6;
+  // How a layer's texels map to directions, and how many layers (backends/common/layouts.h).
+  const TexelGeometry* geometry = &kCubeFaceGeometry;
   int size = 0;    // the cube's face size (a layer's edge)
   int stride = 1;  // every stride-th texel in s and t (size / stride texels a face edge)
   float far_plane = 0.0f;
@@ -53,17 +53,16 @@ struct CubeTruth {
   std::function<double(int face, double s, double t)> cast;
 };
 // Closed objects (Object::cull_back_faces) are drawn with back faces culled unless `two_sided`, so a ray that
-// meets one of their back faces (a caster cut by the near plane) goes on, as the rasteriser's does. Layouts
-// whose texels are no cube faces (`map`: dual_paraboloid's hemispheres) cast along their own texel
-// directions, from the radial near distance; texels outside a paraboloid's unit disk are never read and not
-// cast.
+// meets one of their back faces (a caster cut by the near plane) goes on, as the rasteriser's does. Every
+// layer casts along its own texel rays (`geometry`: a cube's faces, dual_paraboloid's hemispheres from the
+// radial near distance, a tetrahedron's faces); texels a lookup never reads (outside a paraboloid's unit
+// disk) are not judged.
 CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene,
                              const glm::vec3& light, float near_plane, float far_plane, int cube_size,
-                             bool two_sided, TexelMap map = TexelMap::cube_faces);
+                             bool two_sided, const TexelGeometry& geometry = kCubeFaceGeometry);
 
 struct CubeTexelReport {
-  TexelMap map = TexelMap::cube_faces;  // the layout's texel map: names its layers in describe()
-  int layers = 6;
+  const TexelGeometry* geometry = &kCubeFaceGeometry;  // the layout's: names its layers in describe()
   int stride = 1;
   uint64_t texels = 0;                     // checked
   uint64_t wrong = 0;                      // both say "surface", |stored - exact| beyond the bound

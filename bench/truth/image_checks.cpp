@@ -112,7 +112,7 @@ TechniqueAllowance technique_allowance(const CaseConfig& c, double face_toleranc
   // allows for the same interpolation. A lookup whose receiver sits within that of a stored distance may then
   // compare the other way: the shadow factor and the lit image may differ in as few values as across backends
   // (cross_max_percent), whose pipelines differ in the same last bits.
-  if (traits(c.layout).texel_map != TexelMap::cube_faces) {  // warped or asymmetric
+  if (traits(c.layout).geometry.map != TexelMap::cube_faces) {  // warped or asymmetric
     a.face_tolerance = std::max(a.face_tolerance, 1e-4 * far_plane);
     a.images_may_differ = true;
   }

@@ -211,7 +211,7 @@ const std::vector<glm::dvec3>& disk_directions() {
 
 std::string lookup_check_skip_reason(const CaseConfig& c, const Images& images, bool has_point_light) {
   if (!has_point_light) return "no point light";
-  if (traits(c.layout).texel_map != TexelMap::cube_faces)
+  if (traits(c.layout).geometry.map != TexelMap::cube_faces)
     return std::string(to_string(c.layout)) + ": the replay knows the cube-map rule only";
   if (c.filter != Filter::hard && c.filter != Filter::pcf_grid64 && c.filter != Filter::pcf_disk20)
     return std::string(to_string(c.filter)) + " does not look up NEAREST distances";

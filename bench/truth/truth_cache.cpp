@@ -25,14 +25,15 @@ const CubeTruth& TruthCache::cube_truth(const CaseConfig& c, const scene::Scene&
                                         const glm::vec3& light, float near_plane, float far_plane,
                                         int cube_size) {
   char key[256];
-  const TexelMap map = traits(c.layout).texel_map;
+  const TexelGeometry& geometry = traits(c.layout).geometry;
   std::snprintf(key, sizeof key, "%s/%.9g,%.9g,%.9g/%.9g/%.9g/%d/%d/%d", scene_key(c).c_str(), light.x,
-                light.y, light.z, near_plane, far_plane, cube_size, int(c.remedies.two_sided), int(map));
+                light.y, light.z, near_plane, far_plane, cube_size, int(c.remedies.two_sided),
+                int(geometry.map));
   auto it = cube_truths_.find(key);
   if (it == cube_truths_.end())
     it = cube_truths_
              .emplace(key, compute_cube_truth(caster(c, scene), scene, light, near_plane, far_plane,
-                                              cube_size, c.remedies.two_sided, map))
+                                              cube_size, c.remedies.two_sided, geometry))
              .first;
   return it->second;
 }

@@ -33,7 +33,6 @@ void check_cube(CaseFindings& r, const Images& images, const CheckContext& ctx, 
   const scene::Scene& sc = ctx.scene;
   if (!sc.has_point_light || images.cube_size < 1) return;
   const glm::vec3 light = sc.light.path.at(ctx.options.check_frame);
-  const TexelMap map = traits(r.config.layout).texel_map;
   const CubeTruth& truth =
       truths.cube_truth(r.config, sc, light, sc.light.near_plane, images.light_far, images.cube_size);
   r.cube_texels = check_cube_texels(truth, images, r.config.storage, r.config.depth_format,
@@ -42,7 +41,7 @@ void check_cube(CaseFindings& r, const Images& images, const CheckContext& ctx, 
   // differ from the exact ones by the layout's own error, which depends on tessellation. That is a figure
   // (results.json cube_texels), not a failed check; its technique checks (equal to six_pass) and exact
   // visibility still judge.
-  if (map == TexelMap::paraboloid) return;
+  if (!traits(r.config.layout).geometry.texels_exact) return;
   add_texel_finding(r, "cube_texels", *r.cube_texels, kCubeTexelLimitPercent);
 }
 
