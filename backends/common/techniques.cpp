@@ -35,6 +35,14 @@ ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDr
   return out;
 }
 
+ShadowDraw shadow_draw(const CaseConfig& c) {
+  const TechniqueTraits& t = traits(c.technique);
+  if (t.stages == ShadowStages::task_mesh) return ShadowDraw::mesh_tasks;
+  if (t.feature == TechniqueFeature::viewport_swizzle && !c.emulate_nv_swizzle)
+    return ShadowDraw::swizzled_viewports;
+  return ShadowDraw::vertex_draws;
+}
+
 bool reversed_depth_test(const CaseConfig& c) {
   return c.technique == Technique::nv_swizzle && !traits(c.storage).fragment_depth;
 }

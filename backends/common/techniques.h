@@ -2,7 +2,8 @@
 // A technique is one row of one table: how its shadow pass is built and drawn, what a device must have for
 // it, and how face culling applies. The matrix, the shader-variant list and both backends read these rows;
 // each backend only turns them into API calls. Adding a technique: a Technique value, a row here, its shader
-// variant, and the two backends' feature checks.
+// variant, and the two backends' feature checks; a technique that draws unlike every family so far also a
+// ShadowDraw value and its draw step in each backend (GlBackend and VkBackend::shadow_draw_step).
 
 #include <array>
 #include <cstdint>
@@ -33,6 +34,15 @@ enum class ShadowStages {
   vertex_passthrough,  // + shadow_swizzle.geom: a passthrough GS that only sets the viewport mask
   task_mesh,  // shadow_mesh.task, shadow_mesh.mesh, shadow_depth.frag: no vertex input; meshlets read from
               // storage buffers (backends/common/meshlets.h)
+};
+
+// How a technique family draws its shadow pass. Each backend keeps one draw step per value (its state around
+// the pass and its draw per object), chosen when a case is configured; the pass loop they share knows none of
+// them.
+enum class ShadowDraw {
+  vertex_draws,        // one draw per object from the vertex buffer, instanced as the row says
+  swizzled_viewports,  // vertex draws into six viewports whose NV swizzles route each to its face
+  mesh_tasks,          // task/mesh dispatches over each object's meshlets
 };
 
 // How --optimize cull reduces the shadow pass's work for the technique.
@@ -97,6 +107,9 @@ static_assert(every_technique_has_its_row(), "kTechniques lists the techniques i
 // viewport_swizzle.h): window depth falls with distance (a reversed, infinite projection). Where the fragment
 // stage writes no depth of its own (r32f_distance), the pass tests GREATER against a depth cleared to 0.
 bool reversed_depth_test(const CaseConfig& c);
+// The configured technique's draw step: from its stages and feature (an emulated nv_swizzle draws vertices:
+// its GS applies the swizzles).
+ShadowDraw shadow_draw(const CaseConfig& c);
 
 // One object draw of the shadow pass. face_mask != 0: the draw's uniforms carry that mask (per_object_masks),
 // and `instances` is its popcount.

@@ -239,6 +239,7 @@ void GlBackend::configure_case(const CaseConfig& c) {
   if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_)
     mesh_pass_ =
         std::make_unique<GlMeshPass>(*scene_, vertex_buffer_);  // once per scene: meshlets outlive cases
+  shadow_draw_ = shadow_draw_step(c);
   for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
     std::vector<std::string> defines = gpu::lighting_defines(c, v);
     for (std::string& d : gpu::lighting_constant_defines(gpu::lighting_constants(c, *scene_)))
@@ -284,7 +285,7 @@ void GlBackend::bind_pass_uniforms(int entry) {
 }
 
 void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided,
-                          bool mesh_tasks) {
+                          const DrawObject& draw) {
   bool culling = false;
   glDisable(GL_CULL_FACE);
   for (const ObjectDraw& d : draws) {
@@ -295,15 +296,29 @@ void GlBackend::draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats
       culling ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
     }
     if (d.face_mask) bind_pass_uniforms(d.face_mask);
-    if (mesh_tasks) {
-      mesh_pass_->draw(d);
-      ++stats.draw_calls;
-      continue;
-    }
-    glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex),
-                          static_cast<GLsizei>(obj.vertex_count), static_cast<GLsizei>(d.instances));
+    draw(d, obj);
     ++stats.draw_calls;
   }
+}
+
+static void draw_vertices(const ObjectDraw& d, const scene::Object& obj) {
+  glDrawArraysInstanced(GL_TRIANGLES, static_cast<GLint>(obj.first_vertex),
+                        static_cast<GLsizei>(obj.vertex_count), static_cast<GLsizei>(d.instances));
+}
+
+GlBackend::ShadowDrawStep GlBackend::shadow_draw_step(const CaseConfig& c) {
+  switch (shadow_draw(c)) {
+    case ShadowDraw::vertex_draws:
+      break;
+    case ShadowDraw::swizzled_viewports:  // viewports 0-5 the cube's size, each with its face's swizzle
+      return {[this](bool before) { set_face_swizzles(before); }, draw_vertices};
+    case ShadowDraw::mesh_tasks:  // each object's meshlets (gl_mesh_pass.h)
+      return {[this](bool before) {
+                if (before) mesh_pass_->bind();
+              },
+              [this](const ObjectDraw& d, const scene::Object&) { mesh_pass_->draw(d); }};
+  }
+  return {[](bool) {}, draw_vertices};
 }
 
 void GlBackend::map_pass(DrawStats& stats) {
@@ -350,17 +365,14 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
   // shaders/paraboloid.glsl).
   const bool clip_hemisphere = traits(config_->layout).geometry.clips_to_hemisphere;
   if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
-  const bool swizzle = config_->technique == Technique::nv_swizzle && !config_->emulate_nv_swizzle;
-  const bool mesh = traits(config_->technique).stages == ShadowStages::task_mesh;
-  if (swizzle) set_face_swizzles(true);  // and viewports 0-5 the cube's size
   if (reversed_depth_test(*config_)) glDepthFunc(GL_GREATER);
-  if (mesh) mesh_pass_->bind();
+  shadow_draw_.around(true);
   for (int p = 0; p < passes.count; ++p) {
     begin_shadow_pass(p, passes.count, frame.uniforms.light_position.w);
     bind_pass_uniforms(p);
-    draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided, mesh);
+    draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided, shadow_draw_.draw);
   }
-  if (swizzle) set_face_swizzles(false);
+  shadow_draw_.around(false);
   glDepthFunc(GL_LESS);
   if (clip_hemisphere) glDisable(GL_CLIP_DISTANCE0);
   if (blur_program_) blur_moments();
@@ -456,7 +468,7 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
                                                                                    : nearest_sampler_);
   glBindTextureUnit(gpu::kMapShadowsBinding, maps_.depth);
   glBindSampler(gpu::kMapShadowsBinding, nearest_sampler_);
-  draw_list(all_objects_, stats, false);
+  draw_list(all_objects_, stats, false, draw_vertices);
   return stats;
 }
 

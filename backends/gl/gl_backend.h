@@ -5,6 +5,7 @@
 #include <epoxy/gl.h>
 
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -52,10 +53,19 @@ class GlBackend final : public Backend {
       float far_plane);             // the floor frame's shadow pass: framebuffers cleared, nothing drawn
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   void bind_pass_uniforms(int entry);
-  // The draws in order; two_sided: closed objects keep their back faces (the two_sided remedy; shadow pass
-  // only); mesh_tasks: mesh_shader's task draws of each object's meshlets instead of its vertices.
+  // Draws one object (ObjectDraw: its index, instances and face mask).
+  using DrawObject = std::function<void(const ObjectDraw& draw, const scene::Object& object)>;
+  // The draws in order, each by `draw`; two_sided: closed objects keep their back faces (the two_sided
+  // remedy; shadow pass only).
   void draw_list(const std::vector<ObjectDraw>& draws, DrawStats& stats, bool two_sided,
-                 bool mesh_tasks = false);
+                 const DrawObject& draw);
+  // The technique family's draw step (techniques.h ShadowDraw): its state set around the shadow pass (true
+  // before, false after) and its draw of each object.
+  struct ShadowDrawStep {
+    std::function<void(bool before)> around;
+    DrawObject draw;
+  };
+  ShadowDrawStep shadow_draw_step(const CaseConfig& c);
   // nv_swizzle: viewports 0-5 take face f's swizzle (viewport_swizzle.h), or all go back to the identity.
   void set_face_swizzles(bool on);
   void release_case();
@@ -68,6 +78,7 @@ class GlBackend final : public Backend {
       missing_swizzle_;  // nv_swizzle: the GL_NV_ extensions it needs that are not exposed; empty: all are
   bool has_mesh_shader_ = false;           // GL_NV_mesh_shader
   std::unique_ptr<GlMeshPass> mesh_pass_;  // the scene's meshlets, from its first mesh_shader case
+  ShadowDrawStep shadow_draw_;             // the configured case's
   bool has_pipeline_statistics_ = false;
   GLint uniform_alignment_ = 256;
 

@@ -364,6 +364,7 @@ void VkBackend::configure_case(const CaseConfig& c) {
                                std::max(map_layers, 1u), c.depth_format);
     if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_)
       mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, vertex_buffer_, frame_uniforms_);
+    shadow_draw_ = shadow_draw_step(c);
     create_pipelines(c);
     if (traits(c.filter).prefilter == Prefilter::separable_blur)
       blur_ = std::make_unique<MomentsBlur>(*ctx_, *modules_, colour_format(c.storage, c.depth_format),
@@ -394,7 +395,7 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
 
   PipelineDesc shadow;
   // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
-  const bool mesh = traits(c.technique).stages == ShadowStages::task_mesh;
+  const bool mesh = shadow_draw(c) == ShadowDraw::mesh_tasks;
   if (mesh) {
     shadow.stages.push_back(
         {VK_SHADER_STAGE_TASK_BIT_EXT, gpu::variant_key("shadow_mesh.task", gpu::shadow_mesh_defines(c))});
@@ -409,7 +410,7 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
         {VK_SHADER_STAGE_GEOMETRY_BIT, gpu::variant_key(gs, gpu::shadow_geometry_defines(c))});
   shadow.stages.push_back(
       {VK_SHADER_STAGE_FRAGMENT_BIT, gpu::variant_key("shadow_depth.frag", gpu::shadow_fragment_defines(c))});
-  if (c.technique == Technique::nv_swizzle && !c.emulate_nv_swizzle)
+  if (shadow_draw(c) == ShadowDraw::swizzled_viewports)
     for (const cube::FaceSwizzle& f : cube::face_swizzles())
       shadow.viewport_swizzles.push_back(
           {static_cast<VkViewportCoordinateSwizzleNV>(f.x), static_cast<VkViewportCoordinateSwizzleNV>(f.y),
@@ -548,6 +549,30 @@ void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
   }
 }
 
+VkBackend::ShadowDrawStep VkBackend::shadow_draw_step(const CaseConfig& c) {
+  // Vertex draws: the vertex buffer, the pass's face in the push constants, each object's draw.
+  auto vertex_draws = [this](VkCommandBuffer cb, size_t p, const std::vector<ObjectDraw>& list,
+                             uint64_t& draws, bool floor) {
+    VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
+    const gpu::PassUniforms pass{static_cast<int32_t>(p), 0, 0, 0};
+    vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
+    if (!floor) draw_list(cb, shadow_pipelines_, shadow_layout_, shadow_set_, list, draws);
+  };
+  switch (shadow_draw(c)) {
+    case ShadowDraw::vertex_draws:
+      break;
+    case ShadowDraw::swizzled_viewports:
+      return {cube::kFaceCount, vertex_draws};
+    case ShadowDraw::mesh_tasks:  // each object's meshlets (vk_mesh_pass.h)
+      return {1, [this](VkCommandBuffer cb, size_t, const std::vector<ObjectDraw>& list, uint64_t& draws,
+                        bool floor) {
+                if (!floor) mesh_pass_->draw_list(cb, shadow_pipelines_, list, draws);
+              }};
+  }
+  return {1, vertex_draws};
+}
+
 // floor: the case's render passes with their clears and nothing drawn (FrameKind::floor).
 void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics,
                               uint64_t& draws, bool floor) {
@@ -576,29 +601,18 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   rp.pClearValues = colour_first ? clears : clears + 1;
   VkViewport viewport{0, 0, float(shadow_.size), float(shadow_.size), 0.0f, 1.0f};
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
-  VkDeviceSize offset = 0;
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (size_t p = 0; p < static_cast<size_t>(passes.count); ++p) {  // six_pass: face p; else the whole cube
     rp.framebuffer = shadow_.framebuffers[p];
     vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
-    // nv_swizzle: six viewports alike, one per face (the pipeline's swizzles tell them apart).
+    // The viewports alike (nv_swizzle's six, one per face: the pipeline's swizzles tell them apart).
     const std::array<VkViewport, cube::kFaceCount> viewports = {viewport, viewport, viewport,
                                                                 viewport, viewport, viewport};
     const std::array<VkRect2D, cube::kFaceCount> scissors = {scissor, scissor, scissor,
                                                              scissor, scissor, scissor};
-    const uint32_t viewport_count =
-        config_->technique == Technique::nv_swizzle && !config_->emulate_nv_swizzle ? cube::kFaceCount : 1;
-    vkCmdSetViewport(cb, 0, viewport_count, viewports.data());
-    vkCmdSetScissor(cb, 0, viewport_count, scissors.data());
-    if (mesh_pass_ && traits(config_->technique).stages == ShadowStages::task_mesh) {
-      if (!floor) mesh_pass_->draw_list(cb, shadow_pipelines_, passes.draws[p], draws);
-      vkCmdEndRenderPass(cb);
-      continue;
-    }
-    vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
-    const gpu::PassUniforms pass{static_cast<int32_t>(p), 0, 0, 0};
-    vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
-    if (!floor) draw_list(cb, shadow_pipelines_, shadow_layout_, shadow_set_, passes.draws[p], draws);
+    vkCmdSetViewport(cb, 0, shadow_draw_.viewports, viewports.data());
+    vkCmdSetScissor(cb, 0, shadow_draw_.viewports, scissors.data());
+    shadow_draw_.record(cb, p, passes.draws[p], draws, floor);
     vkCmdEndRenderPass(cb);
   }
   if (blur_ && !floor) blur_->record(cb, shadow_.size);
@@ -684,7 +698,7 @@ FrameCounters VkBackend::count_frame_work(int frame) {
   // Mesh draws may not run inside a pipeline-statistics query that counts input-assembly, vertex or geometry
   // work (VK_EXT_mesh_shader's vkCmdDrawMeshTasksEXT), and this pool counts them: mesh_shader's shadow pass
   // is not counted.
-  const bool shadow_stats = stats && traits(config_->technique).stages != ShadowStages::task_mesh;
+  const bool shadow_stats = stats && shadow_draw(*config_) != ShadowDraw::mesh_tasks;
   FrameCounters c;
   record_shadow(command_buffers_[0], plan, shadow_stats, c.shadow.draw_calls);
   ctx_->submit(command_buffers_[0]);

@@ -6,6 +6,7 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -52,6 +53,15 @@ class VkBackend final : public Backend {
                        bool floor = false);
   void record_maps(VkCommandBuffer cb, uint64_t& draws);  // one 2D map per spot/directional light
   // The draws in order; a draw with a face mask (vs_layer + face culling) pushes it for the vertex shader.
+  // The technique family's draw step (techniques.h ShadowDraw): how many viewports its passes set, and how it
+  // records render pass `pass`'s draws (none in a floor frame).
+  struct ShadowDrawStep {
+    uint32_t viewports = 1;
+    std::function<void(VkCommandBuffer cb, size_t pass, const std::vector<ObjectDraw>& list, uint64_t& draws,
+                       bool floor)>
+        record;
+  };
+  ShadowDrawStep shadow_draw_step(const CaseConfig& c);
   void draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
                  VkDescriptorSet set, const std::vector<ObjectDraw>& list, uint64_t& draws);
   void begin_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);  // pass 0 shadow, 1 lighting
@@ -93,7 +103,8 @@ class VkBackend final : public Backend {
   std::array<VkPipeline, 2> floor_pipelines_{};                    // the lighting floor, [back-face culling]
   std::unique_ptr<MomentsBlur> blur_;  // a moments filter's prefilter, recorded into the shadow pass
   std::unique_ptr<VkMeshPass>
-      mesh_pass_;  // mesh_shader: the scene's meshlets, from its first mesh_shader case
+      mesh_pass_;               // mesh_shader: the scene's meshlets, from its first mesh_shader case
+  ShadowDrawStep shadow_draw_;  // the configured case's
 };
 
 }  // namespace omnishadow::vk

@@ -470,6 +470,10 @@ int list_command(const std::string& scenes_dir, const std::map<std::string, std:
   }
   std::cout << "techniques: " << valid_values<Technique>() << "\n";
   std::cout << "filters: " << valid_values<Filter>() << "\n";
+  std::string moments;  // the filters that store and blur their own moments (storage_filter_tables.h)
+  for (const FilterTraits& f : kFilterTable)
+    if (f.own_storage) moments += (moments.empty() ? "" : ", ") + std::string(f.name);
+  std::cout << "moments filters: " << moments << "\n";
   std::cout << "storages: " << valid_values<Storage>() << "\n";
   std::cout << "depth formats: " << valid_values<DepthFormat>() << "\n";
   std::cout << "layouts: " << valid_values<Layout>() << "\n";

@@ -27,8 +27,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 MATRIX = ["--scene", "room,heavy,spot", "--cube", "256", "--frame", "400x300", "--frames", "1", "--warmup", "0",
           "--images", "none", "--check", "--benchmark_repetitions=1"]
 FACES = ["+X", "-X", "+Y", "-Y", "+Z", "-Z"]
-# What the moments filters' mutants add to MATRIX: the default filters and the moments filters.
-MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20,vsm,esm,evsm2,evsm4,msm"]
+# What the moments filters' mutants add to MATRIX: the default filters and every moments filter, as the binary
+# under test lists them (`omnishadow list`: "moments filters: ..."), put in for MOMENTS when the matrix runs.
+MOMENTS = "MOMENTS"
+MOMENTS_FILTERS = ["--filter", "hard,pcf_grid64,pcf_disk20," + MOMENTS]
 # What the layout mutants add: the face_array layout, every default filter and a moments one (bilinear per face).
 FACE_ARRAY = ["--layout", "face_array", "--filter", "hard,pcf_grid64,pcf_disk20,vsm"]
 # dual_paraboloid, tessellated so that its own error is small next to a planted bug's.
@@ -196,15 +198,26 @@ def caught_by(found, baseline):
     return checks
 
 
+def listed(binary, key, env):
+    """The values on `omnishadow list`'s `key:` line, comma-joined."""
+    out = subprocess.run([binary, "list"], capture_output=True, text=True, env=env).stdout
+    for line in out.splitlines():
+        if line.startswith(key + ": "):
+            return line[len(key) + 2:].replace(" ", "")
+    sys.exit(f"mutants: `{binary} list` has no '{key}:' line")
+
+
 def run_matrix(work, out, name, backend, log, extra=()):
     """Runs the matrix (plus `extra` arguments) with the clone's build; (exit code, failures)."""
     run_dir = os.path.join(out, name)
     shutil.rmtree(run_dir, ignore_errors=True)
     env = dict(os.environ, XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
+    binary = os.path.join(work, "build", "release", "omnishadow")
+    if any(MOMENTS in a for a in extra):
+        extra = [a.replace(MOMENTS, listed(binary, "moments filters", env)) for a in extra]
     with open(log, "a") as f:
-        code = subprocess.run([os.path.join(work, "build", "release", "omnishadow"), "run", "--backend", backend,
-                               "--out", run_dir, *MATRIX, *extra], cwd=work, env=env, stdout=f, stderr=subprocess.STDOUT,
-                              ).returncode
+        code = subprocess.run([binary, "run", "--backend", backend, "--out", run_dir, *MATRIX, *extra], cwd=work,
+                              env=env, stdout=f, stderr=subprocess.STDOUT).returncode
     results = os.path.join(run_dir, "results.json")
     return code, failures(results) if os.path.exists(results) else {}
 
