@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 struct Sandbox {
   std::string root;     // canonical folder of the model; empty: no file may be read (bytes given)
   std::string refused;  // the first path refused for leaving it, for the error
+  std::string missing;  // the first path inside it that does not exist: a missing buffer or image
 };
 
 bool inside_sandbox(const std::string& path, Sandbox& box) {
@@ -33,7 +34,11 @@ bool inside_sandbox(const std::string& path, Sandbox& box) {
 
 bool sandbox_exists(const std::string& path, void* user) {
   std::error_code ec;
-  return inside_sandbox(path, *static_cast<Sandbox*>(user)) && fs::is_regular_file(path, ec);
+  Sandbox& box = *static_cast<Sandbox*>(user);
+  if (!inside_sandbox(path, box)) return false;
+  if (fs::is_regular_file(path, ec)) return true;
+  if (box.missing.empty()) box.missing = path;
+  return false;
 }
 
 std::string sandbox_expand(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
@@ -80,12 +85,20 @@ GltfModel load(const std::string& bytes, const std::string& name, const std::str
   tinygltf::Model model;
   std::string err, warn;
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  const std::string extension = fs::path(name).extension().string();
+  if (!binary && (extension == ".glb" || extension == ".GLB"))
+    throw std::runtime_error(name + ": not a binary glTF (a .glb starts with 'glTF')");
   const std::string base_dir = box.root.empty() ? std::string("/nonexistent-omnishadow-sandbox") : box.root;
   const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
                                                        reinterpret_cast<const unsigned char*>(bytes.data()),
                                                        static_cast<unsigned>(bytes.size()), base_dir)
                          : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
                                                       static_cast<unsigned>(bytes.size()), base_dir);
+  // A file the model names that is not in its folder is missing; a URI that climbs out of it is refused.
+  if (!ok && !box.missing.empty())
+    throw std::runtime_error(name + ": " + fs::path(box.missing).filename().string() +
+                             " is missing (a buffer or image the model names; looked for in " + box.root +
+                             ")");
   if (!box.refused.empty())
     throw std::runtime_error(name + ": a buffer or image URI leaves the model's folder (" + box.refused +
                              ")");

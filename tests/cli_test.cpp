@@ -149,12 +149,25 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --storage cubes --out @OUT@", "--storage: unknown storage"},
         BadInput{"run --cube 0 --out @OUT@", "--cube: '0' is not a valid size"},
         BadInput{"run --cube 1048576 --out @OUT@", "above the largest cube map"},
+        // A value given twice, or two spellings of one case, would give two cases one id.
+        BadInput{"run --scene room,room --out @OUT@", "--scene: a value is given twice ('room' and 'room')"},
+        BadInput{"run --cube 64,064 --out @OUT@", "--cube: a value is given twice ('64' and '064')"},
+        BadInput{"run --frame 64x48,64x48 --out @OUT@", "--frame: a value is given twice"},
+        BadInput{"run --filter hard,pcss,hard --out @OUT@",
+                 "--filter: a value is given twice ('hard' and 'hard')"},
+        BadInput{"run --scene room --cube 16 --optimize cull+fit,fit+cull --out @OUT@",
+                 "two values of one axis name the same case gl/room/c16"},
         BadInput{"run --frame 0x600 --out @OUT@", "--frame"},
         BadInput{"run --backend metal --out @OUT@", "unknown backend 'metal'"},
         BadInput{"run --scene @BAD_SCENE@ --out @OUT@", "BAD_SCENE.json: /objects/0/scale"},
         BadInput{"run --scene nosuchscene --out @OUT@", "nosuchscene.json: cannot open scene file"},
         BadInput{"run --scene room --out /proc/omnishadow", "--out /proc/omnishadow"},
         BadInput{"run --frobnicate", "frobnicate"}, BadInput{"run --shard 3/2 --out @OUT@", "--shard"},
+        BadInput{"frobnicate",
+                 "unknown command 'frobnicate' (commands: list, run, compare, merge, report, "
+                 "device-key"},
+        BadInput{"", "no command given (commands: list, run"},
+        BadInput{"run --cube 16 --cube 32 --out @OUT@", "--cube is given 2 times: give it once"},
         BadInput{"run --out @OUT@ --benchmark_filter=nothing-matches-this", "empty"},
         BadInput{"run --out @OUT@ --benchmark_out=x.json", "--benchmark_out"},
         BadInput{"run --egl-platform wayland --out @OUT@", "unknown --egl-platform 'wayland'"},
@@ -206,6 +219,31 @@ class CliRun : public ::testing::Test {
     if (!gl_available(why)) GTEST_SKIP() << why;
   }
 };
+
+// `report --out` that cannot be written (a folder, a path under a missing folder): one line naming the option
+// and the path, exit 2, no traceback and no temporary file left; a good --out gets one line, the report's
+// path.
+TEST(CliReport, AnOutThatCannotBeWrittenIsOneLineAndLeavesNoTemporaryFile) {
+  const fs::path run_dir = scratch("report_run");
+  fs::create_directories(run_dir);
+  {
+    std::ofstream(run_dir / "results.json")
+        << R"({"omnishadow": {"format": "omnishadow-results/1", "cases": []}})";
+  }
+  const std::string missing = (scratch("report_nowhere") / "no" / "report.html").string();
+  for (const std::string& out : {run_dir.string(), missing}) {
+    const Outcome o = run("report " + run_dir.string() + " --out " + out);
+    EXPECT_EQ(o.exit_code, 2) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    EXPECT_NE(o.err.find("--out " + out), std::string::npos) << o.err;
+    EXPECT_EQ(o.err.find("Traceback"), std::string::npos) << o.err;
+  }
+  for (const auto& entry : fs::directory_iterator(run_dir))
+    EXPECT_EQ(entry.path().filename(), "results.json") << "left behind: " << entry.path();
+  const Outcome good = run("report " + run_dir.string() + " --out " + (run_dir / "r.html").string());
+  EXPECT_EQ(good.exit_code, 0) << good.err;
+  EXPECT_EQ(good.out + good.err, "report: " + (run_dir / "r.html").string() + "\n");
+}
 
 TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
   fs::path out = scratch("run");
@@ -1252,6 +1290,32 @@ TEST_F(CliRun, ACrashInTheTimedRoundsCostsOneCase) {
 TEST_F(CliRun, AHangIsKilledAfterTheCaseTimeoutAndCostsOneCase) {
   expect_one_case_each(run_with_fault("hang_checks", "--inject-hang /geometry_shader/ --case-timeout-s 10"),
                        "no progress for 10 s", "check_frame");
+}
+
+// A folder a run is writing (its lock held: here by this test, as a run that has not yet written results.json
+// would hold it) is refused at once, with and without isolation; once the lock is let go the run goes ahead.
+TEST_F(CliRun, ASecondRunIntoTheSameOutIsRefusedWhileTheFirstHoldsIt) {
+  const fs::path out = scratch("locked");
+  fs::create_directories(out);
+  const std::string args =
+      "run --scene room --cube 16 --frame 32x24 --technique six_pass --filter hard --frames 1 --warmup 0 "
+      "--no-accuracy --images none --benchmark_repetitions=1 --out " +
+      out.string();
+  {
+    omnishadow::bench::FileLock held((out / ".omnishadow.lock").string());
+    for (const char* isolation : {"process", "none"}) {
+      const Outcome o = run(args + " --isolation " + isolation);
+      EXPECT_EQ(o.exit_code, 2) << isolation << ": " << o.err;
+      EXPECT_NE(o.err.find("--out " + out.string() + ": another run (pid " + std::to_string(::getpid()) +
+                           ") is writing there"),
+                std::string::npos)
+          << o.err;
+      EXPECT_FALSE(fs::exists(out / "results.json")) << isolation;
+    }
+  }
+  const Outcome free = run(args);
+  EXPECT_EQ(free.exit_code, 0) << free.err;
+  EXPECT_TRUE(fs::exists(out / "results.json"));
 }
 
 // --isolation none runs in one process, as before: the first crash ends the run (here: none is injected).

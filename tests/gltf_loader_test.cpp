@@ -159,6 +159,15 @@ std::vector<BadGltf> bad_files() {
          return edited_seed(d / "escape.gltf", [](J& j) { j["buffers"][0]["uri"] = "../outside.bin"; });
        },
        "leaves the model's folder"},
+      // A buffer missing from the model's own folder is missing, not an escape.
+      {"buffer missing",
+       [](const fs::path& d) {
+         return edited_seed(d / "missing.gltf", [](J& j) { j["buffers"][0]["uri"] = "missing.bin"; });
+       },
+       "missing.bin is missing (a buffer or image the model names; looked for in "},
+      // Random bytes named .glb: no GLB header, said as such (not a JSON parser's exception).
+      {"random glb", [](const fs::path& d) { return write(d / "random.glb", "\x93\x11garbage\x01"); },
+       "random.glb: not a binary glTF (a .glb starts with 'glTF')"},
       {"count beyond the buffer",
        [](const fs::path& d) {
          return edited_seed(d / "count.gltf", [](J& j) { j["accessors"][0]["count"] = 4; });

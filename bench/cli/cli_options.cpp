@@ -530,4 +530,25 @@ void add_compare_options(CLI::App& cmp, CompareOptions& compare, CompareFlags& f
                "compare runs from different devices anyway");
 }
 
+std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e,
+                                const std::vector<std::string>& args) {
+  const std::string what = e.what();
+  if (what == "A subcommand is required") {
+    std::string commands;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+      commands += (commands.empty() ? "" : ", ") + sub->get_name();
+    const auto word =
+        std::find_if(args.begin(), args.end(), [](const std::string& a) { return a.rfind('-', 0) != 0; });
+    if (word != args.end())
+      return "unknown command '" + *word + "' (commands: " + commands + "; omnishadow --help)";
+    return "no command given (commands: " + commands + "; omnishadow --help)";
+  }
+  // "--cube: At Most 1 required but received 2"
+  const size_t at = what.find(": At Most 1 required but received ");
+  if (at != std::string::npos)
+    return what.substr(0, at) + " is given " + what.substr(at + 34) +
+           " times: give it once (a list option takes one comma-separated list, as --cube 256,512)";
+  return what;
+}
+
 }  // namespace omnishadow::bench

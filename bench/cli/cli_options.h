@@ -47,4 +47,10 @@ struct CompareFlags {
 };
 void add_compare_options(CLI::App& sub, CompareOptions& compare, CompareFlags& flags);
 
+// CLI11's parse errors as a user reads them: a command that is missing or unknown is named with the commands
+// there are; an option given twice says so (a list option takes one comma list). Others pass through.
+// `args`: the command line's own arguments, in order.
+std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e,
+                                const std::vector<std::string>& args);
+
 }  // namespace omnishadow::bench

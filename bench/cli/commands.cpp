@@ -65,6 +65,9 @@ std::vector<CaseConfig> apply_benchmark_filter(const std::vector<CaseConfig>& ca
 }
 
 // Refuses to clobber an earlier run; creates the folder and proves it is writable.
+// In a run's folder while it runs: the FileLock that keeps a second run out.
+constexpr const char* kOutLockFile = ".omnishadow.lock";
+
 void prepare_out_dir(const std::string& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
@@ -183,6 +186,13 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
   }
   if (!cmd.matrix.cube_sizes_given) matrix.cube_sizes = default_cube_sizes(cmd.matrix, harness);
   std::vector<CaseConfig> cases = expand(matrix, scene_sizes);
+  // Values written differently that name one case (`--optimize cull+fit,fit+cull`, a scene by name and by
+  // path): refused before anything runs, as repeated values are.
+  std::set<std::string> ids;
+  for (const CaseConfig& c : cases)
+    if (!ids.insert(c.id()).second)
+      throw std::invalid_argument("two values of one axis name the same case " + c.id() +
+                                  " (as --optimize cull+fit,fit+cull would): give each once");
   if (!cmd.matrix.techniques_given) cases = drop_techniques_a_backend_cannot_do(cases, harness);
   cases = shard(cases, cmd.shard_index, cmd.shard_count);
   cases = apply_benchmark_filter(cases, cmd.benchmark_args);
@@ -320,11 +330,32 @@ std::optional<std::vector<CaseConfig>> cases_to_run(const RunCommand& cmd, Harne
   }
 }
 
+// The folder is this run's for its whole life: a second run given the same --out is refused at once, not when
+// results.json appears. False, the error printed, when it cannot be had.
+bool claim_out_dir(const std::string& dir, std::optional<FileLock>& lock) {
+  try {
+    prepare_out_dir(dir);
+  } catch (const std::exception& e) {
+    print_error(e.what());
+    return false;
+  }
+  try {
+    lock.emplace((fs::path(dir) / kOutLockFile).string());
+  } catch (const std::exception& e) {
+    print_error("--out " + dir + ": " + e.what());
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 int run_command(const RunCommand& cmd) {
   RunOptions options = cmd.harness;
   if (options.out_dir.empty()) options.out_dir = default_out_dir();
+  // Workers write under their supervisor's lock.
+  std::optional<FileLock> out_lock;
+  if (cmd.worker_skip < 0 && !claim_out_dir(options.out_dir, out_lock)) return 2;
   if (cmd.isolate && cmd.worker_skip < 0) {  // this process supervises; workers run the matrix
     IsolationSettings isolation{cmd.args, options.out_dir, cmd.case_timeout_s};
     if (cmd.harness.out_dir.empty()) isolation.args.insert(isolation.args.end(), {"--out", options.out_dir});
@@ -417,7 +448,6 @@ int report_command(const std::string& run, const std::vector<std::string>& histo
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  std::cerr << "report: " << script << "\n";
   std::fflush(stdout);
   execv(python.c_str(), argv.data());
   print_error("report: cannot run " + python + ": " + std::strerror(errno));

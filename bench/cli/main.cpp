@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    print_error(e.what());
+    print_error(parse_error_message(app, e, ours));
     return 2;
   } catch (const std::invalid_argument& e) {  // a list option's parser, or finish_run_options
     print_error(e.what());

@@ -10,4 +10,18 @@ namespace omnishadow::bench {
 void write_file_atomic(const std::string& path, std::string_view bytes);  // throws std::runtime_error
 std::string read_file(const std::string& path);                           // throws std::runtime_error
 
+// An exclusive advisory lock (flock) on `path`, created if absent, held until the object is destroyed or the
+// process ends (a killed run leaves no stale lock); the holder's pid is written into the file. A second
+// holder is refused at once: throws std::runtime_error naming the pid that holds it.
+class FileLock {
+ public:
+  explicit FileLock(const std::string& path);
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+  ~FileLock();
+
+ private:
+  int fd_ = -1;
+};
+
 }  // namespace omnishadow::bench

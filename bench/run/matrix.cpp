@@ -39,20 +39,24 @@ int parse_positive(const std::string& item, const std::string& option, const cha
 
 std::vector<int> parse_int_list(const std::string& text, const std::string& option) {
   std::vector<int> out;
-  for (const std::string& item : split_list(text)) out.push_back(parse_positive(item, option, "size"));
+  const std::vector<std::string> items = split_list(text);
+  for (const std::string& item : items) out.push_back(parse_positive(item, option, "size"));
   if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  refuse_repeats(out, items, option);
   return out;
 }
 
 std::vector<std::pair<int, int>> parse_size_list(const std::string& text, const std::string& option) {
   std::vector<std::pair<int, int>> out;
-  for (const std::string& item : split_list(text)) {
+  const std::vector<std::string> items = split_list(text);
+  for (const std::string& item : items) {
     size_t x = item.find('x');
     if (x == std::string::npos) throw std::invalid_argument(option + ": '" + item + "' is not WIDTHxHEIGHT");
     out.emplace_back(parse_positive(item.substr(0, x), option, "width"),
                      parse_positive(item.substr(x + 1), option, "height"));
   }
   if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  refuse_repeats(out, items, option);
   return out;
 }
 

@@ -79,12 +79,24 @@ std::vector<int> parse_int_list(const std::string& text, const std::string& opti
 // "800x600,1920x1080"
 std::vector<std::pair<int, int>> parse_size_list(const std::string& text, const std::string& option);
 std::vector<std::string> split_list(const std::string& text);
+// A value given twice would give two cases one id (`--scene room,room`, `--cube 128,128`), which no run can
+// tell apart and `compare` refuses: throws std::invalid_argument naming `option` and the value.
+template <typename T>
+void refuse_repeats(const std::vector<T>& values, const std::vector<std::string>& items,
+                    const std::string& option) {
+  for (size_t i = 0; i < values.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (values[j] == values[i])
+        throw std::invalid_argument(option + ": a value is given twice ('" + items[j] + "' and '" + items[i] +
+                                    "')");
+}
 
 // "a,b+c" with `parse` applied to each item; errors are prefixed with the option's name.
 template <typename Parse>
 auto parse_list_with(const std::string& text, const std::string& option, Parse parse) {
   std::vector<decltype(parse(std::string()))> out;
-  for (const std::string& item : split_list(text)) {
+  const std::vector<std::string> items = split_list(text);
+  for (const std::string& item : items) {
     try {
       out.push_back(parse(item));
     } catch (const std::invalid_argument& e) {
@@ -92,6 +104,7 @@ auto parse_list_with(const std::string& text, const std::string& option, Parse p
     }
   }
   if (out.empty()) throw std::invalid_argument(option + ": empty list");
+  refuse_repeats(items, items, option);  // as written: parsed values of some axes have no ==
   return out;
 }
 

@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "lib"))
 import history  # noqa: E402
-from results_io import load_results  # noqa: E402
+from results_io import load_results, write_text_atomic  # noqa: E402
 from tradeoff import frame_ms, pareto  # noqa: E402
 
 STYLE = """body{font:14px/1.45 system-ui,sans-serif;margin:24px auto;max-width:1180px;color:#1d1d1f}
@@ -235,9 +235,7 @@ def main():
     body += ["<h2>Every case</h2>", case_table(cases)]
     page = (f"<!doctype html><html><head><meta charset='utf-8'><title>omnishadow report</title>"
             f"<style>{STYLE}</style></head><body>{''.join(body)}</body></html>")
-    with open(out + ".tmp", "w") as f:
-        f.write(page)
-    os.replace(out + ".tmp", out)
+    write_text_atomic(out, page, "report")
     print(f"report: {out}")
 
 

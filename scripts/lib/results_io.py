@@ -1,6 +1,6 @@
 """Reading an omnishadow run folder's results.json for the scripts (tradeoff, optimizations_table,
-extremes_table, filter_table, layout_table): one place that says what a missing or foreign file is, and the
-figures the tables share."""
+extremes_table, filter_table, layout_table, report, history): one place that says what a missing or foreign
+file is, the figures the tables share, and how their outputs are written."""
 import json
 import os
 import sys
@@ -28,3 +28,26 @@ def median_ms(case, pass_name):
 def ratio(value, base):
     """value / base as '1.23x', '-' where either is missing."""
     return f"{value / base:.2f}x" if value is not None and base else "-"
+
+
+def write_text_atomic(path, text, tool, option="--out"):
+    """Writes text to path through a temporary file beside it (a reader sees the old file or the new, never half),
+    or exits 2 with one line naming the option and the path: a folder, a missing parent, no permission. No
+    temporary file is left behind."""
+    if os.path.isdir(path):
+        print(f"{tool}: {option} {path} is a folder: give a file name",
+              file=sys.stderr)
+        sys.exit(2)
+    tmp = f"{path}.tmp.{os.getpid()}"
+    try:
+        with open(tmp, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except OSError as e:
+        try:
+            os.remove(tmp)
+        except OSError:
+            pass
+        print(f"{tool}: {option} {path}: cannot write: {e.strerror}", file=sys.stderr)
+        sys.exit(2)
+
