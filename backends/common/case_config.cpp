@@ -20,34 +20,17 @@ namespace {
 template <typename E, size_t N>
 using Names = std::array<std::pair<E, std::string_view>, N>;
 
-// Technique spellings come from the technique table (backends/common/techniques.h).
-constexpr Names<Technique, kTechniques.size()> technique_names() {
-  Names<Technique, kTechniques.size()> names{};
-  for (size_t i = 0; i < kTechniques.size(); ++i) names[i] = {kTechniques[i].technique, kTechniques[i].name};
+// Spellings come from each axis's table: its rows' `name` (techniques.h, layouts.h, storage_filter_tables.h).
+template <typename E, typename Row, size_t N>
+constexpr Names<E, N> names_from(const std::array<Row, N>& rows, E Row::*value) {
+  Names<E, N> names{};
+  for (size_t i = 0; i < N; ++i) names[i] = {rows[i].*value, rows[i].name};
   return names;
 }
-constexpr auto kTechniqueNames = technique_names();
-// Layout spellings come from the layout table (backends/common/layouts.h).
-constexpr Names<Layout, kLayouts.size()> layout_names() {
-  Names<Layout, kLayouts.size()> names{};
-  for (size_t i = 0; i < kLayouts.size(); ++i) names[i] = {kLayouts[i].layout, kLayouts[i].name};
-  return names;
-}
-constexpr auto kLayoutNames = layout_names();
-// Filter and storage spellings come from their tables (backends/common/storage_filter_tables.h).
-constexpr Names<Filter, kFilterTable.size()> filter_names() {
-  Names<Filter, kFilterTable.size()> names{};
-  for (size_t i = 0; i < kFilterTable.size(); ++i) names[i] = {kFilterTable[i].filter, kFilterTable[i].name};
-  return names;
-}
-constexpr auto kFilters = filter_names();
-constexpr Names<Storage, kStorageTable.size()> storage_names() {
-  Names<Storage, kStorageTable.size()> names{};
-  for (size_t i = 0; i < kStorageTable.size(); ++i)
-    names[i] = {kStorageTable[i].storage, kStorageTable[i].name};
-  return names;
-}
-constexpr auto kStorages = storage_names();
+constexpr auto kTechniqueNames = names_from(kTechniques, &TechniqueTraits::technique);
+constexpr auto kLayoutNames = names_from(kLayouts, &LayoutTraits::layout);
+constexpr auto kFilters = names_from(kFilterTable, &FilterTraits::filter);
+constexpr auto kStorages = names_from(kStorageTable, &StorageTraits::storage);
 constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
 
