@@ -255,6 +255,11 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
           out.string() + " --benchmark_repetitions=2");
   ASSERT_EQ(o.exit_code, 0) << o.err;
   EXPECT_NE(o.err.find("[check 12/12]"), std::string::npos) << "progress on stderr";
+  // The run ends with one line saying how to see its report.
+  const std::string last_line = "report: omnishadow report " + out.string() + ", then open " +
+                                (out / "report.html").string() + " in a browser\n";
+  ASSERT_GE(o.out.size(), last_line.size());
+  EXPECT_EQ(o.out.substr(o.out.size() - last_line.size()), last_line) << o.out;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   const auto& cases = j["omnishadow"]["cases"];
   ASSERT_EQ(cases.size(), 12u);

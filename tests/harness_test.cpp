@@ -414,6 +414,8 @@ TEST_F(HarnessTest, PrecisionRepeatsUntilTheIntervalIsNarrowOrTheCap) {
   EXPECT_LT(stability_percent(results[0].repetition_frame_ms), 97.0);
   const std::string summary = summary_markdown(results, {}, policy);
   EXPECT_NE(summary.find("cases hit the cap of 9"), std::string::npos) << summary;
+  // A cell's p99 figure is a ratio to the median, and says so (not a bare number beside milliseconds).
+  EXPECT_NE(summary.find(" ms (1.00x) p99/median "), std::string::npos) << summary;
 }
 
 // Case ids name a scene file by its stem (ids read gl/bunny/c512/..., not gl//tmp/x.json/...); two files that

@@ -302,7 +302,10 @@ void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
   } catch (const std::exception& e) {
     print_error(e.what());
   }
-  std::cout << "\n" << summary << "\nresults: " << run.results_path << "\n";
+  const std::string out_dir = run.info.options.out_dir;
+  std::cout << "\n"
+            << summary << "\nresults: " << run.results_path << "\nreport: omnishadow report " << out_dir
+            << ", then open " << (fs::path(out_dir) / "report.html").string() << " in a browser\n";
 }
 
 // The cases this process runs (a worker after a crash skips those done), with the clocks locked where asked;
