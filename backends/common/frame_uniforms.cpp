@@ -29,12 +29,12 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
                               ? cube::fitted_far(scene, light_position, light.near_plane, light.far_plane)
                               : light.far_plane;
   // Each layer's own view-projection (the layout's geometry); layers beyond its own hold the cube's faces.
-  auto faces = cube::face_view_projections(light_position, light.near_plane, far_plane, range);
-  std::copy(faces.begin(), faces.end(), u.face_view_proj.begin());
+  // Each matrix is computed once a frame.
   const TexelGeometry& geometry = traits(config.layout).geometry;
-  for (int f = 0; f < geometry.layers; ++f)
+  for (int f = 0; f < cube::kFaceCount; ++f)
     u.face_view_proj[size_t(f)] =
-        geometry.view_projection(f, light_position, light.near_plane, far_plane, range);
+        (f < geometry.layers ? geometry.view_projection : layout_geometry::cube_view_projection)(
+            f, light_position, light.near_plane, far_plane, range);
   u.camera_position = glm::vec4(cam.position, 1.0f);
   u.light_position = glm::vec4(light_position, far_plane);
   u.light_color = glm::vec4(light.color, light.near_plane);

@@ -32,7 +32,8 @@ bool every_texel(int, int, int) { return true; }
 
 glm::mat4 cube_view_projection(int layer, const glm::vec3& light, float near_plane, float far_plane,
                                cube::DepthRange range) {
-  return cube::face_view_projections(light, near_plane, far_plane, range)[size_t(layer)];
+  // One face's matrix only (face_view_projections' product for that face): the frame uniforms ask per layer.
+  return cube::face_projection(near_plane, far_plane, range) * cube::face_view(layer, light);
 }
 
 }  // namespace omnishadow::layout_geometry
