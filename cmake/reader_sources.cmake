@@ -5,6 +5,7 @@
 # libtinyobjloader-dev, libtinygltf-dev).
 set(OMNISHADOW_SCENE_READER_SOURCES
   scenes/scene_loader.cpp
+  scenes/scene_lights.cpp
   scenes/mesh_builders.cpp
   scenes/obj_loader.cpp
   scenes/gltf_loader.cpp

@@ -25,10 +25,13 @@ std::string scene_invariants(const scene::Scene& s) {
   for (const scene::Object& o : s.objects)
     if (uint64_t(o.first_vertex) + o.vertex_count > s.vertices.size())
       return "object range outside the vertices";
-  const scene::PointLight& l = s.light;
-  if (!(l.near_plane > 0.0f) || !(l.far_plane > l.near_plane) || !std::isfinite(l.far_plane))
-    return "light range not 0 < near < far < inf";
-  if (!finite(l.path.at(0)) || !finite(l.path.at(12345))) return "light path not finite";
+  for (const scene::PointLight& l : s.point_lights) {
+    if (!(l.near_plane > 0.0f) || !(l.far_plane > l.near_plane) || !std::isfinite(l.far_plane))
+      return "light range not 0 < near < far < inf";
+    if (!finite(l.path.at(0)) || !finite(l.path.at(12345))) return "light path not finite";
+  }
+  if (s.point_lights.empty() && s.map_lights.empty()) return "no light";
+  if (s.point_lights.size() > size_t(scene::kMaxPointLights)) return "more point lights than the cap";
   const scene::Camera& c = s.camera;
   glm::vec3 view = c.target - c.position;
   if (!(glm::length(glm::cross(view, c.up)) > 0.0f)) return "camera basis degenerate";

@@ -247,6 +247,34 @@ void add_primitive(Context& cx, const tinygltf::Primitive& p, const glm::dmat4& 
   }
 }
 
+// The node's KHR_lights_punctual light, if any: a point light at the node's origin (the extension puts every
+// light there, pointing down -Z), range and colour as the file gives them.
+void add_light(Context& cx, const tinygltf::Node& node, int index, const glm::dmat4& world) {
+  const auto ext = node.extensions.find("KHR_lights_punctual");
+  if (ext == node.extensions.end() || !ext->second.Has("light")) return;
+  const tinygltf::Value& which = ext->second.Get("light");
+  const int light = which.IsInt() ? which.Get<int>() : -1;
+  if (light < 0 || size_t(light) >= cx.model.lights.size())
+    cx.fail("node " + std::to_string(index) + ": KHR_lights_punctual light " + std::to_string(light) +
+            " does not exist");
+  const tinygltf::Light& l = cx.model.lights[size_t(light)];
+  if (l.type != "point") {
+    ++cx.out.skipped_lights;
+    return;
+  }
+  GltfPointLight p;
+  p.position = glm::dvec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+  if (l.color.size() == 3) p.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
+  p.intensity = l.intensity;
+  p.range = l.range;
+  if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) || !std::isfinite(p.position.z) ||
+      !std::isfinite(p.intensity) || p.intensity < 0.0 || !std::isfinite(p.range) || p.range < 0.0 ||
+      glm::any(glm::lessThan(p.color, glm::vec3(0.0f))) || !std::isfinite(p.color.x + p.color.y + p.color.z))
+    cx.fail("KHR_lights_punctual light " + std::to_string(light) +
+            ": position, colour, intensity and range must be finite and not negative");
+  cx.out.point_lights.push_back(p);
+}
+
 void add_node(Context& cx, int index, const glm::dmat4& parent, std::vector<bool>& on_path, int depth) {
   const tinygltf::Model& m = cx.model;
   if (depth > kMaxNodeDepth) cx.fail("the node hierarchy is deeper than " + std::to_string(kMaxNodeDepth));
@@ -258,6 +286,7 @@ void add_node(Context& cx, int index, const glm::dmat4& parent, std::vector<bool
     cx.fail("the node graph expands to more than " + std::to_string(kMaxNodeInstances) + " node instances");
   const tinygltf::Node& node = m.nodes[size_t(index)];
   const glm::dmat4 world = parent * local_matrix(cx, node, index);
+  add_light(cx, node, index, world);
   if (node.mesh >= 0) {
     if (size_t(node.mesh) >= m.meshes.size())
       cx.fail("node " + std::to_string(index) + ": mesh " + std::to_string(node.mesh) + " does not exist");

@@ -10,6 +10,14 @@
 
 namespace omnishadow::scene {
 
+// A KHR_lights_punctual point light at its node, in the model's units.
+struct GltfPointLight {
+  glm::dvec3 position{0.0};
+  glm::vec3 color{1.0f};   // linear RGB, as the file gives it (default white)
+  double intensity = 1.0;  // candela
+  double range = 0.0;      // 0: infinite (the extension's default)
+};
+
 struct GltfModel {
   // Every triangle of the default scene (else scene 0, else every root node) in world space of the model:
   // node matrices and TRS composed down the hierarchy, counter-clockwise (a mirroring node's triangles are
@@ -20,6 +28,10 @@ struct GltfModel {
   // Primitives that are not triangles (points, lines, line loops and strips): skipped, counted and named.
   int skipped_primitives = 0;
   std::string skipped_modes;  // e.g. "LINES x2, POINTS x1"
+  // KHR_lights_punctual: the point lights of the nodes visited, in visiting order (a shared node's light once
+  // per instance); spot and directional lights are counted, not read.
+  std::vector<GltfPointLight> point_lights;
+  int skipped_lights = 0;
 };
 
 // Throws std::runtime_error with one line naming the file and what is wrong: unreadable or not glTF

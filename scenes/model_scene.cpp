@@ -85,8 +85,9 @@ namespace {
 struct ModelMesh {
   std::string kind;  // obj, gltf
   std::vector<MeshVertex> mesh;
-  std::vector<glm::vec3> colors;  // empty: the default grey
-  std::string note;               // skipped primitives, for Scene::notes
+  std::vector<glm::vec3> colors;       // empty: the default grey
+  std::vector<GltfPointLight> lights;  // glTF's KHR_lights_punctual point lights, in the file's units
+  std::vector<std::string> notes;      // skipped primitives and lights, for Scene::notes
 };
 
 ModelMesh read_model(const std::string& path) {
@@ -104,8 +105,13 @@ ModelMesh read_model(const std::string& path) {
       GltfModel model = load_gltf(path, kMaxSceneVertices);
       m.mesh = std::move(model.triangles);
       m.colors = std::move(model.colors);
+      m.lights = std::move(model.point_lights);
       if (model.skipped_primitives > 0)
-        m.note = path + ": skipped " + model.skipped_modes + " (not triangles; shadows need surfaces)";
+        m.notes.push_back(path + ": skipped " + model.skipped_modes +
+                          " (not triangles; shadows need surfaces)");
+      if (model.skipped_lights > 0)
+        m.notes.push_back(path + ": skipped " + std::to_string(model.skipped_lights) +
+                          " KHR_lights_punctual spot/directional light(s) (point lights only)");
     }
   } catch (const SceneError&) {
     throw;
@@ -138,16 +144,53 @@ void add_baked_object(Scene& scene, std::string name, std::string kind,
   scene.objects.push_back(obj);
 }
 
-// The placed light and camera, stored relative to the scene's origin; the note that says how they were
-// placed.
+// The model's own point lights (glTF KHR_lights_punctual), scaled with the model and standing still: range
+// as far (infinite: 1% beyond a bound on the farthest point of the model and floor), the rule's near, colours
+// relative to the brightest light's 0.3 (the tutorial's white light; candela mean nothing to its unitless
+// lighting).
+std::vector<PointLight> model_lights(const std::vector<GltfPointLight>& lights, const ModelPlacement& place,
+                                     const glm::dvec3& origin, const std::string& path) {
+  double brightest = 0.0;
+  for (const GltfPointLight& l : lights)
+    brightest = std::max(brightest, l.intensity * std::max({l.color.r, l.color.g, l.color.b}));
+  std::vector<PointLight> out;
+  for (size_t i = 0; i < lights.size() && out.size() < size_t(kMaxPointLights); ++i) {
+    PointLight p;
+    p.near_plane = static_cast<float>(place.light_near);
+    const glm::dvec3 at = place.scale * lights[i].position;
+    p.path.base = glm::vec3(at - origin);
+    // Everything lies within the floor's corners' distance from the centre (the floor is 4R wide).
+    const double reach = std::sqrt(2.0 * place.floor_half_size * place.floor_half_size +
+                                   (place.center.y - place.floor_y) * (place.center.y - place.floor_y));
+    p.far_plane = static_cast<float>(lights[i].range > 0.0 ? place.scale * lights[i].range
+                                                           : 1.01 * (glm::length(at - place.center) + reach));
+    if (!(p.far_plane > 2.0f * p.near_plane) || !std::isfinite(p.far_plane))
+      throw SceneError(path + ": KHR_lights_punctual point light " + std::to_string(i) + ": range " +
+                       std::to_string(lights[i].range) + " leaves no depth range beyond near " +
+                       std::to_string(place.light_near / place.scale) + " (file units)");
+    p.color = brightest > 0.0 ? glm::vec3(0.3 * lights[i].intensity / brightest) * lights[i].color
+                              : glm::vec3(0.0f);
+    out.push_back(p);
+  }
+  return out;
+}
+
+// The placed light (or the model's own lights) and camera, stored relative to the scene's origin; the note
+// that says how they were placed.
 void set_light_and_camera(Scene& scene, const ModelPlacement& place, const LoadOptions& options,
-                          const std::string& path) {
+                          const std::vector<GltfPointLight>& file_lights, const std::string& path) {
   auto stored = [&](const glm::dvec3& world) { return glm::vec3(world - scene.origin); };
-  scene.light.path.base = stored(place.light.base);
-  scene.light.path.amplitude = place.light.amplitude;
-  scene.light.path.frequency = kSeedLightFrequency;
-  scene.light.near_plane = static_cast<float>(place.light_near);
-  scene.light.far_plane = static_cast<float>(place.light_far);
+  scene.point_lights = model_lights(file_lights, place, scene.origin, path);
+  if (scene.point_lights.empty() || options.light) {  // the rule's light, or --light's: the first
+    if (scene.point_lights.empty()) scene.point_lights.emplace_back();
+    PointLight& light = scene.point_lights.front();
+    light.path.base = stored(place.light.base);
+    light.path.amplitude = place.light.amplitude;
+    light.path.frequency = kSeedLightFrequency;
+    light.near_plane = static_cast<float>(place.light_near);
+    light.far_plane = static_cast<float>(place.light_far);
+    light.color = PointLight{}.color;
+  }
   scene.camera.position = stored(place.camera.position);
   scene.camera.target = stored(*place.camera.target);
   scene.camera.near_plane = static_cast<float>(place.camera_near);
@@ -158,14 +201,21 @@ void set_light_and_camera(Scene& scene, const ModelPlacement& place, const LoadO
   if (!(glm::length(view) > 0.0f)) throw SceneError(path + ": --camera position and target coincide");
   if (!(glm::length(glm::cross(glm::normalize(view), scene.camera.up)) > 1e-6f))
     scene.camera.up = glm::vec3(0, 0, -1);
-  char placed[256];
-  std::snprintf(
-      placed, sizeof placed,
-      "placed by rule: scaled by %.6g (bounding radius %.6g file units -> %g), light %s at (%.6g, %.6g, "
-      "%.6g), far %.6g; camera %s",
-      place.scale, kModelRadius / place.scale, kModelRadius, options.light ? "by --light" : "by rule",
-      place.light.base.x, place.light.base.y, place.light.base.z, place.light_far,
-      options.camera ? "by --camera" : "by rule");
+  char placed[320];
+  if (!file_lights.empty() && !options.light)
+    std::snprintf(placed, sizeof placed,
+                  "placed by rule: scaled by %.6g (bounding radius %.6g file units -> %g), the model's %zu "
+                  "point light(s) (KHR_lights_punctual); camera %s",
+                  place.scale, kModelRadius / place.scale, kModelRadius, scene.point_lights.size(),
+                  options.camera ? "by --camera" : "by rule");
+  else
+    std::snprintf(
+        placed, sizeof placed,
+        "placed by rule: scaled by %.6g (bounding radius %.6g file units -> %g), light %s at (%.6g, %.6g, "
+        "%.6g), far %.6g; camera %s",
+        place.scale, kModelRadius / place.scale, kModelRadius, options.light ? "by --light" : "by rule",
+        place.light.base.x, place.light.base.y, place.light.base.z, place.light_far,
+        options.camera ? "by --camera" : "by rule");
   scene.notes.push_back(path + ": " + placed);
 }
 
@@ -176,7 +226,7 @@ Scene load_model_scene(const std::string& path, const LoadOptions& options) {
   Scene scene;
   scene.source = path;
   scene.name = std::filesystem::path(path).stem().string();
-  if (!m.note.empty()) scene.notes.push_back(m.note);
+  scene.notes.insert(scene.notes.end(), m.notes.begin(), m.notes.end());
 
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (const MeshVertex& v : m.mesh) {
@@ -184,8 +234,9 @@ Scene load_model_scene(const std::string& path, const LoadOptions& options) {
     hi = glm::max(hi, glm::dvec3(v.position));
   }
   const ModelPlacement place = place_model(lo, hi, options, path);
-  // The rebase remedy subtracts the light's base position, in double, as for scene files.
-  if (options.rebase_origin) scene.origin = place.light.base;
+  // The rebase remedy subtracts the first point light's base position, in double, as for scene files.
+  if (options.rebase_origin)
+    scene.origin = m.lights.empty() || options.light ? place.light.base : place.scale * m.lights[0].position;
 
   scene.vertices.reserve(m.mesh.size() + 6);
   add_baked_object(
@@ -197,7 +248,7 @@ Scene load_model_scene(const std::string& path, const LoadOptions& options) {
       scene, "floor", "plane", make_plane(),
       [&](const glm::vec3& p) { return floor_at + place.floor_half_size * glm::dvec3(p); },
       [](size_t) { return glm::vec3(0.8f); });
-  set_light_and_camera(scene, place, options, path);
+  set_light_and_camera(scene, place, options, m.lights, path);
   return scene;
 }
 

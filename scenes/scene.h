@@ -35,14 +35,16 @@ struct Object {
   glm::vec3 bounds_max{0.0f};
 };
 
-// Light position as a function of the frame: position = base + amplitude * sin(frequency * t),
-// t = frame * seconds_per_frame. Seeds 000/001: base (0,0,0), amplitude (0,0,3), frequency 0.5.
+// Light position as a function of the frame: position = base + amplitude * sin(frequency * t + phase),
+// t = frame * seconds_per_frame. Seeds 000/001: base (0,0,0), amplitude (0,0,3), frequency 0.5, phase 0.
 struct LightPath {
   glm::vec3 base{0.0f};
   glm::vec3 amplitude{0.0f};
   float frequency = 0.0f;  // radians per second of scene time
   float seconds_per_frame = 1.0f / 60.0f;
+  float phase = 0.0f;  // radians: lamps of one row sway out of step (a light array's phase_step)
   glm::vec3 at(int frame) const;
+  bool operator==(const LightPath&) const = default;
 };
 // The tutorials' sway (seeds 000/001), and that of lights placed by rule or by --light.
 inline constexpr float kSeedLightFrequency = 0.5f;  // rad/s
@@ -52,7 +54,11 @@ struct PointLight {
   float near_plane = 1.0f;  // world units; the 90-degree face projections use these
   float far_plane = 25.0f;
   glm::vec3 color{0.3f};  // the point-shadow tutorial lighting: lightColor 0.3, ambient 0.3 * albedo
+  bool operator==(const PointLight&) const = default;
 };
+// A bound on what a file can ask for (a light array of 10x10x10 lamps); the matrix's --light-count picks how
+// many of them a case renders.
+inline constexpr int kMaxPointLights = 1024;
 
 // Lights that need no cube: each gets one 2D map (scene::Scene::map_lights), rendered in one plain pass.
 enum class MapLightType { spot, directional };
@@ -92,9 +98,14 @@ struct Scene {
   std::vector<std::string> notes;
   std::vector<Vertex> vertices;  // non-indexed triangle list, all objects back to back
   std::vector<Object> objects;
-  // The point light (a cube map); a scene may have none when it only holds spot/directional lights.
-  PointLight light;
-  bool has_point_light = true;
+  // The point lights in file order, each with its own shadow map (a cube, or its layers or tiles of a shared
+  // texture); none when the scene only holds spot/directional lights. A case renders the first
+  // CaseConfig::light_count of them.
+  std::vector<PointLight> point_lights{PointLight{}};
+  bool has_point_light() const { return !point_lights.empty(); }
+  // The first point light: the one every one-light case renders. A scene without point lights still has a
+  // cube, only cleared, whose planes are a default PointLight's: that is what it returns there.
+  const PointLight& light() const;
   std::vector<MapLight> map_lights;  // in file order, at most kMaxMapLights
   Camera camera;
   uint64_t triangle_count() const { return vertices.size() / 3; }

@@ -15,16 +15,14 @@
 #include "scenes/model_scene.h"
 #include "scenes/obj_loader.h"
 #include "scenes/scene.h"
+#include "scenes/scene_json.h"
+#include "scenes/scene_lights.h"
 
 namespace omnishadow::scene {
 
-glm::vec3 LightPath::at(int frame) const {
-  float t = static_cast<float>(frame) * seconds_per_frame;
-  return base + amplitude * std::sin(frequency * t);
-}
-
 namespace {
 
+using detail::Node;
 using nlohmann::json;
 
 bool finite(const glm::vec3& v) { return !glm::any(glm::isnan(v)) && !glm::any(glm::isinf(v)); }
@@ -37,85 +35,6 @@ glm::vec3 normalize_wide(glm::vec3 v) {
   v /= m;
   return v / glm::length(v);
 }
-
-// A JSON value with the pointer that reached it, so that every error can name /objects/3/scale.
-class Node {
- public:
-  Node(const json& value, std::string pointer, const std::string& source)
-      : value_(value), pointer_(std::move(pointer)), source_(source) {}
-
-  [[noreturn]] void fail(const std::string& why) const {
-    throw SceneError(source_ + ": " + (pointer_.empty() ? "/" : pointer_) + ": " + why);
-  }
-  const json& value() const { return value_; }
-  const std::string& pointer() const { return pointer_; }
-
-  bool has(const char* key) const { return value_.contains(key); }
-  Node at(const char* key) const {
-    if (!value_.contains(key)) Node(value_, pointer_ + "/" + key, source_).fail("missing required field");
-    return Node(value_.at(key), pointer_ + "/" + key, source_);
-  }
-  Node at(size_t index) const {
-    return Node(value_.at(index), pointer_ + "/" + std::to_string(index), source_);
-  }
-
-  void expect_object(const std::set<std::string>& allowed) const {
-    if (!value_.is_object()) fail("expected an object");
-    for (const auto& [key, _] : value_.items())
-      if (!allowed.count(key)) Node(value_[key], pointer_ + "/" + key, source_).fail("unknown field");
-  }
-  double number() const {
-    if (!value_.is_number()) fail("expected a number");
-    double v = value_.get<double>();
-    if (!std::isfinite(v) || std::fabs(v) > 1e30) fail("number must be finite and below 1e30 in magnitude");
-    return v;
-  }
-  double number_in(double lo, double hi) const {
-    double v = number();
-    if (v < lo || v > hi) {
-      std::ostringstream s;
-      s << "must be in [" << lo << ", " << hi << "], got " << v;
-      fail(s.str());
-    }
-    return v;
-  }
-  int integer_in(int lo, int hi) const {
-    if (!value_.is_number_integer()) fail("expected an integer");
-    auto v = value_.get<long long>();
-    if (v < lo || v > hi)
-      fail("must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return static_cast<int>(v);
-  }
-  bool boolean() const {
-    if (!value_.is_boolean()) fail("expected true or false");
-    return value_.get<bool>();
-  }
-  std::string string() const {
-    if (!value_.is_string()) fail("expected a string");
-    return value_.get<std::string>();
-  }
-  glm::vec3 vec3() const {
-    if (!value_.is_array() || value_.size() != 3) fail("expected an array of 3 numbers");
-    return {at(size_t{0}).number(), at(size_t{1}).number(), at(size_t{2}).number()};
-  }
-  // A position, shifted by the scene's origin in double before it becomes float (LoadOptions::rebase_origin).
-  glm::vec3 position(const glm::dvec3& origin) const {
-    if (!value_.is_array() || value_.size() != 3) fail("expected an array of 3 numbers");
-    glm::dvec3 p(at(size_t{0}).number(), at(size_t{1}).number(), at(size_t{2}).number());
-    return glm::vec3(p - origin);
-  }
-  // A scale: one positive number (uniform) or three.
-  glm::vec3 scale() const {
-    glm::vec3 s = value_.is_number() ? glm::vec3(static_cast<float>(number())) : vec3();
-    if (!(s.x > 0.0f && s.y > 0.0f && s.z > 0.0f)) fail("scale must be > 0 on every axis");
-    return s;
-  }
-
- private:
-  const json& value_;
-  std::string pointer_;
-  const std::string& source_;
-};
 
 Camera parse_camera(const Node& n, const glm::dvec3& origin) {
   n.expect_object({"position", "target", "up", "fov_y_degrees", "near", "far", "size"});
@@ -141,60 +60,6 @@ Camera parse_camera(const Node& n, const glm::dvec3& origin) {
     c.height = s.at(size_t{1}).integer_in(1, 16384);
   }
   return c;
-}
-
-LightPath parse_path(const Node& n, const glm::dvec3& origin) {
-  LightPath path;
-  path.base = glm::vec3(-origin);
-  if (n.has("position")) path.base = n.at("position").position(origin);
-  if (n.has("path")) {
-    Node p = n.at("path");
-    p.expect_object({"amplitude", "frequency", "seconds_per_frame"});
-    if (p.has("amplitude")) path.amplitude = p.at("amplitude").vec3();
-    if (p.has("frequency")) path.frequency = static_cast<float>(p.at("frequency").number());
-    if (p.has("seconds_per_frame"))
-      path.seconds_per_frame = static_cast<float>(p.at("seconds_per_frame").number_in(0, 3600));
-  }
-  return path;
-}
-
-glm::vec3 unit_direction(const Node& n) {
-  glm::vec3 d = n.vec3();
-  if (!(glm::length(d) > 0.0f)) n.fail("direction must not be zero");
-  return glm::normalize(d);
-}
-
-MapLight parse_map_light(const Node& n, const std::string& type, const glm::dvec3& origin) {
-  MapLight l;
-  l.type = type == "spot" ? MapLightType::spot : MapLightType::directional;
-  if (l.type == MapLightType::spot) {
-    n.expect_object({"type", "position", "path", "direction", "cone_degrees", "near", "far", "color",
-                     "cull_front_faces"});
-    l.path = parse_path(n, origin);
-    if (n.has("cone_degrees")) l.cone_degrees = static_cast<float>(n.at("cone_degrees").number_in(1, 170));
-    if (n.has("near")) l.near_plane = static_cast<float>(n.at("near").number_in(1e-9, 1e30));
-    if (n.has("far")) l.far_plane = static_cast<float>(n.at("far").number_in(1e-9, 1e30));
-    if (l.far_plane <= l.near_plane) n.at("far").fail("far must be greater than near");
-  } else {
-    n.expect_object({"type", "direction", "color", "cull_front_faces"});
-  }
-  l.direction = unit_direction(n.at("direction"));
-  if (n.has("color")) l.color = n.at("color").vec3();
-  if (n.has("cull_front_faces")) l.cull_front_faces = n.at("cull_front_faces").boolean();
-  return l;
-}
-
-PointLight parse_light(const Node& n, const glm::dvec3& origin) {
-  n.expect_object({"type", "position", "path", "near", "far", "color"});
-  PointLight l;
-  if (n.has("type") && n.at("type").string() != "point")
-    n.at("type").fail("\"light\" is the point light; spot and directional lights go in \"lights\"");
-  l.path = parse_path(n, origin);
-  if (n.has("near")) l.near_plane = static_cast<float>(n.at("near").number_in(1e-9, 1e30));
-  if (n.has("far")) l.far_plane = static_cast<float>(n.at("far").number_in(1e-9, 1e30));
-  if (l.far_plane <= l.near_plane) n.at("far").fail("far must be greater than near");
-  if (n.has("color")) l.color = n.at("color").vec3();
-  return l;
 }
 
 // A shape's triangles, and for a glTF model its materials' base colours per vertex (empty: the object's
@@ -347,15 +212,18 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
       }
 }
 
-// --light / --camera on a scene file: the point light's path and the camera replaced, the file's planes kept.
+// --light / --camera on a scene file: the first point light's path and the camera replaced, the file's planes
+// kept.
 void apply_placement(Scene& scene, const LoadOptions& options, const std::string& source) {
   if (options.light) {
-    if (!scene.has_point_light)
+    if (!scene.has_point_light())
       throw SceneError(source +
                        ": --light moves the point light, and this scene has none (only spot/directional)");
-    scene.light.path.base = glm::vec3(options.light->base - scene.origin);
-    scene.light.path.amplitude = options.light->amplitude;
-    scene.light.path.frequency = kSeedLightFrequency;  // irrelevant for a light standing still
+    LightPath& path = scene.point_lights.front().path;  // the first point light's: the others keep theirs
+    path.base = glm::vec3(options.light->base - scene.origin);
+    path.amplitude = options.light->amplitude;
+    path.frequency = kSeedLightFrequency;  // irrelevant for a light standing still
+    path.phase = 0.0f;
   }
   if (options.camera) {
     Camera& c = scene.camera;
@@ -415,35 +283,7 @@ Scene load_scene_text(const std::string& text, const std::string& source, const 
   scene.name = std::filesystem::path(source).stem().string();
   scene.camera = parse_camera(
       root.has("camera") ? root.at("camera") : Node(json::object(), "/camera", source), scene.origin);
-  // "light": the one point light (the tutorials, docs/glossary.md). "lights": any mix of one point light and
-  // up to four spot or directional lights, each rendered with what it needs (a cube, or one 2D map).
-  if (root.has("light") && root.has("lights"))
-    root.at("lights").fail("give \"light\" or \"lights\", not both");
-  if (!root.has("lights")) {
-    scene.light = parse_light(root.at("light"), scene.origin);
-  } else {
-    Node lights = root.at("lights");
-    if (!lights.value().is_array() || lights.value().empty())
-      lights.fail("expected a non-empty array of lights");
-    bool point_seen = false;
-    for (size_t i = 0; i < lights.value().size(); ++i) {
-      Node l = lights.at(i);
-      if (!l.value().is_object()) l.fail("expected an object");
-      std::string type = l.has("type") ? l.at("type").string() : "point";
-      if (type == "point") {
-        if (point_seen) l.fail("at most one point light per scene (one cube map per case)");
-        scene.light = parse_light(l, scene.origin);
-        point_seen = true;
-      } else if (type == "spot" || type == "directional") {
-        if (scene.map_lights.size() == kMaxMapLights)
-          l.fail("at most " + std::to_string(kMaxMapLights) + " spot/directional lights per scene");
-        scene.map_lights.push_back(parse_map_light(l, type, scene.origin));
-      } else {
-        l.at("type").fail("unknown light type '" + type + "' (valid: point, spot, directional)");
-      }
-    }
-    scene.has_point_light = point_seen;
-  }
+  parse_lights(root, scene);
 
   Node objects = root.at("objects");
   if (!objects.value().is_array()) objects.fail("expected an array of objects");

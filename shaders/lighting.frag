@@ -45,13 +45,19 @@ void main() {
   vec3 view_dir = normalize(frame.camera_position.xyz - world_position);
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
   float shadow = 0.0;
+  // The light's range is its far plane: beyond it the light reaches nothing, whatever the filter would make of
+  // the cube there (glTF's range; what lets a renderer skip a light). As outside a spot's cone, the shadow
+  // factor there is 0 and the light adds nothing. Every bundled one-light scene lies within its light's far.
+  // The lookup itself stays in uniform control flow (implicit derivatives), the range only masks its result.
+  bool in_range = kPointLight && length(frame.light_position.xyz - world_position) < frame.light_position.w;
   if (kPointLight) {  // the point light and its cube
     vec3 light_dir = normalize(frame.light_position.xyz - world_position);
     float diff = max(dot(light_dir, normal), 0.0);
     diffuse = diff * light_color;
     vec3 halfway = normalize(light_dir + view_dir);
     specular = pow(max(dot(normal, halfway), 0.0), 64.0) * light_color;
-    shadow = shadow_factor(world_position, normal);
+    float looked_up = shadow_factor(world_position, normal);  // not in the ?: (it evaluates one side only)
+    shadow = in_range ? looked_up : 0.0;
   }
   // Spot and directional lights, each with its 2D map. The reported shadow factor is the first light's.
   vec3 mapped = vec3(0.0);
@@ -71,7 +77,7 @@ void main() {
   float acc = kInjectedWork > 0 ? fract(gl_FragCoord.x * 0.618034) : 0.0;
   for (int i = 0; i < kInjectedWork; ++i) acc = fract(acc * 1.61803 + 0.31831);
   // With no map lights `mapped` is 0 and adding it changes no bit: point-light scenes render as before.
-  vec3 point_term = kPointLight ? (1.0 - shadow) * (diffuse + specular) : vec3(0.0);
+  vec3 point_term = in_range ? (1.0 - shadow) * (diffuse + specular) : vec3(0.0);
   out_color = vec4((ambient + point_term + mapped) * albedo, 1.0 - 1e-9 * acc);
 #ifdef CHECK_OUTPUTS
   out_shadow_factor = shadow;

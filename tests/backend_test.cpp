@@ -175,27 +175,79 @@ TEST_P(BackendTest, HardShadowsAgreeWithTheReference) {
 TEST_P(BackendTest, CubeTexelsAgreeWithExactDistances) {
   Images img = render(room_case(Technique::six_pass, Filter::hard, 256), 90);
   reference::RayCaster caster(*room_);
-  const glm::vec3 light = room_->light.path.at(90);
+  const glm::vec3 light = room_->light().path.at(90);
   bench::CubeTruth truth =
-      bench::compute_cube_truth(caster, *room_, light, room_->light.near_plane, img.light_far, 256, false);
+      bench::compute_cube_truth(caster, *room_, light, room_->light().near_plane, img.light_far, 256, false);
   const int bits = backend_->device().subpixel_bits;
   bench::CubeTexelReport ok = bench::check_cube_texels(truth, img, Storage::linear_depth, DepthFormat::d32f,
-                                                       room_->light.near_plane, bits);
+                                                       room_->light().near_plane, bits);
   EXPECT_EQ(ok.texels, 6u * 128 * 128);
   EXPECT_LT(ok.bad_percent(), bench::kCubeTexelLimitPercent) << bench::describe(ok);
   Images swapped = img;
   std::swap(swapped.cube_distance[2], swapped.cube_distance[3]);  // +Y and -Y
   bench::CubeTexelReport bad = bench::check_cube_texels(truth, swapped, Storage::linear_depth,
-                                                        DepthFormat::d32f, room_->light.near_plane, bits);
+                                                        DepthFormat::d32f, room_->light().near_plane, bits);
   EXPECT_GT(bad.bad_percent(), 5.0) << bench::describe(bad);
   EXPECT_GT(bad.bad_per_face[2], 0u);
   Images unscaled = img;
   for (auto& face : unscaled.cube_distance)
     for (float& v : face) v /= img.light_far;  // distance / far read back as if it were the distance
   EXPECT_GT(bench::check_cube_texels(truth, unscaled, Storage::linear_depth, DepthFormat::d32f,
-                                     room_->light.near_plane, bits)
+                                     room_->light().near_plane, bits)
                 .bad_percent(),
             50.0);
+}
+
+// A light whose range (far) ends inside its room: the hall's first lamp, 12 units of reach in a 64-unit hall.
+// Depth storages clamp distance / far at 1, so a surface beyond far (a cube's corners reach sqrt 3 far) reads
+// as nothing, and the lighting pass gives a pixel beyond the range a shadow factor of 0 and none of the
+// light. The texel, lookup and accuracy checks hold there, and judging the clamped cube as a distance
+// storage (the truth without the clamp) fails.
+TEST_P(BackendTest, ALightsRangeEndsWhereItsFarPlaneDoes) {
+  const scene::Scene hall = scene::load_scene_file(kScenes + "/hall.json");
+  backend_->load(hall);
+  CaseConfig c = room_case(Technique::six_pass, Filter::hard, 512);  // the tutorial's bias holds at 512
+  c.scene = "hall";
+  const Images img = render(c);
+  ASSERT_EQ(img.light_far, hall.light().far_plane);
+  reference::RayCaster caster(hall);
+  const float near_plane = hall.light().near_plane;
+  const bench::CubeTruth truth =
+      bench::compute_cube_truth(caster, hall, hall.light().path.at(0), near_plane, img.light_far, 512, false);
+  const int bits = backend_->device().subpixel_bits;
+  const bench::CubeTexelReport ok =
+      bench::check_cube_texels(truth, img, Storage::linear_depth, DepthFormat::d32f, near_plane, bits);
+  EXPECT_LT(ok.bad_percent(), bench::kCubeTexelLimitPercent) << bench::describe(ok);
+  const bench::CubeTexelReport unclamped =
+      bench::check_cube_texels(truth, img, Storage::r32f_distance, DepthFormat::d32f, near_plane, bits);
+  EXPECT_GT(unclamped.missing, 100u) << bench::describe(unclamped);
+
+  bench::TruthOptions point_only;
+  point_only.light_radius = 0.0f;
+  const bench::Truth t = bench::compute_truth(caster, hall, 0, img, point_only);
+  uint64_t beyond = 0, covered = 0;
+  const glm::vec3 light = hall.light().path.at(0);
+  for (size_t i = 0; i < t.covered.size(); ++i) {
+    if (!t.covered[i]) continue;
+    ++covered;
+    const glm::vec3 p(img.world_position[4 * i], img.world_position[4 * i + 1],
+                      img.world_position[4 * i + 2]);
+    if (glm::length(p - light) < img.light_far * 1.001f) continue;
+    ++beyond;
+    EXPECT_EQ(img.shadow_factor[i], 0.0f) << "pixel " << i << " is out of the light's range";
+    EXPECT_EQ(t.point_shadow[i], 0.0f);
+  }
+  EXPECT_GT(beyond, covered / 4) << "the camera sees well beyond the first lamp's range";
+  EXPECT_LT(bench::measure_accuracy(t, img).misclassified_percent, 5.0);
+  bench::LookupInputs in;
+  in.light = glm::dvec3(light);
+  in.camera = glm::dvec3(hall.camera.position);
+  in.far_plane = img.light_far;
+  const bench::LookupReport lookups = bench::check_lookups(img, in);
+  EXPECT_TRUE(lookups.ok()) << bench::describe(lookups);
+  Images unbounded = img;
+  unbounded.light_far = 1e6f;  // a replay that ignores the range
+  EXPECT_FALSE(bench::check_lookups(unbounded, in).ok());
 }
 
 // The texel bound from the rasterisation rules (bench/truth/texel_bounds.h), both sides. A conformant GPU
@@ -207,18 +259,18 @@ TEST_P(BackendTest, PerturbedRasterPassesTheSubPixelBoundOnly) {
   const int bits = backend_->device().subpixel_bits;
   ASSERT_GE(bits, 4) << "both APIs require at least 4 sub-pixel bits";
   reference::RayCaster caster(*room_);
-  const glm::vec3 light = room_->light.path.at(0);
+  const glm::vec3 light = room_->light().path.at(0);
   for (Technique t : {Technique::six_pass, Technique::geometry_shader}) {
     CaseConfig c = room_case(t, Filter::hard, 64);
     c.raster_perturb_steps = 1.0f;
     Images img = render(c, 0);
     bench::CubeTruth truth =
-        bench::compute_cube_truth(caster, *room_, light, room_->light.near_plane, img.light_far, 64, false);
+        bench::compute_cube_truth(caster, *room_, light, room_->light().near_plane, img.light_far, 64, false);
     bench::CubeTexelReport ok = bench::check_cube_texels(truth, img, Storage::linear_depth, DepthFormat::d32f,
-                                                         room_->light.near_plane, bits);
+                                                         room_->light().near_plane, bits);
     EXPECT_LE(ok.bad_percent(), bench::kCubeTexelLimitPercent) << to_string(t) << ": " << bench::describe(ok);
     bench::CubeTexelReport centre_only = bench::check_cube_texels(
-        truth, img, Storage::linear_depth, DepthFormat::d32f, room_->light.near_plane, 60);
+        truth, img, Storage::linear_depth, DepthFormat::d32f, room_->light().near_plane, 60);
     EXPECT_GT(centre_only.bad_percent(), bench::kCubeTexelLimitPercent)
         << to_string(t) << ": the perturbation no longer moves silhouettes: " << bench::describe(centre_only);
     std::printf("%s: sub-pixel bound %.3g%% wrong, centre-only %.3g%% (%s)\n",
@@ -230,7 +282,7 @@ TEST_P(BackendTest, PerturbedRasterPassesTheSubPixelBoundOnly) {
     Images swapped = img;
     std::swap(swapped.cube_distance[0], swapped.cube_distance[1]);  // +X and -X
     EXPECT_GT(bench::check_cube_texels(truth, swapped, Storage::linear_depth, DepthFormat::d32f,
-                                       room_->light.near_plane, bits)
+                                       room_->light().near_plane, bits)
                   .bad_percent(),
               5.0);
   }
@@ -244,7 +296,7 @@ TEST_P(BackendTest, PerturbedLookupsPassTheSubTexelBoundOnly) {
   const int bits = backend_->device().subtexel_bits;
   ASSERT_GE(bits, 4) << "Vulkan requires at least 4 sub-texel bits";
   bench::LookupInputs in;
-  in.light = glm::dvec3(room_->light.path.at(0));
+  in.light = glm::dvec3(room_->light().path.at(0));
   in.camera = glm::dvec3(room_->camera.position);
   in.subtexel_bits = bits;
   for (Layout layout : {Layout::cube, Layout::face_array})
@@ -427,7 +479,7 @@ TEST_P(BackendTest, BothStoragesSeeTheSameShadows) {
       << "storages disagree on " << differing << " pixels";
   // Texels nothing was drawn to: none in a closed room, so both hold finite distances everywhere.
   for (const auto& face : r32f.cube_distance)
-    EXPECT_LT(*std::max_element(face.begin(), face.end()), room_->light.far_plane);
+    EXPECT_LT(*std::max_element(face.begin(), face.end()), room_->light().far_plane);
 }
 
 TEST_P(BackendTest, SoftFiltersGiveFractionsBetweenZeroAndOne) {

@@ -211,6 +211,43 @@ std::vector<BadGltf> bad_files() {
   };
 }
 
+// KHR_lights_punctual: a point light sits at its node's origin under the node's transforms; spot and
+// directional lights are counted; a node naming a light the file lacks is one line.
+TEST(GltfLoader, PunctualPointLightsStandWhereTheirNodesPutThem) {
+  std::ifstream in(seeds("triangle_embedded.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  using J = nlohmann::json;
+  auto light_node = [](int light, J transform) {
+    transform["extensions"] = J{{"KHR_lights_punctual", {{"light", light}}}};
+    return transform;
+  };
+  doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 20}, {"range", 7}},
+      {{"type", "spot"}, {"spot", J::object()}},
+      {{"type", "point"}}};
+  doc["nodes"][0]["children"] = {1, 2, 3};  // node 0 moves its children by (0, 1, 0)
+  doc["nodes"].push_back(light_node(0, {{"translation", {2, 0, 0}}}));
+  doc["nodes"].push_back(light_node(1, J::object()));
+  doc["nodes"].push_back(light_node(2, {{"translation", {0, 0, -1}}}));
+  const GltfModel m = load_gltf_bytes(doc.dump(), "lights.gltf", kLimit);
+  ASSERT_EQ(m.point_lights.size(), 2u);
+  EXPECT_EQ(m.point_lights[0].position, glm::dvec3(2, 1, 0));
+  EXPECT_EQ(m.point_lights[0].color, glm::vec3(1.0f, 0.5f, 0.25f));
+  EXPECT_EQ(m.point_lights[0].intensity, 20.0);
+  EXPECT_EQ(m.point_lights[0].range, 7.0);
+  EXPECT_EQ(m.point_lights[1].position, glm::dvec3(0, 1, -1));
+  EXPECT_EQ(m.point_lights[1].range, 0.0) << "no range: infinite";
+  EXPECT_EQ(m.skipped_lights, 1) << "the spot light";
+  doc["nodes"][2]["extensions"]["KHR_lights_punctual"]["light"] = 9;
+  try {
+    load_gltf_bytes(doc.dump(), "lights.gltf", kLimit);
+    ADD_FAILURE() << "a node naming light 9 of 3 was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "lights.gltf: node 2: KHR_lights_punctual light 9 does not exist");
+  }
+}
+
 TEST(GltfLoader, MalformedFilesAreOneLineNamingTheFile) {
   const fs::path dir = fs::temp_directory_path() / "omnishadow_gltf_loader_test" / "models";
   fs::create_directories(dir);

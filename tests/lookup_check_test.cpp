@@ -44,6 +44,26 @@ TEST(LookupCheck, AcceptsWhatTheRuleGivesAndRejectsTheRest) {
   EXPECT_TRUE(check_lookups(one_pixel({10, 1, 2}, d, 1.0f), in).ok());
 }
 
+// A point beyond the light's far plane is out of its range: the lighting pass reports 0 there whatever the
+// taps read (lighting.frag), and within float rounding of the far plane either value.
+TEST(LookupCheck, BeyondTheLightsRangeTheFactorIsZero) {
+  LookupInputs in;
+  Images beyond = one_pixel({10, 1, 2}, 6.0f, 0.0f);  // occluded at 6, but 10.2 units away
+  beyond.light_far = 9.0f;
+  EXPECT_TRUE(check_lookups(beyond, in).ok());
+  beyond.shadow_factor = {1.0f};
+  EXPECT_FALSE(check_lookups(beyond, in).ok()) << "what the taps give, reported beyond the range";
+  const double d = glm::length(glm::dvec3(10, 1, 2));
+  beyond.light_far = float(d);
+  for (float shadow : {0.0f, 1.0f}) {
+    beyond.shadow_factor = {shadow};
+    EXPECT_TRUE(check_lookups(beyond, in).ok()) << "at the range, shadow " << shadow;
+  }
+  beyond.light_far = float(d * (1.0 + 1e-5));
+  beyond.shadow_factor = {0.0f};
+  EXPECT_FALSE(check_lookups(beyond, in).ok()) << "within the range the occluder at 6 shadows";
+}
+
 TEST(LookupCheck, ATapOnATexelBoundaryMayReadEitherTexel) {
   LookupInputs in;
   // Direction (10, 0, 0.0001) on +X: s = (-z/x + 1) * 2 = 1.99998 texels, within 1/16 of the boundary at 2.

@@ -14,8 +14,8 @@
 namespace omnishadow::bench {
 namespace {
 
-const std::map<std::string, std::pair<int, int>> kSizes = {
-    {"room", {800, 600}}, {"heavy", {640, 480}}, {"bunny", {800, 600}}};
+const std::map<std::string, SceneFacts> kSizes = {
+    {"room", {800, 600, 1}}, {"heavy", {640, 480, 1}}, {"bunny", {800, 600, 1}}, {"hall", {800, 600, 64}}};
 
 TEST(Matrix, ExpandsEveryCombinationOnceWithTechniqueInnermost) {
   MatrixSpec spec;
@@ -130,6 +130,29 @@ TEST(Matrix, ExperimentAxesAreInTheIdOnlyWithSeveralValues) {
   EXPECT_EQ(cases[1].injected_work, 0);
   spec.injected_work = {0};
   EXPECT_EQ(expand(spec, kSizes)[1].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/rep1");
+}
+
+// The light-count axis: not given, each scene runs with all of its point lights; given, every scene runs
+// each count (more than a scene has is the runner's unsupported). /l<K> in the id above one light only.
+TEST(Matrix, LightCountsDefaultToEachScenesOwnAndNameTheirCases) {
+  MatrixSpec spec;
+  spec.scenes = {"room", "hall"};
+  spec.cube_sizes = {256};
+  spec.filters = {Filter::hard};
+  spec.techniques = {Technique::six_pass};
+  auto own = expand(spec, kSizes);
+  ASSERT_EQ(own.size(), 2u);
+  EXPECT_EQ(own[0].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f");
+  EXPECT_EQ(own[1].id(), "gl/hall/c256/f800x600/six_pass/hard/linear_depth/d32f/l64");
+  EXPECT_EQ(own[1].light_count, 64);
+  spec.light_counts = {1, 4};
+  spec.filters = {Filter::hard, Filter::pcf_disk20};
+  auto cases = expand(spec, kSizes);
+  ASSERT_EQ(cases.size(), 8u);
+  EXPECT_EQ(cases[1].id(), "gl/room/c256/f800x600/six_pass/pcf_disk20/linear_depth/d32f");
+  EXPECT_EQ(cases[2].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/l4")
+      << "light count outside the filter";
+  EXPECT_EQ(cases[4].id(), "gl/hall/c256/f800x600/six_pass/hard/linear_depth/d32f");
 }
 
 TEST(Matrix, ShardsPartitionTheMatrix) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "scenes/scene.h"
 
@@ -44,14 +45,14 @@ void expect_rule_holds(const Scene& s) {
                            i & 2 ? o->bounds_max.y : o->bounds_min.y,
                            i & 4 ? o->bounds_max.z : o->bounds_min.z);
   for (int frame : {0, 30, 94, 188, 500}) {  // 94: the sway's peak (0.5 rad/s * 94/60 s = pi/2)
-    const glm::vec3 light = s.light.path.at(frame);
+    const glm::vec3 light = s.light().path.at(frame);
     EXPECT_GT(glm::length(light - c), kModelRadius)
         << "frame " << frame << ": the light is outside the model";
     for (const glm::vec3& p : corners)
-      EXPECT_LT(glm::length(p - light), s.light.far_plane)
+      EXPECT_LT(glm::length(p - light), s.light().far_plane)
           << "frame " << frame << ": far holds the whole scene";
   }
-  EXPECT_NEAR(glm::length(s.light.path.amplitude), kModelRadius / 4, 1e-5);
+  EXPECT_NEAR(glm::length(s.light().path.amplitude), kModelRadius / 4, 1e-5);
   // The camera frames the bounding sphere: its angular radius is under half the vertical field of view.
   const float distance = glm::length(s.camera.position - c);
   EXPECT_LT(std::asin(kModelRadius / distance), glm::radians(s.camera.fov_y_degrees) / 2);
@@ -103,9 +104,41 @@ TEST(ModelScene, RebaseSubtractsThePlacedLightInDouble) {
   LoadOptions rebased;
   rebased.rebase_origin = true;
   const Scene s = load_scene_file(path, rebased);
-  EXPECT_EQ(s.light.path.base, glm::vec3(0.0f));
+  EXPECT_EQ(s.light().path.base, glm::vec3(0.0f));
   EXPECT_NE(s.origin, glm::dvec3(0.0));
   EXPECT_LT(glm::length(s.camera.position), 4 * kModelRadius) << "stored relative to the light";
+}
+
+// A glTF model's KHR_lights_punctual point lights replace the rule's light: scaled with the model, range as
+// far, the brightest at the tutorial's 0.3; `--light` moves the first of them and keeps the rest.
+TEST(ModelScene, AGltfModelBringsItsOwnPointLights) {
+  std::ifstream in(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/../fuzz/seeds/gltf/triangle_embedded.gltf");
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 10}, {"range", 3}},
+                                                        {{"type", "point"}, {"color", {1, 0, 0}}}};
+  doc["nodes"][0]["children"] = {1, 2};
+  doc["nodes"].push_back(
+      {{"translation", {0, 2, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  doc["nodes"].push_back(
+      {{"translation", {1, 2, 1}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  const std::string path = write_file("lit.gltf", doc.dump());
+  const Scene s = load_scene_file(path);
+  ASSERT_EQ(s.point_lights.size(), 2u);
+  const float scale = s.point_lights[0].far_plane / 3.0f;  // range 3 in the file's units
+  EXPECT_NEAR(s.point_lights[0].path.base.y, 3.0f * scale, 1e-4f) << "(0, 1, 0) + (0, 2, 0), scaled";
+  EXPECT_EQ(s.point_lights[0].path.amplitude, glm::vec3(0.0f)) << "a model's lights stand still";
+  EXPECT_EQ(s.point_lights[0].color, glm::vec3(0.3f));
+  EXPECT_NEAR(s.point_lights[1].color.r, 0.03f, 1e-6f) << "a tenth of the brightest";
+  EXPECT_EQ(s.point_lights[1].color.g, 0.0f);
+  for (const scene::Vertex& v : s.vertices)
+    EXPECT_LT(glm::length(v.position - s.point_lights[1].path.base), s.point_lights[1].far_plane)
+        << "no range: the far plane holds the whole scene";
+  LoadOptions moved;
+  moved.light = LightPlacement{{0, 5, 0}, {0, 0, 0}};
+  const Scene m = load_scene_file(path, moved);
+  ASSERT_EQ(m.point_lights.size(), 2u);
+  EXPECT_NEAR(m.point_lights[0].path.base.y, 5.0f * scale, 1e-4f);
+  EXPECT_EQ(m.point_lights[1], s.point_lights[1]);
 }
 
 TEST(ModelScene, LightAndCameraOverridesApplyToSceneFilesToo) {
@@ -114,15 +147,15 @@ TEST(ModelScene, LightAndCameraOverridesApplyToSceneFilesToo) {
   o.light = LightPlacement{{1, 2, -1}, {0, 0, 0.5f}};
   o.camera = CameraPlacement{{4, 4, 4}, glm::dvec3(0, -1, 0)};
   const Scene room = load_scene_file(scenes + "/room.json", o);
-  EXPECT_EQ(room.light.path.base, glm::vec3(1, 2, -1));
-  EXPECT_EQ(room.light.path.amplitude, glm::vec3(0, 0, 0.5f));
-  EXPECT_EQ(room.light.far_plane, 25.0f) << "a scene file keeps its planes";
+  EXPECT_EQ(room.light().path.base, glm::vec3(1, 2, -1));
+  EXPECT_EQ(room.light().path.amplitude, glm::vec3(0, 0, 0.5f));
+  EXPECT_EQ(room.light().far_plane, 25.0f) << "a scene file keeps its planes";
   EXPECT_EQ(room.camera.position, glm::vec3(4, 4, 4));
   EXPECT_EQ(room.camera.target, glm::vec3(0, -1, 0));
   o.rebase_origin = true;
   const Scene rebased = load_scene_file(scenes + "/room.json", o);
   EXPECT_EQ(rebased.origin, glm::dvec3(1, 2, -1)) << "the rebase follows the light placed by hand";
-  EXPECT_EQ(rebased.light.path.base, glm::vec3(0.0f));
+  EXPECT_EQ(rebased.light().path.base, glm::vec3(0.0f));
 
   LoadOptions up;
   up.camera = CameraPlacement{{0, 4, 0}, glm::dvec3(0, 0, 0)};
@@ -192,7 +225,7 @@ TEST(ModelScene, TheDefaultMatrixsBunnyRoomHoldsTheBunnyClearOfWallsAndLight) {
   };
   EXPECT_TRUE(inside_room(bunny.bounds_min) && inside_room(bunny.bounds_max));
   for (int frame = 0; frame < 400; frame += 7) {
-    const glm::vec3 l = s.light.path.at(frame);
+    const glm::vec3 l = s.light().path.at(frame);
     EXPECT_GT(l.y, bunny.bounds_max.y) << "frame " << frame << ": the light sways above the bunny";
     EXPECT_TRUE(inside_room(l)) << "frame " << frame;
   }

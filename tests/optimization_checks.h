@@ -115,7 +115,7 @@ inline void check_fit_range(Backend& b, const std::string& backend, const scene:
   CaseConfig six = optimization_case(backend, "room", Technique::six_pass);
   six.optimizations.fit_range = true;
   Images a = render_frame(b, six, 12);
-  EXPECT_LT(a.light_far, room.light.far_plane * 0.5f);
+  EXPECT_LT(a.light_far, room.light().far_plane * 0.5f);
   EXPECT_GT(a.light_far,
             5.0f * std::sqrt(3.0f) - 3.0f);  // the room's far corners from a light near the centre
   CaseConfig gs = six;

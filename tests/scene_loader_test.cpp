@@ -34,10 +34,10 @@ TEST(SceneLoader, RoomIsTheSeedScene) {
   EXPECT_GT(half.y, 0.8f);
   EXPECT_NEAR((s.objects[5].bounds_max.y + s.objects[5].bounds_min.y) * 0.5f, 2.0f, 1e-5);
   // The light: near 1, far 25; at the origin on frame 0, z = 3 sin(0.5 t) after that.
-  EXPECT_EQ(s.light.near_plane, 1.0f);
-  EXPECT_EQ(s.light.far_plane, 25.0f);
-  EXPECT_EQ(s.light.path.at(0), glm::vec3(0));
-  glm::vec3 p = s.light.path.at(120);  // t = 2 s at 60 frames per second
+  EXPECT_EQ(s.light().near_plane, 1.0f);
+  EXPECT_EQ(s.light().far_plane, 25.0f);
+  EXPECT_EQ(s.light().path.at(0), glm::vec3(0));
+  glm::vec3 p = s.light().path.at(120);  // t = 2 s at 60 frames per second
   EXPECT_NEAR(p.z, 3.0f * std::sin(1.0f), 1e-4);
   EXPECT_EQ(s.camera.position, glm::vec3(0, 0, 3));
   EXPECT_EQ(s.camera.width, 800);
@@ -47,8 +47,8 @@ TEST(SceneLoader, RoomIsTheSeedScene) {
 TEST(SceneLoader, OgldevAndHeavyLoad) {
   Scene o = load_scene_file(kScenes + "/ogldev.json");
   EXPECT_EQ(o.objects.size(), 4u);
-  EXPECT_EQ(o.light.path.at(77), glm::vec3(0, 5, 0));
-  EXPECT_EQ(o.light.far_plane, 100.0f);
+  EXPECT_EQ(o.light().path.at(77), glm::vec3(0, 5, 0));
+  EXPECT_EQ(o.light().far_plane, 100.0f);
   Scene h = load_scene_file(kScenes + "/heavy.json");
   EXPECT_GE(h.triangle_count(), 100000u);
 }
@@ -135,8 +135,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"{" LIGHT R"(, "objects": [{"type": "sphere", "segments": [4096, 4096]}]})",
                  "/objects/0/segments/0"},
         // Several lights: each checked where it stands.
-        BadScene{R"({"lights": [{"type": "point"}, {"type": "point"}], "objects": [{"type": "box"}]})",
-                 "/lights/1: at most one point light"},
+        BadScene{R"({"lights": [{"type": "point", "path": {"phase": 1e9}}], "objects": [{"type": "box"}]})",
+                 "/lights/0/path/phase: must be in [-1000, 1000]"},
         BadScene{R"({"lights": [{"type": "area"}], "objects": [{"type": "box"}]})",
                  "/lights/0/type: unknown light type"},
         BadScene{
@@ -160,15 +160,44 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(SceneLoader, LightsEachGetWhatTheyNeed) {
   Scene s = load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/mixed.json");
-  EXPECT_TRUE(s.has_point_light);
+  EXPECT_TRUE(s.has_point_light());
   ASSERT_EQ(s.map_lights.size(), 2u);
   EXPECT_EQ(s.map_lights[0].type, MapLightType::spot);
   EXPECT_EQ(s.map_lights[1].type, MapLightType::directional);
   EXPECT_NEAR(glm::length(s.map_lights[1].direction), 1.0f, 1e-6f);
   Scene d = load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/seed003.json");
-  EXPECT_FALSE(d.has_point_light);
+  EXPECT_FALSE(d.has_point_light());
   ASSERT_EQ(d.map_lights.size(), 1u);
   EXPECT_TRUE(d.map_lights[0].cull_front_faces);
+}
+
+// Many point lights: file order kept (a case renders the first K), each with its own path and phase; more
+// than the cap is an error naming the first one over; --light moves the first and no other.
+TEST(SceneLoader, ManyPointLightsKeepTheirOrderAndPaths) {
+  const std::string hall_path = std::string(OMNISHADOW_TEST_SCENES_DIR) + "/hall.json";
+  const Scene hall = load_scene_file(hall_path);
+  ASSERT_EQ(hall.point_lights.size(), 64u);
+  EXPECT_EQ(hall.light().path.base, glm::vec3(-30.0f, 5.5f, -4.5f));
+  EXPECT_EQ(hall.point_lights[3].far_plane, 12.0f);
+  const LightPath& swaying = hall.point_lights[3].path;
+  EXPECT_EQ(swaying.at(0), swaying.base + swaying.amplitude * std::sin(swaying.phase));
+  EXPECT_NE(swaying.phase, hall.point_lights[7].path.phase) << "lamps sway out of step";
+  LoadOptions moved;
+  moved.light = LightPlacement{{1, 2, 3}, {0, 0, 0}};
+  const Scene m = load_scene_file(hall_path, moved);
+  EXPECT_EQ(m.light().path.base, glm::vec3(1, 2, 3));
+  for (size_t i = 1; i < hall.point_lights.size(); ++i) EXPECT_EQ(m.point_lights[i], hall.point_lights[i]);
+
+  std::string many = R"({"objects": [{"type": "box"}], "lights": [)";
+  for (int i = 0; i <= kMaxPointLights; ++i) many += std::string(i ? "," : "") + R"({"type": "point"})";
+  try {
+    load_scene_text(many + "]}", "many.json");
+    ADD_FAILURE() << "more point lights than kMaxPointLights were accepted";
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(e.what(), ("many.json: /lights/" + std::to_string(kMaxPointLights) + ": at most " +
+                            std::to_string(kMaxPointLights) + " point lights per scene")
+                               .c_str());
+  }
 }
 
 TEST(SceneLoader, MissingFileIsAnError) {

@@ -166,6 +166,12 @@ Support common_support(const CaseConfig& c) {
             "the moments blur needs a cube of at least 4 texels a side (a tap folds across one seam only)"};
   if (c.cube_size < 1 || c.width < 1 || c.height < 1)
     return {false, "cube and frame sizes must be at least 1"};
+  if (c.light_count < 1) return {false, "the light count must be at least 1"};
+  if (c.light_count > 1)
+    return {false,
+            std::to_string(c.light_count) +
+                " point lights: the shadow and lighting passes render one point light so far (one cube "
+                "or layout)"};
   if (c.technique == Technique::nv_swizzle && c.storage == Storage::hardware_depth)
     return {false,
             "nv_swizzle's clip z is the near plane (a swizzle cannot scale it per face), so the rasteriser's "
@@ -187,6 +193,7 @@ std::string CaseConfig::id() const {
   if (layout != Layout::cube)
     id += "/" + std::string(to_string(layout));  // cube ids stay as they were before layouts
   if (tessellation != 1) id += "/t" + std::to_string(tessellation);
+  if (light_count != 1) id += "/l" + std::to_string(light_count);
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";

@@ -184,6 +184,9 @@ struct CaseConfig {
   // Every triangle of the scene subdivided into tessellation^2 (--tessellate; scenes/tessellate.h): the same
   // surfaces in more, smaller triangles, for layouts whose error depends on it. In the id as /t<n> unless 1.
   int tessellation = 1;
+  // The first light_count point lights of the scene (--light-count; scenes/README.md), each with its own
+  // shadow map. In the id as /l<K> when above 1, so that a one-light case keeps its id.
+  int light_count = 1;
   Optimizations optimizations;
   Remedies remedies;
   MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default

@@ -15,7 +15,7 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
                                   cube::DepthRange range) {
   const int width = config.width, height = config.height, injected_work = config.injected_work;
   const scene::Camera& cam = scene.camera;
-  const scene::PointLight& light = scene.light;
+  const scene::PointLight& light = scene.light();
   const glm::vec3 light_position = light.path.at(frame);
   const float aspect = static_cast<float>(width) / static_cast<float>(height);
   const float fov = glm::radians(cam.fov_y_degrees);
@@ -53,8 +53,8 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
     u.map_color[i] = glm::vec4(m.color, m.near_plane);
     u.map_range[i] = glm::vec4(m.far_plane, 0.0f, 0.0f, 0.0f);
   }
-  u.lights_info =
-      glm::vec4(static_cast<float>(scene.map_lights.size()), scene.has_point_light ? 1.0f : 0.0f, 0.0f, 0.0f);
+  u.lights_info = glm::vec4(static_cast<float>(scene.map_lights.size()),
+                            scene.has_point_light() ? 1.0f : 0.0f, 0.0f, 0.0f);
   return u;
 }
 

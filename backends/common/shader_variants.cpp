@@ -189,7 +189,7 @@ std::vector<std::string> spirv_variant_keys() {
 }
 
 LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s) {
-  return {static_cast<int32_t>(s.map_lights.size()), s.has_point_light ? 1 : 0, c.injected_work,
+  return {static_cast<int32_t>(s.map_lights.size()), s.has_point_light() ? 1 : 0, c.injected_work,
           c.lookup_perturb_texels};
 }
 

@@ -15,10 +15,10 @@ ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, co
   f.reuse_cube =
       config.optimizations.static_cache && cube_light_ && *cube_light_ == f.uniforms.light_position;
   if (!f.reuse_cube) {
-    f.plan = cube::plan_shadow_draws(scene, glm::vec3(f.uniforms.light_position), scene.light.near_plane,
+    f.plan = cube::plan_shadow_draws(scene, glm::vec3(f.uniforms.light_position), scene.light().near_plane,
                                      f.uniforms.light_position.w, config.optimizations.face_culling);
-    if (!scene
-             .has_point_light) {  // no point light: the cube is only cleared (the harness runs six_pass only)
+    if (!scene.has_point_light()) {  // no point light: the cube is only cleared (the harness runs six_pass
+                                     // only)
       for (auto& list : f.plan.face_objects) list.clear();
       f.plan.reaching.clear();
       std::fill(f.plan.object_faces.begin(), f.plan.object_faces.end(), uint8_t{0});

@@ -556,7 +556,7 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
   img.light_far = far_plane;
   if (cube_read_back == CubeReadBack::sampled) {
     read_cube_summary(summary_program_, shadow_.stored_layers, nearest_sampler_, shadow_.size, img);
-    cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane,
+    cube::sample_to_distance(img, shadow_.storage, scene_->light().near_plane, far_plane,
                              cube::DepthRange::minus_one_to_one);
   }
   for (int f = 0; f < shadow_.layers && cube_read_back == CubeReadBack::full; ++f) {
@@ -569,7 +569,7 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
     for (size_t i = 0; i < texels; ++i)
       face[i] =
           cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
-                                   scene_->light.near_plane, far_plane, cube::DepthRange::minus_one_to_one);
+                                   scene_->light().near_plane, far_plane, cube::DepthRange::minus_one_to_one);
   }
   if (shadow_.colour_layers && cube_read_back == CubeReadBack::full) {
     img.moment_channels = traits(shadow_.storage).colour_channels;

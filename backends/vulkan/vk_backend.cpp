@@ -790,7 +790,7 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
   img.light_far = far_plane;
   if (cube_read_back == CubeReadBack::sampled) {
     summarizer_->read(stored, nearest_sampler_, shadow_.size, img);
-    cube::sample_to_distance(img, shadow_.storage, scene_->light.near_plane, far_plane,
+    cube::sample_to_distance(img, shadow_.storage, scene_->light().near_plane, far_plane,
                              cube::DepthRange::zero_to_one);
   }
   const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
@@ -803,7 +803,7 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
     face = decode_texels(stored.format, bytes.data() + f * texels * texel_bytes, texels);
     for (size_t i = 0; i < texels; ++i)
       face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % shadow_.size),
-                                         int(i / shadow_.size), int(shadow_.size), scene_->light.near_plane,
+                                         int(i / shadow_.size), int(shadow_.size), scene_->light().near_plane,
                                          far_plane, cube::DepthRange::zero_to_one);
   }
   if (blur_ && cube_read_back == CubeReadBack::full) read_moments(img);

@@ -107,6 +107,18 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
        "in "
        "smaller triangles, for a layout whose warp bends edges: dual_paraboloid)")
       ->default_str(join(m.tessellations, [](int v) { return std::to_string(v); }));
+  r.add_option_function<std::string>(
+       "--light-count",
+       [&m](const std::string& t) {
+         m.light_counts = parse_int_list(t, "--light-count");
+         for (int n : m.light_counts)
+           if (n > scene::kMaxPointLights)
+             throw std::invalid_argument("--light-count: " + std::to_string(n) + " is more than " +
+                                         std::to_string(scene::kMaxPointLights) + " lights");
+       },
+       "comma list of point-light counts: each case renders the scene's first K point lights (ids end in "
+       "/l<K> above 1); a scene with fewer says unsupported")
+      ->default_str("each scene's own");
   list_option(
       r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
       [](const Optimizations& o) { return to_string(o); },

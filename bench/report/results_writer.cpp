@@ -71,6 +71,7 @@ json axes_to_json(const CaseConfig& c) {
                {"depth_format", to_string(c.depth_format)},
                {"layout", to_string(c.layout)},
                {"tessellation", c.tessellation},
+               {"light_count", c.light_count},
                {"optimizations", to_string(c.optimizations)},
                {"remedies", to_string(c.remedies)},
                {"moments_tuning", to_string(c.moments)},

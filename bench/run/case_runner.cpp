@@ -117,8 +117,13 @@ Backend& Harness::activate(const CaseConfig& config) {
 // Whether the case can run here at all: supported by the backend and the scene, and (unless told not to
 // check) fitting in memory. Adds the finding that says why not.
 bool Harness::admit(CaseResult& r, Backend& b) {
-  Support s = b.supports(r.config);
-  if (s.ok && r.config.technique != Technique::six_pass && !scene_of(r.config).has_point_light)
+  const scene::Scene& sc = scene_of(r.config);
+  Support s = r.config.light_count > std::max<int>(int(sc.point_lights.size()), 1)
+                  ? Support{false, r.config.scene + " has " + std::to_string(sc.point_lights.size()) +
+                                       " point light(s); --light-count " +
+                                       std::to_string(r.config.light_count) + " asks for more"}
+                  : b.supports(r.config);
+  if (s.ok && r.config.technique != Technique::six_pass && !sc.has_point_light())
     s = {false,
          "the scene has no point light, so no cube: its spot/directional lights render one 2D map each "
          "(measured by six_pass); the single-pass techniques apply to cube maps"};
@@ -144,7 +149,7 @@ bool Harness::admit(CaseResult& r, Backend& b) {
 void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
   const scene::Scene& sc = scene_of(r.config);
   cube::ShadowDrawPlan plan =
-      cube::plan_shadow_draws(sc, sc.light.path.at(options_.check_frame), sc.light.near_plane, light_far,
+      cube::plan_shadow_draws(sc, sc.light().path.at(options_.check_frame), sc.light().near_plane, light_far,
                               r.config.optimizations.face_culling);
   r.empty_faces = plan.empty_faces;
   for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
@@ -153,13 +158,14 @@ void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
   r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
 }
 
-// What a case's floor depends on: backend, scene, cube, frame size, storage and depth format. Not the filter,
-// remedies or PCF scale (the floor's lighting has no lookup), nor the optimisations (no draws).
+// What a case's floor depends on: backend, scene, cube, frame size, storage, depth format and light count.
+// Not the filter, remedies or PCF scale (the floor's lighting has no lookup), nor the optimisations (no
+// draws).
 static std::string floor_key(const CaseConfig& c) {
   return c.backend + "/" + scene_key(c) + "/c" + std::to_string(c.cube_size) + "/f" +
          std::to_string(c.width) + "x" + std::to_string(c.height) + "/" +
          std::string(to_string(c.technique)) + "/" + std::string(to_string(c.storage)) + "/" +
-         std::string(to_string(c.depth_format));
+         std::string(to_string(c.depth_format)) + "/l" + std::to_string(c.light_count);
 }
 
 void Harness::measure_floor(CaseResult& r, Backend& b) {

@@ -1,6 +1,8 @@
 #include "bench/run/matrix.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <tuple>
 
 #include "backends/common/storage_filter_tables.h"
 
@@ -60,62 +62,75 @@ std::vector<std::pair<int, int>> parse_size_list(const std::string& text, const 
   return out;
 }
 
-std::vector<CaseConfig> expand(const MatrixSpec& spec,
-                               const std::map<std::string, std::pair<int, int>>& scene_sizes) {
+namespace {
+
+// Every case of `cases` once per value of an axis, the axis inside the ones before it: expanding the axes
+// outermost first gives the documented order.
+template <typename T, typename Set>
+void times(std::vector<CaseConfig>& cases, const std::vector<T>& values, Set set) {
+  std::vector<CaseConfig> out;
+  out.reserve(cases.size() * values.size());
+  for (const CaseConfig& c : cases)
+    for (const T& v : values) {
+      out.push_back(c);
+      set(out.back(), v);
+    }
+  cases = std::move(out);
+}
+
+// One scene's cases on one backend, in the order of the loops matrix.h documents.
+std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& base, const SceneFacts& facts) {
+  std::vector<CaseConfig> cases{base};
+  std::vector<std::pair<int, int>> sizes = spec.frame_sizes;
+  if (sizes.empty()) sizes.emplace_back(facts.width, facts.height);
+  std::vector<int> light_counts = spec.light_counts;
+  if (light_counts.empty()) light_counts.push_back(std::max(facts.point_lights, 1));
+  times(cases, spec.cube_sizes, [](CaseConfig& c, int v) { c.cube_size = v; });
+  times(cases, sizes, [](CaseConfig& c, const std::pair<int, int>& v) { std::tie(c.width, c.height) = v; });
+  times(cases, spec.storages, [](CaseConfig& c, Storage v) { c.storage = v; });
+  times(cases, spec.depth_formats, [](CaseConfig& c, DepthFormat v) { c.depth_format = v; });
+  times(cases, spec.layouts, [](CaseConfig& c, Layout v) { c.layout = v; });
+  times(cases, spec.tessellations, [](CaseConfig& c, int v) { c.tessellation = v; });
+  times(cases, light_counts, [](CaseConfig& c, int v) { c.light_count = v; });
+  times(cases, spec.filters, [](CaseConfig& c, Filter v) { c.filter = v; });
+  // A moments filter stores its own moments whatever the storage axis says: one case, not one per storage.
+  std::erase_if(cases, [&](const CaseConfig& c) {
+    return traits(c.filter).own_storage && c.storage != spec.storages.front();
+  });
+  for (CaseConfig& c : cases) c.storage = storage_for(c.filter, c.storage);
+  times(cases, spec.pcf_scales, [](CaseConfig& c, float v) { c.pcf_scale = v; });
+  times(cases, spec.remedies, [](CaseConfig& c, const Remedies& v) { c.remedies = v; });
+  times(cases, spec.moments_tunings, [](CaseConfig& c, const MomentsTuning& v) { c.moments = v; });
+  times(cases, spec.optimizations, [](CaseConfig& c, const Optimizations& v) { c.optimizations = v; });
+  times(cases, spec.techniques, [](CaseConfig& c, Technique v) { c.technique = v; });
+  times(cases, spec.injected_work, [&](CaseConfig& c, int v) {
+    c.injected_work = v;
+    if (spec.injected_work.size() > 1) c.experiment = "inj" + std::to_string(v);
+  });
+  std::vector<int> replicas(size_t(std::max(spec.replicas, 1)));
+  for (size_t k = 0; k < replicas.size(); ++k) replicas[k] = int(k);
+  times(cases, replicas, [&](CaseConfig& c, int k) {
+    if (spec.replicas > 1) c.experiment += (c.experiment.empty() ? "rep" : "/rep") + std::to_string(k);
+  });
+  return cases;
+}
+
+}  // namespace
+
+std::vector<CaseConfig> expand(const MatrixSpec& spec, const std::map<std::string, SceneFacts>& scenes) {
   std::vector<CaseConfig> cases;
   for (const auto& backend : spec.backends)
     for (const auto& scene : spec.scenes) {
-      std::vector<std::pair<int, int>> sizes = spec.frame_sizes;
-      if (sizes.empty()) {
-        auto it = scene_sizes.find(scene);
-        if (it == scene_sizes.end()) throw std::invalid_argument("no frame size known for scene " + scene);
-        sizes.push_back(it->second);
-      }
-      for (int cube : spec.cube_sizes)
-        for (const auto& [w, h] : sizes)
-          for (Storage storage : spec.storages)
-            for (DepthFormat depth : spec.depth_formats)
-              for (Layout layout : spec.layouts)
-                for (int tessellation : spec.tessellations)
-                  for (Filter filter : spec.filters)
-                    for (float pcf_scale : spec.pcf_scales)
-                      for (const Remedies& remedies : spec.remedies)
-                        for (const MomentsTuning& moments : spec.moments_tunings)
-                          for (const Optimizations& optimizations : spec.optimizations)
-                            for (Technique technique : spec.techniques)
-                              for (int injected : spec.injected_work)
-                                for (int replica = 0; replica < spec.replicas; ++replica) {
-                                  // A moments filter stores its own moments whatever the storage axis says:
-                                  // one case, not one per storage named.
-                                  if (traits(filter).own_storage && storage != spec.storages.front())
-                                    continue;
-                                  CaseConfig c;
-                                  c.injected_work = injected;
-                                  if (spec.injected_work.size() > 1)
-                                    c.experiment = "inj" + std::to_string(injected);
-                                  if (spec.replicas > 1)
-                                    c.experiment +=
-                                        (c.experiment.empty() ? "rep" : "/rep") + std::to_string(replica);
-                                  c.backend = backend;
-                                  c.scene = scene;
-                                  c.cube_size = cube;
-                                  c.width = w;
-                                  c.height = h;
-                                  c.storage = storage_for(filter, storage);
-                                  c.depth_format = depth;
-                                  c.layout = layout;
-                                  c.tessellation = tessellation;
-                                  c.filter = filter;
-                                  c.technique = technique;
-                                  c.optimizations = optimizations;
-                                  c.remedies = remedies;
-                                  c.moments = moments;
-                                  c.pcf_scale = pcf_scale;
-                                  c.raster_perturb_steps = spec.raster_perturb_steps;
-                                  c.lookup_perturb_texels = spec.lookup_perturb_texels;
-                                  c.emulate_nv_swizzle = spec.emulate_nv_swizzle;
-                                  cases.push_back(c);
-                                }
+      auto facts = scenes.find(scene);
+      if (facts == scenes.end()) throw std::invalid_argument("nothing known of scene " + scene);
+      CaseConfig base;
+      base.backend = backend;
+      base.scene = scene;
+      base.raster_perturb_steps = spec.raster_perturb_steps;
+      base.lookup_perturb_texels = spec.lookup_perturb_texels;
+      base.emulate_nv_swizzle = spec.emulate_nv_swizzle;
+      std::vector<CaseConfig> more = scene_cases(spec, base, facts->second);
+      cases.insert(cases.end(), more.begin(), more.end());
     }
   return cases;
 }

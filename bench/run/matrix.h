@@ -1,7 +1,7 @@
 #pragma once
 // The benchmark matrix: lists per axis, expanded into cases in a fixed order (backend, scene, cube size,
-// frame size, storage, depth format, layout, filter, optimisations, technique). Technique is innermost so
-// that each single-pass case runs right after the six_pass case it is checked against.
+// frame size, storage, depth format, layout, tessellation, light count, filter, ..., technique). Technique is
+// innermost so that each single-pass case runs right after the six_pass case it is checked against.
 
 #include <functional>
 #include <map>
@@ -25,8 +25,9 @@ struct MatrixSpec {
   std::vector<Filter> filters{Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20};
   std::vector<Storage> storages{Storage::linear_depth};
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
-  std::vector<Layout> layouts{Layout::cube};                    // --layout cube,face_array
-  std::vector<int> tessellations{1};                            // --tessellate 1,4,16
+  std::vector<Layout> layouts{Layout::cube};  // --layout cube,face_array
+  std::vector<int> tessellations{1};          // --tessellate 1,4,16
+  std::vector<int> light_counts;  // --light-count 1,4,16,64; empty: each scene's own number of point lights
   std::vector<Optimizations> optimizations{Optimizations{}};    // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                   // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01
@@ -53,9 +54,15 @@ struct MatrixSpec {
   static inline const std::vector<int> kCpuDriverCubeSizes{512};
 };
 
-// scene_sizes: the camera size of each scene, used when spec.frame_sizes is empty.
-std::vector<CaseConfig> expand(const MatrixSpec& spec,
-                               const std::map<std::string, std::pair<int, int>>& scene_sizes);
+// What the matrix reads of a scene: its camera's frame size (the frame size when spec.frame_sizes is empty)
+// and how many point lights it has (the light count when spec.light_counts is empty; 1 for a scene without
+// any, whose spot and directional lights every case renders).
+struct SceneFacts {
+  int width = 0;
+  int height = 0;
+  int point_lights = 1;
+};
+std::vector<CaseConfig> expand(const MatrixSpec& spec, const std::map<std::string, SceneFacts>& scenes);
 
 // Deterministic sharding: shard `index` of `count` keeps cases whose position modulo count equals index.
 std::vector<CaseConfig> shard(const std::vector<CaseConfig>& cases, int index, int count);

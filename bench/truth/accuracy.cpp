@@ -177,33 +177,52 @@ class PriorPixels {
   std::atomic<uint64_t> taken_{0};
 };
 
+// The light whose shadow the images report (lighting.frag): the point light, else the first spot/directional
+// light. A directional light is a point far along its reverse direction; a spot light reaches only its map; a
+// point light no farther than its far plane. As outside a spot's cone, a point the light does not reach is
+// unshadowed (0) and gets none of its light.
+struct ReportedLight {
+  const scene::MapLight* map = nullptr;
+  bool directional = false;
+  glm::vec3 color{0.0f};
+  glm::vec3 fixed{0.0f};  // a point or spot light's position at the frame
+  float scene_size = 1.0f;
+  // The far plane the cube was rendered with: the light's own, or fit_range's, which holds every point of
+  // the scene and so cuts off nothing the light's own would not.
+  float point_range = 0.0f;
+  glm::mat4 spot_view_proj{1.0f};
+
+  ReportedLight(const scene::Scene& scene, int frame) {
+    map = scene.has_point_light() || scene.map_lights.empty() ? nullptr : &scene.map_lights[0];
+    directional = map && map->type == scene::MapLightType::directional;
+    color = map ? map->color : scene.light().color;
+    for (const scene::Object& o : scene.objects)
+      scene_size = std::max(scene_size, glm::length(o.bounds_max - o.bounds_min));
+    if (map && !directional)
+      spot_view_proj = gpu::map_view_projection(scene, *map, frame, cube::DepthRange::minus_one_to_one);
+    point_range = map ? 0.0f : scene.light().far_plane;
+    fixed = map ? (directional ? glm::vec3(0.0f) : map->path.at(frame)) : scene.light().path.at(frame);
+  }
+  glm::vec3 position_for(const glm::vec3& p) const {
+    return directional ? p - map->direction * (4.0f * scene_size) : fixed;
+  }
+  bool reaches(const glm::vec3& p, const glm::vec3& light) const {
+    if (!map) return glm::length(p - light) < point_range;
+    if (directional) return true;
+    const glm::vec4 c = spot_view_proj * glm::vec4(p, 1.0f);
+    return c.w > 0.0f && std::fabs(c.x) <= c.w && std::fabs(c.y) <= c.w && c.z <= c.w;
+  }
+};
+
 }  // namespace
 
 Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame,
                     const Images& img, const TruthOptions& options, const TruthPrior& prior) {
   Truth t = blank_truth(img, options);
-  // The light whose shadow the images report (lighting.frag): the point light, else the first
-  // spot/directional light. A directional light is a point far along its reverse direction; a spot light
-  // reaches only its map.
-  const scene::MapLight* map =
-      scene.has_point_light || scene.map_lights.empty() ? nullptr : &scene.map_lights[0];
-  const bool directional = map && map->type == scene::MapLightType::directional;
-  const glm::vec3 light_color = map ? map->color : scene.light.color;
-  float scene_size = 1.0f;
-  for (const scene::Object& o : scene.objects)
-    scene_size = std::max(scene_size, glm::length(o.bounds_max - o.bounds_min));
-  const glm::mat4 spot_view_proj =
-      map && !directional ? gpu::map_view_projection(scene, *map, frame, cube::DepthRange::minus_one_to_one)
-                          : glm::mat4(1.0f);
-  const glm::vec3 fixed_light =
-      map ? (directional ? glm::vec3(0.0f) : map->path.at(frame)) : scene.light.path.at(frame);
-  auto light_for = [&](const glm::vec3& p) {
-    return directional ? p - map->direction * (4.0f * scene_size) : fixed_light;
-  };
-  auto spot_reaches = [&](const glm::vec3& p) {
-    glm::vec4 c = spot_view_proj * glm::vec4(p, 1.0f);
-    return c.w > 0.0f && std::fabs(c.x) <= c.w && std::fabs(c.y) <= c.w && c.z <= c.w;
-  };
+  const ReportedLight reported(scene, frame);
+  const scene::MapLight* map = reported.map;
+  const bool directional = reported.directional;
+  const glm::vec3 light_color = reported.color;
   const glm::vec3 camera = scene.camera.position;
   const int k = std::max(1, options.samples_per_axis);
   PriorPixels from_prior(prior, img, t, scene.camera);
@@ -232,8 +251,8 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
                                : -1;
       if (slot >= 0) fit_slot_pixel[size_t(slot)] = static_cast<int64_t>(i);
       if (from_prior.take(i, p, slot, t)) continue;
-      const glm::vec3 light = light_for(p);
-      const bool reached = !map || directional || spot_reaches(p);
+      const glm::vec3 light = reported.position_for(p);
+      const bool reached = reported.reaches(p, light);
       // End tolerance: relative to the distance, so that a point does not hide behind its own surface.
       const float eps = 1e-4f * (1.0f + glm::length(p - light));
       t.point_shadow[i] = reached && caster.blocked(light, p, eps, &point_blocker) ? 1.0f : 0.0f;
@@ -241,14 +260,16 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
       if (options.light_radius > 0 && (map != nullptr)) {
         t.sphere_shadow[i] = t.point_shadow[i];  // the soft reference models the point light only
       } else if (options.light_radius > 0 && x % t.sphere_stride == 0 && y % t.sphere_stride == 0) {
-        t.sphere_shadow[i] = hidden_fraction(caster, light, p, options.light_radius, k,
-                                             static_cast<uint32_t>(i), eps, &soft_blocker);
+        t.sphere_shadow[i] = !reached ? 0.0f
+                                      : hidden_fraction(caster, light, p, options.light_radius, k,
+                                                        static_cast<uint32_t>(i), eps, &soft_blocker);
       }
       for (size_t r = 0; slot >= 0 && r < kFitRadii.size(); ++r)
         t.fit_shadow[r][size_t(slot)] =
-            kFitRadii[r] == 0.0f ? t.point_shadow[i]
-                                 : hidden_fraction(caster, light, p, kFitRadii[r], kFitSamplesPerAxis,
-                                                   static_cast<uint32_t>(i), eps, &soft_blocker);
+            kFitRadii[r] == 0.0f || !reached
+                ? t.point_shadow[i]
+                : hidden_fraction(caster, light, p, kFitRadii[r], kFitSamplesPerAxis,
+                                  static_cast<uint32_t>(i), eps, &soft_blocker);
       const glm::vec3 l = directional ? -map->direction : glm::normalize(light - p);
       t.has_direct[i] =
           unshadowed_light(caster, camera, p, l, reached ? light_color : glm::vec3(0.0f), t.direct[i]);

@@ -119,6 +119,10 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
       (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
     return r;
   const double far_plane = images.light_far;
+  // Depth storages hold min(distance / far, 1): a surface farther than the light's far (along a texel ray
+  // whose axis distance is within it: a cube's corners reach sqrt 3 far) is the clear value, as it is to
+  // every lookup. A light whose range is shorter than its room (the hall's lamps) has many such texels.
+  const bool clamps_at_far = traits(storage).checked == DistanceEncoding::linear_depth;
   // Distance over the stored depth's measure at a point of layer f: axis distance for a perspective face, 1
   // where the depth is radial (the paraboloid's).
   auto depth_to_distance = [&](int f, double cs, double ct) {
@@ -137,11 +141,10 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
         if (!geometry.texel_read(s, t, truth.size)) continue;
         const double got =
             full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
-        const double want = exact[size_t(y) * size_t(n) + size_t(x)];
+        double want = exact[size_t(y) * size_t(n) + size_t(x)];
         // "Nothing here": the clear value, far (depth storages) or FLT_MAX (r32f).
         const bool got_surface = got < far_plane * (1.0 - 1e-6) && got != double(FLT_MAX);
         ++r.texels;
-        if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
         const double len = depth_to_distance(f, s + 0.5, t + 0.5);
         auto agree = [&](double stored_distance, double exact_distance) {
           return std::fabs(stored_distance - exact_distance) <=
@@ -149,11 +152,18 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
                                     far_plane) +
                      1e-4 * exact_distance;
         };
+        if (clamps_at_far && want >= 0.0) {
+          // Within the storage's agreement of far either answer is right; beyond it only "nothing".
+          if (!got_surface && agree(far_plane, std::min(want, far_plane))) continue;
+          if (want >= far_plane && !(got_surface && agree(got, want))) want = -1.0;
+        }
+        if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
         // What the storage reports for a point of the reach square: its distance for the storages that
         // compute one per fragment; hardware_depth stores the point's axis depth and the read-back scales it
         // by the centre's direction (cube::projective_depth_to_distance), so the same scaling applies here.
         auto cast = [&](double cs, double ct) {
           double d = truth.cast(f, cs, ct);
+          if (clamps_at_far && d >= far_plane) d = -1.0;
           if (d >= 0.0 && traits(storage).checked == DistanceEncoding::projective_depth)
             d *= len / depth_to_distance(f, cs, ct);
           return TexelSample{d >= 0.0, d};

@@ -222,7 +222,7 @@ void check_against_reference(CaseFindings& r, const Images& images, const Images
   // compared value by value (the caller read them in full: frames are deterministic).
   CheckResult faces_check{"cube_faces", ref_id};
   const TechniqueAllowance allowance =
-      technique_allowance(r.config, options.face_tolerance, ctx.scene.light.near_plane, far_plane);
+      technique_allowance(r.config, options.face_tolerance, ctx.scene.light().near_plane, far_plane);
   faces_check.tolerance = allowance.face_tolerance;
   if (cubes_equal_by_hash(images, ref)) {
     const uint64_t texels = 6ull * uint64_t(images.cube_size) * uint64_t(images.cube_size);

@@ -245,7 +245,13 @@ LookupReport check_lookups(const Images& images, const LookupInputs& in) {
               : 1.0;
       ctx.current = glm::length(to_surface);
       double low = 0.0, high = 0.0;
-      for (size_t i = 0; i < kernel.offsets.size(); ++i) {
+      // Beyond the light's range (its far plane) the lighting pass reports 0 whatever the taps read
+      // (lighting.frag); within float rounding of it, either.
+      const double range_error = 8.0 * kFloatUlp * ctx.current;
+      const double range = images.light_far;
+      const bool beyond = ctx.current > range + range_error;
+      const bool at_range = !beyond && ctx.current >= range - range_error;
+      for (size_t i = 0; i < kernel.offsets.size() && !beyond; ++i) {
         // The device rounds frag_to_light, the offset's terms and their sum: a few ulps of the operands'
         // size.
         const double error = 8.0 * kFloatUlp * (ctx.current + scale * offset_lengths[i]);
@@ -256,6 +262,7 @@ LookupReport check_lookups(const Images& images, const LookupInputs& in) {
       }
       row.taps += kernel.offsets.size();
       ++row.pixels;
+      if (beyond || at_range) low = 0.0;
       const float got = images.shadow_factor[p];
       if (got >= low / n - kValueTolerance && got <= high / n + kValueTolerance) continue;
       ++row.outside;

@@ -16,6 +16,9 @@
 //   - comparison: current - bias > stored may go either way within 1e-4 of the operands' size (the GL rule's
 //   1 part
 //     in 1e5 per operation, about ten operations from position to comparison).
+//   - range: a pixel farther from the light than the far plane (Images::light_far) is reported 0
+//     (lighting.frag), one within float
+//     rounding of it either 0 or what its taps give.
 // Anything else is a lookup that reads other texels than the rule's: a flipped axis, a face read from another
 // layer, a half-texel offset, a kernel of another size. The texel truths (cube_truth.h) check what was
 // stored; this checks what was read.

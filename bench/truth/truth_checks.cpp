@@ -31,12 +31,12 @@ void add_texel_finding(CaseFindings& r, const char* check, const Report& report,
 
 void check_cube(CaseFindings& r, const Images& images, const CheckContext& ctx, TruthCache& truths) {
   const scene::Scene& sc = ctx.scene;
-  if (!sc.has_point_light || images.cube_size < 1) return;
-  const glm::vec3 light = sc.light.path.at(ctx.options.check_frame);
+  if (!sc.has_point_light() || images.cube_size < 1) return;
+  const glm::vec3 light = sc.light().path.at(ctx.options.check_frame);
   const CubeTruth& truth =
-      truths.cube_truth(r.config, sc, light, sc.light.near_plane, images.light_far, images.cube_size);
+      truths.cube_truth(r.config, sc, light, sc.light().near_plane, images.light_far, images.cube_size);
   r.cube_texels = check_cube_texels(truth, images, r.config.storage, r.config.depth_format,
-                                    sc.light.near_plane, ctx.device.subpixel_bits);
+                                    sc.light().near_plane, ctx.device.subpixel_bits);
   // A paraboloid's rasterised triangles have straight edges where the exact map draws curves: its texels
   // differ from the exact ones by the layout's own error, which depends on tessellation. That is a figure
   // (results.json cube_texels), not a failed check; its technique checks (equal to six_pass) and exact
@@ -76,12 +76,12 @@ void check_lookups_of(CaseFindings& r, const Images& images, const CheckContext&
     r.lookups_skipped = "held to six_pass's shadow factor, which is replayed";
     return;
   }
-  r.lookups_skipped = lookup_check_skip_reason(r.config, images, sc.has_point_light);
+  r.lookups_skipped = lookup_check_skip_reason(r.config, images, sc.has_point_light());
   if (!r.lookups_skipped.empty()) return;
   LookupInputs in;
   in.filter = r.config.filter;
   in.bias = r.config.remedies.bias;
-  in.light = glm::dvec3(sc.light.path.at(ctx.options.check_frame));
+  in.light = glm::dvec3(sc.light().path.at(ctx.options.check_frame));
   in.camera = glm::dvec3(sc.camera.position);
   in.far_plane = images.light_far;
   in.pcf_scale = r.config.pcf_scale;
