@@ -94,14 +94,14 @@ GltfModel load(const std::string& bytes, const std::string& name, const std::str
                                                        static_cast<unsigned>(bytes.size()), base_dir)
                          : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
                                                       static_cast<unsigned>(bytes.size()), base_dir);
-  // A file the model names that is not in its folder is missing; a URI that climbs out of it is refused.
+  // A file the model names that is not in its folder is missing; a URI that climbs out of it is refused. Only
+  // a buffer can fail the load: images are never decoded (tinygltf reads an external image as optional), so a
+  // texture that is missing or lies elsewhere blocks nothing.
   if (!ok && !box.missing.empty())
     throw std::runtime_error(name + ": " + fs::path(box.missing).filename().string() +
-                             " is missing (a buffer or image the model names; looked for in " + box.root +
-                             ")");
-  if (!box.refused.empty())
-    throw std::runtime_error(name + ": a buffer or image URI leaves the model's folder (" + box.refused +
-                             ")");
+                             " is missing (a buffer the model names; looked for in " + box.root + ")");
+  if (!ok && !box.refused.empty())
+    throw std::runtime_error(name + ": a buffer URI leaves the model's folder (" + box.refused + ")");
   if (!ok) throw std::runtime_error(name + ": " + first_line(err, "not a glTF 2.0 file"));
   return gltf_model_from(model, name, max_vertices);
 }

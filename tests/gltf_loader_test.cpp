@@ -164,7 +164,7 @@ std::vector<BadGltf> bad_files() {
        [](const fs::path& d) {
          return edited_seed(d / "missing.gltf", [](J& j) { j["buffers"][0]["uri"] = "missing.bin"; });
        },
-       "missing.bin is missing (a buffer or image the model names; looked for in "},
+       "missing.bin is missing (a buffer the model names; looked for in "},
       // Random bytes named .glb: no GLB header, said as such (not a JSON parser's exception).
       {"random glb", [](const fs::path& d) { return write(d / "random.glb", "\x93\x11garbage\x01"); },
        "random.glb: not a binary glTF (a .glb starts with 'glTF')"},
@@ -246,6 +246,22 @@ TEST(GltfLoader, PunctualPointLightsStandWhereTheirNodesPutThem) {
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "lights.gltf: node 2: KHR_lights_punctual light 9 does not exist");
   }
+}
+
+// Textures are never decoded, so one that is missing or lies outside the model's folder blocks nothing: the
+// geometry loads (the sandbox still reads nothing outside the folder).
+TEST(GltfLoader, TexturesThatCannotBeReadDoNotBlockTheGeometry) {
+  const fs::path dir = fs::temp_directory_path() / "omnishadow_gltf_loader_test" / "textures";
+  fs::create_directories(dir);
+  const std::string path = edited_seed(dir / "textured.gltf", [](nlohmann::json& j) {
+    j["images"] = {{{"uri", "missing.png"}}, {{"uri", "../elsewhere/albedo.png"}}};
+    j["textures"] = {{{"source", 0}}, {{"source", 1}}};
+    j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 1}};
+    j["materials"][0]["normalTexture"] = {{"index", 0}};
+  });
+  const GltfModel m = load_gltf(path, kLimit);
+  EXPECT_EQ(m.triangles.size(), 3u);
+  EXPECT_EQ(m.colors[0], glm::vec3(0.8f, 0.2f, 0.1f)) << "the base colour factor, as without textures";
 }
 
 TEST(GltfLoader, MalformedFilesAreOneLineNamingTheFile) {

@@ -153,8 +153,11 @@ Support common_support(const CaseConfig& c) {
   if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
     return {false, "hw_compare2x2 compares against linear distance / far (storage linear_depth); " +
                        std::string(to_string(c.storage)) +
-                       (c.storage == Storage::r32f_distance ? " stores distance in a colour texture"
-                                                            : " stores projective depth")};
+                       (traits(c.storage).checked == DistanceEncoding::colour_distance
+                            ? " stores distance in a colour texture"
+                        : traits(c.storage).checked == DistanceEncoding::projective_depth
+                            ? " stores projective depth"
+                            : " is a moments filter's storage (its own filter reads it)")};
   if (!filter_reads(c.filter, c.storage))
     return {false, std::string(to_string(c.filter)) + " reads " +
                        (traits(c.filter).own_storage ? std::string(to_string(*traits(c.filter).own_storage))

@@ -147,17 +147,17 @@ std::vector<int> default_cube_sizes(const MatrixSpec& asked, Harness& harness) {
 // Everything that can be wrong with the request, found before anything runs: scenes load, backends come up,
 // sizes fit the devices, the matrix is not empty. Throws std::invalid_argument (or the loaders' errors).
 std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness, RunInfo& info) {
-  std::map<std::string, std::pair<int, int>> scene_sizes;
+  std::map<std::string, SceneFacts> scene_facts;
   MatrixSpec matrix = cmd.matrix;
   matrix.scenes.clear();
   for (const std::string& given : cmd.matrix.scenes) {
     const std::string name = harness.add_scene(given);
-    if (!scene_sizes.count(name)) {
+    if (!scene_facts.count(name)) {
       auto start = std::chrono::steady_clock::now();
       try {
         const scene::Scene& s = harness.scene(name);
         info.phases.scene_loads.push_back({name, s.source, s.triangle_count(), seconds_since(start)});
-        scene_sizes[name] = {s.camera.width, s.camera.height};
+        scene_facts[name] = {s.camera.width, s.camera.height, int(s.point_lights.size())};
       } catch (const scene::SceneError& e) {
         if (cmd.matrix.scenes_given) throw;
         std::fprintf(stderr, "omnishadow: scene %s left out (not asked for by name): %s\n", name.c_str(),
@@ -185,7 +185,7 @@ std::vector<CaseConfig> validate_request(const RunCommand& cmd, Harness& harness
                                     " supports (" + std::to_string(max_2d) + ")");
   }
   if (!cmd.matrix.cube_sizes_given) matrix.cube_sizes = default_cube_sizes(cmd.matrix, harness);
-  std::vector<CaseConfig> cases = expand(matrix, scene_sizes);
+  std::vector<CaseConfig> cases = expand(matrix, scene_facts);
   // Values written differently that name one case (`--optimize cull+fit,fit+cull`, a scene by name and by
   // path): refused before anything runs, as repeated values are.
   std::set<std::string> ids;
@@ -455,83 +455,6 @@ int report_command(const std::string& run, const std::vector<std::string>& histo
   execv(python.c_str(), argv.data());
   print_error("report: cannot run " + python + ": " + std::strerror(errno));
   return 2;
-}
-
-int list_command(const std::string& scenes_dir, const std::map<std::string, std::string>& backend_options) {
-  std::cout << "backends:\n";
-  RunOptions options;
-  options.scenes_dir = scenes_dir;
-  options.backend_options = backend_options;
-  Harness harness(options);
-  std::vector<std::string> available;
-  for (const std::string& name : backend_names()) {
-    try {
-      const DeviceInfo& d = harness.backend(name).device();
-      std::cout << "  " << name << ": " << d.renderer << " | " << d.version << " | " << d.platform
-                << " | max cube " << d.max_cube_size << " | "
-                << (d.shares_host_memory    ? std::string("host memory (CPU driver)")
-                    : d.device_memory_bytes ? format_bytes(d.device_memory_bytes) + " device memory"
-                                            : std::string("device memory unknown"))
-                << "\n";
-      available.push_back(name);
-    } catch (const std::exception& e) {
-      std::cout << "  " << name << ": unavailable: " << e.what() << "\n";
-    }
-  }
-  try {
-    std::cout << "vulkan devices (--vk-device):\n";
-    for (const auto& d : vk::VkContext::list_devices())
-      std::cout << "  " << d.index << ": " << d.name << " | " << d.type << " | Vulkan " << d.api_version
-                << " | " << d.driver << "\n";
-  } catch (const std::exception& e) {
-    std::cout << "  none: " << e.what() << "\n";
-  }
-  std::cout << "scenes (" << scenes_dir << "):\n";
-  std::error_code ec;
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(scenes_dir, ec))
-    if (entry.path().extension() == ".json") files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  for (const fs::path& f : files) {
-    try {
-      const scene::Scene& s = harness.scene(f.stem().string());
-      std::cout << "  " << f.stem().string() << ": " << s.triangle_count() << " triangles, "
-                << s.objects.size() << " objects, frame " << s.camera.width << "x" << s.camera.height << "\n";
-    } catch (const std::exception& e) {
-      std::cout << "  " << f.stem().string() << ": invalid: " << e.what() << "\n";
-    }
-  }
-  std::cout << "techniques: " << valid_values<Technique>() << "\n";
-  std::cout << "filters: " << valid_values<Filter>() << "\n";
-  std::string moments;  // the filters that store and blur their own moments (storage_filter_tables.h)
-  for (const FilterTraits& f : kFilterTable)
-    if (f.own_storage) moments += (moments.empty() ? "" : ", ") + std::string(f.name);
-  std::cout << "moments filters: " << moments << "\n";
-  std::cout << "storages: " << valid_values<Storage>() << "\n";
-  std::cout << "depth formats: " << valid_values<DepthFormat>() << "\n";
-  std::cout << "layouts: " << valid_values<Layout>() << "\n";
-  for (const std::string& name : available) {
-    std::cout << "unsupported on " << name << ":";
-    Backend& b = harness.backend(name);
-    int count = 0;
-    for (Technique t : all_values<Technique>())
-      for (Storage s : all_values<Storage>())
-        for (Filter f : all_values<Filter>()) {
-          CaseConfig c;
-          c.backend = name;
-          c.technique = t;
-          c.storage = s;
-          c.filter = f;
-          Support support = b.supports(c);
-          if (!support.ok) {
-            std::cout << "\n  " << to_string(t) << " + " << to_string(s) << " + " << to_string(f) << ": "
-                      << support.reason;
-            ++count;
-          }
-        }
-    std::cout << (count ? "\n" : " nothing\n");
-  }
-  return 0;
 }
 
 }  // namespace omnishadow::bench

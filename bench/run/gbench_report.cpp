@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 namespace omnishadow::bench {
@@ -39,10 +40,27 @@ double cv_of(const std::vector<double>& v) {
 
 }  // namespace
 
+std::string explain_debug_library(const std::string& context_text) {
+  std::string out;
+  std::istringstream lines(context_text);
+  for (std::string line; std::getline(lines, line);)
+    out +=
+        line.find(kDebugLibraryWarning) != std::string::npos ? std::string(kDebugLibraryNote) : line + "\n";
+  return out;
+}
+
 bool RoundReporter::ReportContext(const Context& context) {
   if (context_printed_) return true;
   context_printed_ = true;
-  return benchmark::ConsoleReporter::ReportContext(context);
+  // The base class prints the context to the error stream: captured, and passed on with the warning
+  // explained.
+  std::ostream& err = GetErrorStream();
+  std::ostringstream captured;
+  SetErrorStream(&captured);
+  const bool ok = benchmark::ConsoleReporter::ReportContext(context);
+  SetErrorStream(&err);
+  err << explain_debug_library(captured.str());
+  return ok;
 }
 
 void RoundReporter::ReportRuns(const std::vector<Run>& runs) {

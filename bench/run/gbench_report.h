@@ -13,10 +13,20 @@
 
 namespace omnishadow::bench {
 
+// Google Benchmark's warning for a library built without NDEBUG, and what it means for omnishadow's figures.
+inline constexpr const char* kDebugLibraryWarning = "Library was built as DEBUG";
+inline constexpr const char* kDebugLibraryNote =
+    "note: this libbenchmark was built with its assertions on (Debian's is); it only counts the iterations "
+    "here, every figure is timed by omnishadow's own clocks and queries (manual_time), so none is affected\n";
+// The context text with the debug-library warning line replaced by kDebugLibraryNote.
+std::string explain_debug_library(const std::string& context_text);
+
 class RoundReporter : public benchmark::ConsoleReporter {
  public:
   RoundReporter() : benchmark::ConsoleReporter(OO_Tabular) {}
-  // Prints the context once (the first round), not once per round.
+  // Prints the context once (the first round), not once per round. Debian's libbenchmark is built without
+  // NDEBUG and says "Library was built as DEBUG. Timings may be affected.": that line is replaced by what it
+  // means here (kDebugLibraryNote).
   bool ReportContext(const Context& context) override;
   // Keeps the runs (repetition_index = this case's count so far), prints them with the headline counters
   // only.
