@@ -51,7 +51,10 @@ ModelPlacement place_model(const glm::dvec3& lo, const glm::dvec3& hi, const Loa
     p.light.base = p.scale * overrides.light->base;
     p.light.amplitude = glm::vec3(p.scale * glm::dvec3(overrides.light->amplitude));
   } else {
-    p.light.base = c + r * glm::dvec3(0.5, 1.25, 0.35);
+    // Beyond the bounds on +x, +y and +z, the camera's side: every face of the bounds the camera sees is
+    // lit, and the sway (x +- R/4) never brings the light back over them.
+    const glm::dvec3 half = 0.5 * (world_hi - world_lo);
+    p.light.base = c + half + r * glm::dvec3(0.5, 0.75, 0.5);
     p.light.amplitude = glm::vec3(static_cast<float>(0.25 * r), 0.0f, 0.0f);
   }
   std::vector<glm::dvec3> corners;

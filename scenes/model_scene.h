@@ -21,8 +21,10 @@ namespace omnishadow::scene {
 //   acne or all peter-panning. In world units the bounding sphere then has radius R = 5 around C = c * 5 / r;
 // - floor: a square of side 4R centred under C, 0.01 R below the lowest point (not touching the model, so no
 //   surface is coplanar with it);
-// - light: at C + R (0.5, 1.25, 0.35), above, right and in front: 1.39 R from C, outside every point of the
-// model;
+// - light: at C + H + R (0.5, 0.75, 0.5), H the bounds' half extents: beyond the bounds on +x, +y and +z, the
+//   camera's side, so every face of the bounds the camera sees is lit (a box's three: the old rule's light
+//   stood over a box's top and left the two sides the camera sees unlit); more than R from C, outside every
+//   point of the model;
 //   swaying by R/4 along x, position = base + (R/4, 0, 0) sin(0.5 t), the seeds' frequency (0.5 rad/s at 60
 //   frames/s), so the shadows move from frame to frame as in the rooms;
 // - light planes: near 0.01 R; far 1% beyond the farthest corner of the bounds or the floor from either end

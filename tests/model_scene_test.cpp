@@ -53,6 +53,15 @@ void expect_rule_holds(const Scene& s) {
           << "frame " << frame << ": far holds the whole scene";
   }
   EXPECT_NEAR(glm::length(s.light().path.amplitude), kModelRadius / 4, 1e-5);
+  // Light and camera beyond the model's bounds on +x, +y and +z at every frame: every face of the bounds the
+  // camera sees faces the light too (a box's three faces are lit, not only its top).
+  for (int frame : {0, 94, 282}) {  // 282: the sway's other peak
+    const glm::vec3 light = s.light().path.at(frame);
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_GT(light[axis], model.bounds_max[axis]) << "frame " << frame << ", axis " << axis;
+      EXPECT_GT(s.camera.position[axis], model.bounds_max[axis]) << "axis " << axis;
+    }
+  }
   // The camera frames the bounding sphere: its angular radius is under half the vertical field of view.
   const float distance = glm::length(s.camera.position - c);
   EXPECT_LT(std::asin(kModelRadius / distance), glm::radians(s.camera.fov_y_degrees) / 2);
@@ -66,7 +75,8 @@ TEST(ModelPlacement, ScalesTheModelToTheRoomsSizeAndPlacesLightAndCameraOutsideI
   const ModelPlacement p = place_model({1000, 0, 0}, {1400, 300, 0}, {}, "mm.obj");
   EXPECT_DOUBLE_EQ(p.scale, kModelRadius / 250.0);  // half of the 500 mm diagonal
   EXPECT_NEAR(p.center.x, 1200 * p.scale, 1e-9);
-  EXPECT_NEAR(glm::length(p.light.base - p.center), kModelRadius * std::sqrt(0.25 + 1.5625 + 0.1225), 1e-9);
+  // Half extents (4, 3, 0) in world units, then R (0.5, 0.75, 0.5) beyond them.
+  EXPECT_NEAR(glm::length(p.light.base - p.center - glm::dvec3(4 + 2.5, 3 + 3.75, 0 + 2.5)), 0.0, 1e-9);
   EXPECT_NEAR(p.floor_y, -0.01 * kModelRadius, 1e-12);
   EXPECT_DOUBLE_EQ(p.light_near, 0.01 * kModelRadius);
 
