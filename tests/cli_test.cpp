@@ -769,7 +769,9 @@ TEST_F(CliRun, ShardsMergeIntoTheSameRunAndCompareReadsIt) {
   EXPECT_NE(twice.err.find("shard 0 is given twice"), std::string::npos) << twice.err;
   // A shard missing (an offline runner): the merged run is incomplete, names the shard, and compare fails.
   fs::path partial = scratch("partial");
-  ASSERT_EQ(run("merge " + partial.string() + " " + s0.string()).exit_code, 0);
+  Outcome half = run("merge " + partial.string() + " " + s0.string());
+  EXPECT_EQ(half.exit_code, 1) << "written, but not a whole run";
+  EXPECT_NE(half.err.find("merge: INCOMPLETE: shard 1 missing"), std::string::npos) << half.err;
   auto p = nlohmann::json::parse(omnishadow::bench::read_file((partial / "results.json").string()));
   EXPECT_FALSE(p["omnishadow"]["complete"].get<bool>());
   EXPECT_EQ(p["omnishadow"]["missing_shards"], nlohmann::json::array({1}));
@@ -965,8 +967,18 @@ TEST_F(CliRun, InterruptedRunLeavesValidResults) {
   size_t cases = j["omnishadow"]["cases"].size();
   EXPECT_GE(cases, 1u);
   EXPECT_LE(cases, 2u * 6u * 5u * 3u);
-  for (const auto& c : j["omnishadow"]["cases"]) EXPECT_TRUE(c.contains("status")) << c.dump();
   EXPECT_NE(omnishadow::bench::read_file(log.string()).find("stopped by SIGINT"), std::string::npos);
+  // The summary says so first. Stopped during the untimed checks (180 checked cases take minutes here): no
+  // case was timed, so none is ok.
+  const std::string summary = omnishadow::bench::read_file((out / "summary.md").string());
+  EXPECT_EQ(summary.rfind("**Incomplete run: stopped by SIGINT during the ", 0), 0u) << summary;
+  const bool untimed = summary.rfind("**Incomplete run: stopped by SIGINT during the untimed checks", 0) == 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    ASSERT_TRUE(c.contains("status")) << c.dump();
+    if (untimed) {
+      EXPECT_NE(c["status"], "ok") << c["id"] << ": never timed";
+    }
+  }
 }
 
 // SIGTERM in the middle of a timed round: the run exits 143 with valid results that say so, the cases the

@@ -52,6 +52,28 @@ assert dom.count("data:image/png;base64,") >= 3, "charts are not embedded"
 assert "http://" not in dom and "https://" not in dom, "the page must not reach the network"
 print(f"report: {len(ids)} cases present in the page Chromium rendered")
 PY
+# A run that is not whole says so first: stopped, with a shard missing.
+/usr/bin/python3 - "$tmp" <<'PY'
+import json, os, sys
+tmp = sys.argv[1]
+doc = json.load(open(f"{tmp}/run/results.json"))
+doc["omnishadow"].update({"complete": False, "stopped_by": "SIGINT", "missing_shards": [1]})
+doc["omnishadow"]["cases"][-1]["status"] = "interrupted"
+os.makedirs(f"{tmp}/stopped")
+json.dump(doc, open(f"{tmp}/stopped/results.json", "w"))
+PY
+"$bin" report "$tmp/stopped" --out "$tmp/stopped.html" >/dev/null
+"$browser" --headless=new --no-sandbox --disable-gpu --dump-dom "file://$tmp/stopped.html" 2>/dev/null >"$tmp/stopped_dom.html"
+/usr/bin/python3 - "$tmp" <<'PY'
+import html, sys
+tmp = sys.argv[1]
+dom = html.unescape(open(f"{tmp}/stopped_dom.html").read())
+at = dom.find("Incomplete run: stopped by SIGINT; shard 1 missing. 1 case(s) were never timed")
+assert at >= 0, "the stopped run's banner is missing"
+assert at < dom.find("<h2>"), "the banner comes before every section"
+whole = html.unescape(open(f"{tmp}/dom.html").read())
+assert "Incomplete run" not in whole, "a whole run shows no banner"
+PY
 "$browser" --headless=new --no-sandbox --disable-gpu --window-size=1280,2400 --screenshot="$tmp/report.png" \
   "file://$tmp/report.html" >/dev/null 2>&1
 test -s "$tmp/report.png"

@@ -286,6 +286,20 @@ bool init_benchmark(const RunCommand& cmd, const RunInfo& info, std::vector<std:
   return true;
 }
 
+// summary.md, and the summary on stdout; an incomplete run says so first (`incomplete`: why, "" when whole).
+void write_summary(RunState& run, const std::string& incomplete) {
+  std::string summary = summary_markdown(run.results, run.info.phases, run.info.repetitions, incomplete);
+  try {
+    write_file_atomic((fs::path(run.info.options.out_dir) / "summary.md").string(), summary);
+  } catch (const std::exception& e) {
+    print_error(e.what());
+  }
+  const std::string out_dir = run.info.options.out_dir;
+  std::cout << "\n"
+            << summary << "\nresults: " << run.results_path << "\nreport: omnishadow report " << out_dir
+            << ", then open " << (fs::path(out_dir) / "report.html").string() << " in a browser\n";
+}
+
 // results.json with Google Benchmark's figures, summary.md, and the summary on stdout.
 void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
   nlohmann::json gbench;
@@ -296,16 +310,7 @@ void write_outputs(RunState& run, const std::string& raw_path, bool complete) {
     print_error(std::string("reading Google Benchmark's output: ") + e.what());
   }
   run.save(gbench, complete);
-  std::string summary = summary_markdown(run.results, run.info.phases, run.info.repetitions);
-  try {
-    write_file_atomic((fs::path(run.info.options.out_dir) / "summary.md").string(), summary);
-  } catch (const std::exception& e) {
-    print_error(e.what());
-  }
-  const std::string out_dir = run.info.options.out_dir;
-  std::cout << "\n"
-            << summary << "\nresults: " << run.results_path << "\nreport: omnishadow report " << out_dir
-            << ", then open " << (fs::path(out_dir) / "report.html").string() << " in a browser\n";
+  write_summary(run, complete ? "" : "stopped by " + run.info.stopped_by + " during the timed part");
 }
 
 // The cases this process runs (a worker after a crash skips those done), with the clocks locked where asked;
@@ -391,7 +396,16 @@ int run_command(const RunCommand& cmd) {
   run_untimed(harness, cases, run);
   if (run.stopped()) {
     run.results.resize(run.prepared);
+    for (CaseResult& r : run.results)  // checked, never timed: not ok, whatever the checks said
+      if (is_timed(r.status))
+        r.add({Status::interrupted,
+               "timing",
+               "interrupted: the run was stopped before this case was timed",
+               {}});
     run.save(nullptr, false);
+    write_summary(run, "stopped by " + run.info.stopped_by + " during the untimed checks, after " +
+                           std::to_string(run.prepared) + " of " + std::to_string(cases.size()) +
+                           " cases; none was timed");
     std::fprintf(stderr, "omnishadow: stopped by %s after %zu of %zu cases; %s holds them\n",
                  run.info.stopped_by.c_str(), run.prepared, cases.size(), run.results_path.c_str());
     return 128 + static_cast<int>(g_stop_signal);

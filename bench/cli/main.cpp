@@ -31,9 +31,13 @@ int run_file_command(CLI::App* cmp, CLI::App* mrg, const CompareFlags& cf, Compa
       return compare_command(cf.base_run, cf.new_run, compare);
     }
     if (mrg->parsed()) {
-      merge_runs(merge_out, merge_inputs);
+      const MergeResult merged = merge_runs(merge_out, merge_inputs);
       std::cout << "merged " << merge_inputs.size() << " runs into " << merge_out << "/results.json\n";
-      return 0;
+      if (merged.complete) return 0;
+      // Written, but not a whole run: said first thing on stderr, and the exit status says so too.
+      print_error("merge: INCOMPLETE: " + merged.describe() +
+                  "; the merged run says complete: false, and compare counts the cases it lacks as missing");
+      return 1;
     }
     for (const auto& [backend, device] : device_keys(load_run(key_run))) std::cout << device << "\n";
     return 0;

@@ -11,7 +11,17 @@ namespace omnishadow::bench {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs) {
+std::string MergeResult::describe() const {
+  std::string out;
+  for (int shard : missing_shards)
+    out += (out.empty() ? "" : "; ") + std::string("shard ") + std::to_string(shard) + " missing";
+  for (const std::string& file : incomplete_inputs)
+    out += (out.empty() ? "" : "; ") + file + " is an incomplete run (stopped before it ended)";
+  return out;
+}
+
+MergeResult merge_runs(const std::string& out_dir, const std::vector<std::string>& runs) {
+  MergeResult result;
   if (runs.empty()) throw CompareError("merge: no runs given");
   fs::create_directories(out_dir);
   if (fs::exists(fs::path(out_dir) / "results.json"))
@@ -49,7 +59,10 @@ void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs
         for (auto& [role, rel] : c["images"].items())
           rel = (fs::path(prefix) / rel.get<std::string>()).string();
     }
-    complete = complete && run.doc["omnishadow"].value("complete", false);
+    if (!run.doc["omnishadow"].value("complete", false)) {
+      complete = false;
+      result.incomplete_inputs.push_back(run.file);
+    }
     if (merged.is_null()) {
       merged = run.doc;
       merged["omnishadow"]["cases"] = cases;
@@ -67,12 +80,17 @@ void merge_runs(const std::string& out_dir, const std::vector<std::string>& runs
   // so that compare fails on the cases the baseline has and this run does not.
   json missing = json::array();
   for (int i = 0; i < shard_count; ++i)
-    if (!shards.count(i)) missing.push_back(i);
+    if (!shards.count(i)) {
+      missing.push_back(i);
+      result.missing_shards.push_back(i);
+    }
   if (!missing.empty()) complete = false;
   merged["omnishadow"]["missing_shards"] = missing;
   merged["omnishadow"]["shard"] = {{"index", 0}, {"count", 1}};
   merged["omnishadow"]["complete"] = complete;
   write_file_atomic((fs::path(out_dir) / "results.json").string(), merged.dump(2) + "\n");
+  result.complete = complete;
+  return result;
 }
 
 }  // namespace omnishadow::bench

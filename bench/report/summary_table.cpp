@@ -152,10 +152,13 @@ void repetition_table(std::ostringstream& md, const std::vector<CaseResult>& res
 }  // namespace
 
 std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases,
-                             const RepetitionPolicy& policy) {
+                             const RepetitionPolicy& policy, const std::string& incomplete) {
   std::ostringstream md;
   std::map<std::string, int> status_counts;
   for (const CaseResult& r : results) ++status_counts[std::string(to_string(r.status))];
+  if (!incomplete.empty())
+    md << "**Incomplete run: " << incomplete << ".** Cases it did not time are `interrupted`; the figures "
+       << "below are of what ran, and compare counts the cases it lacks as missing.\n\n";
   md << "## Cases\n\n";
   if (phases.untimed_seconds >= 0 && phases.timed_seconds >= 0) {
     char buf[160];

@@ -28,7 +28,8 @@ struct RunPhases {
   std::vector<SceneLoad> scene_loads;  // in --scene order
 };
 
+// `incomplete`: why the run is not whole ("stopped by SIGINT during ..."), said first; "" for a whole run.
 std::string summary_markdown(const std::vector<CaseResult>& results, const RunPhases& phases = {},
-                             const RepetitionPolicy& policy = {});
+                             const RepetitionPolicy& policy = {}, const std::string& incomplete = "");
 
 }  // namespace omnishadow::bench

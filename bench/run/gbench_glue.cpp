@@ -93,11 +93,6 @@ void settle_clock(Harness& harness, const CaseConfig& config, double limit_s) {
       source.c_str(), clocks.front().mhz);
 }
 
-// Cases whose checks ran (passed or not) are timed; cases that could not be prepared are not.
-bool is_timed(Status s) {
-  return s == Status::ok || s == Status::failed_check || s == Status::failed_quality;
-}
-
 // A frame's length as the sizing by time counts it: its measured wall time, or --inject-frame-ms in tests.
 double sizing_ms(const RunOptions& o, const FrameTiming& frame) {
   return o.inject_frame_ms > 0 ? o.inject_frame_ms : std::max(frame.frame_wall_ms, 0.0);
@@ -249,6 +244,10 @@ std::string ended_by(const RepetitionPolicy& policy, const CaseResult& r, bool s
 }
 
 }  // namespace
+
+bool is_timed(Status s) {
+  return s == Status::ok || s == Status::failed_check || s == Status::failed_quality;
+}
 
 size_t compared_cases(const std::vector<CaseResult>& results) {
   std::set<std::string> ids;

@@ -18,6 +18,9 @@ namespace omnishadow::bench {
 // timed, the copies of an experiment axis (/inj<N>, /rep<k>) counted once.
 size_t compared_cases(const std::vector<CaseResult>& results);
 
+// Cases whose checks ran (passed or not) are timed; cases that could not be prepared are not.
+bool is_timed(Status s);
+
 // Times every case whose checks ran, with console output on stdout, and writes Google Benchmark's JSON of all
 // rounds to `gbench_json_path`. Timings are appended to each result; `after_case` runs after every timed
 // repetition (the caller saves partial results there). When `stop_requested` turns true (SIGINT/SIGTERM) the

@@ -35,7 +35,8 @@ h1{font-size:22px}h2{font-size:17px;margin-top:28px;border-bottom:1px solid #ddd
 table{border-collapse:collapse;margin:8px 0;font-size:12.5px}td,th{border:1px solid #ddd;padding:3px 7px;text-align:left}
 th{background:#f4f4f6}code{font-size:12px}.ok{color:#17702f}.bad{color:#b3261e;font-weight:600}
 .grid{display:flex;flex-wrap:wrap;gap:10px}.card{border:1px solid #ddd;padding:6px;border-radius:4px}
-img{max-width:100%}.small{color:#666;font-size:12px}"""
+img{max-width:100%}.small{color:#666;font-size:12px}
+.incomplete{background:#fdecea;border:2px solid #b3261e;color:#b3261e;padding:8px 12px;font-weight:600}"""
 
 
 def png(fig):
@@ -74,6 +75,24 @@ def header(doc):
     if phases.get("timed_seconds"):
         rows.append(("run", f"{phases['untimed_seconds']:.1f} s untimed + {phases['timed_seconds']:.1f} s timed"))
     return "<table>" + "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in rows) + "</table>"
+
+
+def incomplete_banner(doc):
+    """The first thing on the page of a run that is not whole: stopped, shards missing, or merged from parts that
+    were; empty for a whole run."""
+    o = doc["omnishadow"]
+    if o.get("complete", False):
+        return ""
+    why = []
+    if o.get("stopped_by"):
+        why.append(f"stopped by {o['stopped_by']}")
+    if o.get("missing_shards"):
+        why.append("shard " + ", ".join(str(s) for s in o["missing_shards"]) + " missing")
+    if not why:
+        why.append("the run did not end (complete: false)")
+    untimed = sum(1 for c in o.get("cases", []) if c.get("status") == "interrupted")
+    return (f"<p class='incomplete'>Incomplete run: {esc('; '.join(why))}. {untimed} case(s) were never timed "
+            f"(interrupted); the figures below are of what ran, and cases it lacks are missing.</p>")
 
 
 def status_counts(cases):
@@ -222,7 +241,8 @@ def main():
     cases = doc["omnishadow"]["cases"]
     timed = [c for c in cases if c.get("timing")]
     out = args.out or os.path.join(args.run, "report.html")
-    body = [f"<h1>omnishadow run {esc(doc['omnishadow'].get('commit', ''))}</h1>", header(doc),
+    body = [f"<h1>omnishadow run {esc(doc['omnishadow'].get('commit', ''))}</h1>", incomplete_banner(doc),
+            header(doc),
             f"<h2>Status</h2><p>{status_counts(cases)}</p>",
             "<h2>Shadow pass per technique (ratio to six_pass)</h2>",
             ratio_chart(timed, "technique", "six_pass", "shadow", "shadow pass, median wall time / six_pass"),
