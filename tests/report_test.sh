@@ -50,8 +50,15 @@ assert not missing, f"case ids missing from the rendered page: {missing}"
 assert "at c16" in dom, "the history step at c16 is not shown"
 assert dom.count("data:image/png;base64,") >= 3, "charts are not embedded"
 assert "http://" not in dom and "https://" not in dom, "the page must not reach the network"
+answer = dom.find("<h2>The answer</h2>")
+assert 0 <= answer < dom.find("<h2>Status</h2>"), "the answer comes before the statuses and the detail"
+assert "Fastest shadow pass: " in dom and "Pareto set: <code>" in dom, "the answer names the fastest and the front"
 print(f"report: {len(ids)} cases present in the page Chromium rendered")
 PY
+# The case table filters as one types, and from the page's #fragment: half the cases are pcf_disk20.
+"$browser" --headless=new --no-sandbox --disable-gpu --dump-dom "file://$tmp/report.html#pcf_disk20" 2>/dev/null \
+  >"$tmp/filtered.html"
+grep -q "2 of 4 cases" "$tmp/filtered.html" || { echo "the case filter did not leave 2 of 4 cases"; exit 1; }
 # A run that is not whole says so first: stopped, with a shard missing.
 /usr/bin/python3 - "$tmp" <<'PY'
 import json, os, sys

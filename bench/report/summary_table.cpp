@@ -71,6 +71,63 @@ void ratio_table(std::ostringstream& md, const std::vector<CaseResult>& results,
   }
 }
 
+// The axes a shadow's accuracy depends on beyond its pass group: the PCF scale, remedies and moments tunings
+// (the techniques are held to six_pass bit for bit, so the first case of a row speaks for all of them).
+std::string accuracy_group(const CaseConfig& c) {
+  std::string key = pass_group(c);
+  char buf[32];
+  if (c.pcf_scale != 1.0f) {
+    std::snprintf(buf, sizeof buf, "/pcf%g", double(c.pcf_scale));
+    key += buf;
+  }
+  if (c.remedies.any()) key += "/" + to_string(c.remedies);
+  if (c.moments.any()) key += "/" + to_string(c.moments);
+  return key;
+}
+
+// "0.195% / 0.0020 / r 0.05 (0.0113)": misclassified, MAE against the point light, the best-fitting spherical
+// light's radius and its MAE.
+std::string accuracy_cell(const Accuracy& a) {
+  char buf[96];
+  if (a.fit_radius >= 0)
+    std::snprintf(buf, sizeof buf, "%.3g%% / %.4f / r %.3g (%.4f)", a.misclassified_percent, a.mae_point,
+                  a.fit_radius, a.fit_mae_best);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g%% / %.4f", a.misclassified_percent, a.mae_point);
+  return buf;
+}
+
+// Per group, per filter: what the filter's shadow costs in accuracy, against what it is held to.
+void accuracy_table(std::ostringstream& md, const std::vector<CaseResult>& results) {
+  std::map<std::string, std::map<Filter, const Accuracy*>> rows;
+  std::vector<std::string> order;
+  for (const CaseResult& r : results) {
+    if (!r.accuracy || r.accuracy->pixels == 0) continue;
+    const std::string key = accuracy_group(r.config);
+    if (!rows.count(key)) order.push_back(key);
+    rows[key].emplace(r.config.filter, &*r.accuracy);  // the first case of the row (six_pass comes first)
+  }
+  if (order.empty()) return;
+  const std::vector<Filter> filters = all_values<Filter>();
+  md << "\n## Accuracy per filter, against exact visibility\n\n"
+     << "Each cell: misclassified pixels (shadow factor on the other side of 0.5 from the point light's "
+        "exact "
+        "visibility) / mean absolute difference from that visibility / r: the radius of the spherical light "
+        "whose exact soft shadow the filter matches best, with that mean error. A soft filter blurs the "
+        "point "
+        "light's edge by design: judge it by its fit, hard by the first two.\n\n"
+     << "| backend/scene/cube/frame/storage/depth |";
+  for (Filter f : filters) md << " " << to_string(f) << " |";
+  md << "\n|---|";
+  for (size_t i = 0; i < filters.size(); ++i) md << "---|";
+  md << "\n";
+  for (const std::string& key : order) {
+    md << "| `" << key << "` |";
+    for (Filter f : filters) md << " " << (rows[key].count(f) ? accuracy_cell(*rows[key][f]) : "-") << " |";
+    md << "\n";
+  }
+}
+
 // Every timed case's passes as multiples of their floor (the same render passes with nothing drawn; the frame
 // shaded with a constant): how far a technique or filter is from what the device does at all.
 void floor_table(std::ostringstream& md, const std::vector<CaseResult>& results) {
@@ -207,6 +264,7 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
     if (std::string w = clock_warning(r.device_states); !w.empty())
       md << "- **warning** `" << r.config.id() << "`: " << w << " (" << r.device_state_source << ")\n";
 
+  accuracy_table(md, results);
   repetition_table(md, results, policy);
   floor_table(md, results);
   ratio_table<Technique>(

@@ -2,7 +2,8 @@
 """One self-contained HTML page for a run (and, with --history, its history): what a person reads after CI.
 
 No network: styles inline, charts rendered by matplotlib and embedded as PNG data, failed checks' diff images
-embedded from the run folder. Sections: the device (renderer, driver, clocks) and commit; status counts; the
+embedded from the run folder, one inline script (the case table's filter). Sections: a banner for a run that is
+not whole; the device (renderer, driver, clocks) and commit; the answer (report_answer.py); status counts; the
 shadow pass per technique against six_pass and the lighting pass per filter against hard (charts and tables);
 speed against accuracy with the Pareto front; every failed check with its diff image; with --history, a small
 time series per case (median per commit, the band between the lowest and highest repetition, change points
@@ -28,6 +29,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "lib"))
 import history  # noqa: E402
 from results_io import load_results, write_text_atomic  # noqa: E402
+from report_answer import answer_section  # noqa: E402
 from tradeoff import frame_ms, pareto  # noqa: E402
 
 STYLE = """body{font:14px/1.45 system-ui,sans-serif;margin:24px auto;max-width:1180px;color:#1d1d1f}
@@ -155,11 +157,16 @@ def tradeoff_chart(cases):
         ax.scatter([t for t, _, _ in points], [e for _, e, _ in points], s=10, color=colour, alpha=0.5)
         ordered = sorted((points[i][0], points[i][1]) for i in front)
         ax.plot([t for t, _ in ordered], [e for _, e in ordered], "o-", color=colour, lw=1, ms=4, label=group)
+        for i in front:  # each point of the front named by what it is
+            a = points[i][2]["axes"]
+            ax.annotate(f"{a['technique']}/{a['filter']}", (points[i][0], points[i][1]), fontsize=5.5,
+                        xytext=(3, 3), textcoords="offset points", color=colour)
         names += [f"<li><code>{esc(points[i][2]['id'])}</code>: {points[i][0]:.3f} ms, {points[i][1]:.3f}%</li>"
                   for i in sorted(front, key=lambda i: points[i][0])]
     ax.set_xlabel("frame time, ms (shadow + lighting, median)")
     ax.set_ylabel("misclassified pixels, %")
-    ax.legend(fontsize=7, title="Pareto front per", title_fontsize=7)
+    ax.legend(fontsize=7, title="Pareto front of each backend/scene", title_fontsize=7,
+              bbox_to_anchor=(1.02, 1), loc="upper left")
     return f"<img src='{png(fig)}' alt='speed against accuracy'><p>Pareto fronts:</p><ul>{''.join(names)}</ul>"
 
 
@@ -227,8 +234,30 @@ def case_table(cases):
         rows.append(f"<tr id='{esc(c['id'])}'><td><code>{esc(c['id'])}</code></td>"
                     f"<td class='{status}'>{esc(c['status'])}</td><td>{fmt(pass_ms(c, 'shadow'))}</td>"
                     f"<td>{fmt(pass_ms(c, 'lighting'))}</td><td>{fmt(acc)}</td><td>{esc(c.get('reason', ''))}</td></tr>")
-    return ("<table><tr><th>case</th><th>status</th><th>shadow ms</th><th>lighting ms</th><th>misclassified %</th>"
-            "<th>reason</th></tr>" + "".join(rows) + "</table>")
+    return ("<p><input id='case-filter' size='60' placeholder='show cases whose id has every word: gl pcf_disk20'> "
+            "<span id='case-count' class='small'></span></p>"
+            "<table id='cases'><tr><th>case</th><th>status</th><th>shadow ms</th><th>lighting ms</th>"
+            "<th>misclassified %</th><th>reason</th></tr>" + "".join(rows) + "</table>" + CASE_FILTER_SCRIPT)
+
+
+# Filters the case table as one types (and from the page's #fragment, so a link can carry a filter); no network.
+CASE_FILTER_SCRIPT = """<script>
+(function () {
+  var box = document.getElementById('case-filter'), rows = document.querySelectorAll('#cases tr[id]');
+  function apply() {
+    var words = box.value.toLowerCase().split(/\\s+/).filter(Boolean), shown = 0;
+    rows.forEach(function (r) {
+      var id = r.id.toLowerCase(), keep = words.every(function (w) { return id.indexOf(w) >= 0; });
+      r.style.display = keep ? '' : 'none';
+      if (keep) shown++;
+    });
+    document.getElementById('case-count').textContent = shown + ' of ' + rows.length + ' cases';
+  }
+  box.value = decodeURIComponent(location.hash.slice(1));
+  box.addEventListener('input', apply);
+  apply();
+})();
+</script>"""
 
 
 def main():
@@ -242,7 +271,7 @@ def main():
     timed = [c for c in cases if c.get("timing")]
     out = args.out or os.path.join(args.run, "report.html")
     body = [f"<h1>omnishadow run {esc(doc['omnishadow'].get('commit', ''))}</h1>", incomplete_banner(doc),
-            header(doc),
+            header(doc), "<h2>The answer</h2>", answer_section(timed),
             f"<h2>Status</h2><p>{status_counts(cases)}</p>",
             "<h2>Shadow pass per technique (ratio to six_pass)</h2>",
             ratio_chart(timed, "technique", "six_pass", "shadow", "shadow pass, median wall time / six_pass"),

@@ -1,0 +1,57 @@
+// summary.md (bench/report/summary_table.h): an incomplete run says so first, and the accuracy of each filter
+// is in it beside what it is held to.
+#include "bench/report/summary_table.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace omnishadow::bench {
+namespace {
+
+CaseResult with_accuracy(Technique t, Filter f, double misclassified, double mae, double fit_radius) {
+  CaseResult r;
+  r.config.technique = t;
+  r.config.filter = f;
+  Accuracy a;
+  a.pixels = 1000;
+  a.misclassified_percent = misclassified;
+  a.mae_point = mae;
+  a.fit_radius = fit_radius;
+  a.fit_mae_best = fit_radius < 0 ? -1.0 : mae / 2;
+  r.accuracy = a;
+  return r;
+}
+
+TEST(SummaryTable, EachFiltersAccuracyIsBesideWhatItIsHeldTo) {
+  const std::vector<CaseResult> results = {
+      with_accuracy(Technique::six_pass, Filter::hard, 0.12, 0.0012, 0.0),
+      with_accuracy(Technique::geometry_shader, Filter::hard, 9.0, 0.5, 1.6),  // the row's first case speaks
+      with_accuracy(Technique::six_pass, Filter::pcf_disk20, 0.226, 0.0048, 0.1),
+      with_accuracy(Technique::six_pass, Filter::vsm, 0.45, 0.0058, -1.0)};
+  const std::string md = summary_markdown(results);
+  const size_t table = md.find("## Accuracy per filter, against exact visibility");
+  ASSERT_NE(table, std::string::npos) << md;
+  EXPECT_NE(md.find("spherical light whose exact soft shadow the filter matches best", table),
+            std::string::npos);
+  const size_t row = md.find(
+      "| `gl/room/c512/f800x600/linear_depth/d32f` | 0.12% / 0.0012 / r 0 (0.0006) | - | "
+      "0.226% / 0.0048 / r 0.1 (0.0024) |",
+      table);
+  EXPECT_NE(row, std::string::npos) << md;
+  EXPECT_NE(md.find("| 0.45% / 0.0058 |", table), std::string::npos) << "no fit: two figures\n" << md;
+  EXPECT_EQ(md.find("9%"), std::string::npos) << "a later technique's figures do not replace six_pass's";
+  EXPECT_EQ(md.find("Incomplete"), std::string::npos) << "a whole run has no banner";
+}
+
+TEST(SummaryTable, AnIncompleteRunSaysSoFirst) {
+  const std::string md =
+      summary_markdown({}, {}, {}, "stopped by SIGINT during the untimed checks, after 3 of 9 cases");
+  EXPECT_EQ(
+      md.rfind("**Incomplete run: stopped by SIGINT during the untimed checks, after 3 of 9 cases.**", 0), 0u)
+      << md;
+}
+
+}  // namespace
+}  // namespace omnishadow::bench
