@@ -133,6 +133,16 @@ TEST_P(CliBadInput, OneLineErrorAndExitCodeTwo) {
     { std::ofstream(dir / "room.json") << R"({"light": {}, "objects": [{"type": "box"}]})"; }
     args.replace(at, 12, (dir / "room.json").string());
   }
+  // A run folder with an empty but valid results.json, for the commands that read one.
+  for (size_t at; (at = args.find("@RUN@")) != std::string::npos;) {
+    fs::path dir = scratch("a_run");
+    fs::create_directories(dir);
+    {
+      std::ofstream(dir / "results.json")
+          << R"({"omnishadow": {"format": "omnishadow-results/1", "cases": []}})";
+    }
+    args.replace(at, 5, dir.string());
+  }
   if (size_t at = args.find("@OUT@"); at != std::string::npos) args.replace(at, 5, scratch("out").string());
   Outcome o = run(args);
   EXPECT_EQ(o.exit_code, 2) << o.err;
@@ -171,7 +181,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --cube 16 --cube 32 --out @OUT@", "--cube is given 2 times: give it once"},
         BadInput{"run --out @OUT@ --benchmark_filter=nothing-matches-this", "empty"},
         BadInput{"run --out @OUT@ --benchmark_out=x.json", "--benchmark_out"},
-        BadInput{"run --egl-platform wayland --out @OUT@", "unknown --egl-platform 'wayland'"},
+        BadInput{"run --egl-platform wayland --out @OUT@",
+                 "--egl-platform: wayland not in {surfaceless,device}"},
         BadInput{"run --egl-platform device --gl-device 99 --out @OUT@", "--gl-device 99"},
         BadInput{"run --backend vulkan --vk-device no-such-gpu --out @OUT@",
                  "--vk-device 'no-such-gpu' matches no Vulkan device"},
@@ -210,7 +221,66 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --scene room,@OTHER_ROOM@ --out @OUT@", "would both be named 'room' in case ids"},
         BadInput{"run --light 1,2 --out @OUT@", "--light: expected X,Y,Z or X,Y,Z,AX,AY,AZ, got 2"},
         BadInput{"run --camera 1,nan,3 --out @OUT@", "--camera: 'nan' is not a finite number"},
-        BadInput{"run --scene spot --light 0,1,0 --out @OUT@", "spot.json: --light moves the point light"}),
+        BadInput{"run --scene spot --light 0,1,0 --out @OUT@", "spot.json: --light moves the point light"},
+        // Every option that takes a value, given one it cannot take (tests/bad_input_coverage_test.py holds
+        // the table to that): the option named, and what it expected.
+        BadInput{"run --scenes-dir /nonexistent --out @OUT@", "--scenes-dir /nonexistent: no such folder"},
+        BadInput{"run --technique warp --out @OUT@", "--technique: unknown technique 'warp'"},
+        BadInput{"run --depth-format d8 --out @OUT@", "--depth-format: unknown depth format 'd8'"},
+        BadInput{"run --light-count 0 --out @OUT@", "--light-count: '0' is not a valid light count"},
+        BadInput{"run --light-count 2000 --out @OUT@", "--light-count: 2000 is more than 1024 lights"},
+        BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},
+        BadInput{"run --case-timeout-s nan --out @OUT@", "--case-timeout-s: 'nan' is not a finite number"},
+        BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},
+        BadInput{"run --inject-hang [ --out @OUT@", "--inject-hang: '[' is not a regular expression"},
+        BadInput{"run --inject-in nowhere --out @OUT@", "--inject-in: 'nowhere' is not checks or timed"},
+        BadInput{"run --frames 0 --out @OUT@", "--frames: Value 0 not in range 1 to 1000000"},
+        BadInput{"run --warmup -1 --out @OUT@", "--warmup: Value -1 not in range"},
+        BadInput{"run --warmup-ms nan --out @OUT@", "--warmup-ms: 'nan' is not a finite number"},
+        BadInput{"run --repetition-ms inf --out @OUT@", "--repetition-ms: 'inf' is not a finite number"},
+        BadInput{"run --inject-frame-ms -1 --out @OUT@", "--inject-frame-ms: Value -1 not in range"},
+        BadInput{"run --settle-s 1e9 --out @OUT@", "--settle-s: Value 1e9 not in range 0 to 600"},
+        BadInput{"run --check-frame -1 --out @OUT@", "--check-frame: Value -1 not in range"},
+        BadInput{"run --face-tolerance -1 --out @OUT@", "--face-tolerance: Value -1 not in range"},
+        BadInput{"run --lit-tolerance nan --out @OUT@", "--lit-tolerance: 'nan' is not a finite number"},
+        BadInput{"run --cross-lit-tolerance 256 --out @OUT@",
+                 "--cross-lit-tolerance: Value 256 not in range"},
+        BadInput{"run --cross-shadow-tolerance 2 --out @OUT@",
+                 "--cross-shadow-tolerance: Value 2 not in range"},
+        BadInput{"run --cross-max-percent 101 --out @OUT@", "--cross-max-percent: Value 101 not in range"},
+        BadInput{"run --light-radius -1 --out @OUT@", "--light-radius: Value -1 not in range"},
+        BadInput{"run --light-samples 0 --out @OUT@", "--light-samples: Value 0 not in range 1 to 64"},
+        BadInput{"run --sphere-stride -1 --out @OUT@", "--sphere-stride: Value -1 not in range 0 to 64"},
+        BadInput{"run --max-error 1e3 --out @OUT@", "--max-error: Value 1e3 not in range 0 to 100"},
+        BadInput{"run --inject-fragment-work x --out @OUT@",
+                 "--inject-fragment-work: 'x' is not a whole number from 0 to 1000000"},
+        BadInput{"run --replicas 0 --out @OUT@", "--replicas: Value 0 not in range 1 to 16"},
+        BadInput{"run --raster-perturb nan --out @OUT@", "--raster-perturb: 'nan' is not a finite number"},
+        BadInput{"run --lookup-perturb 5 --out @OUT@", "--lookup-perturb: Value 5 not in range 0 to 4"},
+        BadInput{"run --memory-budget lots --out @OUT@", "--memory-budget: lots unit not recognized"},
+        BadInput{"run --images some --out @OUT@", "--images: some not in {failed,all,none}"},
+        BadInput{"run --cube-read-back half --out @OUT@",
+                 "--cube-read-back: half not in {auto,full,sampled}"},
+        BadInput{"run --max-repetitions 0 --out @OUT@", "--max-repetitions: Value 0 not in range"},
+        BadInput{"run --sustain 0 --out @OUT@", "--sustain: Value 0 not in range"},
+        BadInput{"run --gl-device x --egl-platform device --out @OUT@",
+                 "--gl-device: expects an EGL device index (0, 1, ...), got 'x'"},
+        BadInput{"compare --min-effect nan @FOREIGN_RESULTS@ @FOREIGN_RESULTS@",
+                 "--min-effect: 'nan' is not a finite number"},
+        BadInput{"compare --metric vram @FOREIGN_RESULTS@ @FOREIGN_RESULTS@", "--metric: vram not in"},
+        BadInput{"compare --gate /nonexistent/gate.json @RUN@ @RUN@", "gate file /nonexistent/gate.json"},
+        BadInput{"compare --out /proc/omnishadow @RUN@ @RUN@",
+                 "compare --out /proc/omnishadow: cannot create"},
+        BadInput{"merge /proc/omnishadow @RUN@", "merge OUT /proc/omnishadow: cannot create the folder"},
+        BadInput{"merge @OUT@ /nonexistent/run", "/nonexistent/run: cannot read"},
+        BadInput{"report /nonexistent/run", "report: /nonexistent/run is no run"},
+        BadInput{"report @RUN@ --history /nonexistent/h", "report --history /nonexistent/h: no such run"},
+        BadInput{"report @RUN@ --out /proc/omnishadow/r.html", "--out /proc/omnishadow/r.html"},
+        BadInput{"list --scenes-dir /nonexistent", "--scenes-dir /nonexistent: no such folder"},
+        BadInput{"list --egl-platform wayland", "--egl-platform: wayland not in {surfaceless,device}"},
+        BadInput{"list --gl-device x --egl-platform device", "--gl-device: expects an EGL device index"},
+        BadInput{"list --vk-device", "--vk-device: 1 required TEXT missing"},
+        BadInput{"list --api-checks=maybe", "--api-checks"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return "case" + std::to_string(info.index); });
 
 class CliRun : public ::testing::Test {

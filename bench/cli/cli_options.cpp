@@ -4,10 +4,54 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <regex>
+#include <sstream>
 #include <stdexcept>
 
 namespace omnishadow::bench {
 namespace {
+
+// A case-id pattern: refused at once when it is no regular expression, not when the first case meets it.
+CLI::Validator regex_check(const std::string& option) {
+  return CLI::Validator(
+      [option](std::string& text) -> std::string {
+        try {
+          std::regex pattern(text);
+        } catch (const std::regex_error& e) {
+          return "'" + text + "' is not a regular expression (" + e.what() + ")";
+        }
+        return "";
+      },
+      "REGEX");
+}
+
+// CLI::Range lets NaN through (every comparison with it is false) and "inf" is a number to it: a real-valued
+// option must be a finite number within its range.
+CLI::Validator finite_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        size_t used = 0;
+        double v = 0.0;
+        try {
+          v = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != text.size() || !std::isfinite(v))
+          return "'" + text + "' is not a finite number";
+        if (v < lo || v > hi) {
+          std::ostringstream range;
+          range << "Value " << text << " not in range " << lo << " to " << hi;
+          return range.str();
+        }
+        return "";
+      },
+      [&] {
+        std::ostringstream d;
+        d << "FLOAT in [" << lo << " - " << hi << "]";
+        return d.str();
+      }());
+}
 
 template <typename T, typename Name>
 std::string join(const std::vector<T>& values, Name name) {
@@ -98,7 +142,7 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
   r.add_option_function<std::string>(
        "--tessellate",
        [&m](const std::string& t) {
-         m.tessellations = parse_int_list(t, "--tessellate");
+         m.tessellations = parse_int_list(t, "--tessellate", "subdivision");
          for (int n : m.tessellations)
            if (n > 64)
              throw std::invalid_argument("--tessellate: " + std::to_string(n) + " is more than 64 a side");
@@ -110,7 +154,7 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
   r.add_option_function<std::string>(
        "--light-count",
        [&m](const std::string& t) {
-         m.light_counts = parse_int_list(t, "--light-count");
+         m.light_counts = parse_int_list(t, "--light-count", "light count");
          for (int n : m.light_counts)
            if (n > scene::kMaxPointLights)
              throw std::invalid_argument("--light-count: " + std::to_string(n) + " is more than " +
@@ -159,22 +203,22 @@ void add_frame_options(CLI::App& r, RunOptions& o) {
        "--warmup-ms", o.warmup_ms,
        "untimed warm-up time per repetition as well as frames: the warm-up frames repeat until this long "
        "(default: 100 on a GPU, whose clock must ramp after each pause; 0 on a CPU driver)")
-      ->check(CLI::Range(0.0, 600000.0));
+      ->check(finite_in(0.0, 600000.0));
   r.add_option(
        "--repetition-ms", o.repetition_ms,
        "a repetition's length in time as well as frames: each case gets as many more timed frames as "
        "this takes (default: 100 on a GPU, whose sub-millisecond frames vary a lot; 0 on a CPU driver)")
-      ->check(CLI::Range(0.0, 600000.0));
+      ->check(finite_in(0.0, 600000.0));
   r.add_option("--inject-frame-ms", o.inject_frame_ms,
                "tests of the sizing by time only: --warmup-ms and --repetition-ms count every frame as this "
                "many ms instead of its measured wall time (0: measured); the timings reported stay measured")
-      ->check(CLI::Range(0.0, 600000.0));
+      ->check(finite_in(0.0, 600000.0));
   r.add_option(
        "--settle-s", o.settle_s,
        "before a backend's first timed repetition, render until the device clock is steady, at most this "
        "many seconds (0: don't)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 600.0));
+      ->check(finite_in(0.0, 600.0));
   r.add_flag(
       "--lock-clocks", o.lock_clocks,
       "lock the GPU's graphics clock for the run (NVIDIA, through NVML, where this process may: usually "
@@ -189,26 +233,26 @@ void add_frame_options(CLI::App& r, RunOptions& o) {
 void add_check_options(CLI::App& r, RunOptions& o) {
   r.add_option("--face-tolerance", o.face_tolerance, "allowed |difference| of cube texels, world units")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e30));
+      ->check(finite_in(0.0, 1e30));
   r.add_option("--lit-tolerance", o.lit_tolerance, "allowed |difference| of lit pixels, 8-bit levels")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 255.0));
+      ->check(finite_in(0.0, 255.0));
   r.add_option("--cross-lit-tolerance", o.cross_lit_tolerance,
                "across backends: allowed |difference| of lit pixels, 8-bit levels")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 255.0));
+      ->check(finite_in(0.0, 255.0));
   r.add_option("--cross-shadow-tolerance", o.cross_shadow_tolerance,
                "across backends: allowed |difference| of shadow factors")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(finite_in(0.0, 1.0));
   r.add_option("--cross-max-percent", o.cross_max_percent,
                "across backends: % of values allowed beyond those tolerances")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(finite_in(0.0, 100.0));
   r.add_option("--light-radius", o.truth.light_radius,
                "radius of the spherical light of the soft reference, world units (0: point light only)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0f, 1e6f));
+      ->check(finite_in(0.0f, 1e6f));
   r.add_option("--light-samples", o.truth.samples_per_axis,
                "stratified samples per axis on that light (8 = 64 rays per pixel)")
       ->capture_default_str()
@@ -223,7 +267,7 @@ void add_check_options(CLI::App& r, RunOptions& o) {
        "--max-error", o.max_error_percent,
        "fail a case (failed_quality, error in the reason) whose shadow disagrees with exact visibility on "
        "more than this % of pixels")
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(finite_in(0.0, 100.0));
 }
 
 // Repetitions run in rounds (bench/run/repetition_policy.h); the fixed count stays Google Benchmark's flag
@@ -234,7 +278,7 @@ void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
        "repeat each case (in rounds, interleaved with the others) until the 95% confidence interval of its "
        "median per-repetition frame time is within +-P% (at least 6 repetitions; at most "
        "--max-repetitions)")
-      ->check(CLI::Range(0.01, 100.0));
+      ->check(finite_in(0.01, 100.0));
   r.add_option_function<std::string>(
        "--precision-metric", [&p](const std::string& m) { p.metric = m; },
        "what --precision judges: wall (frame wall time), cpu (process CPU time per frame; compare --metric "
@@ -251,7 +295,7 @@ void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
        "--sustain", p.sustain_seconds,
        "loop the matrix in rounds for this many seconds and report each case's worst repetition against "
        "its best (stability %; clocks recorded per repetition)")
-      ->check(CLI::Range(1.0, 7.0 * 24 * 3600));
+      ->check(finite_in(1.0, 7.0 * 24 * 3600));
 }
 
 }  // namespace
@@ -266,9 +310,18 @@ std::map<std::string, std::string> CommonOptions::backend_options() const {
 void add_common_options(CLI::App& sub, CommonOptions& o) {
   sub.add_option("--scenes-dir", o.scenes_dir, "folder holding <scene>.json files")->capture_default_str();
   sub.add_option("--egl-platform", o.egl_platform, "surfaceless (Mesa) or device (EGL_EXT_platform_device)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"surfaceless", "device"}));
   sub.add_option("--gl-device", o.gl_device, "EGL device index with --egl-platform device")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            const bool digits =
+                !text.empty() && text.size() <= 6 &&
+                std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); });
+            return digits ? "" : "expects an EGL device index (0, 1, ...), got '" + text + "'";
+          },
+          "INDEX"));
   sub.add_option("--vk-device", o.vk_device, "Vulkan device: index or part of its name (default: device 0)");
   sub.add_flag(
       "--api-checks", o.api_checks,
@@ -355,12 +408,14 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
        "a worker that makes no progress (no new case, step or timed repetition) for this long is killed and "
        "its case recorded crashed")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 86400.0));
+      ->check(finite_in(1.0, 86400.0));
   r.add_option("--inject-crash", run.harness.inject_crash,
-               "tests of the isolation only: SIGSEGV in the cases whose id matches this regex (--inject-in)");
+               "tests of the isolation only: SIGSEGV in the cases whose id matches this regex (--inject-in)")
+      ->check(regex_check("--inject-crash"));
   r.add_option(
-      "--inject-hang", run.harness.inject_hang,
-      "tests of the isolation only: the cases whose id matches this regex never finish (--inject-in)");
+       "--inject-hang", run.harness.inject_hang,
+       "tests of the isolation only: the cases whose id matches this regex never finish (--inject-in)")
+      ->check(regex_check("--inject-hang"));
   r.add_option_function<std::string>(
        "--inject-in",
        [&run](const std::string& v) {
@@ -414,7 +469,7 @@ static void add_experiment_options(CLI::App& r, RunCommand& run) {
        "tests of the checks only: move every shadow- and map-pass vertex by up to STEPS of the device's "
        "sub-pixel steps (deterministic per world position), as another conformant rasteriser may snap")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 4.0));
+      ->check(finite_in(0.0, 4.0));
   r.add_flag("--emulate-nv-swizzle", run.matrix.emulate_nv_swizzle,
              "tests only: nv_swizzle without its NV extensions (an ordinary GS applies each face's swizzle): "
              "proves its "
@@ -424,7 +479,7 @@ static void add_experiment_options(CLI::App& r, RunCommand& run) {
        "tests of the checks only: move every cube lookup of the lighting pass by TEXELS along each of the "
        "face's two axes, as a sampler with coarser sub-texel precision may (the lookup check's bound)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 4.0));
+      ->check(finite_in(0.0, 4.0));
 }
 
 void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
@@ -518,10 +573,10 @@ void add_compare_options(CLI::App& cmp, CompareOptions& compare, CompareFlags& f
   cmp.add_option("new", flags.new_run, "new run folder or results.json")->required();
   cmp.add_option("--alpha", compare.alpha, "family-wise significance level (Holm-corrected)")
       ->capture_default_str()
-      ->check(CLI::Range(1e-9, 0.5));
+      ->check(finite_in(1e-9, 0.5));
   cmp.add_option("--min-effect", compare.min_effect, "smallest relative time change reported (0.05 = 5%)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 10.0));
+      ->check(finite_in(0.0, 10.0));
   cmp.add_option(
          "--metric", compare.metric,
          "time to test: wall (frame wall time), cpu (process CPU time per frame, all threads: the work "

@@ -456,6 +456,26 @@ int report_command(const std::string& run, const std::vector<std::string>& histo
                 " (scripts/setup.sh installs Python's packages)");
     return 2;
   }
+  // The paths first, in this process's words: the script would say them in Python's.
+  auto is_run = [&](const std::string& path) {
+    return fs::is_regular_file(path, ec) || fs::is_regular_file(fs::path(path) / "results.json", ec);
+  };
+  if (!is_run(run)) {
+    print_error("report: " + run +
+                " is no run (no results.json there; give a run folder or its results.json)");
+    return 2;
+  }
+  for (const std::string& h : history)
+    if (!fs::exists(h, ec)) {
+      print_error("report --history " + h + ": no such run or folder");
+      return 2;
+    }
+  if (!out.empty() && (fs::is_directory(out, ec) || !fs::is_directory(fs::absolute(out).parent_path(), ec))) {
+    print_error(
+        "report --out " + out + ": " +
+        (fs::is_directory(out, ec) ? "is a folder; give the HTML file's path" : "its folder does not exist"));
+    return 2;
+  }
   std::vector<std::string> args = {python, script, run};
   if (!history.empty()) {
     args.push_back("--history");

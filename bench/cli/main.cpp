@@ -3,6 +3,7 @@
 // The options are declared in bench/cli/cli_options.cpp; this file only splits the arguments and dispatches.
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,14 @@ using namespace omnishadow;
 using namespace omnishadow::bench;
 
 namespace {
+
+// False, said in one line, when --scenes-dir names no folder (list and run read it).
+bool scenes_dir_exists(const std::string& dir) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(dir, ec)) return true;
+  print_error("--scenes-dir " + dir + ": no such folder (it holds the bundled <scene>.json files)");
+  return false;
+}
 
 // compare, merge and device-key read results files only.
 int run_file_command(CLI::App* cmp, CLI::App* mrg, const CompareFlags& cf, CompareOptions compare,
@@ -120,6 +129,7 @@ int main(int argc, char** argv) {
     print_error(e.what());
     return 2;
   }
+  if ((list->parsed() || r->parsed()) && !scenes_dir_exists(common.scenes_dir)) return 2;
   if (list->parsed()) return list_command(common.scenes_dir, common.backend_options());
   if (r->parsed()) return run_command(run);
   if (rep->parsed()) return report_command(report_run, report_history, report_out);

@@ -14,6 +14,21 @@
 
 namespace omnishadow::bench {
 
+void create_writable_folder(const std::string& dir, const std::string& what) {
+  std::error_code ec;
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+    throw std::runtime_error(what + " " + dir + " exists and is not a folder");
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(what + " " + dir + ": cannot create the folder (" + ec.message() + ")");
+  const std::string probe = (std::filesystem::path(dir) / ".write_test").string();
+  try {
+    write_file_atomic(probe, "ok");
+  } catch (const std::exception&) {
+    throw std::runtime_error(what + " " + dir + ": the folder is not writable");
+  }
+  std::filesystem::remove(probe, ec);
+}
+
 void write_file_atomic(const std::string& path, std::string_view bytes) {
   std::string tmp = path + ".tmp." + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "wb");

@@ -9,6 +9,9 @@ namespace omnishadow::bench {
 
 void write_file_atomic(const std::string& path, std::string_view bytes);  // throws std::runtime_error
 std::string read_file(const std::string& path);                           // throws std::runtime_error
+// Creates `dir` (and its parents) and proves it writable; throws std::runtime_error naming `what` (the option
+// or argument that gave it: "--out", "merge OUT") and the folder in one line.
+void create_writable_folder(const std::string& dir, const std::string& what);
 
 // An exclusive advisory lock (flock) on `path`, created if absent, held until the object is destroyed or the
 // process ends (a killed run leaves no stale lock); the holder's pid is written into the file. A second

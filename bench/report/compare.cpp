@@ -407,6 +407,9 @@ void apply_gate_file(const std::string& path, CompareOptions& options) {
 int compare_command(const std::string& base_path, const std::string& new_path,
                     const CompareOptions& options) {
   RunData base = load_run(base_path), fresh = load_run(new_path);
+  const fs::path out_dir =
+      options.out_dir.empty() ? fs::path(fresh.dir) / "compare" : fs::path(options.out_dir);
+  create_writable_folder(out_dir.string(), "compare --out");  // before anything is printed
   Comparison c = compare_runs(base, fresh, options);
   if (c.base_devices != c.new_devices && !options.allow_device_mismatch) {
     std::string b, n;
@@ -416,8 +419,6 @@ int compare_command(const std::string& base_path, const std::string& new_path,
                        " (timings are not comparable; --allow-device-mismatch compares anyway)");
   }
   std::cout << comparison_table(c, options);
-  fs::path out_dir = options.out_dir.empty() ? fs::path(fresh.dir) / "compare" : fs::path(options.out_dir);
-  fs::create_directories(out_dir);
   write_file_atomic((out_dir / "summary.md").string(), comparison_markdown(c, options));
   write_file_atomic((out_dir / "comparison.json").string(), comparison_json(c, options).dump(2) + "\n");
   std::cout << "summary: " << (out_dir / "summary.md").string() << "\n";

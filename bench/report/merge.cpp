@@ -23,7 +23,7 @@ std::string MergeResult::describe() const {
 MergeResult merge_runs(const std::string& out_dir, const std::vector<std::string>& runs) {
   MergeResult result;
   if (runs.empty()) throw CompareError("merge: no runs given");
-  fs::create_directories(out_dir);
+  create_writable_folder(out_dir, "merge OUT");
   if (fs::exists(fs::path(out_dir) / "results.json"))
     throw CompareError("merge: " + out_dir + " already holds a run (results.json); choose a new folder");
   json merged;

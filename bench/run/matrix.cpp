@@ -39,10 +39,10 @@ int parse_positive(const std::string& item, const std::string& option, const cha
 
 }  // namespace
 
-std::vector<int> parse_int_list(const std::string& text, const std::string& option) {
+std::vector<int> parse_int_list(const std::string& text, const std::string& option, const char* what) {
   std::vector<int> out;
   const std::vector<std::string> items = split_list(text);
-  for (const std::string& item : items) out.push_back(parse_positive(item, option, "size"));
+  for (const std::string& item : items) out.push_back(parse_positive(item, option, what));
   if (out.empty()) throw std::invalid_argument(option + ": empty list");
   refuse_repeats(out, items, option);
   return out;

@@ -81,8 +81,10 @@ struct ShardFromEnvironment {
 };
 ShardFromEnvironment shard_from_environment(const std::function<const char*(const char*)>& getenv);
 
-// "256,512" -> {256, 512}; throws std::invalid_argument naming `option` on anything but positive integers.
-std::vector<int> parse_int_list(const std::string& text, const std::string& option);
+// "256,512" -> {256, 512}; throws std::invalid_argument naming `option` on anything but positive integers,
+// each called `what` ("'0' is not a valid size").
+std::vector<int> parse_int_list(const std::string& text, const std::string& option,
+                                const char* what = "size");
 // "800x600,1920x1080"
 std::vector<std::pair<int, int>> parse_size_list(const std::string& text, const std::string& option);
 std::vector<std::string> split_list(const std::string& text);
