@@ -45,6 +45,29 @@ TEST(SummaryTable, EachFiltersAccuracyIsBesideWhatItIsHeldTo) {
   EXPECT_EQ(md.find("Incomplete"), std::string::npos) << "a whole run has no banner";
 }
 
+// Hard filters' false and missed shadows, where many, are named with what mends them; soft filters' are by
+// design and are not.
+TEST(SummaryTable, AcneAndLeaksOfHardFiltersAreNamed) {
+  std::vector<CaseResult> results = {with_accuracy(Technique::six_pass, Filter::hard, 2.4, 0.02, -1.0),
+                                     with_accuracy(Technique::six_pass, Filter::pcf_disk20, 3.0, 0.03, 0.1)};
+  results[0].config.cube_size = 256;
+  results[0].accuracy->false_shadow_percent = 1.95;
+  results[0].accuracy->missed_shadow_percent = 0.43;
+  results[1].accuracy->false_shadow_percent = 2.0;
+  results[1].accuracy->missed_shadow_percent = 1.5;
+  const std::string md = summary_markdown(results);
+  EXPECT_NE(
+      md.find("## What the errors are\n\n- `gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f`: "
+              "1.95% of pixels shadowed where the light is visible (acne): the lookup's bias is short of "
+              "the depth a texel spans on grazing receivers at cube 256"),
+      std::string::npos)
+      << md;
+  EXPECT_EQ(md.find("hidden (leaks)"), std::string::npos) << "0.43% missed is below the note's 1%";
+  EXPECT_EQ(md.find("pcf_disk20/linear_depth/d32f`:"), std::string::npos) << "a soft filter blurs by design";
+  results[0].accuracy->false_shadow_percent = 0.2;
+  EXPECT_EQ(summary_markdown(results).find("## What the errors are"), std::string::npos);
+}
+
 TEST(SummaryTable, AnIncompleteRunSaysSoFirst) {
   const std::string md =
       summary_markdown({}, {}, {}, "stopped by SIGINT during the untimed checks, after 3 of 9 cases");
