@@ -36,6 +36,8 @@ FACE_ARRAY = ["--layout", "face_array", "--filter", "hard,pcf_grid64,pcf_disk20,
 # dual_paraboloid, tessellated so that its own error is small next to a planted bug's.
 PARABOLOID = ["--layout", "dual_paraboloid", "--tessellate", "8", "--filter", "hard,pcf_disk20"]
 TETRA = ["--layout", "tetrahedral", "--filter", "hard,pcf_disk20"]
+# A light whose range ends inside its room (the hall's first lamp): its own scene replaces the default ones.
+RANGE = ["--scene", "hall", "--light-count", "1", "--filter", "hard,pcf_disk20"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -155,6 +157,9 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("swizzle_depth_not_reversed", "backends/common/techniques.cpp",
      replace("return c.technique == Technique::nv_swizzle && !traits(c.storage).fragment_depth;", "return false;"),
      "nv_swizzle's r32f_distance keeps fragments by LESS against 1: its reversed depth keeps the farthest", SWIZZLE),
+    ("range_ignored", "shaders/lighting.frag",
+     replace("shadow = in_range ? looked_up : 0.0;", "shadow = looked_up;"),
+     "a point light's range ignored: beyond its far the shadow factor is what the filter reads there", RANGE),
 ]
 
 
@@ -215,8 +220,12 @@ def run_matrix(work, out, name, backend, log, extra=()):
     binary = os.path.join(work, "build", "release", "omnishadow")
     if any(MOMENTS in a for a in extra):
         extra = [a.replace(MOMENTS, listed(binary, "moments filters", env)) for a in extra]
+    matrix = list(MATRIX)
+    if "--scene" in extra:  # a mutant's own scenes replace the default ones
+        at = matrix.index("--scene")
+        del matrix[at:at + 2]
     with open(log, "a") as f:
-        code = subprocess.run([binary, "run", "--backend", backend, "--out", run_dir, *MATRIX, *extra], cwd=work,
+        code = subprocess.run([binary, "run", "--backend", backend, "--out", run_dir, *matrix, *extra], cwd=work,
                               env=env, stdout=f, stderr=subprocess.STDOUT).returncode
     results = os.path.join(run_dir, "results.json")
     return code, failures(results) if os.path.exists(results) else {}
