@@ -53,6 +53,10 @@ assert "http://" not in dom and "https://" not in dom, "the page must not reach 
 answer = dom.find("<h2>The answer</h2>")
 assert 0 <= answer < dom.find("<h2>Status</h2>"), "the answer comes before the statuses and the detail"
 assert "Fastest shadow pass: " in dom and "Pareto set: <code>" in dom, "the answer names the fastest and the front"
+# The speed/accuracy chart is inline SVG: every case a point whose hover tooltip names it.
+tips = [i for i in ids if f"<title>{i}: " in dom]
+assert len(tips) == len(ids), f"cases without a hover tooltip on the chart: {set(ids) - set(tips)}"
+assert "Pareto front of each backend/scene</text>" in dom, "the legend's title is whole"
 print(f"report: {len(ids)} cases present in the page Chromium rendered")
 PY
 # The case table filters as one types, and from the page's #fragment: half the cases are pcf_disk20.

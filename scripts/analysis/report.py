@@ -30,7 +30,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 import history  # noqa: E402
 from results_io import load_results, write_text_atomic  # noqa: E402
 from report_answer import answer_section  # noqa: E402
-from tradeoff import frame_ms, pareto  # noqa: E402
+from report_svg import tradeoff_svg  # noqa: E402
 
 STYLE = """body{font:14px/1.45 system-ui,sans-serif;margin:24px auto;max-width:1180px;color:#1d1d1f}
 h1{font-size:22px}h2{font-size:17px;margin-top:28px;border-bottom:1px solid #ddd}
@@ -137,37 +137,6 @@ def ratio_chart(cases, axis, base, pass_name, title):
     ax.legend(fontsize=7)
     table = "<table><tr><th>group</th>" + "".join(f"<th>{esc(v)}</th>" for v in values) + "</tr>" + "".join(rows)
     return f"<img src='{png(fig)}' alt='{esc(title)}'>" + table + "</table>"
-
-
-def tradeoff_chart(cases):
-    """Frame time against misclassified pixels, one colour per backend and scene, each group's Pareto front drawn
-    (nothing else in the group is both faster and more accurate)."""
-    groups = {}
-    for c in cases:
-        t, e = frame_ms(c), c.get("accuracy", {}).get("misclassified_percent")
-        if t is not None and e is not None:
-            groups.setdefault(f"{c['axes']['backend']}/{c['axes']['scene']}", []).append((t, e, c))
-    if not groups:
-        return "<p class='small'>no case with both timing and accuracy</p>"
-    fig, ax = plt.subplots(figsize=(6.5, 3.6))
-    names = []
-    for k, (group, points) in enumerate(sorted(groups.items())):
-        colour = plt.cm.tab10(k)
-        front = set(pareto([(t, e) for t, e, _ in points]))
-        ax.scatter([t for t, _, _ in points], [e for _, e, _ in points], s=10, color=colour, alpha=0.5)
-        ordered = sorted((points[i][0], points[i][1]) for i in front)
-        ax.plot([t for t, _ in ordered], [e for _, e in ordered], "o-", color=colour, lw=1, ms=4, label=group)
-        for i in front:  # each point of the front named by what it is
-            a = points[i][2]["axes"]
-            ax.annotate(f"{a['technique']}/{a['filter']}", (points[i][0], points[i][1]), fontsize=5.5,
-                        xytext=(3, 3), textcoords="offset points", color=colour)
-        names += [f"<li><code>{esc(points[i][2]['id'])}</code>: {points[i][0]:.3f} ms, {points[i][1]:.3f}%</li>"
-                  for i in sorted(front, key=lambda i: points[i][0])]
-    ax.set_xlabel("frame time, ms (shadow + lighting, median)")
-    ax.set_ylabel("misclassified pixels, %")
-    ax.legend(fontsize=7, title="Pareto front of each backend/scene", title_fontsize=7,
-              bbox_to_anchor=(1.02, 1), loc="upper left")
-    return f"<img src='{png(fig)}' alt='speed against accuracy'><p>Pareto fronts:</p><ul>{''.join(names)}</ul>"
 
 
 def failed_checks(doc, run_dir):
@@ -277,7 +246,7 @@ def main():
             ratio_chart(timed, "technique", "six_pass", "shadow", "shadow pass, median wall time / six_pass"),
             "<h2>Lighting pass per filter (ratio to hard)</h2>",
             ratio_chart(timed, "filter", "hard", "lighting", "lighting pass, median wall time / hard"),
-            "<h2>Speed against accuracy</h2>", tradeoff_chart(timed),
+            "<h2>Speed against accuracy</h2>", tradeoff_svg(timed),
             "<h2>Failed checks</h2>", failed_checks(doc, args.run)]
     if args.history:
         body += ["<h2>History</h2>", history_section(args.history)]
