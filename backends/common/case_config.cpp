@@ -174,7 +174,7 @@ Support common_support(const CaseConfig& c) {
     return {false,
             std::to_string(c.light_count) +
                 " point lights: the shadow and lighting passes render one point light so far (one cube "
-                "or layout)"};
+                "or layout); --light-count 1 runs the scene's first"};
   if (c.technique == Technique::nv_swizzle && c.storage == Storage::hardware_depth)
     return {false,
             "nv_swizzle's clip z is the near plane (a swizzle cannot scale it per face), so the rasteriser's "
