@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -25,21 +26,27 @@ CLI::Validator regex_check(const std::string& option) {
       "REGEX");
 }
 
+// The whole of `text` as a finite number; nullopt for anything else ("", "1x", "nan", "inf", "1e999").
+std::optional<double> finite_number(const std::string& text) {
+  size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 // CLI::Range lets NaN through (every comparison with it is false) and "inf" is a number to it: a real-valued
 // option must be a finite number within its range.
 CLI::Validator finite_in(double lo, double hi) {
   return CLI::Validator(
       [lo, hi](std::string& text) -> std::string {
-        size_t used = 0;
-        double v = 0.0;
-        try {
-          v = std::stod(text, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used == 0 || used != text.size() || !std::isfinite(v))
-          return "'" + text + "' is not a finite number";
-        if (v < lo || v > hi) {
+        const std::optional<double> v = finite_number(text);
+        if (!v) return "'" + text + "' is not a finite number";
+        if (*v < lo || *v > hi) {
           std::ostringstream range;
           range << "Value " << text << " not in range " << lo << " to " << hi;
           return range.str();
@@ -337,17 +344,11 @@ std::vector<double> parse_placement(const std::string& text, const std::string& 
   while (start <= text.size()) {
     size_t end = text.find(',', start);
     std::string item = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    size_t used = 0;
-    double x = NAN;
-    try {
-      x = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(x) || std::fabs(x) > 1e30)
+    const std::optional<double> x = finite_number(item);
+    if (!x || std::fabs(*x) > 1e30)
       throw std::invalid_argument(option + ": '" + item + "' is not a finite number below 1e30 (expected " +
                                   expected + ")");
-    v.push_back(x);
+    v.push_back(*x);
     if (end == std::string::npos) break;
     start = end + 1;
   }

@@ -70,18 +70,9 @@ constexpr const char* kOutLockFile = ".omnishadow.lock";
 
 void prepare_out_dir(const std::string& dir) {
   std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw std::invalid_argument("--out " + dir + " exists and is not a folder");
   if (fs::exists(fs::path(dir) / "results.json", ec))
     throw std::invalid_argument("--out " + dir + " already holds a run (results.json); choose a new folder");
-  fs::create_directories(dir, ec);
-  if (ec) throw std::invalid_argument("--out " + dir + ": cannot create folder: " + ec.message());
-  try {
-    write_file_atomic((fs::path(dir) / ".write_test").string(), "ok");
-    fs::remove(fs::path(dir) / ".write_test", ec);
-  } catch (const std::exception&) {
-    throw std::invalid_argument("--out " + dir + ": folder is not writable");
-  }
+  create_writable_folder(dir, "--out");
 }
 
 }  // namespace

@@ -13,7 +13,6 @@ Usage: scripts/analysis/report.py RUN [--history RUN_OR_FOLDER...] [--out FILE] 
 """
 import argparse
 import base64
-import html
 import io
 import json
 import os
@@ -31,6 +30,7 @@ import history  # noqa: E402
 from results_io import load_results, write_text_atomic  # noqa: E402
 from report_answer import answer_section  # noqa: E402
 from report_svg import tradeoff_svg  # noqa: E402
+from report_util import esc, pass_ms  # noqa: E402
 
 STYLE = """body{font:14px/1.45 system-ui,sans-serif;margin:24px auto;max-width:1180px;color:#1d1d1f}
 h1{font-size:22px}h2{font-size:17px;margin-top:28px;border-bottom:1px solid #ddd}
@@ -51,15 +51,6 @@ def png(fig):
 def embed(path):
     with open(path, "rb") as f:
         return "data:image/png;base64," + base64.b64encode(f.read()).decode()
-
-
-def esc(x):
-    return html.escape(str(x))
-
-
-def pass_ms(case, p):
-    s = case.get("timing", {}).get(p, {}).get("cpu_wall_ms", {})
-    return s.get("median")
 
 
 def header(doc):

@@ -9,18 +9,10 @@
 
 Used by report.py; the inputs are results.json's cases.
 """
-import html
 import statistics
 
+from report_util import esc, pass_ms
 from tradeoff import frame_ms, pareto
-
-
-def esc(x):
-    return html.escape(str(x))
-
-
-def pass_ms(case, p):
-    return case.get("timing", {}).get(p, {}).get("cpu_wall_ms", {}).get("median")
 
 
 def group_of(case):

@@ -3,17 +3,12 @@
 on hover) names it with its figures, each backend/scene's Pareto front joined and labelled, the legend beside the
 plot. No script and no network: the page stays one offline file.
 """
-import html
-
+from report_util import esc
 from tradeoff import frame_ms, pareto
 
 COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22",
            "#17becf"]
 W, H, LEFT, RIGHT, TOP, BOTTOM = 720, 360, 56, 210, 14, 40  # plot area: LEFT..W-RIGHT, TOP..H-BOTTOM
-
-
-def esc(x):
-    return html.escape(str(x), quote=True)
 
 
 def scale(lo, hi, a, b):
