@@ -146,7 +146,11 @@ class Backend {
   void configure(const CaseConfig& config);
   FrameTiming render(int frame, FrameKind kind);  // blocks until the frame has completed
   FrameCounters count_work(int frame);            // renders `frame` once, timed kind, with statistics
-  Images read_back(CubeReadBack cube = CubeReadBack::full);  // results of the last check frame
+  // Results of the last check frame for point light `light` (< CaseConfig::light_count): its shadow factor,
+  // its map (cube_*, light_far) and the lit images every light shares. Another light than the last read back
+  // needs the check frame to be the last frame rendered (its lighting pass is rendered again to report that
+  // light's shadow factor).
+  Images read_back(CubeReadBack cube = CubeReadBack::full, int light = 0);
   // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
   // when the checking mode is off. Drained outside timed loops.
   virtual std::vector<std::string> drain_api_errors();
@@ -160,8 +164,11 @@ class Backend {
   virtual FrameTiming render_frame(int frame, FrameKind kind) = 0;
   virtual FrameCounters count_frame_work(int frame) = 0;
   // sampled: cube_summary and cube_sample from the device; full: cube_distance (read_back() then summarises
-  // it).
-  virtual Images read_back_images(CubeReadBack cube) = 0;
+  // it). Of point light `light`, whose shadow factor the check frame's lighting pass reported.
+  virtual Images read_back_images(CubeReadBack cube, int light) = 0;
+  // Renders the last check frame's lighting pass (check variant) again, reporting light `light`'s shadow
+  // factor; the shadow maps are the check frame's.
+  virtual void report_light(int light) = 0;
 
   DeviceInfo info_;
   std::optional<scene::Scene>
@@ -169,6 +176,8 @@ class Backend {
   std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's and the 2D maps' draws
   std::optional<CaseConfig> config_;     // the current case
   bool checked_ = false;                 // a check frame was rendered since configure (read_back needs one)
+  bool check_is_last_ = false;           // and no other frame since
+  int reported_light_ = 0;               // the point light whose shadow factor the check targets hold
   std::vector<std::string> api_errors_;  // the checking mode's messages, where the backend collects them here
 };
 

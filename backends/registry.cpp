@@ -23,8 +23,10 @@ std::vector<std::string> backend_names() { return {"gl", "vulkan"}; }
 void Backend::load(const scene::Scene& scene) {
   config_.reset();
   checked_ = false;
+  check_is_last_ = false;
   upload_scene(scene);
   scene_ = scene;
+  scene_->focus_light = 0;
   scene_->vertices.clear();  // only the device's copy is needed after upload
   scene_->vertices.shrink_to_fit();
   all_objects_.clear();
@@ -37,6 +39,7 @@ void Backend::configure(const CaseConfig& c) {
   Support s = supports(c);
   if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
   checked_ = false;
+  check_is_last_ = false;
   configure_case(c);
 }
 
@@ -44,18 +47,30 @@ FrameTiming Backend::render(int frame, FrameKind kind) {
   if (!config_) throw std::logic_error("render() before configure()");
   FrameTiming t = render_frame(frame, kind);
   if (kind == FrameKind::check) checked_ = true;
+  check_is_last_ = kind == FrameKind::check;
+  if (kind == FrameKind::check) reported_light_ = 0;
   return t;
 }
 
 FrameCounters Backend::count_work(int frame) {
   if (!config_) throw std::logic_error("count_work() before configure()");
+  check_is_last_ = false;
   return count_frame_work(frame);
 }
 
-Images Backend::read_back(CubeReadBack cube) {
+Images Backend::read_back(CubeReadBack cube, int light) {
   if (!config_) throw std::logic_error("read_back() before configure()");
   if (!checked_) throw std::logic_error("read_back() before a check frame (render(frame, FrameKind::check))");
-  Images img = read_back_images(cube);
+  if (light < 0 || light >= config_->light_count)
+    throw std::logic_error("read_back() of light " + std::to_string(light) + " of a case with " +
+                           std::to_string(config_->light_count));
+  if (light != reported_light_) {
+    if (!check_is_last_)
+      throw std::logic_error("read_back() of another light after a frame other than the check frame");
+    report_light(light);
+    reported_light_ = light;
+  }
+  Images img = read_back_images(cube, light);
   // A full read-back is summarised here, on the host, for every backend (no compute pass where the cube is in
   // host memory anyway); a sampled one brings the device's summary.
   if (img.has_full_cube()) cube::summarize_on_host(img);

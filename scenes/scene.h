@@ -103,12 +103,30 @@ struct Scene {
   // CaseConfig::light_count of them.
   std::vector<PointLight> point_lights{PointLight{}};
   bool has_point_light() const { return !point_lights.empty(); }
-  // The first point light: the one every one-light case renders. A scene without point lights still has a
-  // cube, only cleared, whose planes are a default PointLight's: that is what it returns there.
+  // The point light in focus, the first unless FocusLight says otherwise: the one every one-light case
+  // renders, and the one the one-light code (frame uniforms, draw plans, truths) sees while a many-light
+  // case renders or checks its lights one by one. A scene without point lights still has a cube, only
+  // cleared, whose planes are a default PointLight's: that is what it returns there.
   const PointLight& light() const;
+  int focus_light = 0;               // an index into point_lights; set through FocusLight
   std::vector<MapLight> map_lights;  // in file order, at most kMaxMapLights
   Camera camera;
   uint64_t triangle_count() const { return vertices.size() / 3; }
+};
+
+// Puts light `light` of `scene` in focus (Scene::light()) for the guard's lifetime.
+class FocusLight {
+ public:
+  FocusLight(Scene& scene, int light) : scene_(scene), before_(scene.focus_light) {
+    scene.focus_light = light;
+  }
+  ~FocusLight() { scene_.focus_light = before_; }
+  FocusLight(const FocusLight&) = delete;
+  FocusLight& operator=(const FocusLight&) = delete;
+
+ private:
+  Scene& scene_;
+  int before_;
 };
 
 // 2^24 vertices (5.6 M triangles, ~600 MB baked): 50x the heavy scene, and a bound on what a file can ask

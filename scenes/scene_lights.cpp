@@ -13,7 +13,7 @@ glm::vec3 LightPath::at(int frame) const {
 
 const PointLight& Scene::light() const {
   static const PointLight kClearedCube;
-  return point_lights.empty() ? kClearedCube : point_lights.front();
+  return point_lights.empty() ? kClearedCube : point_lights.at(static_cast<size_t>(focus_light));
 }
 
 namespace detail {

@@ -38,4 +38,25 @@ layout(push_constant) uniform PassUniforms {
 layout(std140, binding = 1) uniform PassUniforms { int face; uint face_mask; } pass;
 #endif
 
+#ifdef POINT_LIGHT_LIST
+// The lighting pass shades every point light of the case (CaseConfig::light_count) from this list, one record a
+// light in the scene's order, and the shadow lookups read the light being shaded (g_light) through the functions
+// below. The shadow pass renders one light at a time from that light's own FrameUniforms (frame.light_*).
+// Mirrors gpu::PointLightRecord.
+struct PointLightRecord {
+  vec4 position_far;  // xyz world units; w = the light's far plane, its range (world units)
+  vec4 colour_near;   // rgb; w = near plane
+  vec4 moments;       // x = what the moments filters multiply z = distance / far by (moments_knobs.y's per light)
+};
+layout(std430, binding = 9) readonly buffer PointLights { PointLightRecord point_lights[]; };
+int g_light = 0;  // the light being shaded: its layers in the shadow map, its record above
+vec3 light_position() { return point_lights[g_light].position_far.xyz; }
+float light_far() { return point_lights[g_light].position_far.w; }
+float light_near() { return point_lights[g_light].colour_near.w; }
+float moments_distance_scale() { return point_lights[g_light].moments.x; }
+#else
+vec3 light_position() { return frame.light_position.xyz; }
 float light_far() { return frame.light_position.w; }
+float light_near() { return frame.light_color.w; }
+float moments_distance_scale() { return frame.moments_knobs.y; }
+#endif

@@ -6,6 +6,7 @@
 // the case, one colour output and only the lights the scene has; CHECK_OUTPUTS adds the shadow factor and world
 // position the checks read, rendered in the untimed check frame. Every line that computes the colour is shared,
 // so the two lit images agree bit for bit (the harness checks it per case: check "timed_lit").
+#define POINT_LIGHT_LIST  // every point light from a list (common.glsl), not the shadow pass's one light
 #include "common.glsl"
 #include "shadow_filters.glsl"
 
@@ -13,11 +14,11 @@
 // them as defines, Vulkan as specialisation constants (ids 0-2, gpu::LightingConstants).
 #ifdef VULKAN
 layout(constant_id = 0) const int kMapLights = 0;     // spot and directional lights, 0-4, one 2D map each
-layout(constant_id = 1) const bool kPointLight = true; // the scene has a point light and so a cube
+layout(constant_id = 1) const int kPointLights = 1;   // point lights shaded (the case's light count; 0: none)
 layout(constant_id = 2) const int kInjectedWork = 0;  // --inject-fragment-work (0 = none)
 #else
 const int kMapLights = MAP_LIGHTS;
-const bool kPointLight = POINT_LIGHT != 0;
+const int kPointLights = POINT_LIGHTS;
 const int kInjectedWork = INJECTED_WORK;
 #endif
 
@@ -40,24 +41,31 @@ vec3 direct_light(vec3 normal, vec3 light_dir, vec3 view_dir, vec3 light_color) 
 
 void main() {
   vec3 normal = normalize(world_normal);
-  vec3 light_color = frame.light_color.rgb;
   vec3 ambient = 0.3 * albedo;
   vec3 view_dir = normalize(frame.camera_position.xyz - world_position);
-  vec3 diffuse = vec3(0.0), specular = vec3(0.0);
+  // Each point light with its own shadow map, summed. The reported shadow factor is light
+  // frame.lights_info.z's (the check variant renders once per light the checks read).
+  vec3 point_term = vec3(0.0);
   float shadow = 0.0;
-  // The light's range is its far plane: beyond it the light reaches nothing, whatever the filter would make of
-  // the cube there (glTF's range; what lets a renderer skip a light). As outside a spot's cone, the shadow
-  // factor there is 0 and the light adds nothing. Every bundled one-light scene lies within its light's far.
-  // The lookup itself stays in uniform control flow (implicit derivatives), the range only masks its result.
-  bool in_range = kPointLight && length(frame.light_position.xyz - world_position) < frame.light_position.w;
-  if (kPointLight) {  // the point light and its cube
-    vec3 light_dir = normalize(frame.light_position.xyz - world_position);
+  int reported_light = int(frame.lights_info.z);
+  for (int k = 0; k < kPointLights; ++k) {
+    g_light = k;  // dynamically uniform: the shadow map's layers and the record of light k
+    vec3 light_color = point_lights[k].colour_near.rgb;
+    vec3 to_light = light_position() - world_position;
+    // The light's range is its far plane: beyond it the light reaches nothing, whatever the filter would make of
+    // the cube there (glTF's range; what lets a renderer skip a light). As outside a spot's cone, the shadow
+    // factor there is 0 and the light adds nothing. Every bundled one-light scene lies within its light's far.
+    // The lookup itself stays in uniform control flow (implicit derivatives), the range only masks its result.
+    bool in_range = length(to_light) < light_far();
+    vec3 light_dir = normalize(to_light);
     float diff = max(dot(light_dir, normal), 0.0);
-    diffuse = diff * light_color;
+    vec3 diffuse = diff * light_color;
     vec3 halfway = normalize(light_dir + view_dir);
-    specular = pow(max(dot(normal, halfway), 0.0), 64.0) * light_color;
+    vec3 specular = pow(max(dot(normal, halfway), 0.0), 64.0) * light_color;
     float looked_up = shadow_factor(world_position, normal);  // not in the ?: (it evaluates one side only)
-    shadow = in_range ? looked_up : 0.0;
+    float light_shadow = in_range ? looked_up : 0.0;
+    if (k == reported_light) shadow = light_shadow;
+    point_term += in_range ? (1.0 - light_shadow) * (diffuse + specular) : vec3(0.0);
   }
   // Spot and directional lights, each with its 2D map. The reported shadow factor is the first light's.
   vec3 mapped = vec3(0.0);
@@ -66,7 +74,7 @@ void main() {
     vec3 light_dir = spot ? normalize(frame.map_light[i].xyz - world_position) : frame.map_light[i].xyz;
     bool inside;
     float s = map_shadow_factor(i, world_position, normal, light_dir, inside);
-    if (i == 0 && !kPointLight) shadow = s;
+    if (i == 0 && kPointLights == 0) shadow = s;
     if (inside) mapped += (1.0 - s) * direct_light(normal, light_dir, view_dir, frame.map_color[i].rgb);
   }
   // Injected work (--inject-fragment-work N): N dependent multiply-adds per fragment, real work of a known size
@@ -76,8 +84,8 @@ void main() {
   // 80 cost 40%). With N = 0 the seed folds to 0 and the frame is what it was.
   float acc = kInjectedWork > 0 ? fract(gl_FragCoord.x * 0.618034) : 0.0;
   for (int i = 0; i < kInjectedWork; ++i) acc = fract(acc * 1.61803 + 0.31831);
-  // With no map lights `mapped` is 0 and adding it changes no bit: point-light scenes render as before.
-  vec3 point_term = in_range ? (1.0 - shadow) * (diffuse + specular) : vec3(0.0);
+  // With no map lights `mapped` is 0 and adding it changes no bit: point-light scenes render as before (and one
+  // point light's term is added to 0 exactly).
   out_color = vec4((ambient + point_term + mapped) * albedo, 1.0 - 1e-9 * acc);
 #ifdef CHECK_OUTPUTS
   out_shadow_factor = shadow;

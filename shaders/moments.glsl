@@ -47,7 +47,7 @@ float reduce_bleeding(float lit) {
 // 16 bits). t is the receiver's z less the bias, in the stored moments' units (times far in world units).
 float vsm_shadow(vec3 dir, float current, float bias) {
   vec2 m = texture(shadow_map, shadow_coord(dir)).rg;
-  float t = (current - bias) / light_far() * frame.moments_knobs.y;
+  float t = (current - bias) / light_far() * moments_distance_scale();
   if (t <= m.x) return 0.0;
   float variance = max(m.y - m.x * m.x, frame.knobs.w * m.y);
   float d = t - m.x;

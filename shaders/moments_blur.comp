@@ -25,12 +25,13 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #ifdef VULKAN
 layout(set = 0, binding = 0, MOMENTS_FORMAT) uniform readonly image2DArray source;  // six faces as layers
 layout(set = 0, binding = 1, MOMENTS_FORMAT) uniform writeonly image2DArray target;
-layout(push_constant) uniform Params { int size; int axis; } params;
+layout(push_constant) uniform Params { int size; int axis; int first_layer; } params;
 #else
 layout(binding = 0, MOMENTS_FORMAT) uniform readonly image2DArray source;
 layout(binding = 1, MOMENTS_FORMAT) uniform writeonly image2DArray target;
 layout(location = 0) uniform int u_size;
 layout(location = 1) uniform int u_axis;  // 0: along s, 1: along t
+layout(location = 2) uniform int u_first_layer;  // the light's first layer: its six faces follow (z = face)
 #endif
 
 #include "cube_texel.glsl"
@@ -39,14 +40,15 @@ const float kWeights[5] = float[](1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0
 
 void main() {
 #ifdef VULKAN
-  const int size = params.size, axis = params.axis;
+  const int size = params.size, axis = params.axis, first_layer = params.first_layer;
 #else
-  const int size = u_size, axis = u_axis;
+  const int size = u_size, axis = u_axis, first_layer = u_first_layer;
 #endif
-  const ivec3 id = ivec3(gl_GlobalInvocationID);
+  const ivec3 id = ivec3(gl_GlobalInvocationID);  // z: the face of one light's cube
   if (id.x >= size || id.y >= size) return;
+  const ivec3 first = ivec3(0, 0, first_layer);
   vec4 sum = vec4(0.0);
   for (int k = -2; k <= 2; ++k)
-    sum += kWeights[k + 2] * imageLoad(source, neighbour_texel(id.z, id.x, id.y, axis, k, size));
-  imageStore(target, id, sum);
+    sum += kWeights[k + 2] * imageLoad(source, neighbour_texel(id.z, id.x, id.y, axis, k, size) + first);
+  imageStore(target, id + first, sum);
 }

@@ -28,7 +28,8 @@ vec3 perturb_lookup(vec3 dir, float size) {
 
 #if defined(LAYOUT_FACE_ARRAY) || defined(LAYOUT_DUAL_PARABOLOID) || defined(LAYOUT_TETRAHEDRAL)
 // Every layout but the cube stores layers of a 2D array and picks the layer and (s, t) in the shader (shadow_coord,
-// per layout below); filtering clamps at each layer's edge.
+// per layout below); filtering clamps at each layer's edge. With several point lights, light k's layers follow
+// light k - 1's: layer = k x the layout's layers + the light's own layer (backends/common/layouts.h).
 #if defined(FILTER_HW_COMPARE2X2)
 layout(binding = 2) uniform sampler2DArrayShadow shadow_map;  // LINEAR + compare, clamped to the layer
 #else
@@ -61,12 +62,12 @@ vec3 shadow_coord(vec3 dir) {
     sc = dir.z >= 0.0 ? dir.x : -dir.x;
     tc = -dir.y;
   }
-  return vec3(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0), face);
+  return vec3(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0), face + 6.0 * float(g_light));
 }
 #elif defined(LAYOUT_DUAL_PARABOLOID)
 // Layout dual_paraboloid (shaders/paraboloid.glsl): two layers of a 2D array, each a hemisphere's paraboloid.
 #include "paraboloid.glsl"
-vec3 shadow_coord(vec3 dir) { return paraboloid_coord(dir); }
+vec3 shadow_coord(vec3 dir) { return paraboloid_coord(dir) + vec3(0.0, 0.0, 2.0 * float(g_light)); }
 #elif defined(LAYOUT_TETRAHEDRAL)
 // Layout tetrahedral (backends/common/tetrahedron.h holds the same rule in C++: change both together): four
 // perspective faces along a regular tetrahedron's vertices, each a layer of a 2D array. A direction reads the face
@@ -90,8 +91,17 @@ vec3 shadow_coord(vec3 dir) {
   vec3 right = cross(axis, up);
   vec2 xy = vec2(dot(dir, right), dot(dir, up)) / best;
   const float kSqrt2 = 1.41421356, kSqrt6 = 2.44948974;
-  return vec3((xy.x + kSqrt6) / (2.0 * kSqrt6), (xy.y + kSqrt2) / (3.0 * kSqrt2), float(face));
+  return vec3((xy.x + kSqrt6) / (2.0 * kSqrt6), (xy.y + kSqrt2) / (3.0 * kSqrt2), float(face + 4 * g_light));
 }
+#elif defined(LAYOUT_CUBE_ARRAY)
+// Layout cube_array: every light's cube in one cube-map array (GL 4.0 core, Vulkan imageCubeArray), light k the
+// k-th cube; the sampler picks the face and filters across its seams as for a cube.
+#if defined(FILTER_HW_COMPARE2X2)
+layout(binding = 2) uniform samplerCubeArrayShadow shadow_map;  // LINEAR + compare
+#else
+layout(binding = 2) uniform samplerCubeArray shadow_map;        // NEAREST, no compare; LINEAR for moments
+#endif
+vec4 shadow_coord(vec3 dir) { return vec4(perturb_lookup(dir, float(textureSize(shadow_map, 0).x)), float(g_light)); }
 #else
 #if defined(FILTER_HW_COMPARE2X2)
 layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 2x2 bilinear PCF in hardware
@@ -100,6 +110,18 @@ layout(binding = 2) uniform samplerCube shadow_map;        // NEAREST, no compar
 #endif
 // A cube is sampled by the direction itself.
 vec3 shadow_coord(vec3 dir) { return perturb_lookup(dir, float(textureSize(shadow_map, 0).x)); }
+#endif
+
+#if defined(FILTER_HW_COMPARE2X2)
+// The lit fraction of a compare lookup at reference `ref` (stored units): a cube array's compare reference is an
+// argument of its own, every other shadow sampler's the coordinate's last component.
+float compare_lookup(vec3 dir, float ref) {
+#if defined(LAYOUT_CUBE_ARRAY)
+  return texture(shadow_map, shadow_coord(dir), ref);
+#else
+  return texture(shadow_map, vec4(shadow_coord(dir), ref));
+#endif
+}
 #endif
 #include "moments.glsl"
 
@@ -122,7 +144,7 @@ float stored_to_distance(float stored, vec3 dir) {
   // Projective depth is the distance along the face's axis: back to a distance along `dir`.
   vec3 a = abs(dir);
   float axis = max(a.x, max(a.y, a.z));
-  return perspective_linear(stored, frame.light_color.w, light_far()) * length(dir) / axis;
+  return perspective_linear(stored, light_near(), light_far()) * length(dir) / axis;
 #else
   return stored * light_far();
 #endif
@@ -190,10 +212,10 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
 #if defined(NORMAL_OFFSET)
   // Normal-offset remedy: look up from a point 1.5 texels (a 90-degree face's texel at this distance) along the
   // normal, so a surface does not test against its own quantised depth.
-  float texel_world = 2.0 * length(world_pos - frame.light_position.xyz) / float(textureSize(shadow_map, 0).x);
+  float texel_world = 2.0 * length(world_pos - light_position()) / float(textureSize(shadow_map, 0).x);
   world_pos += normal * (1.5 * texel_world);
 #endif
-  vec3 frag_to_light = world_pos - frame.light_position.xyz;  // the tutorial's name: it points away from the light
+  vec3 frag_to_light = world_pos - light_position();  // the tutorial's name: it points away from the light
   float current = length(frag_to_light);
 #if defined(FILTER_HARD)
   return occluded(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
@@ -229,7 +251,7 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
   return msm_shadow(frag_to_light, current, lookup_bias(0.05, normal, frag_to_light));
 #elif defined(FILTER_HW_COMPARE2X2)
   // Reference value in the stored units (distance / far); the sampler returns the lit fraction.
-  return 1.0 - texture(shadow_map, vec4(shadow_coord(frag_to_light), (current - lookup_bias(0.05, normal, frag_to_light)) / light_far()));
+  return 1.0 - compare_lookup(frag_to_light, (current - lookup_bias(0.05, normal, frag_to_light)) / light_far());
 #else
 #error "no FILTER_* defined"
 #endif

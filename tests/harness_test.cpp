@@ -55,7 +55,8 @@ class ScriptedBackend : public Backend {
     c.shadow.draw_calls = 6;
     return c;
   }
-  Images read_back_images(CubeReadBack cube) override {
+  void report_light(int) override {}
+  Images read_back_images(CubeReadBack cube, int) override {
     Images img;
     img.width = 4;
     img.height = 3;

@@ -22,7 +22,7 @@ DECORATION_PASSTHROUGH_NV = 5250
 # Capabilities and the device feature that vk_context.cpp enables for them (core ones need none).
 ALLOWED = {
     1: "Shader", 2: "Geometry (geometryShader)", 32: "ClipDistance (shaderClipDistance)",
-    34: "ImageCubeArray", 49: "StorageImageExtendedFormats (shaderStorageImageExtendedFormats)",
+    34: "ImageCubeArray", 45: "SampledCubeArray (imageCubeArray, layout cube_array)", 49: "StorageImageExtendedFormats (shaderStorageImageExtendedFormats)",
     50: "ImageQuery", 57: "MultiViewport (multiViewport, nv_swizzle)", 69: "ShaderLayer (shaderOutputLayer)",
     4427: "DrawParameters", 4439: "MultiView (multiview)",
     5251: "GeometryShaderPassthroughNV (VK_NV_geometry_shader_passthrough)",

@@ -170,11 +170,11 @@ Support common_support(const CaseConfig& c) {
   if (c.cube_size < 1 || c.width < 1 || c.height < 1)
     return {false, "cube and frame sizes must be at least 1"};
   if (c.light_count < 1) return {false, "the light count must be at least 1"};
-  if (c.light_count > 1)
+  if (c.light_count > 1 && c.layout == Layout::cube)
     return {false,
             std::to_string(c.light_count) +
-                " point lights: the shadow and lighting passes render one point light so far (one cube "
-                "or layout); --light-count 1 runs the scene's first"};
+                " point lights in layout cube (one cube per light, each its own sampler) are not built "
+                "yet; --layout cube_array holds every light's cube in one texture"};
   if (c.technique == Technique::nv_swizzle && c.storage == Storage::hardware_depth)
     return {false,
             "nv_swizzle's clip z is the near plane (a swizzle cannot scale it per face), so the rasteriser's "
@@ -186,6 +186,14 @@ Support common_support(const CaseConfig& c) {
             "face culling: a multiview pass renders every view of each draw (the view mask is per render "
             "pass), so there is nothing to cull per face"};
   return {};
+}
+
+Support layer_count_support(const CaseConfig& c, int max_layers, const std::string& limit) {
+  const long long layers = static_cast<long long>(traits(c.layout).geometry.layers) * c.light_count;
+  if (layers <= max_layers) return {};
+  return {false, std::to_string(c.light_count) + " lights of " + std::string(to_string(c.layout)) + " take " +
+                     std::to_string(layers) + " layers, above the device's " + std::to_string(max_layers) +
+                     " (" + limit + ")"};
 }
 
 std::string CaseConfig::id() const {

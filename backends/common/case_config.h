@@ -71,6 +71,8 @@ enum class Layout {
                     // "faster, lower quality"; backends/common/paraboloid.h), layers sized to a cube's memory
   tetrahedral,  // four perspective faces along a tetrahedron's vertices (bgfx's point light; backends/common/
                 // tetrahedron.h), each a layer of a 2D array sized to a cube's memory
+  cube_array,   // every point light's cube in one cube-map array (GL 4.0 core, Vulkan imageCubeArray): the
+                // sampler picks the face as for a cube, the light is the array index
 };
 
 std::string_view to_string(Technique v);
@@ -169,6 +171,9 @@ std::string to_string(const Optimizations& o);  // the same spellings; "none" wh
 struct CaseConfig;
 // Rules that hold on every backend (a compare sampler needs depth storage; sizes must be positive).
 Support common_support(const CaseConfig& config);
+// Whether the case's layers (the layout's layers per light times the light count) fit a device's array
+// textures of at most `max_layers` layers (`limit`: the API's name for it).
+Support layer_count_support(const CaseConfig& config, int max_layers, const std::string& limit);
 
 struct CaseConfig {
   std::string backend = "gl";

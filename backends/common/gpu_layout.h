@@ -24,10 +24,20 @@ struct FrameUniforms {
                                          // w: 1 spot, 2 directional
   std::array<glm::vec4, 4> map_color{};  // rgb; w: spot near plane
   std::array<glm::vec4, 4> map_range{};  // x: spot far plane
-  glm::vec4 lights_info{0.0f};           // x: number of map lights, y: 1 when the scene has a point light
+  glm::vec4 lights_info{0.0f};    // x: number of map lights, y: 1 when the scene has a point light, z: the
+                                  // point light whose shadow factor the check variant reports
   glm::vec4 moments_knobs{0.0f};  // x: bleed reduction, y: distance scale, z: the format's rounding unit
 };
 static_assert(sizeof(FrameUniforms) == 11 * 64 + 18 * 16, "std140 layout of FrameUniforms");
+
+// The lighting pass's record of one point light (shaders/common.glsl, std430), the lights in the scene's
+// order.
+struct PointLightRecord {
+  glm::vec4 position_far;   // xyz world units, w the far plane (its range) the light's map was rendered with
+  glm::vec4 colour_near;    // rgb, w the near plane
+  glm::vec4 moments{0.0f};  // x: the moments filters' distance scale (FrameUniforms::moments_knobs.y)
+};
+static_assert(sizeof(PointLightRecord) == 48, "std430 layout of PointLightRecord");
 
 struct PassUniforms {
   int face;
@@ -48,6 +58,7 @@ inline constexpr int kMeshletSpheresBinding = 5;
 inline constexpr int kMeshletVerticesBinding = 6;
 inline constexpr int kMeshletTrianglesBinding = 7;
 inline constexpr int kSceneVerticesBinding = 8;  // the scene's vertex buffer read as floats
+inline constexpr int kPointLightsBinding = 9;    // the lighting pass's PointLightRecord list (storage buffer)
 inline constexpr int kFirstMeshBinding = kMeshletsBinding, kMeshBindingCount = 5;
 
 // Vertex attributes: location 0 position, 1 normal, 2 colour; interleaved scene::Vertex.

@@ -33,6 +33,7 @@ enum class TexelMap {
 enum class LayoutLookup {
   hardware_cube,  // samplerCube: the sampler selects the face; LINEAR filtering crosses seams (Vulkan's cubes
                   // are seamless; the GL backend enables GL_TEXTURE_CUBE_MAP_SEAMLESS)
+  hardware_cube_array,  // samplerCubeArray: as hardware_cube, the light's cube chosen by the array index
   shader_face,  // sampler2DArray: the shader selects layer and (s, t) by the same rule; filtering clamps per
                 // face
   shader_paraboloid,   // sampler2DArray: the shader selects the hemisphere's layer and its paraboloid point
@@ -119,13 +120,15 @@ struct LayoutTraits {
   const TexelGeometry& geometry;
 };
 
-inline constexpr std::array<LayoutTraits, 4> kLayouts = {{
+inline constexpr std::array<LayoutTraits, 5> kLayouts = {{
     {Layout::cube, "cube", "", LayoutLookup::hardware_cube, kCubeFaceGeometry},
     {Layout::face_array, "face_array", "LAYOUT_FACE_ARRAY", LayoutLookup::shader_face, kCubeFaceGeometry},
     {Layout::dual_paraboloid, "dual_paraboloid", "LAYOUT_DUAL_PARABOLOID", LayoutLookup::shader_paraboloid,
      kParaboloidGeometry},
     {Layout::tetrahedral, "tetrahedral", "LAYOUT_TETRAHEDRAL", LayoutLookup::shader_tetrahedral,
      kTetrahedralGeometry},
+    {Layout::cube_array, "cube_array", "LAYOUT_CUBE_ARRAY", LayoutLookup::hardware_cube_array,
+     kCubeFaceGeometry},
 }};
 
 constexpr const LayoutTraits& traits(Layout l) {

@@ -55,8 +55,9 @@ std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant v
 // for lights the scene lacks: GL compiles them in as defines, Vulkan passes them as specialisation constants
 // with ids 0, 1, 2, 3 (the order of the fields).
 struct LightingConstants {
-  int32_t map_lights = 0;     // spot and directional lights (0-4), one 2D map each
-  int32_t point_light = 1;    // 1: the scene has a point light and so a cube (a VkBool32 for Vulkan)
+  int32_t map_lights = 0;  // spot and directional lights (0-4), one 2D map each
+  int32_t point_lights =
+      1;  // point lights shaded, each with its shadow map: the case's light count (0: none)
   int32_t injected_work = 0;  // --inject-fragment-work iterations
   float lookup_perturb_texels =
       0.0f;  // test only (CaseConfig::lookup_perturb_texels); Vulkan: id 3, as float bits

@@ -34,4 +34,21 @@ void ShadowFramePlanner::rendered(const ShadowFrame& f, const CaseConfig& config
   if (config.optimizations.static_cache) cube_light_ = f.uniforms.light_position;
 }
 
+LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const CaseConfig& config,
+                                       cube::DepthRange range) {
+  LightFrames f;
+  for (size_t k = 0; k < planners_.size(); ++k) {
+    scene::FocusLight focus(scene, static_cast<int>(k));
+    f.lights.push_back(planners_[k].prepare(scene, frame, config, range));
+    const FrameUniforms& u = f.lights.back().uniforms;
+    f.records.push_back({u.light_position, u.light_color, glm::vec4(u.moments_knobs.y, 0.0f, 0.0f, 0.0f)});
+  }
+  return f;
+}
+
+void LightFramePlanner::rendered(const LightFrames& f, const CaseConfig& config) {
+  for (size_t k = 0; k < planners_.size() && k < f.lights.size(); ++k)
+    planners_[k].rendered(f.lights[k], config);
+}
+
 }  // namespace omnishadow::gpu

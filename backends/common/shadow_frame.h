@@ -3,6 +3,7 @@
 // lists, per-object face masks) and whether the cube rendered earlier can be reused (static caching).
 
 #include <optional>
+#include <vector>
 
 #include "backends/common/case_config.h"
 #include "backends/common/cube_faces.h"
@@ -32,6 +33,30 @@ class ShadowFramePlanner {
  private:
   std::optional<glm::vec4> cube_light_;  // xyz position, w far: what the cached cube was rendered for
   float cube_far_ = 0.0f;
+};
+
+// A frame of a case with CaseConfig::light_count point lights: each light's ShadowFrame (its uniforms, drawn
+// into its own map), in the scene's order, and the lighting pass's records of them.
+struct LightFrames {
+  std::vector<ShadowFrame> lights;
+  std::vector<PointLightRecord> records;
+};
+
+// One ShadowFramePlanner per light. The frame uniforms of light k are made with the scene's focus on light k
+// (scene::FocusLight), so the one-light code (make_frame_uniforms, plan_shadow_draws) serves every light.
+class LightFramePlanner {
+ public:
+  void reset(int lights) { planners_.assign(static_cast<size_t>(lights), ShadowFramePlanner{}); }
+  LightFrames prepare(scene::Scene& scene, int frame, const CaseConfig& config, cube::DepthRange range);
+  void rendered(const LightFrames& f, const CaseConfig& config);
+  void forget() {
+    for (ShadowFramePlanner& p : planners_) p.reset();
+  }
+  float cube_far(int light) const { return planners_.at(static_cast<size_t>(light)).cube_far(); }
+  int lights() const { return static_cast<int>(planners_.size()); }
+
+ private:
+  std::vector<ShadowFramePlanner> planners_;
 };
 
 }  // namespace omnishadow::gpu

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cfloat>
 #include <chrono>
+#include <cstddef>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -71,6 +72,9 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
     info_.device_memory_bytes = uint64_t(kib) * 1024;
   }
   glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &uniform_alignment_);
+  GLint max_layers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+  info_.extra["max_array_layers"] = std::to_string(max_layers);
   GLint max_texture = 0, max_renderbuffer = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_renderbuffer);
@@ -102,8 +106,6 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
 
 // What every case uses: the frame and pass uniform buffers, the three samplers, and the state set once.
 void GlBackend::create_shared_objects() {
-  glCreateBuffers(1, &frame_ubo_);
-  glNamedBufferStorage(frame_ubo_, sizeof(gpu::FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
   std::vector<uint8_t> pass_data(static_cast<size_t>(uniform_alignment_) * gpu::kPassUniformEntries, 0);
   for (int k = 0; k < gpu::kPassUniformEntries; ++k) {
     gpu::PassUniforms p{k, static_cast<uint32_t>(k), 0, 0};
@@ -144,8 +146,8 @@ GlBackend::~GlBackend() {
   release_case();
   mesh_pass_.reset();
   for (auto& [key, prog] : programs_) glDeleteProgram(prog);
-  const GLuint buffers[] = {vertex_buffer_, frame_ubo_, pass_ubo_};
-  glDeleteBuffers(3, buffers);
+  const GLuint buffers[] = {vertex_buffer_, pass_ubo_};
+  glDeleteBuffers(2, buffers);
   const GLuint vaos[] = {shadow_vao_, lighting_vao_};
   glDeleteVertexArrays(2, vaos);
   const GLuint samplers[] = {nearest_sampler_, compare_sampler_, linear_sampler_};
@@ -166,6 +168,10 @@ Support GlBackend::supports(const CaseConfig& c) const {
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
+  if (Support s = layer_count_support(c, std::stoi(info_.extra.at("max_array_layers")),
+                                      "GL_MAX_ARRAY_TEXTURE_LAYERS");
+      !s.ok)
+    return s;
   if (const int layer = layer_size(c.layout, c.cube_size); layer > info_.max_cube_size)
     return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) +
                        " texels for cube " + std::to_string(c.cube_size) + " exceed " +
@@ -221,6 +227,9 @@ void GlBackend::release_case() {
   for (LightingTargets& t : lighting_)
     if (t.fbo) destroy(t);
   if (maps_.depth) destroy(maps_);
+  const GLuint buffers[] = {frame_ubo_, lights_ssbo_};
+  glDeleteBuffers(2, buffers);
+  frame_ubo_ = lights_ssbo_ = 0;
   config_.reset();
 }
 
@@ -256,8 +265,18 @@ void GlBackend::configure_case(const CaseConfig& c) {
   if (traits(c.filter).prefilter == Prefilter::separable_blur)
     blur_program_ = program({{GL_COMPUTE_SHADER, "moments_blur.comp"}},
                             gpu::moments_blur_defines(colour_format(c.storage, c.depth_format)));
-  shadow_ = create_shadow_targets(layer_size(c.layout, c.cube_size), c.storage, c.depth_format,
-                                  traits(c.technique).multiview, traits(c.layout).geometry.layers);
+  shadow_ =
+      create_shadow_targets({layer_size(c.layout, c.cube_size), c.storage, c.depth_format,
+                             traits(c.technique).multiview, traits(c.layout).geometry.layers, c.light_count,
+                             traits(c.layout).lookup == LayoutLookup::hardware_cube_array});
+  // One uniform block per light (the shadow pass binds light k's), and the lighting pass's light list.
+  frame_stride_ = (GLsizeiptr(sizeof(gpu::FrameUniforms)) + uniform_alignment_ - 1) / uniform_alignment_ *
+                  uniform_alignment_;
+  glCreateBuffers(1, &frame_ubo_);
+  glNamedBufferStorage(frame_ubo_, frame_stride_ * c.light_count, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  glCreateBuffers(1, &lights_ssbo_);
+  glNamedBufferStorage(lights_ssbo_, GLsizeiptr(sizeof(gpu::PointLightRecord)) * c.light_count, nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
   lighting_[size_t(gpu::LightingVariant::timed)] = create_lighting_targets(c.width, c.height, false);
@@ -269,13 +288,23 @@ void GlBackend::configure_case(const CaseConfig& c) {
     throw std::runtime_error("GL error " + std::to_string(error) + " while configuring " + c.id());
   }
   config_ = c;
-  planner_.reset();
+  planner_.reset(c.light_count);
 }
 
-gpu::ShadowFrame GlBackend::update_frame_uniforms(int frame) {
-  gpu::ShadowFrame f = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::minus_one_to_one);
-  glNamedBufferSubData(frame_ubo_, 0, sizeof f.uniforms, &f.uniforms);
+gpu::LightFrames GlBackend::update_frame_uniforms(int frame) {
+  gpu::LightFrames f = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::minus_one_to_one);
+  for (size_t k = 0; k < f.lights.size(); ++k)
+    glNamedBufferSubData(frame_ubo_, GLintptr(k) * frame_stride_, sizeof(gpu::FrameUniforms),
+                         &f.lights[k].uniforms);
+  glNamedBufferSubData(lights_ssbo_, 0, GLsizeiptr(f.records.size() * sizeof(gpu::PointLightRecord)),
+                       f.records.data());
   return f;
+}
+
+// Light k's uniform block; the lighting pass binds light 0's, whose camera and knobs every light shares.
+void GlBackend::bind_frame_uniforms(int light) {
+  glBindBufferRange(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_, light * frame_stride_,
+                    sizeof(gpu::FrameUniforms));
 }
 
 // GL has no push constants: the pass block comes from one of 64 prebuilt ranges, entry k = {face k, mask k}.
@@ -349,34 +378,41 @@ void GlBackend::map_pass(DrawStats& stats) {
   glDisable(GL_CULL_FACE);
 }
 
-GlBackend::DrawStats GlBackend::shadow_pass(const gpu::ShadowFrame& frame) {
+GlBackend::DrawStats GlBackend::shadow_pass(const gpu::LightFrames& frame) {
   DrawStats stats;
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
   glBindVertexArray(shadow_vao_);
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
+  bind_frame_uniforms(0);
   map_pass(stats);
-  if (frame.reuse_cube) return stats;  // static caching: the cube already holds this light
   glViewport(0, 0, shadow_.size, shadow_.size);
   glUseProgram(shadow_program_);
-  const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   // dual_paraboloid: each layer's pass clips the other hemisphere away (gl_ClipDistance[0],
   // shaders/paraboloid.glsl).
   const bool clip_hemisphere = traits(config_->layout).geometry.clips_to_hemisphere;
   if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
   if (reversed_depth_test(*config_)) glDepthFunc(GL_GREATER);
   shadow_draw_.around(true);
-  for (int p = 0; p < passes.count; ++p) {
-    begin_shadow_pass(p, passes.count, frame.uniforms.light_position.w);
-    bind_pass_uniforms(p);
-    draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided, shadow_draw_.draw);
-  }
+  for (size_t k = 0; k < frame.lights.size(); ++k)
+    if (!frame.lights[k].reuse_cube)  // static caching: the light's map already holds it
+      light_shadow_pass(static_cast<int>(k), frame.lights[k], stats);
   shadow_draw_.around(false);
   glDepthFunc(GL_LESS);
   if (clip_hemisphere) glDisable(GL_CLIP_DISTANCE0);
-  if (blur_program_) blur_moments();
+  for (size_t k = 0; k < frame.lights.size() && blur_program_; ++k)
+    if (!frame.lights[k].reuse_cube) blur_moments(static_cast<int>(k));
   return stats;
+}
+
+void GlBackend::light_shadow_pass(int light, const gpu::ShadowFrame& frame, DrawStats& stats) {
+  bind_frame_uniforms(light);
+  const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
+  for (int p = 0; p < passes.count; ++p) {
+    begin_shadow_pass(light, p, passes.count, frame.uniforms.light_position.w);
+    bind_pass_uniforms(p);
+    draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided, shadow_draw_.draw);
+  }
 }
 
 static_assert(GL_VIEWPORT_SWIZZLE_NEGATIVE_X_NV - GL_VIEWPORT_SWIZZLE_POSITIVE_X_NV == 1 &&
@@ -402,9 +438,10 @@ void GlBackend::set_face_swizzles(bool on) {
 
 // The moments prefilter (shaders/moments_blur.comp): along s from the moments cube into the intermediate,
 // then along t back. Image stores are incoherent: each reader waits on a barrier.
-void GlBackend::blur_moments() {
+void GlBackend::blur_moments(int light) {
   glUseProgram(blur_program_);
   glUniform1i(0, shadow_.size);
+  glUniform1i(2, light * shadow_.layers);
   const GLuint groups = static_cast<GLuint>((shadow_.size + 7) / 8);
   const GLuint from[2] = {shadow_.colour_layers, shadow_.blur_layers},
                to[2] = {shadow_.blur_layers, shadow_.colour_layers};
@@ -412,7 +449,7 @@ void GlBackend::blur_moments() {
     glBindImageTexture(0, from[axis], 0, GL_TRUE, 0, GL_READ_ONLY, shadow_.colour_format);
     glBindImageTexture(1, to[axis], 0, GL_TRUE, 0, GL_WRITE_ONLY, shadow_.colour_format);
     glUniform1i(1, axis);
-    glDispatchCompute(groups, groups, 6);
+    glDispatchCompute(groups, groups, static_cast<GLuint>(shadow_.layers));
     glMemoryBarrier(axis == 0 ? GL_SHADER_IMAGE_ACCESS_BARRIER_BIT
                               : GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
   }
@@ -421,11 +458,12 @@ void GlBackend::blur_moments() {
 // Render pass p of `count`: six passes bind face p's framebuffer, one pass the layered framebuffer (whose
 // clear clears all six layers); depth cleared to 1, an r32f cube to FLT_MAX ("nothing here",
 // docs/glossary.md).
-void GlBackend::begin_shadow_pass(int p, int count, float far_plane) {
+void GlBackend::begin_shadow_pass(int light, int p, int count, float far_plane) {
   const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
   const GLfloat depth_clear =
       reversed_depth_test(*config_) ? 0.0f : 1.0f;  // nv_swizzle's r32f: nearer is greater
-  const GLuint fbo = count > 1 ? shadow_.face_fbos[static_cast<size_t>(p)] : shadow_.layered_fbo;
+  const GLuint fbo = count > 1 ? shadow_.face_fbos[static_cast<size_t>(light * shadow_.layers + p)]
+                               : shadow_.layered_fbos[static_cast<size_t>(light)];
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_clear);
   if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
@@ -435,9 +473,11 @@ void GlBackend::begin_shadow_pass(int p, int count, float far_plane) {
         moments_clear_value(shadow_.storage, config_->depth_format, config_->moments, far_plane).data());
 }
 
-void GlBackend::clear_shadow_targets(float far_plane) {
+void GlBackend::clear_shadow_targets(const gpu::LightFrames& f) {
   const int passes = traits(config_->technique).passes == 6 ? shadow_.layers : 1;
-  for (int p = 0; p < passes; ++p) begin_shadow_pass(p, passes, far_plane);
+  for (int k = 0; k < shadow_.lights; ++k)
+    for (int p = 0; p < passes; ++p)
+      begin_shadow_pass(k, p, passes, f.lights[size_t(k)].uniforms.light_position.w);
 }
 
 GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLuint program) {
@@ -458,10 +498,12 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
   glDepthFunc(GL_LESS);
   glUseProgram(program);
   glBindVertexArray(lighting_vao_);
-  glBindBufferBase(GL_UNIFORM_BUFFER, gpu::kFrameUniformsBinding, frame_ubo_);
-  glBindTextureUnit(gpu::kShadowMapBinding, traits(config_->layout).lookup != LayoutLookup::hardware_cube
-                                                ? shadow_.sampled_layers
-                                                : shadow_.sampled);
+  bind_frame_uniforms(0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPointLightsBinding, lights_ssbo_);
+  const LayoutLookup lookup = traits(config_->layout).lookup;
+  const bool by_direction =
+      lookup == LayoutLookup::hardware_cube || lookup == LayoutLookup::hardware_cube_array;
+  glBindTextureUnit(gpu::kShadowMapBinding, by_direction ? shadow_.sampled : shadow_.sampled_layers);
   const FilterSampler sampler = traits(config_->filter).sampler;
   glBindSampler(gpu::kShadowMapBinding, sampler == FilterSampler::linear_compare   ? compare_sampler_
                                         : sampler == FilterSampler::linear_moments ? linear_sampler_
@@ -480,11 +522,11 @@ FrameTiming GlBackend::render_frame(int frame, FrameKind kind) {
   // LP_NUM_THREADS worker threads and completes inside glFinish.
   FrameTiming t;
   auto t0 = Clock::now();
-  gpu::ShadowFrame plan = update_frame_uniforms(frame);
+  gpu::LightFrames plan = update_frame_uniforms(frame);
   queries_->begin_timer(kShadowPass);
   if (kind == FrameKind::floor) {
-    clear_shadow_targets(plan.uniforms.light_position.w);
-    planner_.reset();  // the cube no longer holds any light
+    clear_shadow_targets(plan);
+    planner_.forget();  // the maps no longer hold any light
   } else {
     shadow_pass(plan);
     planner_.rendered(plan, *config_);
@@ -511,7 +553,7 @@ FrameTiming GlBackend::render_frame(int frame, FrameKind kind) {
 
 FrameCounters GlBackend::count_frame_work(int frame) {
   FrameCounters c;
-  gpu::ShadowFrame plan = update_frame_uniforms(frame);
+  gpu::LightFrames plan = update_frame_uniforms(frame);
   if (queries_->has_statistics()) queries_->begin_statistics(kShadowPass);
   DrawStats shadow = shadow_pass(plan);
   planner_.rendered(plan, *config_);
@@ -528,7 +570,15 @@ FrameCounters GlBackend::count_frame_work(int frame) {
   return c;
 }
 
-Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
+void GlBackend::report_light(int light) {
+  const float reported = static_cast<float>(light);  // lights_info.z of light 0's block, which lighting binds
+  glNamedBufferSubData(frame_ubo_, offsetof(gpu::FrameUniforms, lights_info) + 2 * sizeof(float),
+                       sizeof reported, &reported);
+  lighting_pass(gpu::LightingVariant::check, lighting_programs_[size_t(gpu::LightingVariant::check)]);
+  glFinish();
+}
+
+Images GlBackend::read_back_images(CubeReadBack cube_read_back, int light) {
   const LightingTargets& timed = lighting_[size_t(gpu::LightingVariant::timed)];
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
@@ -552,31 +602,34 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back) {
   img.cube_size = shadow_.size;
   size_t texels = static_cast<size_t>(shadow_.size) * static_cast<size_t>(shadow_.size);
   const bool depth_stored = !traits(shadow_.storage).colour_checked;
-  const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
+  // The far the light's map was rendered with (fit_range: per frame).
+  const float far_plane = planner_.cube_far(light);
+  const float near_plane =
+      scene_->has_point_light() ? scene_->point_lights[size_t(light)].near_plane : scene_->light().near_plane;
   img.light_far = far_plane;
+  const int first_layer = light * shadow_.layers;
   if (cube_read_back == CubeReadBack::sampled) {
-    read_cube_summary(summary_program_, shadow_.stored_layers, nearest_sampler_, shadow_.size, img);
-    cube::sample_to_distance(img, shadow_.storage, scene_->light().near_plane, far_plane,
-                             cube::DepthRange::minus_one_to_one);
+    read_cube_summary(summary_program_, shadow_.light_stored_layers[size_t(light)], nearest_sampler_,
+                      shadow_.size, img);
+    cube::sample_to_distance(img, shadow_.storage, near_plane, far_plane, cube::DepthRange::minus_one_to_one);
   }
   for (int f = 0; f < shadow_.layers && cube_read_back == CubeReadBack::full; ++f) {
     auto& face = img.cube_distance[static_cast<size_t>(f)];
     face.resize(texels);
-    glGetTextureSubImage(shadow_.stored, 0, 0, 0, f, shadow_.size, shadow_.size, 1,
+    glGetTextureSubImage(shadow_.stored, 0, 0, 0, first_layer + f, shadow_.size, shadow_.size, 1,
                          depth_stored ? GL_DEPTH_COMPONENT : GL_RED, GL_FLOAT,
                          static_cast<GLsizei>(texels * sizeof(float)), face.data());
     const size_t n = static_cast<size_t>(shadow_.size);
     for (size_t i = 0; i < texels; ++i)
-      face[i] =
-          cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
-                                   scene_->light().near_plane, far_plane, cube::DepthRange::minus_one_to_one);
+      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % n), int(i / n), shadow_.size,
+                                         near_plane, far_plane, cube::DepthRange::minus_one_to_one);
   }
   if (shadow_.colour_layers && cube_read_back == CubeReadBack::full) {
     img.moment_channels = traits(shadow_.storage).colour_channels;
     for (int f = 0; f < 6; ++f) {
       auto& face = img.moments[static_cast<size_t>(f)];
       face.resize(texels * size_t(img.moment_channels));
-      glGetTextureSubImage(shadow_.colour, 0, 0, 0, f, shadow_.size, shadow_.size, 1,
+      glGetTextureSubImage(shadow_.colour, 0, 0, 0, first_layer + f, shadow_.size, shadow_.size, 1,
                            img.moment_channels == 1   ? GL_RED
                            : img.moment_channels == 2 ? GL_RG
                                                       : GL_RGBA,

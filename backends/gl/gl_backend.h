@@ -37,20 +37,26 @@ class GlBackend final : public Backend {
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // each pass bracketed by glFinish
   FrameCounters count_frame_work(int frame) override;
-  Images read_back_images(CubeReadBack cube) override;
+  Images read_back_images(CubeReadBack cube, int light) override;
+  void report_light(int light) override;
   struct DrawStats {
     uint64_t draw_calls = 0;
   };
   GLuint program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines);
-  gpu::ShadowFrame update_frame_uniforms(int frame);
-  DrawStats shadow_pass(const gpu::ShadowFrame& f);
+  // Every light's uniforms into frame_ubo_ (light k's block at k * frame_stride_) and the lighting pass's
+  // light list into lights_ssbo_.
+  gpu::LightFrames update_frame_uniforms(int frame);
+  void bind_frame_uniforms(int light);
+  DrawStats shadow_pass(const gpu::LightFrames& f);
+  // One light's shadow pass into its layers of the shadow maps.
+  void light_shadow_pass(int light, const gpu::ShadowFrame& f, DrawStats& stats);
   // The lighting pass into lighting_[targets] with `program` (lighting_programs_[v], or floor_program_).
   DrawStats lighting_pass(gpu::LightingVariant targets, GLuint program);
   // Binds and clears render pass p's framebuffer; far_plane: this frame's light far (a world-units moments
   // clear).
-  void begin_shadow_pass(int p, int count, float far_plane);
-  void clear_shadow_targets(
-      float far_plane);             // the floor frame's shadow pass: framebuffers cleared, nothing drawn
+  void begin_shadow_pass(int light, int p, int count, float far_plane);
+  // The floor frame's shadow pass: every light's framebuffers cleared, nothing drawn.
+  void clear_shadow_targets(const gpu::LightFrames& f);
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
   void bind_pass_uniforms(int entry);
   // Draws one object (ObjectDraw: its index, instances and face mask).
@@ -69,7 +75,8 @@ class GlBackend final : public Backend {
   // nv_swizzle: viewports 0-5 take face f's swizzle (viewport_swizzle.h), or all go back to the identity.
   void set_face_swizzles(bool on);
   void release_case();
-  void blur_moments();  // the moments filters' prefilter, in the shadow pass's time
+  void blur_moments(
+      int light);  // the moments filters' prefilter of one light's cube, in the shadow pass's time
 
   EglContext context_;
   bool has_layer_array_ = false;
@@ -85,8 +92,10 @@ class GlBackend final : public Backend {
   GLuint vertex_buffer_ = 0;
   GLuint shadow_vao_ = 0;    // position only
   GLuint lighting_vao_ = 0;  // position, normal, colour
-  GLuint frame_ubo_ = 0;
-  GLuint pass_ubo_ = 0;  // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
+  GLuint frame_ubo_ = 0;     // one FrameUniforms per light of the case, frame_stride_ apart
+  GLsizeiptr frame_stride_ = 0;
+  GLuint lights_ssbo_ = 0;  // gpu::PointLightRecord per light of the case
+  GLuint pass_ubo_ = 0;     // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
   GLuint nearest_sampler_ = 0;
   GLuint compare_sampler_ = 0;
   GLuint linear_sampler_ = 0;
@@ -102,7 +111,7 @@ class GlBackend final : public Backend {
   GLuint summary_program_ = 0;                 // cube_summary.comp
   GLuint blur_program_ = 0;                    // moments_blur.comp for a moments filter, else 0
   std::unique_ptr<FrameQueries> queries_;
-  gpu::ShadowFramePlanner planner_;
+  gpu::LightFramePlanner planner_;
 };
 
 }  // namespace omnishadow::gl

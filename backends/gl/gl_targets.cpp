@@ -46,22 +46,31 @@ GLuint create_cube(GLenum internal_format, int size) {
   return tex;
 }
 
-// Six layers of a 2D array (what multiview renders into) and a cube-map view of them (what is sampled): layer
-// f is face f in both, so the face order is the cube's. With `layers` other than 6 (a layout that is no cube)
-// there is no cube view: `cube_view` is the array itself.
-GLuint create_cube_array(GLenum internal_format, int size, GLuint& cube_view, int layers = 6) {
+// `count` layers of a 2D array (what multiview, several lights and the layouts that are no cube render into)
+// and the view of them that is sampled: a cube map (six layers, layer f face f), a cube-map array (layer 6k +
+// f face f of cube k), or, for a layout that is no cube, the array itself.
+GLuint create_layer_array(GLenum internal_format, int size, int count, GLenum sampled_target, GLuint& view) {
   GLuint array = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &array);
-  glTextureStorage3D(array, 1, internal_format, size, size, layers);
-  if (layers != 6) {
+  glTextureStorage3D(array, 1, internal_format, size, size, count);
+  if (sampled_target == GL_TEXTURE_2D_ARRAY) {
     cube_parameters(array);
-    cube_view = array;
+    view = array;
     return array;
   }
-  glGenTextures(1, &cube_view);  // a view needs a name never bound (glCreateTextures would give it a target)
-  glTextureView(cube_view, GL_TEXTURE_CUBE_MAP, array, internal_format, 0, 1, 0, 6);
-  cube_parameters(cube_view);
+  glGenTextures(1, &view);  // a view needs a name never bound (glCreateTextures would give it a target)
+  glTextureView(view, sampled_target, array, internal_format, 0, 1, 0, static_cast<GLuint>(count));
+  cube_parameters(view);
   return array;
+}
+
+// A 2D-array view of `count` layers of `texture` from `first`.
+GLuint layer_view(GLuint texture, GLenum format, int first, int count) {
+  GLuint view = 0;
+  glGenTextures(1, &view);
+  glTextureView(view, GL_TEXTURE_2D_ARRAY, texture, format, 0, 1, static_cast<GLuint>(first),
+                static_cast<GLuint>(count));
+  return view;
 }
 
 GLuint create_2d(GLenum internal_format, int width, int height) {
@@ -105,67 +114,84 @@ GLenum colour_internal_format(ColourFormat format) {
   return GL_NONE;
 }
 
-// The framebuffers of a shadow target: one per face (six_pass) and one layered over every face.
-static void create_shadow_framebuffers(ShadowTargets& t, bool arrays, bool multiview, bool has_colour) {
+// The framebuffers of a shadow target: one per light and layer (six_pass) and one per light over its layers.
+static void create_shadow_framebuffers(ShadowTargets& t, bool arrays, const ShadowShape& shape,
+                                       GLenum depth_format, GLenum colour_format) {
   const int layers = t.layers;
+  const bool multiview = shape.multiview, has_colour = colour_format != GL_NONE;
   const GLuint depth_target = arrays ? t.depth_array : t.depth;
   const GLuint colour_target = arrays ? t.colour_array : t.colour;
 
-  // A cube map texture is layered: attaching it whole gives a layered framebuffer, attaching one layer
-  // (glNamedFramebufferTextureLayer, layer = face) gives the per-face framebuffer of six_pass.
-  // With multiview the whole-cube attachment is six views instead (GL_OVR_multiview has no named-framebuffer
-  // form).
-  auto attach_all = [&](GLuint fbo, GLenum attachment, GLuint texture) {
-    if (!multiview) {
-      glNamedFramebufferTexture(fbo, attachment, texture, 0);
+  // A layered texture attached whole gives a layered framebuffer, one layer (glNamedFramebufferTextureLayer)
+  // the per-face framebuffer of six_pass. A light's layers of a shared array are attached whole through a
+  // view of them. With multiview the light's layers are its six views instead (GL_OVR_multiview has no
+  // named-framebuffer form).
+  auto attach_light = [&](GLuint fbo, GLenum attachment, GLuint texture, GLenum format, int light) {
+    if (multiview) {
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+      glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, attachment, texture, 0, light * layers, 6);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
       return;
     }
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
-    glFramebufferTextureMultiviewOVR(GL_DRAW_FRAMEBUFFER, attachment, texture, 0, 0, 6);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    if (t.lights > 1) {
+      texture = layer_view(texture, format, light * layers, layers);
+      t.views.push_back(texture);
+    }
+    glNamedFramebufferTexture(fbo, attachment, texture, 0);
   };
-  auto attach = [&](GLuint fbo, int layer) {
+  auto attach = [&](GLuint fbo, int light, int layer) {
     if (layer < 0)
-      attach_all(fbo, GL_DEPTH_ATTACHMENT, depth_target);
+      attach_light(fbo, GL_DEPTH_ATTACHMENT, depth_target, depth_format, light);
     else
-      glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_target, 0, layer);
+      glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_target, 0, light * layers + layer);
     if (has_colour) {
       if (layer < 0)
-        attach_all(fbo, GL_COLOR_ATTACHMENT0, colour_target);
+        attach_light(fbo, GL_COLOR_ATTACHMENT0, colour_target, colour_format, light);
       else
-        glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, colour_target, 0, layer);
+        glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, colour_target, 0, light * layers + layer);
       glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
     } else {
       glNamedFramebufferDrawBuffer(fbo, GL_NONE);
     }
     glNamedFramebufferReadBuffer(fbo, GL_NONE);
   };
-  glCreateFramebuffers(layers, t.face_fbos.data());
-  for (int f = 0; f < layers; ++f) {
-    attach(t.face_fbos[f], f);
-    check_complete(t.face_fbos[f], "per-face shadow");
+  t.face_fbos.resize(static_cast<size_t>(layers * t.lights));
+  t.layered_fbos.resize(static_cast<size_t>(t.lights));
+  glCreateFramebuffers(layers * t.lights, t.face_fbos.data());
+  glCreateFramebuffers(t.lights, t.layered_fbos.data());
+  for (int k = 0; k < t.lights; ++k) {
+    for (int f = 0; f < layers; ++f) {
+      attach(t.face_fbos[size_t(k * layers + f)], k, f);
+      check_complete(t.face_fbos[size_t(k * layers + f)], "per-face shadow");
+    }
+    attach(t.layered_fbos[size_t(k)], k, -1);
+    check_complete(t.layered_fbos[size_t(k)], multiview ? "multiview shadow" : "layered shadow");
   }
-  glCreateFramebuffers(1, &t.layered_fbo);
-  attach(t.layered_fbo, -1);
-  check_complete(t.layered_fbo, multiview ? "multiview shadow" : "layered shadow");
 }
 
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format, bool multiview,
-                                    int layers) {
+ShadowTargets create_shadow_targets(const ShadowShape& shape) {
   ShadowTargets t;
-  t.storage = storage;
-  t.size = size;
-  t.layers = layers;
-  const bool arrays =
-      multiview || layers != 6;  // rendered into 2D arrays (and sampled through cube views of six)
-  const ColourFormat colour_format = omnishadow::colour_format(storage, depth_format);
+  t.storage = shape.storage;
+  t.size = shape.size;
+  t.layers = shape.layers;
+  t.lights = shape.lights;
+  const int size = shape.size, layers = shape.layers, count = layers * shape.lights;
+  const Storage storage = shape.storage;
+  // Rendered into 2D arrays (and sampled through views of them) unless one cube map does.
+  const bool arrays = shape.multiview || layers != 6 || shape.lights > 1 || shape.cube_array;
+  const GLenum sampled_target = shape.cube_array                   ? GL_TEXTURE_CUBE_MAP_ARRAY
+                                : layers == 6 && shape.lights == 1 ? GL_TEXTURE_CUBE_MAP
+                                                                   : GL_TEXTURE_2D_ARRAY;
+  const ColourFormat colour_format = omnishadow::colour_format(storage, shape.depth_format);
   const GLenum colour_internal = colour_internal_format(colour_format);
+  const GLenum depth_internal = depth_internal_format(shape.depth_format);
   const bool has_colour = colour_format != ColourFormat::none;
   if (arrays) {
-    t.depth_array = create_cube_array(depth_internal_format(depth_format), size, t.depth, layers);
-    if (has_colour) t.colour_array = create_cube_array(colour_internal, size, t.colour, layers);
+    t.depth_array = create_layer_array(depth_internal, size, count, sampled_target, t.depth);
+    if (has_colour)
+      t.colour_array = create_layer_array(colour_internal, size, count, sampled_target, t.colour);
   } else {
-    t.depth = create_cube(depth_internal_format(depth_format), size);
+    t.depth = create_cube(depth_internal, size);
     if (has_colour) t.colour = create_cube(colour_internal, size);
   }
   const bool colour_checked = traits(storage).colour_checked;
@@ -174,29 +200,34 @@ ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth
   t.sampled = traits(storage).moments != MomentKind::none ? t.colour : t.stored;
   // 2D array views for the compute passes (a cube sampler has no texelFetch; image units bind layers).
   auto layers_of = [&](GLuint cube, GLuint array, GLenum format) {
-    if (arrays) return array;
-    GLuint view = 0;
-    glGenTextures(1, &view);
-    glTextureView(view, GL_TEXTURE_2D_ARRAY, cube, format, 0, 1, 0, 6);
-    return view;
+    return arrays ? array : layer_view(cube, format, 0, 6);
   };
-  t.stored_layers = layers_of(t.stored, t.stored_array,
-                              colour_checked ? colour_internal : depth_internal_format(depth_format));
+  const GLenum stored_format = colour_checked ? colour_internal : depth_internal;
+  t.stored_layers = layers_of(t.stored, t.stored_array, stored_format);
+  for (int k = 0; k < t.lights; ++k) {
+    if (t.lights == 1) {
+      t.light_stored_layers.push_back(t.stored_layers);
+      break;
+    }
+    t.views.push_back(layer_view(t.stored_array, stored_format, k * layers, layers));
+    t.light_stored_layers.push_back(t.views.back());
+  }
   if (traits(storage).moments != MomentKind::none) {
     t.colour_format = colour_internal;
     t.colour_layers = layers_of(t.colour, t.colour_array, colour_internal);
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t.blur_layers);  // the blur's first pass writes here
-    glTextureStorage3D(t.blur_layers, 1, colour_internal, size, size, 6);
+    glTextureStorage3D(t.blur_layers, 1, colour_internal, size, size, count);
   }
   t.sampled_layers = traits(storage).moments != MomentKind::none ? t.colour_layers : t.stored_layers;
-  check_allocation("the shadow cube");
-  create_shadow_framebuffers(t, arrays, multiview, has_colour);
+  check_allocation("the shadow maps");
+  create_shadow_framebuffers(t, arrays, shape, depth_internal, has_colour ? colour_internal : GL_NONE);
   return t;
 }
 
 void destroy(ShadowTargets& t) {
-  glDeleteFramebuffers(t.layers, t.face_fbos.data());
-  glDeleteFramebuffers(1, &t.layered_fbo);
+  glDeleteFramebuffers(static_cast<GLsizei>(t.face_fbos.size()), t.face_fbos.data());
+  glDeleteFramebuffers(static_cast<GLsizei>(t.layered_fbos.size()), t.layered_fbos.data());
+  glDeleteTextures(static_cast<GLsizei>(t.views.size()), t.views.data());
   // Views first (multiview's layers are the arrays themselves); zero names are ignored.
   if (t.stored_layers != t.stored_array) glDeleteTextures(1, &t.stored_layers);
   if (t.colour_layers != t.colour_array) glDeleteTextures(1, &t.colour_layers);

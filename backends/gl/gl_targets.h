@@ -4,7 +4,6 @@
 
 #include <epoxy/gl.h>
 
-#include <array>
 #include <vector>
 
 #include "backends/common/case_config.h"
@@ -30,12 +29,31 @@ struct ShadowTargets {
   // colour_layers for moments); views, not copies, so both layouts read the very texels the shadow pass
   // wrote.
   GLuint sampled_layers = 0;
-  std::array<GLuint, 6> face_fbos{};  // six_pass: one framebuffer per face (per layer), built once
-  int layers = 6;          // 6 for a cube's faces; a layout of other layers (dual_paraboloid: 2) is a plain
-                           // 2D array, with no cube view: depth == depth_array, colour == colour_array
-  GLuint layered_fbo = 0;  // single-pass techniques: the whole cube, gl_Layer (or the view) picks the face
+  int layers = 6;  // per light: 6 for a cube's faces; a layout of other layers (dual_paraboloid: 2) is a
+                   // plain 2D array, with no cube view: depth == depth_array, colour == colour_array
+  // Point lights: light k's layers are layers k * `layers` .. (k + 1) * `layers` - 1 of the arrays. Several
+  // lights, or layout cube_array, are always rendered into 2D arrays; `depth` and `colour` are then a
+  // cube-map-array view of them (cube_array) or the arrays themselves.
+  int lights = 1;
+  std::vector<GLuint> face_fbos;  // six_pass: one framebuffer per light and layer (light-major), built once
+  std::vector<GLuint> layered_fbos;  // single-pass techniques: one per light over its layers, gl_Layer (or
+                                     // the view) picks the face
+  std::vector<GLuint>
+      light_stored_layers;    // per light: its stored layers as a 2D array (the summary's input)
+  std::vector<GLuint> views;  // per-light views made for the above, deleted with the targets
   Storage storage = Storage::linear_depth;
   int size = 0;
+};
+
+// What create_shadow_targets() builds: one map of `layers` layers of size^2 per light.
+struct ShadowShape {
+  int size = 0;
+  Storage storage = Storage::linear_depth;
+  DepthFormat depth_format = DepthFormat::d32f;
+  bool multiview = false;  // GL_OVR_multiview2 renders into 2D arrays, never cube maps
+  int layers = 6;          // per light
+  int lights = 1;
+  bool cube_array = false;  // sampled as a cube-map array (layout cube_array)
 };
 
 // Spot/directional lights: a 2D depth-array texture, one layer and one framebuffer per light. At least one
@@ -64,8 +82,7 @@ GLenum depth_internal_format(DepthFormat format);
 // Throw std::runtime_error naming the incomplete framebuffer, or GL_OUT_OF_MEMORY for allocations that
 // failed. multiview: the layered framebuffer holds six views of the arrays
 // (glFramebufferTextureMultiviewOVR).
-ShadowTargets create_shadow_targets(int size, Storage storage, DepthFormat depth_format,
-                                    bool multiview = false, int layers = 6);
+ShadowTargets create_shadow_targets(const ShadowShape& shape);
 void destroy(ShadowTargets& t);
 LightingTargets create_lighting_targets(int width, int height, bool check_outputs);
 void destroy(LightingTargets& t);

@@ -126,17 +126,23 @@ void VkBackend::create_layouts() {
   VkDevice d = ctx_->device();
   const VkShaderStageFlags geometry_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
                                              (ctx_->has_geometry_shader() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
-  VkDescriptorSetLayoutBinding bindings[3] = {
+  // The shadow pass's frame uniforms are per light: a dynamic binding whose offset picks the light's block.
+  VkDescriptorSetLayoutBinding shadow_binding = {
+      gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, geometry_stages, nullptr};
+  VkDescriptorSetLayoutBinding bindings[4] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, geometry_stages, nullptr},
       {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
        nullptr},
       {gpu::kMapShadowsBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+       nullptr},
+      {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
        nullptr}};
   VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   set_info.bindingCount = 1;
-  set_info.pBindings = bindings;
+  set_info.pBindings = &shadow_binding;
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &shadow_set_layout_));
-  set_info.bindingCount = 3;
+  set_info.bindingCount = 4;
+  set_info.pBindings = bindings;
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &lighting_set_layout_));
   // Six 4x4 matrices do not fit the 128 bytes of push constants lavapipe guarantees: they live in the uniform
   // buffer, and only the face index and face mask (gpu::PassUniforms' first 8 bytes) are pushed.
@@ -154,11 +160,13 @@ void VkBackend::create_layouts() {
 
 void VkBackend::create_descriptor_sets() {
   VkDevice d = ctx_->device();
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
-                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2}};
+  VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                                   {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1},
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool_info.maxSets = 2;
-  pool_info.poolSizeCount = 2;
+  pool_info.poolSizeCount = 4;
   pool_info.pPoolSizes = sizes;
   OMNISHADOW_VK(vkCreateDescriptorPool(d, &pool_info, nullptr, &descriptor_pool_));
   VkDescriptorSetLayout layouts[2] = {shadow_set_layout_, lighting_set_layout_};
@@ -171,19 +179,26 @@ void VkBackend::create_descriptor_sets() {
   shadow_set_ = sets[0];
   lighting_set_ = sets[1];
 
+  const VkDeviceSize align = ctx_->properties().limits.minUniformBufferOffsetAlignment;
+  frame_stride_ = (sizeof(gpu::FrameUniforms) + align - 1) / align * align;
   frame_uniforms_ =
-      create_buffer(*ctx_, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
+      create_buffer(*ctx_, frame_stride_ * scene::kMaxPointLights, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
+  point_lights_ = create_buffer(*ctx_, sizeof(gpu::PointLightRecord) * scene::kMaxPointLights,
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
   VkDescriptorBufferInfo ubo{frame_uniforms_.buffer, 0, sizeof(gpu::FrameUniforms)};
-  VkWriteDescriptorSet writes[2] = {};
-  for (int i = 0; i < 2; ++i) {
+  VkDescriptorBufferInfo lights{point_lights_.buffer, 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet writes[3] = {};
+  for (int i = 0; i < 3; ++i) {
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    writes[i].dstSet = sets[i];
-    writes[i].dstBinding = gpu::kFrameUniformsBinding;
+    writes[i].dstSet = sets[i == 0 ? 0 : 1];
+    writes[i].dstBinding = i == 2 ? gpu::kPointLightsBinding : gpu::kFrameUniformsBinding;
     writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    writes[i].pBufferInfo = &ubo;
+    writes[i].descriptorType = i == 0   ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC
+                               : i == 1 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                        : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = i == 2 ? &lights : &ubo;
   }
-  vkUpdateDescriptorSets(d, 2, writes, 0, nullptr);
+  vkUpdateDescriptorSets(d, 3, writes, 0, nullptr);
 }
 
 void VkBackend::create_samplers_and_queries() {
@@ -228,6 +243,7 @@ VkBackend::~VkBackend() {
   mesh_pass_.reset();
   destroy(*ctx_, vertex_buffer_);
   destroy(*ctx_, frame_uniforms_);
+  destroy(*ctx_, point_lights_);
   vkFreeCommandBuffers(d, ctx_->command_pool(), 2, command_buffers_.data());
   if (timestamps_) vkDestroyQueryPool(d, timestamps_, nullptr);
   if (statistics_) vkDestroyQueryPool(d, statistics_, nullptr);
@@ -295,6 +311,12 @@ Support VkBackend::supports(const CaseConfig& c) const {
     case TechniqueFeature::none:
       break;
   }
+  if (c.layout == Layout::cube_array && !ctx_->has_image_cube_array())
+    return {false, "imageCubeArray feature not supported by " + device + " (layout cube_array)"};
+  if (Support s = layer_count_support(c, static_cast<int>(ctx_->properties().limits.maxImageArrayLayers),
+                                      "maxImageArrayLayers");
+      !s.ok)
+    return s;
   if (c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " above maxImageDimensionCube " +
                        std::to_string(info_.max_cube_size)};
@@ -375,7 +397,7 @@ void VkBackend::configure_case(const CaseConfig& c) {
     throw;
   }
   config_ = c;
-  planner_.reset();
+  planner_.reset(c.light_count);
 }
 
 void VkBackend::create_pipelines(const CaseConfig& c) {
@@ -436,7 +458,7 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
     lighting.layout = lighting_layout_;
     lighting.render_pass = lighting_[size_t(v)].render_pass;
     lighting.color_attachments = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(v)]);
-    lighting.fragment_constants = {constants.map_lights, constants.point_light, constants.injected_work,
+    lighting.fragment_constants = {constants.map_lights, constants.point_lights, constants.injected_work,
                                    std::bit_cast<int32_t>(constants.lookup_perturb_texels)};
     for (int cull = 0; cull < 2; ++cull) {
       lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
@@ -510,8 +532,11 @@ void VkBackend::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& p
     int want = obj.cull_back_faces ? 1 : 0;
     if (want != bound) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[static_cast<size_t>(want)]);
+      // The shadow set's uniforms are the light's block being recorded (frame_offset_).
+      const bool dynamic = set == shadow_set_;
       if (bound < 0)
-        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, 0, nullptr);
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set, dynamic ? 1 : 0,
+                                &frame_offset_);
       bound = want;
     }
     vkCmdDraw(cb, obj.vertex_count, d.instances, obj.first_vertex, 0);
@@ -567,22 +592,35 @@ VkBackend::ShadowDrawStep VkBackend::shadow_draw_step(const CaseConfig& c) {
     case ShadowDraw::mesh_tasks:  // each object's meshlets (vk_mesh_pass.h)
       return {1, [this](VkCommandBuffer cb, size_t, const std::vector<ObjectDraw>& list, uint64_t& draws,
                         bool floor) {
-                if (!floor) mesh_pass_->draw_list(cb, shadow_pipelines_, list, draws);
+                if (!floor) mesh_pass_->draw_list(cb, shadow_pipelines_, list, draws, frame_offset_);
               }};
   }
   return {1, vertex_draws};
 }
 
 // floor: the case's render passes with their clears and nothing drawn (FrameKind::floor).
-void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics,
+void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::LightFrames& frame, bool statistics,
                               uint64_t& draws, bool floor) {
   begin_pass(cb, 0, statistics);
+  frame_offset_ = 0;
   if (!floor) record_maps(cb, draws);
-  if (frame.reuse_cube &&
-      !floor) {  // static caching: the cube already holds this light; timestamps and queries still close
-    end_pass(cb, 0, statistics);
-    return;
+  for (uint32_t k = 0; k < frame.lights.size(); ++k) {
+    // Static caching: a light whose map already holds it is skipped; timestamps and queries still close.
+    if (frame.lights[k].reuse_cube && !floor) continue;
+    frame_offset_ = static_cast<uint32_t>(k * frame_stride_);
+    record_light_shadow(cb, k, frame.lights[k], draws, floor);
   }
+  frame_offset_ = 0;
+  // The blurs after every render pass: each binds the moments of every light (one storage view), whose
+  // layers must all have left UNDEFINED.
+  for (uint32_t k = 0; k < frame.lights.size() && blur_ && !floor; ++k)
+    if (!frame.lights[k].reuse_cube) blur_->record(cb, shadow_.size, k * shadow_.layers);
+  end_pass(cb, 0, statistics);
+}
+
+// One light's render passes into its layers: six_pass one per face, the others one over the light's layers.
+void VkBackend::record_light_shadow(VkCommandBuffer cb, uint32_t light, const gpu::ShadowFrame& frame,
+                                    uint64_t& draws, bool floor) {
   VkClearValue clears[2];
   clears[0].color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};   // r32f: "nothing here" (the multipass tutorial)
   if (traits(shadow_.storage).moments != MomentKind::none) {  // the moments of z = 1, as the depth's clear
@@ -603,7 +641,7 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (size_t p = 0; p < static_cast<size_t>(passes.count); ++p) {  // six_pass: face p; else the whole cube
-    rp.framebuffer = shadow_.framebuffers[p];
+    rp.framebuffer = shadow_.framebuffers[light * static_cast<size_t>(passes.count) + p];
     vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
     // The viewports alike (nv_swizzle's six, one per face: the pipeline's swizzles tell them apart).
     const std::array<VkViewport, cube::kFaceCount> viewports = {viewport, viewport, viewport,
@@ -615,8 +653,6 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame,
     shadow_draw_.record(cb, p, passes.draws[p], draws, floor);
     vkCmdEndRenderPass(cb);
   }
-  if (blur_ && !floor) blur_->record(cb, shadow_.size);
-  end_pass(cb, 0, statistics);
 }
 
 void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics,
@@ -659,6 +695,14 @@ double VkBackend::timestamp_ms(uint32_t first) const {
   return static_cast<double>(delta) * ctx_->properties().limits.timestampPeriod * 1e-6;
 }
 
+void VkBackend::write_frame_uniforms(const gpu::LightFrames& frame) {
+  auto* base = static_cast<uint8_t*>(frame_uniforms_.mapped);
+  for (size_t k = 0; k < frame.lights.size(); ++k)
+    std::memcpy(base + k * frame_stride_, &frame.lights[k].uniforms, sizeof(gpu::FrameUniforms));
+  std::memcpy(point_lights_.mapped, frame.records.data(),
+              frame.records.size() * sizeof(gpu::PointLightRecord));
+}
+
 FrameTiming VkBackend::render_frame(int frame, FrameKind kind) {
   const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
   const bool floor = kind == FrameKind::floor;
@@ -667,11 +711,11 @@ FrameTiming VkBackend::render_frame(int frame, FrameKind kind) {
   FrameTiming t;
   uint64_t draws = 0;
   auto t0 = Clock::now();
-  gpu::ShadowFrame plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
-  std::memcpy(frame_uniforms_.mapped, &plan.uniforms, sizeof plan.uniforms);
+  gpu::LightFrames plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
+  write_frame_uniforms(plan);
   record_shadow(command_buffers_[0], plan, false, draws, floor);
   ctx_->submit(command_buffers_[0]);
-  floor ? planner_.reset() : planner_.rendered(plan, *config_);  // a floor frame leaves the cube cleared
+  floor ? planner_.forget() : planner_.rendered(plan, *config_);  // a floor frame leaves the maps cleared
   auto t1 = Clock::now();
   ctx_->wait();
   auto t2 = Clock::now();
@@ -692,8 +736,8 @@ FrameTiming VkBackend::render_frame(int frame, FrameKind kind) {
 }
 
 FrameCounters VkBackend::count_frame_work(int frame) {
-  gpu::ShadowFrame plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
-  std::memcpy(frame_uniforms_.mapped, &plan.uniforms, sizeof plan.uniforms);
+  gpu::LightFrames plan = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::zero_to_one);
+  write_frame_uniforms(plan);
   const bool stats = statistics_ != VK_NULL_HANDLE;
   // Mesh draws may not run inside a pipeline-statistics query that counts input-assembly, vertex or geometry
   // work (VK_EXT_mesh_shader's vkCmdDrawMeshTasksEXT), and this pool counts them: mesh_shader's shadow pass
@@ -745,7 +789,7 @@ std::vector<float> decode_texels(VkFormat format, const uint8_t* src, size_t cou
 }  // namespace
 
 // The blurred moments as floats, `moment_channels` a texel (binary16 widened exactly).
-void VkBackend::read_moments(Images& img) {
+void VkBackend::read_moments(Images& img, int light) {
   const int channels = traits(shadow_.storage).colour_channels;
   const bool half = is_half(colour_format(shadow_.storage, config_->depth_format));
   const uint32_t texel_bytes = uint32_t(channels) * (half ? 2u : 4u);
@@ -755,7 +799,7 @@ void VkBackend::read_moments(Images& img) {
   for (size_t f = 0; f < 6; ++f) {
     std::vector<float>& face = img.moments[f];
     face.resize(values);
-    const uint8_t* src = bytes.data() + f * values * (half ? 2 : 4);
+    const uint8_t* src = bytes.data() + (size_t(light) * shadow_.layers + f) * values * (half ? 2 : 4);
     for (size_t i = 0; i < values; ++i) {
       if (half) {
         uint16_t h;
@@ -768,7 +812,18 @@ void VkBackend::read_moments(Images& img) {
   }
 }
 
-Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
+void VkBackend::report_light(int light) {
+  const float reported = static_cast<float>(light);  // lights_info.z of light 0's block, which lighting binds
+  std::memcpy(static_cast<uint8_t*>(frame_uniforms_.mapped) + offsetof(gpu::FrameUniforms, lights_info) +
+                  2 * sizeof(float),
+              &reported, sizeof reported);
+  uint64_t draws = 0;
+  record_lighting(command_buffers_[1], gpu::LightingVariant::check, false, draws);
+  ctx_->submit(command_buffers_[1]);
+  ctx_->wait();
+}
+
+Images VkBackend::read_back_images(CubeReadBack cube_read_back, int light) {
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
   img.width = static_cast<int>(check.width);
@@ -786,12 +841,14 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
 
   img.cube_size = static_cast<int>(shadow_.size);
   const Image& stored = shadow_.stored();
-  const float far_plane = planner_.cube_far();  // the far the cube was rendered with (fit_range: per frame)
+  // The far the light's map was rendered with (fit_range: per frame).
+  const float far_plane = planner_.cube_far(light);
+  const float near_plane =
+      scene_->has_point_light() ? scene_->point_lights[size_t(light)].near_plane : scene_->light().near_plane;
   img.light_far = far_plane;
   if (cube_read_back == CubeReadBack::sampled) {
-    summarizer_->read(stored, nearest_sampler_, shadow_.size, img);
-    cube::sample_to_distance(img, shadow_.storage, scene_->light().near_plane, far_plane,
-                             cube::DepthRange::zero_to_one);
+    summarizer_->read(stored, nearest_sampler_, shadow_.size, img, uint32_t(light) * shadow_.layers);
+    cube::sample_to_distance(img, shadow_.storage, near_plane, far_plane, cube::DepthRange::zero_to_one);
   }
   const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
   std::vector<uint8_t> bytes;
@@ -800,13 +857,14 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back) {
   const size_t texels = size_t(shadow_.size) * shadow_.size;
   for (size_t f = 0; f < shadow_.layers && !bytes.empty(); ++f) {
     auto& face = img.cube_distance[f];
-    face = decode_texels(stored.format, bytes.data() + f * texels * texel_bytes, texels);
+    const size_t layer = size_t(light) * shadow_.layers + f;
+    face = decode_texels(stored.format, bytes.data() + layer * texels * texel_bytes, texels);
     for (size_t i = 0; i < texels; ++i)
-      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % shadow_.size),
-                                         int(i / shadow_.size), int(shadow_.size), scene_->light().near_plane,
-                                         far_plane, cube::DepthRange::zero_to_one);
+      face[i] =
+          cube::stored_to_distance(shadow_.storage, face[i], int(i % shadow_.size), int(i / shadow_.size),
+                                   int(shadow_.size), near_plane, far_plane, cube::DepthRange::zero_to_one);
   }
-  if (blur_ && cube_read_back == CubeReadBack::full) read_moments(img);
+  if (blur_ && cube_read_back == CubeReadBack::full) read_moments(img, light);
   if (!scene_->map_lights.empty()) {
     img.map_size = static_cast<int>(maps_.size);
     img.map_depth_zero_to_one = true;

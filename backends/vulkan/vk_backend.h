@@ -38,7 +38,8 @@ class VkBackend final : public Backend {
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // one fence-waited submission per pass
   FrameCounters count_frame_work(int frame) override;
-  Images read_back_images(CubeReadBack cube) override;
+  Images read_back_images(CubeReadBack cube, int light) override;
+  void report_light(int light) override;
   // The constructor's steps.
   void describe_device(bool validation);
   void create_layouts();
@@ -47,8 +48,13 @@ class VkBackend final : public Backend {
   // configure()'s steps.
   void create_pipelines(const CaseConfig& c);
   void write_lighting_descriptors(const CaseConfig& c);
-  void record_shadow(VkCommandBuffer cb, const gpu::ShadowFrame& frame, bool statistics, uint64_t& draws,
+  // Every light's shadow passes (maps first, moments blurred per light), one command buffer.
+  void record_shadow(VkCommandBuffer cb, const gpu::LightFrames& frame, bool statistics, uint64_t& draws,
                      bool floor = false);
+  void record_light_shadow(VkCommandBuffer cb, uint32_t light, const gpu::ShadowFrame& frame, uint64_t& draws,
+                           bool floor);
+  // Every light's uniform block (light k at k * frame_stride_) and the lighting pass's light list.
+  void write_frame_uniforms(const gpu::LightFrames& frame);
   void record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics, uint64_t& draws,
                        bool floor = false);
   void record_maps(VkCommandBuffer cb, uint64_t& draws);  // one 2D map per spot/directional light
@@ -67,7 +73,7 @@ class VkBackend final : public Backend {
   void begin_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);  // pass 0 shadow, 1 lighting
   void end_pass(VkCommandBuffer cb, uint32_t pass, bool statistics);
   void release_case();
-  void read_moments(Images& img);  // a moments storage's blurred moments (full read-back)
+  void read_moments(Images& img, int light);  // a moments storage's blurred moments (full read-back)
   Support moments_support(const CaseConfig& c, const std::string& device) const;
   double timestamp_ms(uint32_t first) const;
 
@@ -85,7 +91,13 @@ class VkBackend final : public Backend {
   VkSampler nearest_sampler_ = VK_NULL_HANDLE;
   VkSampler compare_sampler_ = VK_NULL_HANDLE;
   VkSampler linear_sampler_ = VK_NULL_HANDLE;  // the moments filters' bilinear lookups
-  Buffer frame_uniforms_;  // host-visible; written before each frame, which waits for the previous one
+  // Host-visible; written before each frame, which waits for the previous one. One FrameUniforms per point
+  // light (up to scene::kMaxPointLights), frame_stride_ apart: the shadow set's binding is dynamic, its
+  // offset the light's block (frame_offset_ while a light's passes are recorded); lighting reads light 0's.
+  Buffer frame_uniforms_;
+  VkDeviceSize frame_stride_ = 0;
+  uint32_t frame_offset_ = 0;
+  Buffer point_lights_;  // gpu::PointLightRecord per light (host-visible), the lighting pass's binding 9
   VkQueryPool timestamps_ = VK_NULL_HANDLE;  // 0,1: shadow pass; 2,3: lighting pass
   VkQueryPool statistics_ = VK_NULL_HANDLE;  // 0: shadow pass, 1: lighting pass
   std::array<VkCommandBuffer, 2> command_buffers_{};
@@ -93,7 +105,7 @@ class VkBackend final : public Backend {
   Buffer vertex_buffer_;
 
   ShadowTargets shadow_;
-  gpu::ShadowFramePlanner planner_;
+  gpu::LightFramePlanner planner_;
   std::array<LightingTargets, 2> lighting_{};  // by gpu::LightingVariant: timed, check
   MapTargets maps_;
   std::array<VkPipeline, 3>

@@ -233,6 +233,7 @@ void VkContext::read_properties() {
   vkGetPhysicalDeviceFeatures2(physical_, &features);
   geometry_shader_ = features.features.geometryShader;
   clip_distance_ = features.features.shaderClipDistance;
+  image_cube_array_ = features.features.imageCubeArray;
   pipeline_statistics_ = features.features.pipelineStatisticsQuery;
   storage_image_extended_formats_ = features.features.shaderStorageImageExtendedFormats;
   multiview_ = f11.multiview;
@@ -277,6 +278,7 @@ void VkContext::create_device() {
   VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &e11};
   enable.features.geometryShader = geometry_shader_;
   enable.features.shaderClipDistance = clip_distance_;
+  enable.features.imageCubeArray = image_cube_array_;
   enable.features.pipelineStatisticsQuery = pipeline_statistics_;
   enable.features.shaderStorageImageExtendedFormats = storage_image_extended_formats_;
   enable.features.multiViewport = missing_for_swizzle_.empty();  // nv_swizzle's six viewports

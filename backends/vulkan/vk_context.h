@@ -46,6 +46,7 @@ class VkContext {
 
   bool has_geometry_shader() const { return geometry_shader_; }
   bool has_clip_distance() const { return clip_distance_; }  // dual_paraboloid clips the other hemisphere
+  bool has_image_cube_array() const { return image_cube_array_; }  // layout cube_array's views
   bool has_multiview() const { return multiview_; }
   bool has_layer_output() const { return layer_output_; }  // shaderOutputLayer (1.2) for vs_layer
   bool has_pipeline_statistics() const { return pipeline_statistics_; }
@@ -97,6 +98,7 @@ class VkContext {
   uint32_t timestamp_valid_bits_ = 0;
   bool geometry_shader_ = false;
   bool clip_distance_ = false;
+  bool image_cube_array_ = false;
   bool multiview_ = false;
   bool layer_output_ = false;
   bool pipeline_statistics_ = false;

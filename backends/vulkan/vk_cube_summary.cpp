@@ -21,13 +21,14 @@ CubeSummarizer::~CubeSummarizer() {
   destroy(ctx_, compute_);
 }
 
-void CubeSummarizer::read(const Image& stored, VkSampler sampler, uint32_t cube_size, Images& img) {
+void CubeSummarizer::read(const Image& stored, VkSampler sampler, uint32_t cube_size, Images& img,
+                          uint32_t first_layer) {
   const size_t bytes = cube::summary_buffer_bytes(int(cube_size));
   Buffer buffer =
       create_buffer(ctx_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
   VkImageView layers = VK_NULL_HANDLE;
   try {
-    layers = create_view(ctx_, stored, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 6);
+    layers = create_view(ctx_, stored, VK_IMAGE_VIEW_TYPE_2D_ARRAY, first_layer, 6);
     VkDescriptorImageInfo image_info{sampler, layers, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     VkDescriptorBufferInfo buffer_info{buffer.buffer, 0, bytes};
     VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},

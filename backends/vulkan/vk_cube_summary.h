@@ -18,10 +18,11 @@ class CubeSummarizer {
   CubeSummarizer(const CubeSummarizer&) = delete;
   CubeSummarizer& operator=(const CubeSummarizer&) = delete;
 
-  // `stored`: the cube (6 layers, SHADER_READ_ONLY_OPTIMAL, left so), last written by a finished submission;
-  // `sampler` must not compare. Fills img.cube_summary, img.cube_sample (stored values),
+  // `stored`: the cube (6 layers from `first_layer`, SHADER_READ_ONLY_OPTIMAL, left so), last written by a
+  // finished submission; `sampler` must not compare. Fills img.cube_summary, img.cube_sample (stored values),
   // img.cube_sample_stride.
-  void read(const Image& stored, VkSampler sampler, uint32_t cube_size, Images& img);
+  void read(const Image& stored, VkSampler sampler, uint32_t cube_size, Images& img,
+            uint32_t first_layer = 0);
 
  private:
   VkContext& ctx_;

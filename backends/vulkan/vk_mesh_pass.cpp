@@ -30,7 +30,7 @@ VkMeshPass::VkMeshPass(VkContext& ctx, const scene::Scene& scene, const Buffer& 
 
     const VkShaderStageFlags mesh_stages = VK_SHADER_STAGE_TASK_BIT_EXT | VK_SHADER_STAGE_MESH_BIT_EXT;
     std::vector<VkDescriptorSetLayoutBinding> bindings = {
-        {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
+        {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1,
          mesh_stages | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
     for (int b = 0; b < gpu::kMeshBindingCount; ++b)
       bindings.push_back({static_cast<uint32_t>(gpu::kFirstMeshBinding + b),
@@ -49,7 +49,7 @@ VkMeshPass::VkMeshPass(VkContext& ctx, const scene::Scene& scene, const Buffer& 
     OMNISHADOW_VK(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_));
 
     allocate_sets(ctx_,
-                  {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                  {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1},
                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, static_cast<uint32_t>(gpu::kMeshBindingCount)}},
                   set_layout_, 1, pool_, &set_);
 
@@ -85,7 +85,8 @@ void VkMeshPass::release() {
 }
 
 void VkMeshPass::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines,
-                           const std::vector<ObjectDraw>& list, uint64_t& draws) const {
+                           const std::vector<ObjectDraw>& list, uint64_t& draws,
+                           uint32_t frame_offset) const {
   int bound = -1;
   for (const ObjectDraw& d : list) {
     const gpu::ObjectMeshlets& o = data_.objects[d.object];
@@ -94,7 +95,7 @@ void VkMeshPass::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& 
     if (want != bound) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[static_cast<size_t>(want)]);
       if (bound < 0)
-        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 1, &frame_offset);
       bound = want;
     }
     const gpu::PassUniforms pass{0, 0, o.first_task, 0};

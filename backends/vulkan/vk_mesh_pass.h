@@ -28,9 +28,9 @@ class VkMeshPass {
 
   VkPipelineLayout layout() const { return layout_; }
   // pipelines[1] for closed objects (back faces culled), [0] for the rest, as the vertex techniques' draw
-  // lists.
+  // lists; frame_offset: the dynamic offset of the light's frame uniforms.
   void draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines,
-                 const std::vector<ObjectDraw>& list, uint64_t& draws) const;
+                 const std::vector<ObjectDraw>& list, uint64_t& draws, uint32_t frame_offset) const;
 
  private:
   void release();

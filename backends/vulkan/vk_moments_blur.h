@@ -15,17 +15,17 @@ namespace omnishadow::vk {
 
 class MomentsBlur {
  public:
-  // `moments`: the 6-layer moments cube (GENERAL after the shadow pass); `intermediate`: a 6-layer image of
-  // its format with STORAGE usage, moved to GENERAL here.
+  // `moments`: the moments cubes, six layers a light (GENERAL after the shadow pass); `intermediate`: an
+  // image of its format and layers with STORAGE usage, moved to GENERAL here.
   MomentsBlur(VkContext& ctx, ShaderModules& modules, ColourFormat format, const Image& moments,
               const Image& intermediate);
   ~MomentsBlur();
   MomentsBlur(const MomentsBlur&) = delete;
   MomentsBlur& operator=(const MomentsBlur&) = delete;
 
-  // After the shadow pass's render passes: both passes with their barriers; the blurred moments are then
-  // visible to the lighting pass's fragment shader and to transfers (read-back).
-  void record(VkCommandBuffer cb, uint32_t size) const;
+  // After a light's shadow render passes: both passes over its cube (layers first_layer..+5) with their
+  // barriers; the blurred moments are then visible to the lighting pass's fragment shader and to transfers.
+  void record(VkCommandBuffer cb, uint32_t size, uint32_t first_layer) const;
 
  private:
   void release();

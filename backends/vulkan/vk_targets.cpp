@@ -114,6 +114,32 @@ VkFormat colour_format_of(ColourFormat format) {
   return VK_FORMAT_UNDEFINED;
 }
 
+// six_pass: each light's faces a framebuffer of single-layer views each. Layered: one framebuffer per light
+// of its layers' array views (gl_Layer picks the face). Multiview: the same views with layers = 1; the view
+// mask routes.
+static void create_shadow_framebuffers(VkContext& ctx, ShadowTargets& t, bool has_colour,
+                                       const TechniqueTraits& technique) {
+  auto views_for = [&](uint32_t first, uint32_t count) {
+    std::vector<VkImageView> views;
+    VkImageViewType type = count == 1 ? VK_IMAGE_VIEW_TYPE_2D : VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+    if (has_colour) views.push_back(create_view(ctx, t.color, type, first, count));
+    views.push_back(create_view(ctx, t.depth, type, first, count));
+    t.attachment_views.insert(t.attachment_views.end(), views.begin(), views.end());
+    return views;
+  };
+  const uint32_t layers = t.layers;
+  for (uint32_t k = 0; k < t.lights; ++k) {
+    if (technique.passes == 6) {  // one pass per face, or per layer
+      for (uint32_t f = 0; f < layers; ++f)
+        t.framebuffers.push_back(
+            create_framebuffer(ctx, t.render_pass, views_for(k * layers + f, 1), t.size, t.size, 1));
+    } else {
+      t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(k * layers, layers), t.size,
+                                                  t.size, technique.multiview ? 1 : layers));
+    }
+  }
+}
+
 ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
   ShadowTargets t;
   t.storage = c.storage;
@@ -122,27 +148,31 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
   const uint32_t layers = static_cast<uint32_t>(traits(c.layout).geometry.layers);
   const bool cube = layers == 6;
   t.layers = layers;
+  t.lights = static_cast<uint32_t>(c.light_count);
+  const uint32_t all_layers = layers * t.lights;
   const VkFormat colour = colour_format_of(colour_format(c.storage, c.depth_format));
   const bool has_colour = colour != VK_FORMAT_UNDEFINED, colour_checked = traits(c.storage).colour_checked;
   const bool moments = traits(c.storage).moments != MomentKind::none;
   const VkFormat depth_format = depth_format_of(c.depth_format);
   try {
     t.depth =
-        create_image(ctx, depth_format, t.size, t.size, layers, cube,
+        create_image(ctx, depth_format, t.size, t.size, all_layers, cube,
                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                          (colour_checked ? 0 : VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
     const VkImageUsageFlags storage_usage = moments ? VK_IMAGE_USAGE_STORAGE_BIT : 0;
     if (has_colour)
-      t.color = create_image(ctx, colour, t.size, t.size, layers, cube,
+      t.color = create_image(ctx, colour, t.size, t.size, all_layers, cube,
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT | storage_usage);
-    if (moments) t.blur = create_image(ctx, colour, t.size, t.size, 6, false, VK_IMAGE_USAGE_STORAGE_BIT);
+    if (moments)
+      t.blur = create_image(ctx, colour, t.size, t.size, all_layers, false, VK_IMAGE_USAGE_STORAGE_BIT);
     // Layouts other than the cube sample their layers as a 2D array (the shader picks the layer).
-    t.sampled_view =
-        create_view(ctx, moments ? t.color : t.stored(),
-                    traits(c.layout).lookup == LayoutLookup::hardware_cube ? VK_IMAGE_VIEW_TYPE_CUBE
-                                                                           : VK_IMAGE_VIEW_TYPE_2D_ARRAY,
-                    0, layers);
+    const LayoutLookup lookup = traits(c.layout).lookup;
+    t.sampled_view = create_view(ctx, moments ? t.color : t.stored(),
+                                 lookup == LayoutLookup::hardware_cube         ? VK_IMAGE_VIEW_TYPE_CUBE
+                                 : lookup == LayoutLookup::hardware_cube_array ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY
+                                                                               : VK_IMAGE_VIEW_TYPE_2D_ARRAY,
+                                 0, all_layers);
 
     // The moments stay in GENERAL: the blur reads and writes them as storage images, the lighting pass
     // samples them.
@@ -164,24 +194,7 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT | (moments ? VK_ACCESS_SHADER_WRITE_BIT : 0),
         view_mask);
 
-    // six_pass: each face a framebuffer of single-layer views. Layered: one framebuffer of 6-layer array
-    // views (layers = 6; gl_Layer picks the face). Multiview: the same views with layers = 1; the view mask
-    // routes.
-    auto views_for = [&](uint32_t first, uint32_t count) {
-      std::vector<VkImageView> views;
-      VkImageViewType type = count == 1 ? VK_IMAGE_VIEW_TYPE_2D : VK_IMAGE_VIEW_TYPE_2D_ARRAY;
-      if (has_colour) views.push_back(create_view(ctx, t.color, type, first, count));
-      views.push_back(create_view(ctx, t.depth, type, first, count));
-      t.attachment_views.insert(t.attachment_views.end(), views.begin(), views.end());
-      return views;
-    };
-    if (technique.passes == 6) {  // one pass per face, or per layer
-      for (uint32_t f = 0; f < layers; ++f)
-        t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(f, 1), t.size, t.size, 1));
-    } else {
-      t.framebuffers.push_back(create_framebuffer(ctx, t.render_pass, views_for(0, layers), t.size, t.size,
-                                                  technique.multiview ? 1 : layers));
-    }
+    create_shadow_framebuffers(ctx, t, has_colour, technique);
   } catch (...) {
     destroy(ctx, t);
     throw;

@@ -20,12 +20,16 @@ struct ShadowTargets {
   Image depth;          // the depth test's cube; what the checks read unless r32f_distance
   Image
       color;   // the colour cube beside it: r32f_distance's distances or the moments (GENERAL after the pass)
-  Image blur;  // moments filters: the blur's intermediate, six layers (GENERAL)
-  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE (2D_ARRAY for the other layouts) view of what the
-                                              // lighting pass samples (the moments for VSM)
+  Image blur;  // moments filters: the blur's intermediate, six layers a light (GENERAL)
+  VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE (CUBE_ARRAY for cube_array, 2D_ARRAY for the other
+                                              // layouts) view of what the lighting pass samples (the
+                                              // moments for VSM)
   std::vector<VkImageView> attachment_views;  // owned; referenced by the framebuffers
   VkRenderPass render_pass = VK_NULL_HANDLE;  // multiview pass for Technique::multiview
-  std::vector<VkFramebuffer> framebuffers;    // six_pass: one per face (layer); otherwise one, all layers
+  // six_pass: one per light and face (layer), light-major; otherwise one per light over its layers. Light k's
+  // layers are k * layers .. (k + 1) * layers - 1 of every image.
+  std::vector<VkFramebuffer> framebuffers;
+  uint32_t lights = 1;
   const Image& stored() const { return traits(storage).colour_checked ? color : depth; }
 };
 

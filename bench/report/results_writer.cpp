@@ -135,6 +135,24 @@ json plan_to_json(const CaseResult& r) {
   return j;
 }
 
+json accuracy_to_json(const Accuracy& a);
+
+// A many-light case's checked lights, each against its own truth; the totals beside pool them.
+json per_light_to_json(const CaseResult& r) {
+  json lights = {{"checked", "light 0 and every " + std::to_string(r.light_stride) +
+                                 "th after it (light_stride); accuracy above pools their pixels"},
+                 {"light_stride", r.light_stride},
+                 {"lights", json::array()}};
+  for (const LightReport& l : r.per_light) {
+    json e = {{"light", l.light}};
+    if (l.accuracy) e["accuracy"] = accuracy_to_json(*l.accuracy);
+    if (l.cube_texels) e["cube_texels"] = {{"texels", l.cube_texels->texels}, {"bad", l.cube_texels->bad()}};
+    if (l.lookups) e["lookups"] = {{"pixels", l.lookups->pixels}, {"outside", l.lookups->outside}};
+    lights["lights"].push_back(e);
+  }
+  return lights;
+}
+
 json accuracy_to_json(const Accuracy& a) {
   auto db = [](double v) { return v < 0 ? json(nullptr) : json(v); };  // null: identical to the reference
   json j = {{"reference",
@@ -278,6 +296,7 @@ json case_to_json(const CaseResult& r) {
                         {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
                         {"frame_wall_ms", r.first_frame->frame_wall_ms}};
   if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
+  if (!r.per_light.empty()) j["accuracy"]["per_light"] = per_light_to_json(r);
   if (!r.untimed_ms.empty()) j["untimed_ms"] = r.untimed_ms;
   if (!r.cube_read_back.empty()) j["cube_read_back"] = r.cube_read_back;
   if (r.floor) j["floor"] = floor_to_json(r);

@@ -41,10 +41,10 @@ CubeReadBack Harness::cube_read_back_for(const CaseConfig& c) const {
 // The case's check frame again, its cube read in full into `images` (for a value-by-value comparison once
 // hashes differed). Rendering is deterministic, so it is the frame already checked; the floor frame cleared
 // the cube since.
-void Harness::read_full_cube(const CaseConfig& c, Images& images) {
+void Harness::read_full_cube(const CaseConfig& c, Images& images, int light) {
   Backend& b = activate(c);
   b.render(options_.check_frame, FrameKind::check);
-  images.cube_distance = b.read_back(CubeReadBack::full).cube_distance;
+  images.cube_distance = b.read_back(CubeReadBack::full, light).cube_distance;
 }
 
 Harness::Harness(RunOptions options)
@@ -218,8 +218,14 @@ void Harness::prepare(CaseResult& r) {
     step("read_back", [&] { images = b.read_back(cube_read_back_for(r.config)); });
     r.cube_read_back = images.has_full_cube() ? "full" : "sampled";
     r.light_far = images.light_far;
-    count_non_finite(r, images);
     check_timed_variant(r, images, check_context(r));
+    // A many-light case: the other lights the checks read, while the check frame is the last one rendered.
+    std::vector<std::pair<int, Images>> others;
+    r.light_stride = checked_light_stride(r.config.light_count);
+    step("read_back", [&] {
+      for (int k : checked_lights(r.config.light_count))
+        if (k > 0) others.emplace_back(k, b.read_back(cube_read_back_for(r.config), k));
+    });
     if (options_.stability) measure_flicker(r, b, images);
     step("work_counters", [&] { count_work(r, b, images.light_far); });
     if (std::vector<std::string> errors = b.drain_api_errors(); !errors.empty()) {
@@ -230,32 +236,21 @@ void Harness::prepare(CaseResult& r) {
              {{"api_errors", double(errors.size())}}});
       return;
     }
-    const CheckContext checks = check_context(r);
-    if (options_.accuracy) {
-      step("cube_and_map_truth", [&] {
-        check_cube(r, images, checks, truths_);
-        check_moment_cube(r, images);
-        check_maps(r, images, checks, truths_);
-      });
-      step("accuracy", [&] { check_accuracy(r, images, checks, truths_); });
-    }
-    step("lookups", [&] { check_lookups_of(r, images, checks); });
     step("floor", [&] { measure_floor(r, b); });
     const bool is_reference = r.config == reference_config(r.config);
-    step("comparisons", [&] {
-      if (!is_reference) check_against_six_pass(r, images);
-      check_against_other_backend(r, images);
-    });
+    if (is_reference) references_.clear();
+    check_lights(r, images, others, is_reference);
     // Last, when the case's status is known: a failed check also keeps every float buffer.
     if (options_.write_images()) step("images", [&] { write_images(r, images); });
     if (is_reference) {
       reference_key_ = group_key(r.config);
-      reference_ = std::move(images);
+      references_[0] = std::move(images);
+      for (auto& [k, light_images] : others) references_[k] = std::move(light_images);
     }
   } catch (const std::bad_alloc&) {
     // Host allocation failed (a read-back copy, or a CPU driver's texture): the case fails, the run goes on.
     reference_key_.clear();
-    reference_ = Images{};
+    references_.clear();
     MemoryNeed need = estimate_case_memory(r.config, cube_read_back_for(r.config));
     r.add({Status::resource_error,
            "memory",
@@ -286,34 +281,87 @@ CheckContext Harness::check_context(const CaseResult& r) {
   return ctx;
 }
 
+// Every checked light's checks, the first's into the case itself and each other's on its own (joined under
+// its name, merge_light_findings); with several, the case's accuracy pools them.
+void Harness::check_lights(CaseResult& r, Images& images, std::vector<std::pair<int, Images>>& others,
+                           bool is_reference) {
+  check_light(r, images, 0, is_reference);
+  for (auto& [k, light_images] : others) {
+    CaseResult light_result;
+    light_result.config = r.config;
+    check_light(light_result, light_images, k, is_reference);
+    r.non_finite_cube += light_result.non_finite_cube;
+    r.non_finite_shadow += light_result.non_finite_shadow;
+    for (const auto& [name, ms] : light_result.untimed_ms) r.untimed_ms[name] += ms;
+    merge_light_findings(r, k, std::move(light_result));
+  }
+  if (others.empty()) return;
+  r.per_light.insert(r.per_light.begin(), LightReport{0, r.accuracy, r.cube_texels, r.lookups});
+  r.accuracy = pooled_accuracy(r.per_light);
+}
+
+// Light `light`'s checks: non-finite values, its map against exact first hits, its shadow against exact
+// visibility, its lookups replayed, and its images against six_pass's and the other API's. The scene's focus
+// is on the light meanwhile, so that every check (written for one light) reads it. Images of lights other
+// than the first are not written, nor heat maps made of them.
+void Harness::check_light(CaseResult& r, Images& images, int light, bool is_reference) {
+  // The library's scenes are not const objects; the focus is put back when the guard goes.
+  scene::FocusLight focus(const_cast<scene::Scene&>(scene_of(r.config)), light);
+  auto step = [&r](const char* name, auto&& body) {
+    const auto start = std::chrono::steady_clock::now();
+    body();
+    r.untimed_ms[name] +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  count_non_finite(r, images);
+  CheckContext checks = check_context(r);
+  if (light > 0) checks.write_image = {};
+  if (options_.accuracy) {
+    step("cube_and_map_truth", [&] {
+      check_cube(r, images, checks, truths_);
+      check_moment_cube(r, images);
+      if (light == 0) check_maps(r, images, checks, truths_);
+    });
+    step("accuracy", [&] { check_accuracy(r, images, checks, truths_); });
+  }
+  step("lookups", [&] { check_lookups_of(r, images, checks); });
+  step("comparisons", [&] {
+    if (!is_reference) check_against_six_pass(r, images, light);
+    check_against_other_backend(r, images, light);
+  });
+}
+
 // The six_pass rendering of the case's group (rendered now if six_pass is not in the matrix or ran in another
 // shard), and both cubes read in full when their face hashes differ, for the checks to compare.
-void Harness::check_against_six_pass(CaseResult& r, Images& images) {
+void Harness::check_against_six_pass(CaseResult& r, Images& images, int light) {
   CaseConfig ref_config = reference_config(r.config);
-  if (reference_key_ != group_key(r.config)) {
+  if (reference_key_ != group_key(r.config)) references_.clear();
+  if (!references_.count(light)) {  // every checked light's at once: one check frame
     Backend& b = activate(ref_config);
     b.render(options_.check_frame, FrameKind::check);
-    reference_ = b.read_back(cube_read_back_for(ref_config));
+    for (int k : checked_lights(ref_config.light_count))
+      references_[k] = b.read_back(cube_read_back_for(ref_config), k);
     reference_key_ = group_key(r.config);
     activate(r.config);  // leave the backend on the case being measured
   }
-  if (!cubes_equal_by_hash(images, *reference_)) {
+  Images& reference = references_.at(light);
+  if (!cubes_equal_by_hash(images, reference)) {
     if (!images.has_full_cube()) {
-      read_full_cube(r.config, images);
+      read_full_cube(r.config, images, light);
       r.cube_read_back = "sampled+full";
     }
-    if (!reference_->has_full_cube()) {
-      read_full_cube(ref_config, *reference_);
+    if (!reference.has_full_cube()) {
+      read_full_cube(ref_config, reference, light);
       activate(r.config);
     }
   }
-  check_against_reference(r, images, *reference_, check_context(r));
+  check_against_reference(r, images, reference, check_context(r));
 }
 
 // The first API to render a case keeps its images; the same case on another API is held to them.
-void Harness::check_against_other_backend(CaseResult& r, const Images& images) {
+void Harness::check_against_other_backend(CaseResult& r, const Images& images, int light) {
   std::string id = r.config.id();
-  std::string key = id.substr(id.find('/'));
+  std::string key = id.substr(id.find('/')) + (light > 0 ? "#l" + std::to_string(light) : "");
   auto it = cross_.find(key);
   if (it == cross_.end()) {
     cross_[key] = {id, images.lit_rgba8, images.shadow_factor};

@@ -63,12 +63,17 @@ class Harness {
   void measure_floor(CaseResult& result, Backend& b);
   // What the checks read besides the images (bench/truth/case_checks.h); their image files go to write_later.
   CheckContext check_context(const CaseResult& result);
-  void check_against_six_pass(CaseResult& result, Images& images);  // may read the cubes again in full
+  void check_lights(CaseResult& result, Images& images, std::vector<std::pair<int, Images>>& others,
+                    bool is_reference);
+  // Point light `light`'s checks against truth and references, with the scene's focus on it.
+  void check_light(CaseResult& result, Images& images, int light, bool is_reference);
+  // Against six_pass and the other API, for point light `light`; may read the cubes again in full.
+  void check_against_six_pass(CaseResult& result, Images& images, int light);
   CubeReadBack cube_read_back_for(const CaseConfig& config) const;
-  void read_full_cube(const CaseConfig& config, Images& images);
+  void read_full_cube(const CaseConfig& config, Images& images, int light);
   void count_non_finite(CaseResult& result, const Images& images);
   void measure_flicker(CaseResult& result, Backend& b, const Images& images);
-  void check_against_other_backend(CaseResult& result, const Images& images);
+  void check_against_other_backend(CaseResult& result, const Images& images, int light);
   void write_images(CaseResult& result, const Images& images);
   void write_later(const CaseResult& result, std::function<void()> write);  // now, or on the writer
   DeviceStateProbe& probe(const std::string& backend_name);
@@ -81,7 +86,7 @@ class Harness {
   SceneLibrary scenes_;
   // The six_pass images of the latest case group (same case but technique), kept for the checks.
   std::string reference_key_;
-  std::optional<Images> reference_;
+  std::map<int, Images> references_;  // by point light (the checked ones)
   // The first backend's lit frame and shadow factor per case (id without the backend), for the cross-API
   // check.
   std::map<std::string, CrossReference> cross_;

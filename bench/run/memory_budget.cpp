@@ -55,7 +55,7 @@ std::string format_bytes(uint64_t bytes) {
 
 uint64_t shadow_texels(const CaseConfig& c) {
   const uint64_t edge = uint64_t(layer_size(c.layout, c.cube_size));
-  return uint64_t(traits(c.layout).geometry.layers) * edge * edge;
+  return uint64_t(traits(c.layout).geometry.layers) * edge * edge * uint64_t(c.light_count);
 }
 
 uint64_t shadow_storage_bytes(const CaseConfig& c) {
@@ -77,6 +77,8 @@ MemoryNeed estimate_case_memory(const CaseConfig& c, CubeReadBack cube) {
   // times over. A sampled read-back brings only the check grid (a cube read in full after all is a failing
   // case's path).
   const int grid = c.cube_size / cube_sample_stride(c.cube_size);
+  // A full read-back copies the whole shadow image (every light's layers: Vulkan reads the image at once) and
+  // keeps one light's.
   const uint64_t host_texels = cube == CubeReadBack::full ? texels : 6ull * uint64_t(grid) * uint64_t(grid);
   need.host_bytes = host_texels * 4 * 3 + host_texels + pixels * (4 + 4 + 4 + 16) * 4;
   return need;

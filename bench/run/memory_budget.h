@@ -16,9 +16,10 @@ struct MemoryNeed {
   uint64_t device_bytes = 0;  // cube (stored + depth) and lighting targets, on the device
   uint64_t host_bytes = 0;    // read-back copies the harness holds at once (images, reference, accuracy)
 };
-// The point light's shadow storage on the device: the depth cube, the colour cube beside it (r32f distances,
-// moments) and the blur's intermediate for a moments filter. The memory column of the filter table.
-// Texels of the point light's stored image: the layout's layers x size^2 (the equal-memory axis of layouts).
+// The point lights' shadow storage on the device: the depth cube, the colour cube beside it (r32f distances,
+// moments) and the blur's intermediate for a moments filter, for each of the case's lights. The memory column
+// of the filter table. Texels of the stored image: the layout's layers x size^2 per light (the equal-memory
+// axis of layouts), times the light count.
 uint64_t shadow_texels(const CaseConfig& config);
 uint64_t shadow_storage_bytes(const CaseConfig& config);
 MemoryNeed estimate_case_memory(const CaseConfig& config, CubeReadBack cube = CubeReadBack::full);

@@ -105,6 +105,22 @@ double storage_step(Storage storage, DepthFormat format, double distance, double
 
 }  // namespace
 
+// Whether a read-back distance is a surface rather than "nothing here", the clear value. linear_depth clamps
+// at far (a surface beyond it reads as the clear); r32f's clear is FLT_MAX and hardware_depth's reads back as
+// far exactly, while a surface they hold may lie beyond far along a texel ray that leaves the face's axis (a
+// cube's corners reach sqrt 3 far): the hall's lamps, whose range is shorter than the room, show it.
+static bool stored_surface(Storage storage, double got, double far_plane) {
+  switch (traits(storage).checked) {
+    case DistanceEncoding::linear_depth:
+      return got < far_plane * (1.0 - 1e-6);
+    case DistanceEncoding::colour_distance:
+      return got != double(FLT_MAX);
+    case DistanceEncoding::projective_depth:
+      break;
+  }
+  return got != far_plane;
+}
+
 CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
                                   DepthFormat format, float near_plane, int subpixel_bits) {
   CubeTexelReport r;
@@ -142,8 +158,7 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
         const double got =
             full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
         double want = exact[size_t(y) * size_t(n) + size_t(x)];
-        // "Nothing here": the clear value, far (depth storages) or FLT_MAX (r32f).
-        const bool got_surface = got < far_plane * (1.0 - 1e-6) && got != double(FLT_MAX);
+        const bool got_surface = stored_surface(storage, got, far_plane);
         ++r.texels;
         const double len = depth_to_distance(f, s + 0.5, t + 0.5);
         auto agree = [&](double stored_distance, double exact_distance) {

@@ -70,6 +70,15 @@ struct CheckResult {
   std::string method = "values";
 };
 
+// A many-light case's reports for one of the point lights its checks read (the first, then every stride-th:
+// checked_lights()), each held to that light's own truth.
+struct LightReport {
+  int light = 0;  // index into the scene's point lights
+  std::optional<Accuracy> accuracy;
+  std::optional<CubeTexelReport> cube_texels;
+  std::optional<LookupReport> lookups;
+};
+
 struct CaseFindings {
   CaseConfig config;
   Status status = Status::ok;  // the worst finding's (ok without any)
@@ -91,6 +100,23 @@ struct CaseFindings {
   // bit).
   std::optional<LookupReport> lookups;
   std::string lookups_skipped;
+  // A case with several point lights: the lights checked (every light_stride-th from the first) and each
+  // one's reports; `accuracy`, `cube_texels` and `lookups` above are then the first light's, except that
+  // `accuracy` pools every checked light's pixels (pooled_accuracy).
+  int light_stride = 1;
+  std::vector<LightReport> per_light;
 };
+
+// The point lights of a case with `light_count` lights whose images the checks read: every one up to
+// kCheckedLights, else every stride-th from the first (the stride is ceil(light_count / kCheckedLights)).
+inline constexpr int kCheckedLights = 4;
+int checked_light_stride(int light_count);
+std::vector<int> checked_lights(int light_count);
+// Adds light `light`'s findings (checked on their own, `light_findings`) to the case: its messages prefixed
+// "light k: ", its image checks named "<check>@l<k>", its reports into per_light.
+void merge_light_findings(CaseFindings& into, int light, CaseFindings&& light_findings);
+// Every checked light's accuracy over their pixels together: the percentages and mean errors averaged over
+// all (light, pixel) pairs, the PSNRs from the pooled squared error.
+Accuracy pooled_accuracy(const std::vector<LightReport>& lights);
 
 }  // namespace omnishadow::bench

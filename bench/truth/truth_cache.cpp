@@ -53,8 +53,9 @@ const MapTruth& TruthCache::map_truth(const CaseConfig& c, const scene::Scene& s
 // elsewhere.
 const Truth& TruthCache::truth(const CaseConfig& c, const scene::Scene& scene, int frame,
                                const Images& images, const TruthOptions& options) {
+  // Per point light: a many-light case's checks put each light in the scene's focus in turn.
   const std::string shared = scene_key(c) + "/" + std::to_string(frame) + "/" + std::to_string(images.width) +
-                             "x" + std::to_string(images.height);
+                             "x" + std::to_string(images.height) + "/L" + std::to_string(scene.focus_light);
   std::string key = shared + "/" + std::to_string(positions_fingerprint(images));
   auto it = truths_.find(key);
   if (it != truths_.end()) return it->second;

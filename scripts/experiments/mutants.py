@@ -38,6 +38,9 @@ PARABOLOID = ["--layout", "dual_paraboloid", "--tessellate", "8", "--filter", "h
 TETRA = ["--layout", "tetrahedral", "--filter", "hard,pcf_disk20"]
 # A light whose range ends inside its room (the hall's first lamp): its own scene replaces the default ones.
 RANGE = ["--scene", "hall", "--light-count", "1", "--filter", "hard,pcf_disk20"]
+# Four of the hall's lamps, each in its own layers of one texture (light k's cube k of a cube-map array, or its six
+# layers of a 2D array): every one of them is checked against its own truth.
+MANY = ["--scene", "hall", "--light-count", "4", "--layout", "cube_array,face_array", "--filter", "hard,pcf_disk20"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -158,8 +161,15 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("return c.technique == Technique::nv_swizzle && !traits(c.storage).fragment_depth;", "return false;"),
      "nv_swizzle's r32f_distance keeps fragments by LESS against 1: its reversed depth keeps the farthest", SWIZZLE),
     ("range_ignored", "shaders/lighting.frag",
-     replace("shadow = in_range ? looked_up : 0.0;", "shadow = looked_up;"),
+     replace("float light_shadow = in_range ? looked_up : 0.0;", "float light_shadow = looked_up;"),
      "a point light's range ignored: beyond its far the shadow factor is what the filter reads there", RANGE),
+    ("light_maps_swapped", "shaders/shadow_filters.glsl",
+     replace("shadow_map, 0).x)), float(g_light)); }", "shadow_map, 0).x)), float(g_light ^ 1)); }"),
+     "the lighting pass reads light 1's cube for light 0 and light 0's for light 1 (likewise 2 and 3)", MANY),
+    ("light_far_from_first", "shaders/common.glsl",
+     replace("float light_far() { return point_lights[g_light].position_far.w; }",
+             "float light_far() { return point_lights[0].position_far.w; }"),
+     "every light's lookups and range take the first light's far (the hall's swaying lamps reach less far)", MANY),
 ]
 
 

@@ -5,13 +5,14 @@ The lamps form a 16 x 4 grid under the ceiling, 4 units apart, each with a range
 point of the floor is within reach of several lamps and their cubes overlap. They are listed in bit-reversed
 order of their grid index, so that the first K of them (`--light-count K`) spread along the whole hall for
 K = 1, 2, 4, ..., 64 rather than crowding one end. Every fourth lamp sways along the hall, out of step with the
-others (its own phase), so frames differ; the rest stand still. Usage: scripts/scenes/make_hall.py [OUT]
+others (its own phase), so frames differ, and reaches 10 units only (lights of one case differ in range, as a
+renderer's do); the rest stand still. Usage: scripts/scenes/make_hall.py [OUT]
 """
 import json
 import sys
 
 GRID_X, GRID_Z = 16, 4
-LAMP_Y, RANGE, NEAR = 5.5, 12.0, 0.1  # 2.5 below the ceiling: the tutorial's bias holds at cube 512
+LAMP_Y, RANGE, SWAYING_RANGE, NEAR = 5.5, 12.0, 10.0, 0.1  # 2.5 below the ceiling: the tutorial's bias holds at cube 512
 WARM, COOL = [0.06, 0.05, 0.035], [0.035, 0.045, 0.06]  # 64 unattenuated lamps: dim each one
 
 
@@ -25,6 +26,7 @@ def lamp(order):
     light = {"type": "point", "position": [-30 + 4 * i, LAMP_Y, -4.5 + 3 * j], "near": NEAR, "far": RANGE,
              "color": WARM if (i + j) % 2 == 0 else COOL}
     if order % 4 == 3:
+        light["far"] = SWAYING_RANGE
         light["path"] = {"amplitude": [1.0, 0, 0], "frequency": 0.5, "seconds_per_frame": 0.0166666667,
                          "phase": round(0.7 * order, 4)}
     return light

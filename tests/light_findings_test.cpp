@@ -1,0 +1,70 @@
+// A many-light case's findings: which lights its checks read, how each light's findings join the case's, and
+// the accuracy pooled over them.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bench/truth/findings.h"
+
+namespace omnishadow::bench {
+namespace {
+
+TEST(LightFindings, CheckedLightsSpreadOverEveryLightWithAStatedStride) {
+  EXPECT_EQ(checked_lights(1), std::vector<int>({0}));
+  EXPECT_EQ(checked_lights(4), std::vector<int>({0, 1, 2, 3}));
+  EXPECT_EQ(checked_lights(5), std::vector<int>({0, 2, 4}));
+  EXPECT_EQ(checked_lights(16), std::vector<int>({0, 4, 8, 12}));
+  EXPECT_EQ(checked_lights(64), std::vector<int>({0, 16, 32, 48}));
+  EXPECT_EQ(checked_light_stride(64), 16);
+  EXPECT_EQ(checked_light_stride(3), 1);
+  for (int k = 1; k <= 1024; ++k) {
+    const std::vector<int> lights = checked_lights(k);
+    EXPECT_LE(int(lights.size()), kCheckedLights) << k;
+    EXPECT_EQ(lights.front(), 0);
+    EXPECT_LT(lights.back(), k);
+  }
+}
+
+TEST(LightFindings, ALightsFindingsJoinTheCaseUnderItsName) {
+  CaseFindings c;
+  c.add({Status::failed_quality, "max_error", "shadow disagrees", {}});
+  CaseFindings light;
+  light.add({Status::failed_check, "cube_texels", "3 texels wrong", {}});
+  light.checks.push_back({"cube_faces", "six_pass", {}, 0.0, 0.0, -1.0, false, "", "values"});
+  Accuracy a;
+  a.pixels = 10;
+  light.accuracy = a;
+  merge_light_findings(c, 2, std::move(light));
+  EXPECT_EQ(c.status, Status::failed_check) << "the worse status wins";
+  EXPECT_EQ(c.reason, "shadow disagrees; light 2: 3 texels wrong");
+  ASSERT_EQ(c.checks.size(), 1u);
+  EXPECT_EQ(c.checks[0].name, "cube_faces@l2");
+  ASSERT_EQ(c.per_light.size(), 1u);
+  EXPECT_EQ(c.per_light[0].light, 2);
+  EXPECT_EQ(c.per_light[0].accuracy->pixels, 10u);
+}
+
+TEST(LightFindings, PooledAccuracyWeighsEveryLightsPixels) {
+  Accuracy a, b;
+  a.pixels = 100;
+  a.misclassified_percent = 10.0;
+  a.mae_point = 0.2;
+  a.psnr_point_db = 20.0;  // mean squared error 0.01
+  b.pixels = 300;
+  b.misclassified_percent = 2.0;
+  b.mae_point = 0.0;
+  b.psnr_point_db = -1.0;  // identical: no error
+  const Accuracy p = pooled_accuracy({{0, a, {}, {}}, {4, b, {}, {}}});
+  EXPECT_EQ(p.pixels, 400u);
+  EXPECT_DOUBLE_EQ(p.misclassified_percent, 4.0);
+  EXPECT_DOUBLE_EQ(p.mae_point, 0.05);
+  EXPECT_NEAR(p.psnr_point_db, 10.0 * std::log10(400.0 / (0.01 * 100.0)), 1e-9);
+  b.psnr_point_db = -1.0;
+  a.psnr_point_db = -1.0;
+  EXPECT_EQ(pooled_accuracy({{0, a, {}, {}}, {4, b, {}, {}}}).psnr_point_db, -1.0) << "identical stays so";
+  EXPECT_EQ(pooled_accuracy({}).pixels, 0u);
+}
+
+}  // namespace
+}  // namespace omnishadow::bench

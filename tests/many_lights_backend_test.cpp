@@ -1,0 +1,170 @@
+// Many point lights on every backend: each light's layers of the shared texture hold exactly what that light
+// renders alone, its shadow factor is the one-light case's, the single-pass techniques reproduce six_pass
+// light by light, and a read-back of another light is refused where it would read another frame.
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <stdexcept>
+
+#include "backends/backend.h"
+#include "tests/backend_availability.h"
+
+namespace omnishadow {
+namespace {
+
+const std::string kScenes = OMNISHADOW_TEST_SCENES_DIR;
+
+class ManyLightsTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    try {
+      backend_ = create_backend(GetParam(), GetParam() == "vulkan"
+                                                ? std::map<std::string, std::string>{{"api_checks", "1"}}
+                                                : std::map<std::string, std::string>{});
+    } catch (const std::exception& e) {
+      OMNISHADOW_SKIP_UNAVAILABLE(GetParam(), std::string("cannot bring the backend up: ") + e.what());
+    }
+    hall_ = scene::load_scene_file(kScenes + "/hall.json");
+  }
+  void TearDown() override {
+    if (!backend_) return;
+    const std::vector<std::string> messages = backend_->drain_api_errors();
+    EXPECT_TRUE(messages.empty()) << messages.size() << " API message(s), first: " << messages.front();
+  }
+
+  CaseConfig hall_case(int lights, Layout layout, Technique t = Technique::six_pass,
+                       Filter f = Filter::pcf_disk20, Storage s = Storage::linear_depth) const {
+    CaseConfig c;
+    c.backend = GetParam();
+    c.scene = "hall";
+    c.cube_size = 32;
+    c.width = 96;
+    c.height = 64;
+    c.technique = t;
+    c.filter = f;
+    c.storage = s;
+    c.layout = layout;
+    c.light_count = lights;
+    return c;
+  }
+  // Light k of the hall as a scene of its own: what the many-light case's light k must reproduce.
+  scene::Scene alone(int k) const {
+    scene::Scene s = hall_;
+    s.point_lights = {hall_.point_lights[size_t(k)]};
+    return s;
+  }
+
+  std::unique_ptr<Backend> backend_;
+  scene::Scene hall_;
+};
+
+// Four lamps in one texture (a cube-map array, or six layers each of a 2D array), read back light by light:
+// each light's map, distances and shadow factor are bit for bit those of the light rendered alone, so no
+// light reads or writes another's layers, uniforms or range (the swaying lamps reach 10 units, the others
+// 12).
+TEST_P(ManyLightsTest, EachLightsLayersHoldWhatItRendersAlone) {
+  for (Layout layout : {Layout::cube_array, Layout::face_array})
+    for (Filter filter : {Filter::pcf_disk20, Filter::vsm}) {
+      const Storage storage = filter == Filter::vsm ? Storage::vsm_moments : Storage::linear_depth;
+      if (layout == Layout::face_array && filter == Filter::vsm) continue;  // moments: cube faces only
+      CaseConfig many = hall_case(4, layout, Technique::six_pass, filter, storage);
+      backend_->load(hall_);
+      backend_->configure(many);
+      backend_->render(3, FrameKind::check);
+      std::vector<Images> lights;
+      for (int k = 0; k < 4; ++k) lights.push_back(backend_->read_back(CubeReadBack::full, k));
+      for (int k = 0; k < 4; ++k) {
+        SCOPED_TRACE(many.id() + ", light " + std::to_string(k));
+        backend_->load(alone(k));
+        CaseConfig one = many;
+        one.light_count = 1;
+        backend_->configure(one);
+        backend_->render(3, FrameKind::check);
+        const Images solo = backend_->read_back(CubeReadBack::full);
+        EXPECT_EQ(lights[size_t(k)].light_far, solo.light_far);
+        EXPECT_EQ(lights[size_t(k)].light_far, hall_.point_lights[size_t(k)].far_plane);
+        for (size_t f = 0; f < 6; ++f) EXPECT_EQ(lights[size_t(k)].cube_distance[f], solo.cube_distance[f]);
+        EXPECT_EQ(lights[size_t(k)].moments, solo.moments);
+        EXPECT_EQ(lights[size_t(k)].shadow_factor, solo.shadow_factor);
+        EXPECT_EQ(lights[size_t(k)].world_position, solo.world_position);
+      }
+      EXPECT_NE(lights[0].cube_distance[0], lights[1].cube_distance[0]) << "two lamps, two different maps";
+      EXPECT_NE(lights[0].shadow_factor, lights[1].shadow_factor);
+      EXPECT_EQ(lights[0].lit_rgba8, lights[3].lit_rgba8)
+          << "every light's read-back shows the one lit frame";
+    }
+}
+
+// Every light shades the frame: with four lamps, the lit frame is brighter than with the first alone wherever
+// another lamp reaches, and never darker.
+TEST_P(ManyLightsTest, TheLitFrameSumsEveryLight) {
+  backend_->load(hall_);
+  backend_->configure(hall_case(1, Layout::cube_array));
+  backend_->render(3, FrameKind::check);
+  const Images one = backend_->read_back(CubeReadBack::sampled);
+  backend_->configure(hall_case(4, Layout::cube_array));
+  backend_->render(3, FrameKind::check);
+  const Images four = backend_->read_back(CubeReadBack::sampled);
+  ASSERT_EQ(one.lit_rgba8.size(), four.lit_rgba8.size());
+  size_t brighter = 0, darker = 0;
+  for (size_t i = 0; i < one.lit_rgba8.size(); ++i) {
+    brighter += four.lit_rgba8[i] > one.lit_rgba8[i];
+    darker += four.lit_rgba8[i] < one.lit_rgba8[i];
+  }
+  EXPECT_EQ(darker, 0u);
+  EXPECT_GT(brighter, one.lit_rgba8.size() / 10);
+  EXPECT_EQ(four.lit_rgba8, four.timed_lit_rgba8) << "the timed variant shades the same lights";
+}
+
+// The single-pass techniques render every light's cube as six_pass does, light by light.
+TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
+  backend_->load(hall_);
+  const CaseConfig reference = hall_case(4, Layout::cube_array);
+  backend_->configure(reference);
+  backend_->render(3, FrameKind::check);
+  std::vector<Images> expected;
+  for (int k = 0; k < 4; ++k) expected.push_back(backend_->read_back(CubeReadBack::full, k));
+  int compared = 0;
+  for (Technique t :
+       {Technique::geometry_shader, Technique::geometry_shader_instanced, Technique::vs_layer}) {
+    const CaseConfig c = hall_case(4, Layout::cube_array, t);
+    if (!backend_->supports(c).ok) continue;
+    backend_->configure(c);
+    backend_->render(3, FrameKind::check);
+    for (int k = 0; k < 4; ++k) {
+      const Images got = backend_->read_back(CubeReadBack::full, k);
+      for (size_t f = 0; f < 6; ++f)
+        EXPECT_EQ(got.cube_distance[f], expected[size_t(k)].cube_distance[f]) << c.id();
+      EXPECT_EQ(got.shadow_factor, expected[size_t(k)].shadow_factor) << c.id() << ", light " << k;
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 0) << "no single-pass technique on " << GetParam();
+}
+
+// Reading another light back re-renders the check frame's lighting: refused once another frame was rendered,
+// and for a light the case does not have.
+TEST_P(ManyLightsTest, AnotherLightIsReadBackFromTheCheckFrameOnly) {
+  backend_->load(hall_);
+  backend_->configure(hall_case(4, Layout::cube_array));
+  backend_->render(3, FrameKind::check);
+  EXPECT_NO_THROW(backend_->read_back(CubeReadBack::sampled, 2));
+  EXPECT_THROW(backend_->read_back(CubeReadBack::sampled, 4), std::logic_error);
+  backend_->render(4, FrameKind::timed);
+  EXPECT_THROW(backend_->read_back(CubeReadBack::sampled, 1), std::logic_error);
+  EXPECT_NO_THROW(backend_->read_back(CubeReadBack::sampled, 2)) << "the light last reported reads back";
+}
+
+TEST_P(ManyLightsTest, LayoutCubeSaysWhyItHoldsOneLight) {
+  const Support s = backend_->supports(hall_case(4, Layout::cube));
+  EXPECT_FALSE(s.ok);
+  EXPECT_NE(s.reason.find("cube_array"), std::string::npos) << s.reason;
+  EXPECT_TRUE(backend_->supports(hall_case(64, Layout::cube_array)).ok);
+}
+
+INSTANTIATE_TEST_SUITE_P(Api, ManyLightsTest, ::testing::Values("gl", "vulkan"),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+}  // namespace
+}  // namespace omnishadow
