@@ -22,6 +22,10 @@
 #   layouts    the equal-memory layout table (scripts/analysis/layout_table.py) on the GPU: cube, face_array, tetrahedral, room
 #              and heavy, cubes 512 and 1024, GL and Vulkan, with --check; and dual_paraboloid beside the cube at
 #              tessellations 1, 4 and 16 on room and mixed
+#   lights     many point lights: hall at 1, 4, 16 and 64 lights in cube_array and face_array, grouped per face
+#              (six_pass) and per light (geometry_shader, vs_layer, multiview where the GPU has them), GL and Vulkan,
+#              cube 256, with --check: PASS when no check fails (quality is a figure: --max-error 100); the
+#              many-light table (scripts/analysis/many_lights_table.py); the run is cut at 7 minutes (LIGHTS_BUDGET_S)
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
 #              depth format, wall and GPU time: PASS where the harness is within 1.1x
 #   precision  a 2% slowdown found at <= 1% false alarms in GPU time on the GPU-sized CI-style matrix, injected work
@@ -182,6 +186,13 @@ PY
   return "${PIPESTATUS[0]}"
 }
 
+# A run's checks judged (judge_checks) and its table written by scripts/analysis/TABLE: RUN TABLE OUT.
+judge_and_tabulate() {
+  judge_checks "$1" || failed=1
+  /usr/bin/python3 "$here/scripts/analysis/$2" "$1" --out "$3" >/dev/null 2>&1
+  exit_note $? "$2 ($3)"
+}
+
 step_checks() {
   note "## checks"
   "$bin" run --backend gl,vulkan --scene room,spot,mixed,heavy --cube 64,128,256 \
@@ -295,20 +306,24 @@ step_layouts() {
     --filter hard,pcf_disk20,hw_compare2x2,vsm --check --benchmark_repetitions=5 \
     --benchmark_enable_random_interleaving=true --images none --out "$out/layouts/run" >"$out/layouts/run.log" 2>&1
   exit_note $? "layouts run --check"
-  judge_checks "$out/layouts/run" || failed=1
-  /usr/bin/python3 "$here/scripts/analysis/layout_table.py" "$out/layouts/run" --out "$out/layouts/layouts.md" \
-    >/dev/null 2>&1
-  exit_note $? "layout_table.py ($out/layouts/layouts.md)"
+  judge_and_tabulate "$out/layouts/run" layout_table.py "$out/layouts/layouts.md"
   # dual_paraboloid beside the cube, untessellated and tessellated (its error is its warp's straight edges).
   "$bin" run --backend gl,vulkan --scene room,mixed --cube 512,1024 --layout cube,dual_paraboloid --tessellate 1,4,16 \
     --technique six_pass --filter hard,pcf_disk20,hw_compare2x2 --check --max-error 100 --benchmark_repetitions=5 \
     --benchmark_enable_random_interleaving=true --images none --out "$out/layouts/paraboloid" \
     >"$out/layouts/paraboloid.log" 2>&1
   exit_note $? "dual_paraboloid run --check"
-  judge_checks "$out/layouts/paraboloid" || failed=1
-  /usr/bin/python3 "$here/scripts/analysis/layout_table.py" "$out/layouts/paraboloid" \
-    --out "$out/layouts/paraboloid.md" >/dev/null 2>&1
-  exit_note $? "layout_table.py ($out/layouts/paraboloid.md)"
+  judge_and_tabulate "$out/layouts/paraboloid" layout_table.py "$out/layouts/paraboloid.md"
+}
+
+step_lights() {
+  note "## lights"
+  timeout "${LIGHTS_BUDGET_S:-420}" "$bin" run --backend gl,vulkan --scene hall --light-count 1,4,16,64 \
+    --layout cube_array,face_array --technique six_pass,geometry_shader,vs_layer,multiview --filter hard,pcf_disk20 \
+    --cube 256 --check --max-error 100 --benchmark_repetitions=3 --images none --out "$out/lights/run" \
+    >"$out/lights/run.log" 2>&1
+  exit_note $? "lights run --check (124: cut at LIGHTS_BUDGET_S, the cases so far kept)"
+  judge_and_tabulate "$out/lights/run" many_lights_table.py "$out/lights/many-lights.md"
 }
 
 step_tutorial() {
@@ -362,7 +377,7 @@ step_precision() {
   fi
 }
 
-steps="exits checks clocks multiview singlepass matrix tutorial precision layouts"
+steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights"
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] ($steps)" >&2; exit 2; }
 for step in "$@"; do
   case " $steps " in

@@ -89,3 +89,20 @@ PY
   "file://$tmp/report.html" >/dev/null 2>&1
 test -s "$tmp/report.png"
 if [ -n "${OMNISHADOW_REPORT_SCREENSHOT:-}" ]; then cp "$tmp/report.png" "$OMNISHADOW_REPORT_SCREENSHOT"; fi
+# A run over several light counts gets the many-light section: a line per case through its counts and the table;
+# the one-count run above says it has one.
+"$bin" run --backend gl --scene hall --light-count 1,2 --layout cube_array --cube 32 --frame 96x64 \
+  --technique six_pass --filter hard --frames 2 --warmup 0 --light-radius 0 --max-error 100 --check \
+  --out "$tmp/lights" --benchmark_repetitions=1 >"$tmp/lights.log" 2>&1 || { cat "$tmp/lights.log"; exit 1; }
+"$bin" report "$tmp/lights" --out "$tmp/lights.html" >/dev/null
+"$browser" --headless=new --no-sandbox --disable-gpu --dump-dom "file://$tmp/lights.html" >"$tmp/lights_dom.html" \
+  2>/dev/null
+/usr/bin/python3 - "$tmp" <<'PY'
+import html, sys
+tmp = sys.argv[1]
+dom = html.unescape(open(f"{tmp}/lights_dom.html").read())
+section = dom[dom.find("<h2>Many lights</h2>"):]
+assert "<polyline" in section and "<th>2 lights</th>" in section, "the many-light chart and table are missing"
+assert "gl/hall/c32/hard/cube_array/six_pass" in section, "the many-light row names its case"
+assert "one light count in this run" in html.unescape(open(f"{tmp}/dom.html").read()), "a one-count run says so"
+PY

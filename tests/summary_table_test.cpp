@@ -76,5 +76,33 @@ TEST(SummaryTable, AnIncompleteRunSaysSoFirst) {
       << md;
 }
 
+// A run over several light counts gets a row per case whose cells are the cost per light and the pooled error
+// at each count; a run with one count has no such table.
+TEST(SummaryTable, ManyLightsRowsGiveTheCostPerLightAtEachCount) {
+  auto timed = [](int lights, double frame_ms, double misclassified) {
+    CaseResult r = with_accuracy(Technique::six_pass, Filter::hard, misclassified, 0.01, -1.0);
+    r.config.scene = "hall";
+    r.config.layout = Layout::cube_array;
+    r.config.light_count = lights;
+    FrameTiming f;
+    f.shadow.cpu_wall_ms = frame_ms / 2;
+    f.frame_wall_ms = frame_ms;
+    r.frames = {f, f, f};
+    return r;
+  };
+  const std::vector<CaseResult> one = {timed(1, 4.0, 2.0)};
+  EXPECT_EQ(summary_markdown(one).find("## Many lights"), std::string::npos);
+  const std::string md = summary_markdown({timed(1, 4.0, 2.0), timed(4, 12.0, 1.5)});
+  const size_t table = md.find("## Many lights: cost per light and error against the number of lights");
+  ASSERT_NE(table, std::string::npos) << md;
+  EXPECT_NE(md.find("| case (K = 1 id) | 1 light | 4 lights |", table), std::string::npos) << md;
+  EXPECT_NE(
+      md.find("| `gl/hall/c512/f800x600/six_pass/hard/linear_depth/d32f/cube_array` | 2.00 / 4.00 ms, 2.0% | "
+              "1.50 / 3.00 ms, 1.5% |",
+              table),
+      std::string::npos)
+      << md;
+}
+
 }  // namespace
 }  // namespace omnishadow::bench

@@ -7,6 +7,7 @@
 
 #include "backends/common/storage_filter_tables.h"
 #include "bench/io/statistics.h"
+#include "bench/report/light_count_table.h"
 #include "bench/run/timing_stats.h"
 
 namespace omnishadow::bench {
@@ -310,6 +311,7 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
       md << "- **warning** `" << r.config.id() << "`: " << w << " (" << r.device_state_source << ")\n";
 
   accuracy_table(md, results);
+  light_count_table(md, results);
   diagnoses(md, results);
   repetition_table(md, results, policy);
   floor_table(md, results);

@@ -41,6 +41,19 @@ def frame_ms(case):
     return m.get("median")
 
 
+def figures(case):
+    """A case's row figures: shadow, lighting and frame median ms, misclassified % and the light stride."""
+    a = case.get("accuracy") or {}
+    return {"shadow": median_ms(case, "shadow"), "lighting": median_ms(case, "lighting"), "frame": frame_ms(case),
+            "misclassified": a.get("misclassified_percent"),
+            "stride": (a.get("per_light") or {}).get("light_stride", 1), "status": case["status"]}
+
+
+def several_counts(cases):
+    """Whether the timed cases hold more than one light count (the many-light tables apply)."""
+    return len({c.get("axes", {}).get("light_count", 1) for c in cases if frame_ms(c) is not None}) > 1
+
+
 def per_light(value, lights):
     return "-" if value is None else f"{value:.2f} ({value / lights:.2f})"
 
@@ -48,14 +61,12 @@ def per_light(value, lights):
 def rows_for(group):
     lines = []
     for (layout, technique, lights), c in sorted(group.items()):
-        a = c.get("accuracy") or {}
-        stride = (a.get("per_light") or {}).get("light_stride", 1)
-        wrong = a.get("misclassified_percent")
+        f = figures(c)
         grouping = GROUPING.get(technique.split(" ")[0], "per light (K passes)")
-        lines.append(f"| `{layout}` | `{technique}` ({grouping}) | {lights} | "
-                     f"{per_light(median_ms(c, 'shadow'), lights)} | {per_light(median_ms(c, 'lighting'), lights)} | "
-                     f"{per_light(frame_ms(c), lights)} | {'-' if wrong is None else f'{wrong:.2f}'} | "
-                     f"{stride} | {c['status']} |")
+        wrong = "-" if f["misclassified"] is None else f"{f['misclassified']:.2f}"
+        lines.append(f"| `{layout}` | `{technique}` ({grouping}) | {lights} | {per_light(f['shadow'], lights)} | "
+                     f"{per_light(f['lighting'], lights)} | {per_light(f['frame'], lights)} | {wrong} | "
+                     f"{f['stride']} | {f['status']} |")
     return lines
 
 

@@ -5,7 +5,8 @@ No network: styles inline, charts rendered by matplotlib and embedded as PNG dat
 embedded from the run folder, one inline script (the case table's filter). Sections: a banner for a run that is
 not whole; the device (renderer, driver, clocks) and commit; the answer (report_answer.py); status counts; the
 shadow pass per technique against six_pass and the lighting pass per filter against hard (charts and tables);
-speed against accuracy with the Pareto front; every failed check with its diff image; with --history, a small
+speed against accuracy with the Pareto front; many lights (report_lights.py: frame time per light and error
+against the light count, for a run with several); every failed check with its diff image; with --history, a small
 time series per case (median per commit, the band between the lowest and highest repetition, change points
 marked), regressions first; and every case with its status and figures.
 
@@ -29,6 +30,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 import history  # noqa: E402
 from results_io import load_results, write_text_atomic  # noqa: E402
 from report_answer import answer_section  # noqa: E402
+from report_lights import lights_section  # noqa: E402
 from report_svg import tradeoff_svg  # noqa: E402
 from report_util import esc, pass_ms  # noqa: E402
 
@@ -238,6 +240,7 @@ def main():
             "<h2>Lighting pass per filter (ratio to hard)</h2>",
             ratio_chart(timed, "filter", "hard", "lighting", "lighting pass, median wall time / hard"),
             "<h2>Speed against accuracy</h2>", tradeoff_svg(timed),
+            "<h2>Many lights</h2>", lights_section(timed),
             "<h2>Failed checks</h2>", failed_checks(doc, args.run)]
     if args.history:
         body += ["<h2>History</h2>", history_section(args.history)]
