@@ -41,12 +41,14 @@ layout(std140, binding = 1) uniform PassUniforms { int face; uint face_mask; } p
 #ifdef POINT_LIGHT_LIST
 // The lighting pass shades every point light of the case (CaseConfig::light_count) from this list, one record a
 // light in the scene's order, and the shadow lookups read the light being shaded (g_light) through the functions
-// below. The shadow pass renders one light at a time from that light's own FrameUniforms (frame.light_*).
+// below. The shadow pass renders one light at a time from that light's own FrameUniforms (frame.light_*), or,
+// with every light in one pass (ALL_LIGHTS), each primitive's light from this list.
 // Mirrors gpu::PointLightRecord.
 struct PointLightRecord {
   vec4 position_far;  // xyz world units; w = the light's far plane, its range (world units)
   vec4 colour_near;   // rgb; w = near plane
   vec4 moments;       // x = what the moments filters multiply z = distance / far by (moments_knobs.y's per light)
+  mat4 face_view_proj[6];  // the light's layers' view-projections: the shadow pass with every light in one pass
 };
 layout(std430, binding = 9) readonly buffer PointLights { PointLightRecord point_lights[]; };
 int g_light = 0;  // the light being shaded: its layers in the shadow map, its record above

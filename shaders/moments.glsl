@@ -5,9 +5,9 @@
 
 #if defined(STORAGE_VSM_MOMENTS)
 #define MOMENTS_STORAGE
-// frame.moments_knobs.y = 1, or far for the world-units variant (MomentsTuning::world_units).
+// moments_distance_scale() = 1, or far for the world-units variant (MomentsTuning::world_units).
 vec4 distance_moments(float z) {
-  float d = z * frame.moments_knobs.y;
+  float d = z * moments_distance_scale();
   return vec4(d, d * d, 0.0, 0.0);
 }
 #elif defined(STORAGE_ESM_EXP)

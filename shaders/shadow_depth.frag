@@ -1,10 +1,16 @@
 #version 450
 // Shadow pass fragment stage: what is stored is a distance from the light, never projective depth.
+#if defined(ALL_LIGHTS)
+#define POINT_LIGHT_LIST  // the primitive's light from the list (common.glsl), not frame.light_*
+#endif
 #include "common.glsl"
 #include "moments.glsl"
 
 #if !defined(STORAGE_HARDWARE_DEPTH)
 layout(location = 0) in vec3 world_position;
+#if defined(ALL_LIGHTS)
+layout(location = 1) flat in int shadow_light;
+#endif
 #endif
 
 #if defined(STORAGE_R32F_DISTANCE)
@@ -14,13 +20,16 @@ layout(location = 0) out vec4 out_moments;  // the moments of the z written as d
 #endif
 
 void main() {
+#if defined(ALL_LIGHTS) && !defined(STORAGE_HARDWARE_DEPTH)
+  g_light = shadow_light;
+#endif
 #if defined(STORAGE_R32F_DISTANCE)
-  out_distance = length(world_position - frame.light_position.xyz);
+  out_distance = length(world_position - light_position());
 #elif defined(STORAGE_LINEAR_DEPTH)
-  gl_FragDepth = length(world_position - frame.light_position.xyz) / light_far();  // the point-shadow tutorial: distance / far
+  gl_FragDepth = length(world_position - light_position()) / light_far();  // the point-shadow tutorial: distance / far
 #elif defined(MOMENTS_STORAGE)
   // One z for both: the checks rebuild the moments from the depth the same fragment wrote.
-  float z = length(world_position - frame.light_position.xyz) / light_far();
+  float z = length(world_position - light_position()) / light_far();
   gl_FragDepth = z;
   out_moments = distance_moments(z);
 #endif

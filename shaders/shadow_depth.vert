@@ -8,6 +8,9 @@
 #extension GL_OVR_multiview2 : require
 layout(num_views = 6) in;  // GL: the framebuffer's six views of the cube's array layers
 #endif
+#if defined(ALL_LIGHTS)
+#define POINT_LIGHT_LIST  // every light's view-projections from the list (common.glsl)
+#endif
 #include "common.glsl"
 #include "raster_perturb.glsl"
 #if defined(LAYOUT_DUAL_PARABOLOID)
@@ -21,6 +24,9 @@ layout(location = 0) in vec3 in_position;
      defined(TECHNIQUE_NV_SWIZZLE)) && !defined(DEPTH_ONLY)
 #define WRITE_WORLD_POSITION
 layout(location = 0) out vec3 world_position;
+#if defined(ALL_LIGHTS)
+layout(location = 1) flat out int shadow_light;  // the light whose layer the primitive goes to
+#endif
 #endif
 
 #if defined(LAYOUT_DUAL_PARABOLOID) && defined(TECHNIQUE_GEOMETRY_SHADER)
@@ -51,6 +57,16 @@ void main() {
 #else
   int instance = gl_InstanceID;
 #endif
+#if defined(ALL_LIGHTS)
+  // Every light in one pass: instance 6 k + f is light k's face f, into layer 6 k + f of every light's layers.
+  int light = instance / 6, face = instance - 6 * light;
+  gl_Layer = instance;
+#ifdef WRITE_WORLD_POSITION
+  world_position = in_position;
+  shadow_light = light;
+#endif
+  gl_Position = perturb_raster(point_lights[light].face_view_proj[face] * vec4(in_position, 1.0));
+#else
 #if defined(FACE_CULLING)
   // One instance per face the object's bounds touch: instance k renders the k-th set bit of the mask.
   uint mask = pass.face_mask;
@@ -64,6 +80,7 @@ void main() {
   world_position = in_position;
 #endif
   gl_Position = perturb_raster(frame.face_view_proj[face] * vec4(in_position, 1.0));
+#endif
 #elif defined(TECHNIQUE_MULTIVIEW)
   // One draw, six views (Vulkan: view mask 0b111111; GL: num_views = 6): the view index picks the face.
 #ifdef VULKAN

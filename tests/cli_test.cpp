@@ -229,6 +229,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --depth-format d8 --out @OUT@", "--depth-format: unknown depth format 'd8'"},
         BadInput{"run --light-count 0 --out @OUT@", "--light-count: '0' is not a valid light count"},
         BadInput{"run --light-count 2000 --out @OUT@", "--light-count: 2000 is more than 1024 lights"},
+        BadInput{"run --light-grouping per_face --out @OUT@",
+                 "--light-grouping: unknown light grouping 'per_face'"},
         BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},
         BadInput{"run --case-timeout-s nan --out @OUT@", "--case-timeout-s: 'nan' is not a finite number"},
         BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},

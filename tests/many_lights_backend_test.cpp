@@ -117,7 +117,8 @@ TEST_P(ManyLightsTest, TheLitFrameSumsEveryLight) {
   EXPECT_EQ(four.lit_rgba8, four.timed_lit_rgba8) << "the timed variant shades the same lights";
 }
 
-// The single-pass techniques render every light's cube as six_pass does, light by light.
+// The single-pass techniques render every light's cube as six_pass does, light by light, and so does vs_layer
+// with every light in one pass (an instance per light and face).
 TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
   backend_->load(hall_);
   const CaseConfig reference = hall_case(4, Layout::cube_array);
@@ -126,9 +127,11 @@ TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
   std::vector<Images> expected;
   for (int k = 0; k < 4; ++k) expected.push_back(backend_->read_back(CubeReadBack::full, k));
   int compared = 0;
-  for (Technique t :
-       {Technique::geometry_shader, Technique::geometry_shader_instanced, Technique::vs_layer}) {
-    const CaseConfig c = hall_case(4, Layout::cube_array, t);
+  CaseConfig one_pass = hall_case(4, Layout::cube_array, Technique::vs_layer);
+  one_pass.light_grouping = LightGrouping::all_lights;
+  for (const CaseConfig& c : {hall_case(4, Layout::cube_array, Technique::geometry_shader),
+                              hall_case(4, Layout::cube_array, Technique::geometry_shader_instanced),
+                              hall_case(4, Layout::cube_array, Technique::vs_layer), one_pass}) {
     if (!backend_->supports(c).ok) continue;
     backend_->configure(c);
     backend_->render(3, FrameKind::check);
@@ -141,6 +144,9 @@ TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
     ++compared;
   }
   EXPECT_GT(compared, 0) << "no single-pass technique on " << GetParam();
+  EXPECT_EQ(backend_->supports(one_pass).ok,
+            backend_->supports(hall_case(4, Layout::cube_array, Technique::vs_layer)).ok)
+      << "every light in one pass wherever vs_layer renders: " << backend_->supports(one_pass).reason;
 }
 
 // Reading another light back re-renders the check frame's lighting: refused once another frame was rendered,

@@ -33,6 +33,8 @@ constexpr auto kFilters = names_from(kFilterTable, &FilterTraits::filter);
 constexpr auto kStorages = names_from(kStorageTable, &StorageTraits::storage);
 constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
+constexpr Names<LightGrouping, 2> kLightGroupings = {
+    {{LightGrouping::per_light, "per_light"}, {LightGrouping::all_lights, "all_lights"}}};
 
 template <typename E>
 struct Table;
@@ -61,6 +63,11 @@ struct Table<Layout> {
   static constexpr auto& names = kLayoutNames;
   static constexpr const char* what = "layout";
 };
+template <>
+struct Table<LightGrouping> {
+  static constexpr auto& names = kLightGroupings;
+  static constexpr const char* what = "light grouping";
+};
 
 template <typename E>
 std::string_view name_of(E v) {
@@ -76,6 +83,7 @@ std::string_view to_string(Filter v) { return name_of(v); }
 std::string_view to_string(Storage v) { return name_of(v); }
 std::string_view to_string(DepthFormat v) { return name_of(v); }
 std::string_view to_string(Layout v) { return name_of(v); }
+std::string_view to_string(LightGrouping v) { return name_of(v); }
 
 template <typename E>
 std::string valid_values() {
@@ -108,6 +116,7 @@ OMNISHADOW_INSTANTIATE(Filter)
 OMNISHADOW_INSTANTIATE(Storage)
 OMNISHADOW_INSTANTIATE(DepthFormat)
 OMNISHADOW_INSTANTIATE(Layout)
+OMNISHADOW_INSTANTIATE(LightGrouping)
 #undef OMNISHADOW_INSTANTIATE
 
 namespace {
@@ -170,6 +179,17 @@ Support common_support(const CaseConfig& c) {
   if (c.cube_size < 1 || c.width < 1 || c.height < 1)
     return {false, "cube and frame sizes must be at least 1"};
   if (c.light_count < 1) return {false, "the light count must be at least 1"};
+  if (c.light_grouping == LightGrouping::all_lights) {
+    if (c.technique != Technique::vs_layer)
+      return {false, "every light in one pass is built for vs_layer (an instance per light and face); " +
+                         std::string(to_string(c.technique)) + " renders per light"};
+    if (c.optimizations.face_culling)
+      return {false,
+              "face culling with every light in one pass: the per-object masks cover one light's faces"};
+    if (c.moments.world_units)
+      return {false,
+              "moments in world units with every light in one pass: one clear value for every light's far"};
+  }
   if (c.light_count > 1 && c.layout == Layout::cube)
     return {false,
             std::to_string(c.light_count) +
@@ -205,6 +225,7 @@ std::string CaseConfig::id() const {
     id += "/" + std::string(to_string(layout));  // cube ids stay as they were before layouts
   if (tessellation != 1) id += "/t" + std::to_string(tessellation);
   if (light_count != 1) id += "/l" + std::to_string(light_count);
+  if (light_grouping == LightGrouping::all_lights) id += "/all_lights";
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";

@@ -75,11 +75,20 @@ enum class Layout {
                 // sampler picks the face as for a cube, the light is the array index
 };
 
+// How a case's point lights group the shadow pass's draws: each light in its own pass (six_pass: six a light,
+// 6K in all; a single-pass technique: one a light, K), or every light in one pass (vs_layer: one instance per
+// light and face, gl_Layer = 6 light + face, into one layered framebuffer of every light's layers).
+enum class LightGrouping {
+  per_light,
+  all_lights,
+};
+
 std::string_view to_string(Technique v);
 std::string_view to_string(Filter v);
 std::string_view to_string(Storage v);
 std::string_view to_string(DepthFormat v);
 std::string_view to_string(Layout v);
+std::string_view to_string(LightGrouping v);
 
 // Parse a spelling; throws std::invalid_argument("unknown technique 'x' (valid: six_pass, ...)").
 template <typename E>
@@ -192,6 +201,8 @@ struct CaseConfig {
   // The first light_count point lights of the scene (--light-count; scenes/README.md), each with its own
   // shadow map. In the id as /l<K> when above 1, so that a one-light case keeps its id.
   int light_count = 1;
+  // --light-grouping; in the id as /all_lights for every light in one pass, nothing per light.
+  LightGrouping light_grouping = LightGrouping::per_light;
   Optimizations optimizations;
   Remedies remedies;
   MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default

@@ -36,8 +36,11 @@ struct PointLightRecord {
   glm::vec4 position_far;   // xyz world units, w the far plane (its range) the light's map was rendered with
   glm::vec4 colour_near;    // rgb, w the near plane
   glm::vec4 moments{0.0f};  // x: the moments filters' distance scale (FrameUniforms::moments_knobs.y)
+  // The light's layers' view-projections (FrameUniforms::face_view_proj): what the shadow pass reads with
+  // every light in one pass (LightGrouping::all_lights).
+  std::array<glm::mat4, 6> face_view_proj{};
 };
-static_assert(sizeof(PointLightRecord) == 48, "std430 layout of PointLightRecord");
+static_assert(sizeof(PointLightRecord) == 48 + 6 * 64, "std430 layout of PointLightRecord");
 
 struct PassUniforms {
   int face;

@@ -17,6 +17,7 @@ std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
   if (t.culling == CullingForm::per_object_masks && c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
   if (traits(c.layout).geometry.map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
+  if (c.light_grouping == LightGrouping::all_lights) d.push_back("ALL_LIGHTS");
   return d;
 }
 
@@ -71,6 +72,7 @@ std::vector<std::string> shadow_mesh_defines(const CaseConfig& c) {
 std::vector<std::string> shadow_fragment_defines(const CaseConfig& c) {
   std::vector<std::string> d{storage_define(c.storage)};
   if (traits(c.layout).geometry.map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
+  if (c.light_grouping == LightGrouping::all_lights) d.push_back("ALL_LIGHTS");
   return d;
 }
 
@@ -146,6 +148,15 @@ std::vector<std::string> spirv_variant_keys() {
         c.storage = storage;
         c.optimizations.face_culling = cull;
         insert_shadow_keys(keys, c);
+        c.light_grouping = LightGrouping::all_lights;  // every light in one pass, where it is built
+        for (Filter f : all_values<Filter>()) {        // with a filter that reads the storage
+          c.filter = f;
+          if (!common_support(c).ok) continue;
+          insert_shadow_keys(keys, c);
+          break;
+        }
+        c.filter = Filter::hard;
+        c.light_grouping = LightGrouping::per_light;
         c.emulate_nv_swizzle =
             t.technique == Technique::nv_swizzle;  // its test-only emulation (an ordinary GS)
         insert_shadow_keys(keys, c);

@@ -11,7 +11,8 @@
 
 namespace omnishadow::gpu {
 
-// Shadow pass: the vertex stage's defines (the technique's own; FACE_CULLING for vs_layer with culling) and
+// Shadow pass: the vertex stage's defines (the technique's own; FACE_CULLING for vs_layer with culling;
+// ALL_LIGHTS for every light in one pass, also the fragment stage's) and
 // the geometry stage's (TECHNIQUE_GEOMETRY_SHADER, GS_INSTANCED for the instanced form, FACE_CULLING); empty
 // when the technique has no geometry stage. CMakeLists.txt compiles SPIR-V under exactly these lists.
 std::vector<std::string> shadow_vertex_defines(const CaseConfig& c);

@@ -40,8 +40,19 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
   for (size_t k = 0; k < planners_.size(); ++k) {
     scene::FocusLight focus(scene, static_cast<int>(k));
     f.lights.push_back(planners_[k].prepare(scene, frame, config, range));
-    const FrameUniforms& u = f.lights.back().uniforms;
-    f.records.push_back({u.light_position, u.light_color, glm::vec4(u.moments_knobs.y, 0.0f, 0.0f, 0.0f)});
+  }
+  // Every light in one pass renders every light or none: one that moved makes the others render again.
+  const bool all_reuse =
+      std::all_of(f.lights.begin(), f.lights.end(), [](const ShadowFrame& s) { return s.reuse_cube; });
+  for (size_t k = 0; k < planners_.size(); ++k) {
+    if (config.light_grouping == LightGrouping::all_lights && !all_reuse && f.lights[k].reuse_cube) {
+      scene::FocusLight focus(scene, static_cast<int>(k));
+      planners_[k].reset();
+      f.lights[k] = planners_[k].prepare(scene, frame, config, range);
+    }
+    const FrameUniforms& u = f.lights[k].uniforms;
+    f.records.push_back(
+        {u.light_position, u.light_color, glm::vec4(u.moments_knobs.y, 0.0f, 0.0f, 0.0f), u.face_view_proj});
   }
   return f;
 }

@@ -20,8 +20,11 @@ ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDr
     return out;
   }
   std::vector<ObjectDraw>& draws = out.draws[0];
+  // Every light in one pass (vs_layer): each object once, an instance per light and face.
+  const uint32_t lights =
+      config.light_grouping == LightGrouping::all_lights ? uint32_t(config.light_count) : 1u;
   if (!cull) {
-    for (uint32_t i = 0; i < object_count; ++i) draws.push_back({i, t.instances, 0});
+    for (uint32_t i = 0; i < object_count; ++i) draws.push_back({i, t.instances * lights, 0});
     return out;
   }
   for (uint32_t object : plan.reaching) {

@@ -119,8 +119,9 @@ struct ObjectDraw {
   uint8_t face_mask;
 };
 
-// The shadow pass of one frame as both backends issue it: `count` render passes (pass k renders face k when
-// the technique has 6, the whole cube otherwise), each with its draws.
+// The shadow pass of one light as both backends issue it: `count` render passes (pass k renders face k when
+// the technique has 6, the whole cube otherwise), each with its draws; with every light in one pass
+// (LightGrouping::all_lights) the one pass of every light, each draw instanced for every light's faces.
 struct ShadowPassDraws {
   int count = 0;
   std::array<std::vector<ObjectDraw>, 6> draws;

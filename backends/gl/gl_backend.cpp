@@ -75,6 +75,8 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
   info_.extra["max_array_layers"] = std::to_string(max_layers);
+  glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &max_vertex_storage_blocks_);
+  glGetIntegerv(GL_MAX_FRAMEBUFFER_LAYERS, &max_framebuffer_layers_);
   GLint max_texture = 0, max_renderbuffer = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_renderbuffer);
@@ -172,10 +174,27 @@ Support GlBackend::supports(const CaseConfig& c) const {
                                       "GL_MAX_ARRAY_TEXTURE_LAYERS");
       !s.ok)
     return s;
+  if (Support s = all_lights_support(c); !s.ok) return s;
   if (const int layer = layer_size(c.layout, c.cube_size); layer > info_.max_cube_size)
     return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) +
                        " texels for cube " + std::to_string(c.cube_size) + " exceed " +
                        std::to_string(info_.max_cube_size)};
+  return {};
+}
+
+// Every light in one pass reads the lights' view-projections from a storage buffer in the vertex stage
+// (GL 4.5 may expose none there) and renders every light's layers into one layered framebuffer.
+Support GlBackend::all_lights_support(const CaseConfig& c) const {
+  if (c.light_grouping != LightGrouping::all_lights) return {};
+  if (max_vertex_storage_blocks_ < 1)
+    return {
+        false,
+        "every light in one pass reads the lights in the vertex stage: GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS "
+        "is 0 on " +
+            info_.renderer};
+  if (const int layers = traits(c.layout).geometry.layers * c.light_count; layers > max_framebuffer_layers_)
+    return {false, "every light in one pass renders " + std::to_string(layers) + " layers, above " +
+                       "GL_MAX_FRAMEBUFFER_LAYERS " + std::to_string(max_framebuffer_layers_)};
   return {};
 }
 
@@ -394,15 +413,31 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::LightFrames& frame) {
   if (clip_hemisphere) glEnable(GL_CLIP_DISTANCE0);
   if (reversed_depth_test(*config_)) glDepthFunc(GL_GREATER);
   shadow_draw_.around(true);
-  for (size_t k = 0; k < frame.lights.size(); ++k)
-    if (!frame.lights[k].reuse_cube)  // static caching: the light's map already holds it
-      light_shadow_pass(static_cast<int>(k), frame.lights[k], stats);
+  if (config_->light_grouping == LightGrouping::all_lights) {
+    all_lights_shadow_pass(frame, stats);
+  } else {
+    for (size_t k = 0; k < frame.lights.size(); ++k)
+      if (!frame.lights[k].reuse_cube)  // static caching: the light's map already holds it
+        light_shadow_pass(static_cast<int>(k), frame.lights[k], stats);
+  }
   shadow_draw_.around(false);
   glDepthFunc(GL_LESS);
   if (clip_hemisphere) glDisable(GL_CLIP_DISTANCE0);
   for (size_t k = 0; k < frame.lights.size() && blur_program_; ++k)
     if (!frame.lights[k].reuse_cube) blur_moments(static_cast<int>(k));
   return stats;
+}
+
+// Every light in one pass: one clear of every light's layers, each object drawn once with an instance per
+// light and face, the lights' view-projections from the light list (the frame was marked by
+// gpu::LightFramePlanner::group_reuse: every light rendered, or none).
+void GlBackend::all_lights_shadow_pass(const gpu::LightFrames& frame, DrawStats& stats) {
+  if (frame.lights[0].reuse_cube) return;
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPointLightsBinding, lights_ssbo_);
+  begin_shadow_target(shadow_.all_lights_fbo, frame.lights[0].uniforms.light_position.w);
+  bind_pass_uniforms(0);
+  const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.lights[0].plan, scene_->objects.size());
+  draw_list(passes.draws[0], stats, config_->remedies.two_sided, shadow_draw_.draw);
 }
 
 void GlBackend::light_shadow_pass(int light, const gpu::ShadowFrame& frame, DrawStats& stats) {
@@ -459,11 +494,15 @@ void GlBackend::blur_moments(int light) {
 // clear clears all six layers); depth cleared to 1, an r32f cube to FLT_MAX ("nothing here",
 // docs/glossary.md).
 void GlBackend::begin_shadow_pass(int light, int p, int count, float far_plane) {
+  begin_shadow_target(count > 1 ? shadow_.face_fbos[static_cast<size_t>(light * shadow_.layers + p)]
+                                : shadow_.layered_fbos[static_cast<size_t>(light)],
+                      far_plane);
+}
+
+void GlBackend::begin_shadow_target(GLuint fbo, float far_plane) {
   const GLfloat far_distance[4] = {FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX};
   const GLfloat depth_clear =
       reversed_depth_test(*config_) ? 0.0f : 1.0f;  // nv_swizzle's r32f: nearer is greater
-  const GLuint fbo = count > 1 ? shadow_.face_fbos[static_cast<size_t>(light * shadow_.layers + p)]
-                               : shadow_.layered_fbos[static_cast<size_t>(light)];
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &depth_clear);
   if (shadow_.storage == Storage::r32f_distance) glClearNamedFramebufferfv(fbo, GL_COLOR, 0, far_distance);
@@ -474,6 +513,10 @@ void GlBackend::begin_shadow_pass(int light, int p, int count, float far_plane) 
 }
 
 void GlBackend::clear_shadow_targets(const gpu::LightFrames& f) {
+  if (config_->light_grouping == LightGrouping::all_lights) {
+    begin_shadow_target(shadow_.all_lights_fbo, f.lights[0].uniforms.light_position.w);
+    return;
+  }
   const int passes = traits(config_->technique).passes == 6 ? shadow_.layers : 1;
   for (int k = 0; k < shadow_.lights; ++k)
     for (int p = 0; p < passes; ++p)

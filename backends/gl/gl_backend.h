@@ -33,6 +33,7 @@ class GlBackend final : public Backend {
 
  private:
   void create_shared_objects();
+  Support all_lights_support(const CaseConfig& c) const;  // LightGrouping::all_lights's limits
   void upload_scene(const scene::Scene& scene) override;
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // each pass bracketed by glFinish
@@ -50,11 +51,13 @@ class GlBackend final : public Backend {
   DrawStats shadow_pass(const gpu::LightFrames& f);
   // One light's shadow pass into its layers of the shadow maps.
   void light_shadow_pass(int light, const gpu::ShadowFrame& f, DrawStats& stats);
+  void all_lights_shadow_pass(const gpu::LightFrames& f, DrawStats& stats);  // LightGrouping::all_lights
   // The lighting pass into lighting_[targets] with `program` (lighting_programs_[v], or floor_program_).
   DrawStats lighting_pass(gpu::LightingVariant targets, GLuint program);
   // Binds and clears render pass p's framebuffer; far_plane: this frame's light far (a world-units moments
   // clear).
   void begin_shadow_pass(int light, int p, int count, float far_plane);
+  void begin_shadow_target(GLuint fbo, float far_plane);  // binds and clears one shadow framebuffer
   // The floor frame's shadow pass: every light's framebuffers cleared, nothing drawn.
   void clear_shadow_targets(const gpu::LightFrames& f);
   void map_pass(DrawStats& stats);  // one 2D map per spot/directional light
@@ -88,6 +91,8 @@ class GlBackend final : public Backend {
   ShadowDrawStep shadow_draw_;             // the configured case's
   bool has_pipeline_statistics_ = false;
   GLint uniform_alignment_ = 256;
+  GLint max_vertex_storage_blocks_ = 0;
+  GLint max_framebuffer_layers_ = 0;
 
   GLuint vertex_buffer_ = 0;
   GLuint shadow_vao_ = 0;    // position only

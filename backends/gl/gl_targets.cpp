@@ -167,6 +167,14 @@ static void create_shadow_framebuffers(ShadowTargets& t, bool arrays, const Shad
     attach(t.layered_fbos[size_t(k)], k, -1);
     check_complete(t.layered_fbos[size_t(k)], multiview ? "multiview shadow" : "layered shadow");
   }
+  t.all_lights_fbo = t.layered_fbos[0];
+  if (t.lights == 1 || multiview) return;
+  glCreateFramebuffers(1, &t.all_lights_fbo);  // the arrays attached whole: every light's layers
+  glNamedFramebufferTexture(t.all_lights_fbo, GL_DEPTH_ATTACHMENT, depth_target, 0);
+  if (has_colour) glNamedFramebufferTexture(t.all_lights_fbo, GL_COLOR_ATTACHMENT0, colour_target, 0);
+  glNamedFramebufferDrawBuffer(t.all_lights_fbo, has_colour ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+  glNamedFramebufferReadBuffer(t.all_lights_fbo, GL_NONE);
+  check_complete(t.all_lights_fbo, "every light's layered shadow");
 }
 
 ShadowTargets create_shadow_targets(const ShadowShape& shape) {
@@ -226,6 +234,8 @@ ShadowTargets create_shadow_targets(const ShadowShape& shape) {
 
 void destroy(ShadowTargets& t) {
   glDeleteFramebuffers(static_cast<GLsizei>(t.face_fbos.size()), t.face_fbos.data());
+  if (!t.layered_fbos.empty() && t.all_lights_fbo != t.layered_fbos[0])
+    glDeleteFramebuffers(1, &t.all_lights_fbo);
   glDeleteFramebuffers(static_cast<GLsizei>(t.layered_fbos.size()), t.layered_fbos.data());
   glDeleteTextures(static_cast<GLsizei>(t.views.size()), t.views.data());
   // Views first (multiview's layers are the arrays themselves); zero names are ignored.

@@ -38,8 +38,11 @@ struct ShadowTargets {
   std::vector<GLuint> face_fbos;  // six_pass: one framebuffer per light and layer (light-major), built once
   std::vector<GLuint> layered_fbos;  // single-pass techniques: one per light over its layers, gl_Layer (or
                                      // the view) picks the face
-  std::vector<GLuint>
-      light_stored_layers;    // per light: its stored layers as a 2D array (the summary's input)
+  // Every light in one pass (LightGrouping::all_lights): one layered framebuffer over every light's layers
+  // (layered_fbos[0] itself for one light).
+  GLuint all_lights_fbo = 0;
+  // Per light: its stored layers as a 2D array (the summary's input).
+  std::vector<GLuint> light_stored_layers;
   std::vector<GLuint> views;  // per-light views made for the above, deleted with the targets
   Storage storage = Storage::linear_depth;
   int size = 0;

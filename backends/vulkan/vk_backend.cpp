@@ -126,9 +126,12 @@ void VkBackend::create_layouts() {
   VkDevice d = ctx_->device();
   const VkShaderStageFlags geometry_stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT |
                                              (ctx_->has_geometry_shader() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
-  // The shadow pass's frame uniforms are per light: a dynamic binding whose offset picks the light's block.
-  VkDescriptorSetLayoutBinding shadow_binding = {
-      gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, geometry_stages, nullptr};
+  // The shadow pass's frame uniforms are per light: a dynamic binding whose offset picks the light's block;
+  // with every light in one pass it reads every light's view-projections from the light list.
+  VkDescriptorSetLayoutBinding shadow_bindings[2] = {
+      {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, geometry_stages, nullptr},
+      {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
   VkDescriptorSetLayoutBinding bindings[4] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, geometry_stages, nullptr},
       {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
@@ -138,8 +141,8 @@ void VkBackend::create_layouts() {
       {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
        nullptr}};
   VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  set_info.bindingCount = 1;
-  set_info.pBindings = &shadow_binding;
+  set_info.bindingCount = 2;
+  set_info.pBindings = shadow_bindings;
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &shadow_set_layout_));
   set_info.bindingCount = 4;
   set_info.pBindings = bindings;
@@ -163,7 +166,7 @@ void VkBackend::create_descriptor_sets() {
   VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
                                    {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1},
                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
-                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool_info.maxSets = 2;
   pool_info.poolSizeCount = 4;
@@ -187,18 +190,19 @@ void VkBackend::create_descriptor_sets() {
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
   VkDescriptorBufferInfo ubo{frame_uniforms_.buffer, 0, sizeof(gpu::FrameUniforms)};
   VkDescriptorBufferInfo lights{point_lights_.buffer, 0, VK_WHOLE_SIZE};
-  VkWriteDescriptorSet writes[3] = {};
-  for (int i = 0; i < 3; ++i) {
+  // [0] shadow: frame uniforms (dynamic), [1] lighting: frame uniforms, [2] lighting and [3] shadow: lights.
+  VkWriteDescriptorSet writes[4] = {};
+  for (int i = 0; i < 4; ++i) {
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    writes[i].dstSet = sets[i == 0 ? 0 : 1];
-    writes[i].dstBinding = i == 2 ? gpu::kPointLightsBinding : gpu::kFrameUniformsBinding;
+    writes[i].dstSet = sets[i == 0 || i == 3 ? 0 : 1];
+    writes[i].dstBinding = i >= 2 ? gpu::kPointLightsBinding : gpu::kFrameUniformsBinding;
     writes[i].descriptorCount = 1;
     writes[i].descriptorType = i == 0   ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC
                                : i == 1 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
                                         : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = i == 2 ? &lights : &ubo;
+    writes[i].pBufferInfo = i >= 2 ? &lights : &ubo;
   }
-  vkUpdateDescriptorSets(d, 3, writes, 0, nullptr);
+  vkUpdateDescriptorSets(d, 4, writes, 0, nullptr);
 }
 
 void VkBackend::create_samplers_and_queries() {
@@ -317,6 +321,12 @@ Support VkBackend::supports(const CaseConfig& c) const {
                                       "maxImageArrayLayers");
       !s.ok)
     return s;
+  if (const uint32_t layers = uint32_t(traits(c.layout).geometry.layers * c.light_count);
+      c.light_grouping == LightGrouping::all_lights &&
+      layers > ctx_->properties().limits.maxFramebufferLayers)
+    return {false, "every light in one pass renders " + std::to_string(layers) +
+                       " layers, above maxFramebufferLayers " +
+                       std::to_string(ctx_->properties().limits.maxFramebufferLayers)};
   if (c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " above maxImageDimensionCube " +
                        std::to_string(info_.max_cube_size)};
@@ -604,7 +614,10 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::LightFrames& frame,
   begin_pass(cb, 0, statistics);
   frame_offset_ = 0;
   if (!floor) record_maps(cb, draws);
-  for (uint32_t k = 0; k < frame.lights.size(); ++k) {
+  // Every light in one pass: its one render pass over every light's layers (the planner renders every light
+  // or none).
+  const bool all_lights = config_->light_grouping == LightGrouping::all_lights;
+  for (uint32_t k = 0; k < (all_lights ? 1u : frame.lights.size()); ++k) {
     // Static caching: a light whose map already holds it is skipped; timestamps and queries still close.
     if (frame.lights[k].reuse_cube && !floor) continue;
     frame_offset_ = static_cast<uint32_t>(k * frame_stride_);
@@ -641,7 +654,9 @@ void VkBackend::record_light_shadow(VkCommandBuffer cb, uint32_t light, const gp
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (size_t p = 0; p < static_cast<size_t>(passes.count); ++p) {  // six_pass: face p; else the whole cube
-    rp.framebuffer = shadow_.framebuffers[light * static_cast<size_t>(passes.count) + p];
+    rp.framebuffer = config_->light_grouping == LightGrouping::all_lights
+                         ? shadow_.all_lights_framebuffer
+                         : shadow_.framebuffers[light * static_cast<size_t>(passes.count) + p];
     vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
     // The viewports alike (nv_swizzle's six, one per face: the pipeline's swizzles tell them apart).
     const std::array<VkViewport, cube::kFaceCount> viewports = {viewport, viewport, viewport,

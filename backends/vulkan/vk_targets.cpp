@@ -118,7 +118,7 @@ VkFormat colour_format_of(ColourFormat format) {
 // of its layers' array views (gl_Layer picks the face). Multiview: the same views with layers = 1; the view
 // mask routes.
 static void create_shadow_framebuffers(VkContext& ctx, ShadowTargets& t, bool has_colour,
-                                       const TechniqueTraits& technique) {
+                                       const TechniqueTraits& technique, bool all_lights) {
   auto views_for = [&](uint32_t first, uint32_t count) {
     std::vector<VkImageView> views;
     VkImageViewType type = count == 1 ? VK_IMAGE_VIEW_TYPE_2D : VK_IMAGE_VIEW_TYPE_2D_ARRAY;
@@ -138,6 +138,9 @@ static void create_shadow_framebuffers(VkContext& ctx, ShadowTargets& t, bool ha
                                                   t.size, technique.multiview ? 1 : layers));
     }
   }
+  if (all_lights)
+    t.all_lights_framebuffer = create_framebuffer(ctx, t.render_pass, views_for(0, layers * t.lights), t.size,
+                                                  t.size, layers * t.lights);
 }
 
 ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
@@ -194,7 +197,7 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT | (moments ? VK_ACCESS_SHADER_WRITE_BIT : 0),
         view_mask);
 
-    create_shadow_framebuffers(ctx, t, has_colour, technique);
+    create_shadow_framebuffers(ctx, t, has_colour, technique, c.light_grouping == LightGrouping::all_lights);
   } catch (...) {
     destroy(ctx, t);
     throw;
@@ -204,6 +207,7 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
 
 void destroy(VkContext& ctx, ShadowTargets& t) {
   for (VkFramebuffer fb : t.framebuffers) vkDestroyFramebuffer(ctx.device(), fb, nullptr);
+  if (t.all_lights_framebuffer) vkDestroyFramebuffer(ctx.device(), t.all_lights_framebuffer, nullptr);
   for (VkImageView v : t.attachment_views) vkDestroyImageView(ctx.device(), v, nullptr);
   if (t.sampled_view) vkDestroyImageView(ctx.device(), t.sampled_view, nullptr);
   if (t.render_pass) vkDestroyRenderPass(ctx.device(), t.render_pass, nullptr);

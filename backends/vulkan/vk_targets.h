@@ -29,6 +29,9 @@ struct ShadowTargets {
   // six_pass: one per light and face (layer), light-major; otherwise one per light over its layers. Light k's
   // layers are k * layers .. (k + 1) * layers - 1 of every image.
   std::vector<VkFramebuffer> framebuffers;
+  // Every light in one pass (LightGrouping::all_lights): one framebuffer over every light's layers; else
+  // null.
+  VkFramebuffer all_lights_framebuffer = VK_NULL_HANDLE;
   uint32_t lights = 1;
   const Image& stored() const { return traits(storage).colour_checked ? color : depth; }
 };

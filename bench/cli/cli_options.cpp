@@ -171,6 +171,13 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
        "/l<K> above 1); a scene with fewer says unsupported")
       ->default_str("each scene's own");
   list_option(
+      r, "--light-grouping", m.light_groupings,
+      [](const std::string& s) { return parse_enum<LightGrouping>(s); }, named,
+      "comma list: " + valid_values<LightGrouping>() +
+          " (how the point lights' shadow passes are grouped: each light in its own passes, or every light "
+          "in "
+          "one pass, vs_layer's instance per light and face; ids end in /all_lights for the second)");
+  list_option(
       r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
       [](const Optimizations& o) { return to_string(o); },
       "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "

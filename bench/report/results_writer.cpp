@@ -72,6 +72,7 @@ json axes_to_json(const CaseConfig& c) {
                {"layout", to_string(c.layout)},
                {"tessellation", c.tessellation},
                {"light_count", c.light_count},
+               {"light_grouping", to_string(c.light_grouping)},
                {"optimizations", to_string(c.optimizations)},
                {"remedies", to_string(c.remedies)},
                {"moments_tuning", to_string(c.moments)},

@@ -165,7 +165,8 @@ static std::string floor_key(const CaseConfig& c) {
   return c.backend + "/" + scene_key(c) + "/c" + std::to_string(c.cube_size) + "/f" +
          std::to_string(c.width) + "x" + std::to_string(c.height) + "/" +
          std::string(to_string(c.technique)) + "/" + std::string(to_string(c.storage)) + "/" +
-         std::string(to_string(c.depth_format)) + "/l" + std::to_string(c.light_count);
+         std::string(to_string(c.depth_format)) + "/l" + std::to_string(c.light_count) + "/" +
+         std::string(to_string(c.light_grouping));
 }
 
 void Harness::measure_floor(CaseResult& r, Backend& b) {

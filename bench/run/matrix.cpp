@@ -103,6 +103,7 @@ std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& ba
   times(cases, spec.moments_tunings, [](CaseConfig& c, const MomentsTuning& v) { c.moments = v; });
   times(cases, spec.optimizations, [](CaseConfig& c, const Optimizations& v) { c.optimizations = v; });
   times(cases, spec.techniques, [](CaseConfig& c, Technique v) { c.technique = v; });
+  times(cases, spec.light_groupings, [](CaseConfig& c, LightGrouping v) { c.light_grouping = v; });
   times(cases, spec.injected_work, [&](CaseConfig& c, int v) {
     c.injected_work = v;
     if (spec.injected_work.size() > 1) c.experiment = "inj" + std::to_string(v);

@@ -1,7 +1,8 @@
 #pragma once
 // The benchmark matrix: lists per axis, expanded into cases in a fixed order (backend, scene, cube size,
-// frame size, storage, depth format, layout, tessellation, light count, filter, ..., technique). Technique is
-// innermost so that each single-pass case runs right after the six_pass case it is checked against.
+// frame size, storage, depth format, layout, tessellation, light count, filter, ..., technique, light
+// grouping). Technique (and the grouping of its lights' passes) is innermost so that each single-pass case
+// runs right after the six_pass case it is checked against.
 
 #include <functional>
 #include <map>
@@ -28,6 +29,8 @@ struct MatrixSpec {
   std::vector<Layout> layouts{Layout::cube};  // --layout cube,face_array
   std::vector<int> tessellations{1};          // --tessellate 1,4,16
   std::vector<int> light_counts;  // --light-count 1,4,16,64; empty: each scene's own number of point lights
+  std::vector<LightGrouping> light_groupings{
+      LightGrouping::per_light};                                // --light-grouping per_light,all_lights
   std::vector<Optimizations> optimizations{Optimizations{}};    // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                   // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01

@@ -149,6 +149,7 @@ TechniqueAllowance technique_allowance(const CaseConfig& c, double face_toleranc
 CaseConfig reference_config(const CaseConfig& c) {
   CaseConfig k = c;
   k.technique = Technique::six_pass;
+  k.light_grouping = LightGrouping::per_light;
   k.optimizations.face_culling = false;
   k.optimizations.static_cache = false;
   return k;

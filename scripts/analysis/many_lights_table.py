@@ -3,7 +3,8 @@
 number of lights, for each layout (where the lights' faces live) and grouping of the shadow passes.
 
 For each backend, scene, cube size and filter of one run, one row per layout, technique (its grouping: six_pass
-renders one pass per face, 6K passes; a single-pass technique one pass per light, K passes) and light count: the
+renders one pass per face, 6K passes; a single-pass technique one pass per light, K passes; vs_layer with
+--light-grouping all_lights one pass for every light) and light count: the
 shadow, lighting and frame median wall times, each per light, and the pixels misclassified against exact
 visibility, pooled over the lights the checks read (light 0 and every light_stride-th after it). Times are the
 run's device's; on llvmpipe/lavapipe they are CPU time, so compare ratios within one run only.
@@ -24,14 +25,15 @@ GROUPING = {"six_pass": "per face (6K passes)"}  # every other technique renders
 
 def groups_of(cases):
     """{(backend, scene, cube, filter): {(layout, technique, lights): case}} of the timed cases; a technique with
-    optimisations is its own row ("six_pass +cull")."""
+    every light in one pass or with optimisations is its own row ("vs_layer all_lights", "six_pass +cull")."""
     groups = {}
     for c in cases:
         a = c.get("axes", {})
         if median_ms(c, "shadow") is None or median_ms(c, "lighting") is None:
             continue
         key = (a["backend"], a["scene"], a["cube_size"], a["filter"])
-        technique = a["technique"] + ("" if a.get("optimizations", "none") == "none" else " +" + a["optimizations"])
+        technique = (a["technique"] + ("" if a.get("light_grouping", "per_light") == "per_light" else " all_lights") +
+                     ("" if a.get("optimizations", "none") == "none" else " +" + a["optimizations"]))
         groups.setdefault(key, {})[(a.get("layout", "cube"), technique, a.get("light_count", 1))] = c
     return groups
 
@@ -62,7 +64,8 @@ def rows_for(group):
     lines = []
     for (layout, technique, lights), c in sorted(group.items()):
         f = figures(c)
-        grouping = GROUPING.get(technique.split(" ")[0], "per light (K passes)")
+        grouping = ("all lights (1 pass)" if " all_lights" in technique
+                    else GROUPING.get(technique.split(" ")[0], "per light (K passes)"))
         wrong = "-" if f["misclassified"] is None else f"{f['misclassified']:.2f}"
         lines.append(f"| `{layout}` | `{technique}` ({grouping}) | {lights} | {per_light(f['shadow'], lights)} | "
                      f"{per_light(f['lighting'], lights)} | {per_light(f['frame'], lights)} | {wrong} | "

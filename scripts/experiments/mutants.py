@@ -41,6 +41,8 @@ RANGE = ["--scene", "hall", "--light-count", "1", "--filter", "hard,pcf_disk20"]
 # Four of the hall's lamps, each in its own layers of one texture (light k's cube k of a cube-map array, or its six
 # layers of a 2D array): every one of them is checked against its own truth.
 MANY = ["--scene", "hall", "--light-count", "4", "--layout", "cube_array,face_array", "--filter", "hard,pcf_disk20"]
+# The same lamps with every light in one pass (vs_layer), beside six_pass per light.
+ONE_PASS = MANY + ["--technique", "six_pass,vs_layer", "--light-grouping", "per_light,all_lights"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -77,8 +79,8 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("bias_dropped", "shaders/shadow_filters.glsl", replace("  return tutorial_bias;", "  return 0.0;"),
      "the lookups' constant bias dropped (0 instead of 0.05 / 0.15)"),
     ("no_divide_by_far", "shaders/shadow_depth.frag",
-     replace("length(world_position - frame.light_position.xyz) / light_far();  // the point-shadow tutorial",
-             "length(world_position - frame.light_position.xyz);  // the point-shadow tutorial"),
+     replace("length(world_position - light_position()) / light_far();  // the point-shadow tutorial",
+             "length(world_position - light_position());  // the point-shadow tutorial"),
      "linear depth stored without the divide by far"),
     ("lookup_x_flipped", "shaders/shadow_filters.glsl",
      replace("bias > stored_to_distance(texture(shadow_map, shadow_coord(dir)).r",
@@ -170,6 +172,9 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("float light_far() { return point_lights[g_light].position_far.w; }",
              "float light_far() { return point_lights[0].position_far.w; }"),
      "every light's lookups and range take the first light's far (the hall's swaying lamps reach less far)", MANY),
+    ("one_pass_layers_of_first_light", "shaders/shadow_depth.vert",
+     replace("  gl_Layer = instance;\n", "  gl_Layer = face;\n"),
+     "every light in one pass renders each light's faces into the first light's layers", ONE_PASS),
 ]
 
 
