@@ -23,7 +23,8 @@
 #              and heavy, cubes 512 and 1024, GL and Vulkan, with --check; and dual_paraboloid beside the cube at
 #              tessellations 1, 4 and 16 on room and mixed
 #   lights     many point lights: hall at 1, 4, 16 and 64 lights in cube_array and face_array, grouped per face
-#              (six_pass) and per light (geometry_shader, vs_layer, multiview where the GPU has them), GL and Vulkan,
+#              (six_pass), per light (geometry_shader, vs_layer, multiview where the GPU has them) and every light in
+#              one pass (vs_layer --light-grouping all_lights), GL and Vulkan,
 #              cube 256, with --check: PASS when no check fails (quality is a figure: --max-error 100); the
 #              many-light table (scripts/analysis/many_lights_table.py); the run is cut at 7 minutes (LIGHTS_BUDGET_S)
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
@@ -319,7 +320,8 @@ step_layouts() {
 step_lights() {
   note "## lights"
   timeout "${LIGHTS_BUDGET_S:-420}" "$bin" run --backend gl,vulkan --scene hall --light-count 1,4,16,64 \
-    --layout cube_array,face_array --technique six_pass,geometry_shader,vs_layer,multiview --filter hard,pcf_disk20 \
+    --layout cube_array,face_array --technique six_pass,geometry_shader,vs_layer,multiview \
+    --light-grouping per_light,all_lights --filter hard,pcf_disk20 \
     --cube 256 --check --max-error 100 --benchmark_repetitions=3 --images none --out "$out/lights/run" \
     >"$out/lights/run.log" 2>&1
   exit_note $? "lights run --check (124: cut at LIGHTS_BUDGET_S, the cases so far kept)"
