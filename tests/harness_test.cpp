@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "backends/common/cube_summary.h"
+#include "backends/common/shadow_plan.h"
 #include "bench/io/file_io.h"
 #include "bench/io/results_reader.h"
 #include "bench/report/results_writer.h"
@@ -55,7 +56,7 @@ class ScriptedBackend : public Backend {
     c.shadow.draw_calls = 6;
     return c;
   }
-  void report_light(int) override {}
+  void report_light(int light) override { reported.push_back(light); }
   Images read_back_images(CubeReadBack cube, int) override {
     Images img;
     img.width = 4;
@@ -83,6 +84,7 @@ class ScriptedBackend : public Backend {
   }
 
   double jitter_ms = 0.0;
+  std::vector<int> reported;         // the lights read back after the first, in order (report_light)
   std::array<int, 2> read_backs_{};  // [sampled, full]
   int frames_rendered() const { return frames_rendered_; }
 
@@ -242,6 +244,30 @@ TEST(CaseFindings, StatusIsTheWorstAndNoReasonIsLost) {
   EXPECT_TRUE(fails_run(Status::resource_error));
   EXPECT_FALSE(fails_run(Status::unsupported));
   EXPECT_FALSE(fails_run(Status::interrupted));  // the run itself exits 130/143
+}
+
+// A case of eight lights reads back light 0 and every second light after it, joins each one's findings and
+// reports under its name, and counts the shadow plan of every light.
+TEST_F(HarnessTest, ManyLightCasesCheckEveryStrideThLightAndPlanEveryLight) {
+  CaseResult r;
+  r.config.scene = "hall";
+  r.config.cube_size = 4;
+  r.config.layout = Layout::cube_array;
+  r.config.light_count = 8;
+  harness_->prepare(r);
+  EXPECT_EQ(backend_->reported, std::vector<int>({2, 4, 6})) << r.reason;
+  EXPECT_EQ(r.light_stride, 2);
+  ASSERT_EQ(r.per_light.size(), 4u) << r.reason;
+  for (size_t i = 0; i < 4; ++i) EXPECT_EQ(r.per_light[i].light, int(2 * i));
+  int pairs = 0;
+  const scene::Scene& hall = harness_->scene("hall");
+  for (int k = 0; k < 8; ++k) {
+    const scene::PointLight& l = hall.point_lights[size_t(k)];
+    const cube::ShadowDrawPlan plan = cube::plan_shadow_draws(
+        hall, l.path.at(harness_->options().check_frame), l.near_plane, l.far_plane, false);
+    for (const auto& list : plan.face_objects) pairs += int(list.size());
+  }
+  EXPECT_EQ(r.object_face_pairs, pairs) << "every light's faces and objects";
 }
 
 TEST_F(HarnessTest, ImagePolicyDecidesWhichFilesAreWritten) {

@@ -144,15 +144,24 @@ bool Harness::admit(CaseResult& r, Backend& b) {
   return false;
 }
 
-// The shadow plan's figures at the check frame (faces with no caster, object x face draws) and the work
-// counters.
+// The shadow plan's figures at the check frame (faces with no caster, object x face draws, over every light)
+// and the work counters.
 void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
-  const scene::Scene& sc = scene_of(r.config);
-  cube::ShadowDrawPlan plan =
-      cube::plan_shadow_draws(sc, sc.light().path.at(options_.check_frame), sc.light().near_plane, light_far,
-                              r.config.optimizations.face_culling);
-  r.empty_faces = plan.empty_faces;
-  for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
+  // Summed over the case's lights, each planned as the backend plans it (its far: light 0's as read back, the
+  // others' their own or fitted as make_frame_uniforms fits them).
+  scene::Scene& sc = const_cast<scene::Scene&>(scene_of(r.config));  // not a const object: focus only
+  for (int k = 0; k < (sc.has_point_light() ? r.config.light_count : 1); ++k) {
+    scene::FocusLight focus(sc, k);
+    const glm::vec3 light = sc.light().path.at(options_.check_frame);
+    const float far_plane = k == 0 ? light_far
+                            : r.config.optimizations.fit_range
+                                ? cube::fitted_far(sc, light, sc.light().near_plane, sc.light().far_plane)
+                                : sc.light().far_plane;
+    const cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, light, sc.light().near_plane, far_plane,
+                                                              r.config.optimizations.face_culling);
+    r.empty_faces += plan.empty_faces;
+    for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
+  }
   // With static caching the work of a frame depends on the one before: count the frame after the check frame,
   // rendered right after it (the steady state: zero shadow work while the light stands still).
   r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
