@@ -66,5 +66,31 @@ TEST(LightFindings, PooledAccuracyWeighsEveryLightsPixels) {
   EXPECT_EQ(pooled_accuracy({}).pixels, 0u);
 }
 
+// The lit frame from every light: each light's shadow error weighs its own unshadowed light, and errors of
+// opposite sign cancel in the colour (as they do on screen) where pooling per light would add them.
+TEST(LightFindings, TheLitFrameOfEveryLightSumsTheirErrorsInColour) {
+  auto light = [](float gpu, float exact) {
+    Truth t;
+    t.covered = {1, 0};
+    t.point_shadow = {exact, 0.0f};
+    t.direct = {glm::vec3(0.1f), glm::vec3(0.0f)};
+    t.has_direct = {1, 0};
+    Images img;
+    img.shadow_factor = {gpu, 0.0f};
+    return std::make_pair(t, img);
+  };
+  const auto over = light(1.0f, 0.0f), under = light(0.0f, 1.0f), right = light(0.5f, 0.5f);
+  auto psnr = [](std::vector<const std::pair<Truth, Images>*> lights) {
+    std::vector<std::pair<const Truth*, const Images*>> pairs;
+    for (const auto* l : lights) pairs.emplace_back(&l->first, &l->second);
+    return lit_psnr_of_lights(pairs);
+  };
+  EXPECT_NEAR(psnr({&over}), 20.0, 1e-5) << "0.1 off in every channel: mean squared error 0.01";
+  EXPECT_NEAR(psnr({&over, &over}), 10.0 * std::log10(1.0 / 0.04), 1e-5) << "two lights' errors add";
+  EXPECT_EQ(psnr({&over, &under}), -1.0) << "opposite errors cancel in the lit colour";
+  EXPECT_EQ(psnr({&right, &right}), -1.0);
+  EXPECT_EQ(psnr({}), -1.0);
+}
+
 }  // namespace
 }  // namespace omnishadow::bench

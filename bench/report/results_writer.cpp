@@ -144,6 +144,9 @@ json per_light_to_json(const CaseResult& r) {
                                  "th after it (light_stride); accuracy above pools their pixels"},
                  {"light_stride", r.light_stride},
                  {"lights", json::array()}};
+  if (r.lit_psnr_every_light_db)  // null: identical to the frame lit with every light's exact visibility
+    lights["lit_psnr_every_light_db"] =
+        *r.lit_psnr_every_light_db < 0 ? json(nullptr) : json(*r.lit_psnr_every_light_db);
   for (const LightReport& l : r.per_light) {
     json e = {{"light", l.light}};
     if (l.accuracy) e["accuracy"] = accuracy_to_json(*l.accuracy);

@@ -308,6 +308,17 @@ void Harness::check_lights(CaseResult& r, Images& images, std::vector<std::pair<
   if (others.empty()) return;
   r.per_light.insert(r.per_light.begin(), LightReport{0, r.accuracy, r.cube_texels, r.lookups});
   r.accuracy = pooled_accuracy(r.per_light);
+  if (!options_.accuracy || r.light_stride != 1) return;
+  // Every light checked: their shadows together in the lit frame (the truths are the cached ones just used).
+  scene::Scene& sc = const_cast<scene::Scene&>(scene_of(r.config));  // not a const object: focus only
+  std::vector<std::pair<const Truth*, const Images*>> lights;
+  for (int k = 0; k <= int(others.size()); ++k) {
+    scene::FocusLight focus(sc, k);
+    const Images& light_images = k == 0 ? images : others[size_t(k - 1)].second;
+    lights.emplace_back(&truths_.truth(r.config, sc, options_.check_frame, light_images, options_.truth),
+                        &light_images);
+  }
+  r.lit_psnr_every_light_db = lit_psnr_of_lights(lights);
 }
 
 // Light `light`'s checks: non-finite values, its map against exact first hits, its shadow against exact

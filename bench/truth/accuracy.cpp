@@ -280,6 +280,27 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   return t;
 }
 
+double lit_psnr_of_lights(const std::vector<std::pair<const Truth*, const Images*>>& lights) {
+  if (lights.empty()) return -1.0;
+  const Truth& first = *lights.front().first;
+  double squared = 0.0;
+  uint64_t values = 0;
+  for (size_t i = 0; i < first.covered.size(); ++i) {
+    if (!first.covered[i]) continue;
+    glm::dvec3 error(0.0);
+    bool lit = false;
+    for (const auto& [truth, images] : lights) {
+      if (!truth->has_direct[i]) continue;
+      lit = true;
+      error += double(images->shadow_factor[i] - truth->point_shadow[i]) * glm::dvec3(truth->direct[i]);
+    }
+    if (!lit) continue;
+    squared += glm::dot(error, error);
+    values += 3;
+  }
+  return psnr(squared, values);
+}
+
 Accuracy measure_accuracy(const Truth& t, const Images& img) {
   Accuracy a;
   a.sphere_stride = t.sphere_stride;

@@ -95,6 +95,12 @@ struct Accuracy {
 
 Accuracy measure_accuracy(const Truth& truth, const Images& images);
 
+// The lit frame's error from every light together, against the frame lit with each light's exact visibility:
+// lit = base + sum_k (1 - s_k) direct_k, so a pixel's colour is off by sum_k (s_k - t_k) direct_k, where one
+// light's error may cancel another's. The PSNR (peak 1) over the covered pixels every light's truth lit; -1
+// when no value differs. Each pair: a light's truth and the images that report its shadow factor.
+double lit_psnr_of_lights(const std::vector<std::pair<const Truth*, const Images*>>& lights);
+
 // Top-down RGB: grey = agreement (light grey lit, dark grey shadowed), red = false shadow, blue = missed
 // shadow, brightness by |difference| against the point-light truth.
 std::vector<uint8_t> error_heatmap(const Truth& truth, const Images& images);

@@ -105,6 +105,9 @@ struct CaseFindings {
   // `accuracy` pools every checked light's pixels (pooled_accuracy).
   int light_stride = 1;
   std::vector<LightReport> per_light;
+  // With every light checked (light_stride 1): the lit frame's PSNR from every light's shadow together
+  // (lit_psnr_of_lights; -1 when identical to exact visibility's).
+  std::optional<double> lit_psnr_every_light_db;
 };
 
 // The point lights of a case with `light_count` lights whose images the checks read: every one up to
