@@ -143,16 +143,22 @@ TEST(Matrix, LightCountsDefaultToEachScenesOwnAndNameTheirCases) {
   auto own = expand(spec, kSizes);
   ASSERT_EQ(own.size(), 2u);
   EXPECT_EQ(own[0].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f");
-  EXPECT_EQ(own[1].id(), "gl/hall/c256/f800x600/six_pass/hard/linear_depth/d32f/l64");
+  EXPECT_EQ(own[1].id(), "gl/hall/c256/f800x600/six_pass/hard/linear_depth/d32f/cube_array/l64")
+      << "no --layout: a case of several lights takes the layout that holds them";
   EXPECT_EQ(own[1].light_count, 64);
+  spec.layouts_given = true;
+  EXPECT_EQ(expand(spec, kSizes)[1].layout, Layout::cube) << "a layout asked for by name stays (unsupported)";
+  spec.layouts_given = false;
   spec.light_counts = {1, 4};
   spec.filters = {Filter::hard, Filter::pcf_disk20};
   auto cases = expand(spec, kSizes);
   ASSERT_EQ(cases.size(), 8u);
-  EXPECT_EQ(cases[1].id(), "gl/room/c256/f800x600/six_pass/pcf_disk20/linear_depth/d32f");
-  EXPECT_EQ(cases[2].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/l4")
+  EXPECT_EQ(cases[1].id(), "gl/room/c256/f800x600/six_pass/pcf_disk20/linear_depth/d32f/cube_array");
+  EXPECT_EQ(cases[0].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/cube_array")
+      << "one layout for every light count of the scene";
+  EXPECT_EQ(cases[2].id(), "gl/room/c256/f800x600/six_pass/hard/linear_depth/d32f/cube_array/l4")
       << "light count outside the filter";
-  EXPECT_EQ(cases[4].id(), "gl/hall/c256/f800x600/six_pass/hard/linear_depth/d32f");
+  EXPECT_EQ(cases[4].id(), "gl/hall/c256/f800x600/six_pass/hard/linear_depth/d32f/cube_array");
 }
 
 TEST(Matrix, ShardsPartitionTheMatrix) {

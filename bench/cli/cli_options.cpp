@@ -120,6 +120,31 @@ void add_scene_axes(CLI::App& r, MatrixSpec& m) {
       "comma list of WIDTHxHEIGHT (default: each scene's camera size)");
 }
 
+// The point lights' axes: how many of a scene's lights a case renders, and how their shadow passes are
+// grouped.
+void add_light_axes(CLI::App& r, MatrixSpec& m) {
+  auto named = [](auto v) { return std::string(to_string(v)); };
+  r.add_option_function<std::string>(
+       "--light-count",
+       [&m](const std::string& t) {
+         m.light_counts = parse_int_list(t, "--light-count", "light count");
+         for (int n : m.light_counts)
+           if (n > scene::kMaxPointLights)
+             throw std::invalid_argument("--light-count: " + std::to_string(n) + " is more than " +
+                                         std::to_string(scene::kMaxPointLights) + " lights");
+       },
+       "comma list of point-light counts: each case renders the scene's first K point lights (ids end in "
+       "/l<K> above 1); a scene with fewer says unsupported")
+      ->default_str("each scene's own");
+  list_option(
+      r, "--light-grouping", m.light_groupings,
+      [](const std::string& s) { return parse_enum<LightGrouping>(s); }, named,
+      "comma list: " + valid_values<LightGrouping>() +
+          " (how the point lights' shadow passes are grouped: each light in its own passes, or every light "
+          "in "
+          "one pass, vs_layer's instance per light and face; ids end in /all_lights for the second)");
+}
+
 // The axes that say how it is drawn: technique, filter, storage, layout and what tunes them.
 void add_technique_axes(CLI::App& r, MatrixSpec& m) {
   auto named = [](auto v) { return std::string(to_string(v)); };
@@ -142,10 +167,19 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
       r, "--depth-format", m.depth_formats, [](const std::string& s) { return parse_enum<DepthFormat>(s); },
       named, "comma list: " + valid_values<DepthFormat>());
   list_option(
-      r, "--layout", m.layouts, [](const std::string& s) { return parse_enum<Layout>(s); }, named,
+      r, "--layout", m.layouts,
+      [&m](const std::string& s) {
+        m.layouts_given = true;
+        return parse_enum<Layout>(s);
+      },
+      named,
       "comma list: " + valid_values<Layout>() +
-          " (how the light's depth is stored and looked up: a cube map, its six faces as a 2D array "
-          "whose layer the shader picks, or two paraboloids warped per vertex, sized to the cube's memory)");
+          " (how the lights' depth is stored and looked up: a cube map, its six faces as a 2D array "
+          "whose layer the shader picks, two paraboloids warped per vertex or four tetrahedral faces, sized "
+          "to "
+          "the cube's memory, or every light's cube in one cube-map array; not given: cube, and cube_array "
+          "for "
+          "a scene run with more than one point light)");
   r.add_option_function<std::string>(
        "--tessellate",
        [&m](const std::string& t) {
@@ -158,25 +192,6 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
        "in "
        "smaller triangles, for a layout whose warp bends edges: dual_paraboloid)")
       ->default_str(join(m.tessellations, [](int v) { return std::to_string(v); }));
-  r.add_option_function<std::string>(
-       "--light-count",
-       [&m](const std::string& t) {
-         m.light_counts = parse_int_list(t, "--light-count", "light count");
-         for (int n : m.light_counts)
-           if (n > scene::kMaxPointLights)
-             throw std::invalid_argument("--light-count: " + std::to_string(n) + " is more than " +
-                                         std::to_string(scene::kMaxPointLights) + " lights");
-       },
-       "comma list of point-light counts: each case renders the scene's first K point lights (ids end in "
-       "/l<K> above 1); a scene with fewer says unsupported")
-      ->default_str("each scene's own");
-  list_option(
-      r, "--light-grouping", m.light_groupings,
-      [](const std::string& s) { return parse_enum<LightGrouping>(s); }, named,
-      "comma list: " + valid_values<LightGrouping>() +
-          " (how the point lights' shadow passes are grouped: each light in its own passes, or every light "
-          "in "
-          "one pass, vs_layer's instance per light and face; ids end in /all_lights for the second)");
   list_option(
       r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
       [](const Optimizations& o) { return to_string(o); },
@@ -203,6 +218,7 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
 void add_matrix_options(CLI::App& r, MatrixSpec& m) {
   add_scene_axes(r, m);
   add_technique_axes(r, m);
+  add_light_axes(r, m);
 }
 
 void add_frame_options(CLI::App& r, RunOptions& o) {

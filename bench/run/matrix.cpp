@@ -89,7 +89,12 @@ std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& ba
   times(cases, sizes, [](CaseConfig& c, const std::pair<int, int>& v) { std::tie(c.width, c.height) = v; });
   times(cases, spec.storages, [](CaseConfig& c, Storage v) { c.storage = v; });
   times(cases, spec.depth_formats, [](CaseConfig& c, DepthFormat v) { c.depth_format = v; });
-  times(cases, spec.layouts, [](CaseConfig& c, Layout v) { c.layout = v; });
+  // No --layout and a case of several lights: the scene's cases take the layout that holds them, all of them
+  // so that its light counts compare in one layout.
+  const bool many = std::any_of(light_counts.begin(), light_counts.end(), [](int k) { return k > 1; });
+  const std::vector<Layout> layouts =
+      !spec.layouts_given && many ? std::vector<Layout>{Layout::cube_array} : spec.layouts;
+  times(cases, layouts, [](CaseConfig& c, Layout v) { c.layout = v; });
   times(cases, spec.tessellations, [](CaseConfig& c, int v) { c.tessellation = v; });
   times(cases, light_counts, [](CaseConfig& c, int v) { c.light_count = v; });
   times(cases, spec.filters, [](CaseConfig& c, Filter v) { c.filter = v; });

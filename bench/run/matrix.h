@@ -26,8 +26,12 @@ struct MatrixSpec {
   std::vector<Filter> filters{Filter::hard, Filter::pcf_grid64, Filter::pcf_disk20};
   std::vector<Storage> storages{Storage::linear_depth};
   std::vector<DepthFormat> depth_formats{DepthFormat::d32f};
-  std::vector<Layout> layouts{Layout::cube};  // --layout cube,face_array
-  std::vector<int> tessellations{1};          // --tessellate 1,4,16
+  // --layout cube,face_array. Not given (layouts_given false), a scene with a light count above one takes
+  // cube_array for all its cases (the cube holds one light only), so that `--scene hall` measures the hall's
+  // lamps and its light counts compare in one layout.
+  std::vector<Layout> layouts{Layout::cube};
+  bool layouts_given = false;
+  std::vector<int> tessellations{1};  // --tessellate 1,4,16
   std::vector<int> light_counts;  // --light-count 1,4,16,64; empty: each scene's own number of point lights
   std::vector<LightGrouping> light_groupings{
       LightGrouping::per_light};                                // --light-grouping per_light,all_lights
