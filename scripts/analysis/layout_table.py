@@ -15,12 +15,11 @@ Writes RUN_DIR/layouts.md (or --out) and prints it. The committed table (docs/la
       --tessellate 1,4,16 --technique six_pass --filter hard,pcf_disk20,hw_compare2x2,vsm --check --max-error 100 \\
       --benchmark_repetitions=3 --out RUN_DIR
 """
-import argparse
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "lib"))
-from results_io import load_results, median_ms, ratio  # noqa: E402
+from results_io import median_ms, ratio, table_main  # noqa: E402
 
 def texels_of(case):
     """The stored image's texels (the harness's shadow_plan.texels: the layout's layers x size^2)."""
@@ -86,18 +85,7 @@ def render(doc):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("run")
-    parser.add_argument("--out")
-    args = parser.parse_args()
-    text = render(load_results(args.run, "layout_table"))
-    if text is None:
-        sys.exit(f"layout_table: no timed six_pass case in {args.run}")
-    out = args.out or os.path.join(args.run, "layouts.md")
-    with open(out + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(out + ".tmp", out)
-    print(text)
+    table_main(__doc__, render, "layout_table", "layouts.md", "no timed six_pass case")
 
 
 if __name__ == "__main__":

@@ -13,12 +13,11 @@ Usage: scripts/analysis/many_lights_table.py RUN_DIR [--out FILE]
 
 Writes RUN_DIR/many-lights.md (or --out) and prints it. docs/many-lights.md gives the command of its table.
 """
-import argparse
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "lib"))
-from results_io import load_results, median_ms, write_text_atomic  # noqa: E402
+from results_io import median_ms, table_main  # noqa: E402
 
 GROUPING = {"six_pass": "per face (6K passes)"}  # every other technique renders one pass per light
 
@@ -96,15 +95,7 @@ def render(doc):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("run")
-    parser.add_argument("--out")
-    args = parser.parse_args()
-    text = render(load_results(args.run, "many_lights_table"))
-    if text is None:
-        sys.exit(f"many_lights_table: no timed case in {args.run}")
-    write_text_atomic(args.out or os.path.join(args.run, "many-lights.md"), text, "many_lights_table")
-    print(text)
+    table_main(__doc__, render, "many_lights_table", "many-lights.md", "no timed case")
 
 
 if __name__ == "__main__":

@@ -51,3 +51,18 @@ def write_text_atomic(path, text, tool, option="--out"):
         print(f"{tool}: {option} {path}: cannot write: {e.strerror}", file=sys.stderr)
         sys.exit(2)
 
+
+
+def table_main(doc, render, tool, default_file, nothing):
+    """The command line of a table script: RUN_DIR [--out FILE]; render(results) gives the markdown or None
+    (then exit with `nothing`); written atomically to --out or RUN_DIR/default_file, and printed."""
+    import argparse
+    parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("run")
+    parser.add_argument("--out")
+    args = parser.parse_args()
+    text = render(load_results(args.run, tool))
+    if text is None:
+        sys.exit(f"{tool}: {nothing} in {args.run}")
+    write_text_atomic(args.out or os.path.join(args.run, default_file), text, tool)
+    print(text)
