@@ -366,7 +366,8 @@ int run_command(const RunCommand& cmd) {
     }
   }
   options.progress_fd = cmd.worker_progress_fd;
-  options.async_images = true;  // drained at the end of the untimed part
+  if (cmd.worker_skip >= 0) report_fatal_signals();  // a driver's crash names its library in the log
+  options.async_images = true;                       // drained at the end of the untimed part
   Harness harness(options);
   RunState run;
   run.info.command_line = cmd.command_line;

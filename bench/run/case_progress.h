@@ -16,6 +16,12 @@ struct RunOptions;
 // Sends one line to the supervisor; nothing when this process has none (fd < 0).
 void send_progress(int fd, const std::string& line);
 
+// In a worker: a fatal signal (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT) first prints one line naming it and
+// the native frames (innermost first, each with its library: a driver's own frames name libnvidia-*,
+// libvulkan_*,
+// ...) to stderr, then kills the process by the same signal, so the supervisor records the case as before.
+void report_fatal_signals();
+
 // The test-only faults: when `id` matches --inject-crash (--inject-hang) and `timed` is where --inject-in
 // puts them, raises SIGSEGV (waits forever). Nothing otherwise.
 void inject_fault(const RunOptions& o, const std::string& id, bool timed);
