@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "backends/common/case_config.h"
+#include "backends/common/meshlets.h"
 #include "backends/common/techniques.h"
 #include "backends/common/work_counters.h"
 #include "scenes/scene.h"
@@ -156,6 +157,9 @@ class Backend {
   virtual std::vector<std::string> drain_api_errors();
 
  protected:
+  // Whether this device runs technique mesh_shader: load() then builds the scene's meshlets before it lets
+  // the scene's vertices go (they live on the device after upload), for the mesh pass of a later case.
+  virtual bool has_mesh_shading() const { return false; }
   virtual void upload_scene(
       const scene::Scene& scene) = 0;  // releases the case and the last scene's geometry
   // configure()'s work once the case is known to be new and supported: release the last case's objects,
@@ -173,8 +177,9 @@ class Backend {
   DeviceInfo info_;
   std::optional<scene::Scene>
       scene_;  // set by load(): objects, light path, camera (vertices live on the device)
-  std::vector<ObjectDraw> all_objects_;  // every object once: the lighting pass's and the 2D maps' draws
-  std::optional<CaseConfig> config_;     // the current case
+  std::optional<gpu::MeshletData> meshlets_;  // set by load() where has_mesh_shading()
+  std::vector<ObjectDraw> all_objects_;       // every object once: the lighting pass's and the 2D maps' draws
+  std::optional<CaseConfig> config_;          // the current case
   bool checked_ = false;                 // a check frame was rendered since configure (read_back needs one)
   bool check_is_last_ = false;           // and no other frame since
   int reported_light_ = 0;               // the point light whose shadow factor the check targets hold

@@ -25,6 +25,8 @@ void Backend::load(const scene::Scene& scene) {
   checked_ = false;
   check_is_last_ = false;
   upload_scene(scene);
+  meshlets_.reset();
+  if (has_mesh_shading()) meshlets_ = gpu::build_meshlets(scene);  // needs the vertices released below
   scene_ = scene;
   scene_->focus_light = 0;
   scene_->vertices.clear();  // only the device's copy is needed after upload

@@ -6,7 +6,9 @@
 #include "common.glsl"
 #include "moments.glsl"
 
-#if !defined(STORAGE_HARDWARE_DEPTH)
+#if !defined(STORAGE_HARDWARE_DEPTH) && defined(TECHNIQUE_MESH_SHADER)
+layout(location = 0) in MeshVertex { vec3 world_position; };  // the mesh stage's per-vertex block
+#elif !defined(STORAGE_HARDWARE_DEPTH)
 layout(location = 0) in vec3 world_position;
 #if defined(ALL_LIGHTS)
 layout(location = 1) flat in int shadow_light;

@@ -81,6 +81,22 @@ TEST(Meshlets, HoldEveryTriangleOnceInItsWindingWithinTheLimits) {
   }
 }
 
+// A backend's scene copy holds no vertices once they are on the device (Backend::load): meshlets built from
+// it would read past the end (a SIGSEGV on the first mesh_shader case on NVIDIA, the first device that ran
+// one). Building refuses such a scene by name instead; backends build their meshlets in load(), before the
+// release.
+TEST(Meshlets, ASceneWithoutItsVerticesIsRefusedByName) {
+  scene::Scene s = scene::load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/room.json");
+  s.vertices.clear();
+  try {
+    (void)build_meshlets(s);
+    FAIL() << "meshlets built from a scene without vertices";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("reaches past the scene's 0 vertices"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Meshlets, AReflectedTriangleIsNotTheSameTriangle) {
   // The check above would miss a winding flip if canonical() ignored orientation: it must not.
   const glm::vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace omnishadow::gpu {
 namespace {
@@ -35,6 +37,10 @@ size_t MeshletData::bytes() const {
 MeshletData build_meshlets(const scene::Scene& scene) {
   MeshletData out;
   for (const scene::Object& obj : scene.objects) {
+    if (uint64_t(obj.first_vertex) + obj.vertex_count > scene.vertices.size())
+      throw std::logic_error("build_meshlets: object '" + obj.name + "' reaches past the scene's " +
+                             std::to_string(scene.vertices.size()) +
+                             " vertices (a backend's copy, whose vertices live on the device?)");
     // Weld by position: remap[i] is the unique vertex of the object's i-th vertex.
     std::vector<glm::vec3> positions(obj.vertex_count);
     for (uint32_t i = 0; i < obj.vertex_count; ++i)

@@ -264,9 +264,10 @@ void GlBackend::configure_case(const CaseConfig& c) {
                   gpu::raster_perturb_ndc(c, info_.subpixel_bits));
     map_defines.push_back(perturb);
   }
-  if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_)
-    mesh_pass_ =
-        std::make_unique<GlMeshPass>(*scene_, vertex_buffer_);  // once per scene: meshlets outlive cases
+  if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_) {
+    if (!meshlets_) throw std::logic_error("mesh_shader configured on a device without mesh shading");
+    mesh_pass_ = std::make_unique<GlMeshPass>(*meshlets_, vertex_buffer_);  // once per scene: outlives cases
+  }
   shadow_draw_ = shadow_draw_step(c);
   for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
     std::vector<std::string> defines = gpu::lighting_defines(c, v);

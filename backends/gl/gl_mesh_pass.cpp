@@ -20,8 +20,8 @@ GLuint storage_buffer(const std::vector<T>& data) {
 
 }  // namespace
 
-GlMeshPass::GlMeshPass(const scene::Scene& scene, GLuint scene_vertex_buffer)
-    : data_(gpu::build_meshlets(scene)), scene_vertices_(scene_vertex_buffer) {
+GlMeshPass::GlMeshPass(const gpu::MeshletData& meshlets, GLuint scene_vertex_buffer)
+    : data_(meshlets), scene_vertices_(scene_vertex_buffer) {
   buffers_ = {storage_buffer(data_.meshlets), storage_buffer(data_.spheres), storage_buffer(data_.vertices),
               storage_buffer(data_.triangles)};
   if (glGetError() == GL_OUT_OF_MEMORY) {

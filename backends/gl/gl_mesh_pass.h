@@ -15,7 +15,7 @@ namespace omnishadow::gl {
 
 class GlMeshPass {
  public:
-  GlMeshPass(const scene::Scene& scene, GLuint scene_vertex_buffer);
+  GlMeshPass(const gpu::MeshletData& meshlets, GLuint scene_vertex_buffer);
   ~GlMeshPass();
   GlMeshPass(const GlMeshPass&) = delete;
   GlMeshPass& operator=(const GlMeshPass&) = delete;

@@ -394,8 +394,10 @@ void VkBackend::configure_case(const CaseConfig& c) {
     const uint32_t map_layers = static_cast<uint32_t>(scene_->map_lights.size());
     maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u,
                                std::max(map_layers, 1u), c.depth_format);
-    if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_)
-      mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, vertex_buffer_, frame_uniforms_);
+    if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_) {
+      if (!meshlets_) throw std::logic_error("mesh_shader configured on a device without mesh shading");
+      mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, *meshlets_, vertex_buffer_, frame_uniforms_);
+    }
     shadow_draw_ = shadow_draw_step(c);
     create_pipelines(c);
     if (traits(c.filter).prefilter == Prefilter::separable_blur)

@@ -34,6 +34,7 @@ class VkBackend final : public Backend {
   std::vector<std::string> drain_api_errors() override { return ctx_->drain_messages(); }
 
  private:
+  bool has_mesh_shading() const override { return ctx_->has_mesh_shader(); }
   void upload_scene(const scene::Scene& scene) override;
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // one fence-waited submission per pass

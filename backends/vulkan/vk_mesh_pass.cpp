@@ -17,9 +17,9 @@ Buffer storage_buffer(VkContext& ctx, const std::vector<T>& data) {
 
 }  // namespace
 
-VkMeshPass::VkMeshPass(VkContext& ctx, const scene::Scene& scene, const Buffer& scene_vertices,
-                       const Buffer& frame_uniforms)
-    : ctx_(ctx), scene_(scene), data_(gpu::build_meshlets(scene)) {
+VkMeshPass::VkMeshPass(VkContext& ctx, const scene::Scene& scene, const gpu::MeshletData& meshlets,
+                       const Buffer& scene_vertices, const Buffer& frame_uniforms)
+    : ctx_(ctx), scene_(scene), data_(meshlets) {
   VkDevice d = ctx_.device();
   try {
     draw_mesh_tasks_ =

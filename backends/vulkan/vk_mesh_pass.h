@@ -20,8 +20,8 @@ namespace omnishadow::vk {
 class VkMeshPass {
  public:
   // scene_vertices must have been created with VK_BUFFER_USAGE_STORAGE_BUFFER_BIT; both buffers outlive this.
-  VkMeshPass(VkContext& ctx, const scene::Scene& scene, const Buffer& scene_vertices,
-             const Buffer& frame_uniforms);
+  VkMeshPass(VkContext& ctx, const scene::Scene& scene, const gpu::MeshletData& meshlets,
+             const Buffer& scene_vertices, const Buffer& frame_uniforms);
   ~VkMeshPass();
   VkMeshPass(const VkMeshPass&) = delete;
   VkMeshPass& operator=(const VkMeshPass&) = delete;
