@@ -187,6 +187,7 @@ class Backend {
 };
 
 // Creates a backend by name ("gl"). Options are backend-specific: "egl_platform" = surfaceless|device,
+// "gl_profile" = auto|core|compatibility (GlBackend's constructor),
 // "gl_device" = EGL device index, "vk_device" = Vulkan device index or part of its name, "api_checks" = "1"
 // for the checking mode (GL debug context / Vulkan validation layer, errors captured).
 // Throws std::runtime_error with a one-line reason when the API cannot be brought up on this machine.

@@ -96,7 +96,8 @@ std::unique_ptr<Backend> create_backend(const std::string& name,
       throw std::runtime_error("--gl-device expects an EGL device index, got '" + device + "'");
     }
     return std::make_unique<gl::GlBackend>(option(options, "egl_platform", "surfaceless"), index,
-                                           option(options, "api_checks", "0") == "1");
+                                           option(options, "api_checks", "0") == "1",
+                                           option(options, "gl_profile", "auto"));
   }
   if (name == "vulkan")
     return std::make_unique<vk::VkBackend>(option(options, "vk_device", ""),

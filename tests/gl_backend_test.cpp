@@ -47,6 +47,36 @@ TEST(GlApiChecks, ErrorsAreCapturedOnce) {
   EXPECT_TRUE(backend->drain_api_errors().empty()) << "drained once";
 }
 
+// --gl-profile: the context named, said in the device record; a compatibility context renders the core one's
+// images bit for bit (the shaders are `#version 450`, core GLSL in either context: only the context differs),
+// so nv_swizzle may run in one where only that links its passthrough stage (NVIDIA: gl_passthrough.h) and
+// stay comparable with the other techniques.
+TEST(GlProfiles, ACompatibilityContextRendersTheCoreContextsImages) {
+  std::map<std::string, Images> images;
+  for (const std::string profile : {"core", "compatibility"}) {
+    std::string why;
+    auto backend = gl_or_skip_reason({{"gl_profile", profile}}, why);
+    if (!backend) OMNISHADOW_SKIP_UNAVAILABLE("gl", why);
+    EXPECT_NE(backend->device().api.find(" " + profile), std::string::npos) << backend->device().api;
+    EXPECT_EQ(backend->device().extra.at("gl_profile").rfind(profile + " (--gl-profile)", 0), 0u);
+    backend->load(scene::load_scene_file(kScenes + "/room.json"));
+    CaseConfig c;
+    c.backend = "gl";
+    c.scene = "room";
+    c.technique = Technique::geometry_shader;
+    c.filter = Filter::pcf_disk20;
+    c.cube_size = 64;
+    backend->configure(c);
+    backend->render(0, FrameKind::check);
+    images[profile] = backend->read_back();
+  }
+  for (size_t f = 0; f < 6; ++f)
+    EXPECT_EQ(images["core"].cube_distance[f], images["compatibility"].cube_distance[f]);
+  EXPECT_EQ(images["core"].lit_rgba8, images["compatibility"].lit_rgba8);
+  EXPECT_FALSE(images["core"].lit_rgba8.empty());
+  EXPECT_THROW(create_backend("gl", {{"gl_profile", "es"}}), std::runtime_error);
+}
+
 TEST(GlPlatforms, DevicePlatformOrAClearError) {
   try {
     auto backend = create_backend("gl", {{"egl_platform", "device"}, {"gl_device", "0"}});

@@ -46,7 +46,8 @@ EGLDisplay open_display(const std::string& platform, int device_index) {
 
 }  // namespace
 
-EglContext::EglContext(const std::string& platform, int device_index, bool debug) : platform_(platform) {
+EglContext::EglContext(const std::string& platform, int device_index, bool debug, GlProfile profile)
+    : platform_(platform) {
   display_ = open_display(platform, device_index);
   if (display_ == EGL_NO_DISPLAY) egl_fail("eglGetPlatformDisplayEXT");
   EGLint major = 0, minor = 0;
@@ -67,12 +68,15 @@ EglContext::EglContext(const std::string& platform, int device_index, bool debug
                                     EGL_CONTEXT_MINOR_VERSION,
                                     5,
                                     EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                    EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                    profile == GlProfile::core ? EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT
+                                                               : EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT,
                                     EGL_CONTEXT_OPENGL_DEBUG,
                                     debug ? EGL_TRUE : EGL_FALSE,
                                     EGL_NONE};
   context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, context_attribs);
-  if (context_ == EGL_NO_CONTEXT) egl_fail("eglCreateContext(OpenGL 4.5 core)");
+  if (context_ == EGL_NO_CONTEXT)
+    egl_fail(profile == GlProfile::core ? "eglCreateContext(OpenGL 4.5 core)"
+                                        : "eglCreateContext(OpenGL 4.5 compatibility)");
   if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) egl_fail("eglMakeCurrent");
 }
 

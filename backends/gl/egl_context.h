@@ -9,11 +9,15 @@
 
 namespace omnishadow::gl {
 
+// The harness renders in a core profile; the compatibility profile exists for tools that ask whether a
+// driver's behaviour depends on it (tests/gl_nv_link_probe.cpp).
+enum class GlProfile { core, compatibility };
+
 class EglContext {
  public:
   // Throws std::runtime_error naming the EGL call that failed and the EGL error code.
   // `debug` asks for a debug context (KHR_debug messages for the checking mode).
-  EglContext(const std::string& platform, int device_index, bool debug);
+  EglContext(const std::string& platform, int device_index, bool debug, GlProfile profile = GlProfile::core);
   ~EglContext();
   EglContext(const EglContext&) = delete;
   EglContext& operator=(const EglContext&) = delete;

@@ -19,6 +19,7 @@
 #include "backends/common/techniques.h"
 #include "backends/common/viewport_swizzle.h"
 #include "backends/gl/gl_cube_summary.h"
+#include "backends/gl/gl_passthrough.h"
 
 namespace omnishadow::gl {
 namespace {
@@ -47,19 +48,51 @@ void GLAPIENTRY collect_debug_message(GLenum, GLenum type, GLuint, GLenum severi
 
 }  // namespace
 
-GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api_checks)
-    : context_(egl_platform, device_index, api_checks) {
-  GLint major = 0, minor = 0;
+// The context: --gl-profile's, or with auto a core one unless it links no passthrough geometry shader where
+// the extension is exposed and a compatibility one does (NVIDIA: gl_passthrough.h). Why is in results.json.
+void GlBackend::open_context(const std::string& egl_platform, int device_index, bool api_checks,
+                             const std::string& gl_profile) {
+  if (gl_profile != "auto" && gl_profile != "core" && gl_profile != "compatibility")
+    throw std::runtime_error("unknown --gl-profile '" + gl_profile + "' (valid: auto, core, compatibility)");
+  const auto open = [&](GlProfile p) {
+    context_.reset();
+    context_ = std::make_unique<EglContext>(egl_platform, device_index, api_checks, p);
+  };
+  open(gl_profile == "compatibility" ? GlProfile::compatibility : GlProfile::core);
+  profile_note_ = gl_profile == "auto" ? "core (--gl-profile auto)" : gl_profile + " (--gl-profile)";
+  if (!epoxy_has_gl_extension("GL_NV_geometry_shader_passthrough")) return;
+  passthrough_refusal_ = passthrough_link_error();
+  if (passthrough_refusal_.empty() || gl_profile != "auto") return;
+  const std::string core_refusal = passthrough_refusal_;
+  open(GlProfile::compatibility);
+  passthrough_refusal_ = passthrough_link_error();
+  if (passthrough_refusal_.empty()) {
+    profile_note_ =
+        "compatibility (--gl-profile auto: the core context links no passthrough geometry shader: " +
+        core_refusal + ")";
+    return;
+  }
+  passthrough_refusal_ = core_refusal + "; in a compatibility context too: " + passthrough_refusal_;
+  open(GlProfile::core);
+}
+
+GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api_checks,
+                     const std::string& gl_profile) {
+  open_context(egl_platform, device_index, api_checks, gl_profile);
+  GLint major = 0, minor = 0, profile_mask = 0;
   glGetIntegerv(GL_MAJOR_VERSION, &major);
   glGetIntegerv(GL_MINOR_VERSION, &minor);
   if (major * 10 + minor < 45)
     throw std::runtime_error("OpenGL 4.5 core is required, the context is " + std::to_string(major) + "." +
                              std::to_string(minor));
-  info_.api = "OpenGL " + std::to_string(major) + "." + std::to_string(minor) + " core";
+  glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile_mask);
+  info_.api = "OpenGL " + std::to_string(major) + "." + std::to_string(minor) +
+              ((profile_mask & GL_CONTEXT_COMPATIBILITY_PROFILE_BIT) ? " compatibility" : " core");
+  info_.extra["gl_profile"] = profile_note_;
   info_.vendor = gl_string(GL_VENDOR);
   info_.renderer = gl_string(GL_RENDERER);
   info_.version = gl_string(GL_VERSION);
-  info_.platform = "EGL " + context_.egl_version() + " (" + egl_platform + ")";
+  info_.platform = "EGL " + context_->egl_version() + " (" + egl_platform + ")";
   glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &info_.max_cube_size);
   glGetIntegerv(GL_SUBPIXEL_BITS, &info_.subpixel_bits);
   // GL has no standard memory query: software rasterisers allocate from host memory; NVIDIA reports its
@@ -140,7 +173,7 @@ void GlBackend::create_shared_objects() {
 GlBackend::~GlBackend() {
   // Without a current context every GL call below would go to libepoxy's resolver, which aborts the process;
   // destroying the EGL context (EglContext's destructor) frees these objects anyway.
-  if (!context_.make_current()) {
+  if (!context_->make_current()) {
     (void)queries_.release();    // its destructor deletes GL queries: left to the context's destruction
     (void)mesh_pass_.release();  // and its buffers
     return;
@@ -165,6 +198,11 @@ Support GlBackend::supports(const CaseConfig& c) const {
     return {false, "GL_OVR_multiview2 with 6 views is not exposed by " + info_.renderer};
   if (feature == TechniqueFeature::viewport_swizzle && !missing_swizzle_.empty() && !c.emulate_nv_swizzle)
     return {false, missing_swizzle_ + " not exposed by " + info_.renderer};
+  if (feature == TechniqueFeature::viewport_swizzle && !passthrough_refusal_.empty() && !c.emulate_nv_swizzle)
+    return {false, "this " + info_.api +
+                       " context links no passthrough geometry shader (GL_NV_viewport_swizzle's "
+                       "nv_swizzle needs one; --gl-profile auto tries a compatibility context): " +
+                       passthrough_refusal_};
   if (feature == TechniqueFeature::mesh_shader && !has_mesh_shader_)
     return {false, "GL_NV_mesh_shader is not exposed by " + info_.renderer};
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)

@@ -26,7 +26,10 @@ namespace omnishadow::gl {
 
 class GlBackend final : public Backend {
  public:
-  GlBackend(const std::string& egl_platform, int device_index, bool api_checks);
+  // gl_profile: auto (core, unless that context links no passthrough geometry shader where nv_swizzle's
+  // extensions are exposed and a compatibility one does: gl_passthrough.h), core or compatibility.
+  GlBackend(const std::string& egl_platform, int device_index, bool api_checks,
+            const std::string& gl_profile);
   ~GlBackend() override;
 
   Support supports(const CaseConfig& config) const override;
@@ -82,7 +85,12 @@ class GlBackend final : public Backend {
   void blur_moments(
       int light);  // the moments filters' prefilter of one light's cube, in the shadow pass's time
 
-  EglContext context_;
+  void open_context(const std::string& egl_platform, int device_index, bool api_checks,
+                    const std::string& gl_profile);
+  std::unique_ptr<EglContext> context_;
+  std::string
+      passthrough_refusal_;   // why this context links no passthrough stage ("": it does, or no extension)
+  std::string profile_note_;  // the context's profile and, with auto, why
   bool has_layer_array_ = false;
   bool has_multiview_ = false;  // GL_OVR_multiview2 with GL_MAX_VIEWS_OVR >= 6
   std::string

@@ -333,6 +333,7 @@ void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
 std::map<std::string, std::string> CommonOptions::backend_options() const {
   return {{"egl_platform", egl_platform},
           {"gl_device", gl_device},
+          {"gl_profile", gl_profile},
           {"vk_device", vk_device},
           {"api_checks", api_checks ? "1" : "0"}};
 }
@@ -352,6 +353,11 @@ void add_common_options(CLI::App& sub, CommonOptions& o) {
             return digits ? "" : "expects an EGL device index (0, 1, ...), got '" + text + "'";
           },
           "INDEX"));
+  sub.add_option("--gl-profile", o.gl_profile,
+                 "GL context profile: auto (core, or compatibility where only that links nv_swizzle's "
+                 "passthrough stage: NVIDIA), core, compatibility")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "core", "compatibility"}));
   sub.add_option("--vk-device", o.vk_device, "Vulkan device: index or part of its name (default: device 0)");
   sub.add_flag(
       "--api-checks", o.api_checks,

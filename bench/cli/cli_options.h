@@ -18,6 +18,7 @@ struct CommonOptions {
   std::string scenes_dir;
   std::string egl_platform = "surfaceless";
   std::string gl_device = "0";
+  std::string gl_profile = "auto";
   std::string vk_device;
   bool api_checks = false;
   std::map<std::string, std::string> backend_options() const;  // create_backend's options
