@@ -19,6 +19,12 @@ layout(num_views = 6) in;  // GL: the framebuffer's six views of the cube's arra
 
 layout(location = 0) in vec3 in_position;
 
+#if defined(TECHNIQUE_NV_SWIZZLE) && defined(VULKAN)
+// Vulkan matches built-in blocks between stages member for member, and the passthrough stage takes gl_Position
+// alone (shadow_swizzle.geom): the validation layer refused glslang's implicit four-member block here on NVIDIA.
+out gl_PerVertex { vec4 gl_Position; };
+#endif
+
 // DEPTH_ONLY (storage hardware_depth): the fragment stage reads nothing, so nothing is passed to it.
 #if (defined(TECHNIQUE_SIX_PASS) || defined(TECHNIQUE_VS_LAYER) || defined(TECHNIQUE_MULTIVIEW) || \
      defined(TECHNIQUE_NV_SWIZZLE)) && !defined(DEPTH_ONLY)

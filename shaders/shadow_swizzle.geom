@@ -16,6 +16,9 @@
 layout(triangles) in;
 #if defined(EMULATE_SWIZZLE)
 layout(triangle_strip, max_vertices = 18) out;
+#if defined(VULKAN)
+in gl_PerVertex { vec4 gl_Position; } gl_in[];  // the vertex stage's block (shadow_depth.vert), as below
+#endif
 #if !defined(DEPTH_ONLY)
 layout(location = 0) in vec3 world_position_in[];
 layout(location = 0) out vec3 world_position;

@@ -398,9 +398,11 @@ TEST_P(BackendTest, SinglePassTechniquesReproduceSixPassExactly) {
     Images six = six_supported ? render(room_case(Technique::six_pass, filter, 256, s), 41) : Images{};
     for (const TechniqueTraits& t : kTechniques) {
       CaseConfig c = room_case(t.technique, filter, 256, s);
-      // multiview, and nv_swizzle where it keeps fragments by its reversed depth (ties may resolve
-      // otherwise): judged by the harness's check.
-      if (t.technique == Technique::six_pass || t.multiview || reversed_depth_test(c)) continue;
+      // multiview, and nv_swizzle, judged by the harness's check: nv_swizzle's clip coordinates are the
+      // swizzled (p - light, near), not the face matrix's product, so the interpolated world positions may
+      // differ in their last bit (an H100 stored 6.92823 for six_pass's 6.92824: checks passed, bits did
+      // not), and where it keeps fragments by its reversed depth, ties may resolve otherwise.
+      if (t.technique == Technique::six_pass || t.multiview || t.technique == Technique::nv_swizzle) continue;
       ++candidates;
       if (Support support = backend_->supports(c); !support.ok) {
         std::cout << c.id() << " unsupported: " << support.reason << "\n";
@@ -426,7 +428,7 @@ TEST_P(BackendTest, SinglePassTechniquesReproduceSixPassExactly) {
     }
   }
   EXPECT_EQ(compared + refused, candidates);
-  EXPECT_EQ(candidates, 38) << "the technique or storage table changed: say here what this test now compares";
+  EXPECT_EQ(candidates, 32) << "the technique or storage table changed: say here what this test now compares";
   if (backend_->device().shares_host_memory) {
     EXPECT_EQ(compared, 24)
         << "llvmpipe and lavapipe do every technique but the NV extensions' and mesh shaders";
