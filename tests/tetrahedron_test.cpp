@@ -7,7 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace omnishadow::tetra {
 namespace {
@@ -65,6 +70,40 @@ TEST(Tetrahedron, FaceMatricesLandEachTexelDirectionOnItsTexel) {
         }
     }
   EXPECT_EQ(layer_size_for_cube(512), 627) << "4 x 627^2 = 1.572 M texels, a 512 cube's 1.573 M";
+}
+
+// The lighting pass's lookup (shaders/shadow_filters.glsl, LAYOUT_TETRAHEDRAL) states the bases in closed
+// form, integer vectors times 1/sqrt 3, 1/sqrt 6 and 1/sqrt 2: read from the shader, they are faces()'s axes,
+// ups and rights, so the lookup and the shadow pass's matrices agree on every face.
+std::vector<glm::dvec3> shader_vectors(const std::string& text, const std::string& name) {
+  const std::regex declaration("const vec3 " + name + R"(\[4\] = vec3\[\]\(([^;]*)\);)");
+  std::smatch m;
+  if (!std::regex_search(text, m, declaration)) return {};
+  const std::string body = m[1];
+  std::vector<glm::dvec3> out;
+  const std::regex vec(R"(vec3\((-?\d+), (-?\d+), (-?\d+)\))");
+  for (auto it = std::sregex_iterator(body.begin(), body.end(), vec); it != std::sregex_iterator(); ++it)
+    out.emplace_back(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]));
+  return out;
+}
+
+TEST(Tetrahedron, TheLookupsClosedFormBasesAreTheFaces) {
+  std::ifstream file(std::string(OMNISHADOW_SHADERS_DIR) + "/shadow_filters.glsl");
+  ASSERT_TRUE(file) << "shaders/shadow_filters.glsl";
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::vector<glm::dvec3> axes = shader_vectors(text.str(), "kTetraAxes");
+  const std::vector<glm::dvec3> ups = shader_vectors(text.str(), "kTetraUps");
+  const std::vector<glm::dvec3> rights = shader_vectors(text.str(), "kTetraRights");
+  ASSERT_EQ(axes.size(), 4u);
+  ASSERT_EQ(ups.size(), 4u);
+  ASSERT_EQ(rights.size(), 4u);
+  for (int f = 0; f < kFaceCount; ++f) {
+    const Face& face = faces()[size_t(f)];
+    EXPECT_NEAR(glm::length(axes[size_t(f)] / std::sqrt(3.0) - face.axis), 0.0, 1e-12) << "face " << f;
+    EXPECT_NEAR(glm::length(ups[size_t(f)] / std::sqrt(6.0) - face.up), 0.0, 1e-12) << "face " << f;
+    EXPECT_NEAR(glm::length(rights[size_t(f)] / std::sqrt(2.0) - face.right), 0.0, 1e-12) << "face " << f;
+  }
 }
 
 }  // namespace

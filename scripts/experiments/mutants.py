@@ -148,9 +148,13 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("paraboloid_warp_x_unmirrored", "shaders/paraboloid.glsl",
      replace("float vx = layer == 0 ? -v.x : v.x;", "float vx = v.x;"),
      "the shadow pass's warp does not mirror x in layer 0 (seen along +Z), so that layer is stored mirrored", PARABOLOID),
-    # tetrahedral: the GLSL lookup rebuilds each face's camera from the same rule as backends/common/tetrahedron.h.
+    # tetrahedral: the GLSL lookup states each face's camera in closed form, by the same rule as
+    # backends/common/tetrahedron.h; this mutant's bases are the rule's with the corner of face + 2, not face + 1.
     ("tetra_lookup_up_to_wrong_corner", "shaders/shadow_filters.glsl",
-     replace("corner = -kTetraAxes[(face + 1) % 4];", "corner = -kTetraAxes[(face + 2) % 4];"),
+     replace("kTetraUps[4] = vec3[](vec3(-2, 1, 1), vec3(1, -1, 2), vec3(2, 1, -1), vec3(-1, -1, -2));\n"
+             "const vec3 kTetraRights[4] = vec3[](vec3(0, -1, 1), vec3(-1, -1, 0), vec3(0, -1, -1), vec3(1, -1, 0));",
+             "kTetraUps[4] = vec3[](vec3(1, -2, 1), vec3(1, 2, -1), vec3(-1, -2, -1), vec3(-1, 2, 1));\n"
+             "const vec3 kTetraRights[4] = vec3[](vec3(1, 0, -1), vec3(1, 0, 1), vec3(-1, 0, 1), vec3(-1, 0, -1));"),
      "the tetrahedral lookup turns each face's up towards another corner than the shadow pass's camera", TETRA),
     # nv_swizzle: the swizzle table, the GS's culling, the reversed depth of r32f_distance.
     ("swizzle_y_negated", "backends/common/viewport_swizzle.cpp",
