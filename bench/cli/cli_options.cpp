@@ -140,9 +140,9 @@ void add_light_axes(CLI::App& r, MatrixSpec& m) {
       r, "--light-grouping", m.light_groupings,
       [](const std::string& s) { return parse_enum<LightGrouping>(s); }, named,
       "comma list: " + valid_values<LightGrouping>() +
-          " (how the point lights' shadow passes are grouped: each light in its own passes, or every light "
-          "in "
-          "one pass, vs_layer's instance per light and face; ids end in /all_lights for the second)");
+          " (how the point lights' shadow passes are grouped: each light in its own passes, or every "
+          "light in one pass, vs_layer's instance per light and face; ids end in /all_lights for the "
+          "second)");
 }
 
 // The axes that say how it is drawn: technique, filter, storage, layout and what tunes them.
@@ -175,11 +175,9 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
       named,
       "comma list: " + valid_values<Layout>() +
           " (how the lights' depth is stored and looked up: a cube map, its six faces as a 2D array "
-          "whose layer the shader picks, two paraboloids warped per vertex or four tetrahedral faces, sized "
-          "to "
-          "the cube's memory, or every light's cube in one cube-map array; not given: cube, and cube_array "
-          "for "
-          "a scene run with more than one point light)");
+          "whose layer the shader picks, two paraboloids warped per vertex or four tetrahedral faces, "
+          "sized to the cube's memory, or every light's cube in one cube-map array; not given: cube, and "
+          "cube_array for a scene run with more than one point light)");
   r.add_option_function<std::string>(
        "--tessellate",
        [&m](const std::string& t) {

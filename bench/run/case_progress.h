@@ -17,9 +17,8 @@ struct RunOptions;
 void send_progress(int fd, const std::string& line);
 
 // In a worker: a fatal signal (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT) first prints one line naming it and
-// the native frames (innermost first, each with its library: a driver's own frames name libnvidia-*,
-// libvulkan_*,
-// ...) to stderr, then kills the process by the same signal, so the supervisor records the case as before.
+// the native frames to stderr (innermost first, each with its library: a driver's own name libnvidia-* and
+// the like), then kills the process by the same signal, so the supervisor records the case as before.
 void report_fatal_signals();
 
 // The test-only faults: when `id` matches --inject-crash (--inject-hang) and `timed` is where --inject-in

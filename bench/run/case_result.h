@@ -42,8 +42,8 @@ struct CaseResult : CaseFindings {
   }
   std::optional<FrameTiming> first_frame;  // the check frame rendered cold, right after configure
   float light_far = 0.0f;                  // far plane of the check frame's cube (fitted with fit_range)
-  int empty_faces =
-      0;  // faces with no caster at the check frame, every light's (with face culling: cleared only)
+  // Faces with no caster at the check frame, every light's (with face culling: cleared only).
+  int empty_faces = 0;
   // NaN or Inf anywhere in the read-back buffers (cube, shadow factor, world position): any is a failed
   // check.
   uint64_t non_finite_cube = 0, non_finite_shadow = 0, non_finite_position = 0;
