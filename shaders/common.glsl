@@ -48,6 +48,7 @@ struct PointLightRecord {
   vec4 position_far;  // xyz world units; w = the light's far plane, its range (world units)
   vec4 colour_near;   // rgb; w = near plane
   vec4 moments;       // x = what the moments filters multiply z = distance / far by (moments_knobs.y's per light)
+  vec4 atlas_tile;    // layout atlas: xy the light's block's first texel, z its faces' edge, w the border (texels)
   mat4 face_view_proj[6];  // the light's layers' view-projections: the shadow pass with every light in one pass
 };
 layout(std430, binding = 9) readonly buffer PointLights { PointLightRecord point_lights[]; };

@@ -58,7 +58,11 @@ void emit_face(int face) {
   if (beyond_one_plane(clip[0], clip[1], clip[2])) return;
 #endif
   for (int i = 0; i < 3; ++i) {
+#if defined(LAYOUT_ATLAS)
+    gl_ViewportIndex = face;  // layout atlas: face f's tile is viewport f (one layer)
+#else
     gl_Layer = face;  // per vertex: outputs are undefined after EmitVertex
+#endif
 #if !defined(DEPTH_ONLY)
     world_position = gl_in[i].gl_Position.xyz;
 #endif

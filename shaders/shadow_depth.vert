@@ -81,7 +81,11 @@ void main() {
 #else
   int face = instance;  // six instances, one per face, in face order
 #endif
+#if defined(LAYOUT_ATLAS)
+  gl_ViewportIndex = face;  // layout atlas: face f's tile is viewport f (one layer)
+#else
   gl_Layer = face;
+#endif
 #ifdef WRITE_WORLD_POSITION
   world_position = in_position;
 #endif

@@ -26,7 +26,7 @@ vec3 perturb_lookup(vec3 dir, float size) {
   return moved;
 }
 
-#if defined(LAYOUT_FACE_ARRAY) || defined(LAYOUT_DUAL_PARABOLOID) || defined(LAYOUT_TETRAHEDRAL)
+#if defined(LAYOUT_FACE_ARRAY) || defined(LAYOUT_DUAL_PARABOLOID) || defined(LAYOUT_TETRAHEDRAL) || defined(LAYOUT_ATLAS)
 // Every layout but the cube stores layers of a 2D array and picks the layer and (s, t) in the shader (shadow_coord,
 // per layout below); filtering clamps at each layer's edge. With several point lights, light k's layers follow
 // light k - 1's: layer = k x the layout's layers + the light's own layer (backends/common/layouts.h).
@@ -37,13 +37,10 @@ layout(binding = 2) uniform sampler2DArray shadow_map;        // NEAREST, no com
 #endif
 #endif
 
-#if defined(LAYOUT_FACE_ARRAY)
-// Layout face_array (backends/common/layouts.h): the six faces are layers of a 2D array, as a renderer that treats a
-// point light as six spot maps stores them. The shader picks the layer and (s, t) by the cube-map rule (GL 4.5
-// table 8.19, as cube::direction_to_face: ties to x, then y), and filtering clamps at each face's edge.
-// (s, t, layer) of the face `dir` selects: what a samplerCube computes before it reads a texel.
-vec3 shadow_coord(vec3 dir) {
-  dir = perturb_lookup(dir, float(textureSize(shadow_map, 0).x));
+#if defined(LAYOUT_FACE_ARRAY) || defined(LAYOUT_ATLAS)
+// (s, t, face) of the face `dir` selects by the cube-map rule (GL 4.5 table 8.19, as cube::direction_to_face: ties
+// to x, then y): what a samplerCube computes before it reads a texel.
+vec3 cube_face_coord(vec3 dir) {
   vec3 a = abs(dir);
   float face, sc, tc, ma;
   if (a.x >= a.y && a.x >= a.z) {
@@ -62,7 +59,34 @@ vec3 shadow_coord(vec3 dir) {
     sc = dir.z >= 0.0 ? dir.x : -dir.x;
     tc = -dir.y;
   }
-  return vec3(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0), face + 6.0 * float(g_light));
+  return vec3(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0), face);
+}
+#endif
+
+// A face's edge in texels (defined below, once the layout's sampler is declared).
+float shadow_face_size();
+
+#if defined(LAYOUT_FACE_ARRAY)
+// Layout face_array (backends/common/layouts.h): the six faces are layers of a 2D array, as a renderer that treats a
+// point light as six spot maps stores them. The shader picks the layer and (s, t) by the cube-map rule, and
+// filtering clamps at each face's edge.
+vec3 shadow_coord(vec3 dir) {
+  vec3 c = cube_face_coord(perturb_lookup(dir, shadow_face_size()));
+  return vec3(c.xy, c.z + 6.0 * float(g_light));
+}
+#elif defined(LAYOUT_ATLAS)
+// Layout atlas (backends/common/atlas.h holds the same arithmetic: change both together): light k's faces are tiles
+// of one layer, face f at column f % 3 and row f / 3 of the light's block, each N texels inside a border. (s, t) is
+// clamped to the face's first and last texel centres, as face_array's sampler clamps at a layer's edge: a NEAREST
+// tap never leaves the face, a LINEAR one reads the border with weight 0.
+vec3 shadow_coord(vec3 dir) {
+  vec3 c = cube_face_coord(perturb_lookup(dir, shadow_face_size()));
+  const vec4 tile = point_lights[g_light].atlas_tile;  // xy block origin, z face edge N, w border (texels)
+  const float span = tile.z + 2.0 * tile.w;
+  const vec2 in_face = clamp(c.xy * tile.z, vec2(0.5), vec2(tile.z - 0.5));
+  const int face = int(c.z);  // integer column and row: a float division by 3 may round below 1
+  const vec2 texel = tile.xy + vec2(face % 3, face / 3) * span + vec2(tile.w) + in_face;
+  return vec3(texel / vec2(textureSize(shadow_map, 0).xy), 0.0);
 }
 #elif defined(LAYOUT_DUAL_PARABOLOID)
 // Layout dual_paraboloid (shaders/paraboloid.glsl): two layers of a 2D array, each a hemisphere's paraboloid.
@@ -103,7 +127,7 @@ layout(binding = 2) uniform samplerCubeArrayShadow shadow_map;  // LINEAR + comp
 #else
 layout(binding = 2) uniform samplerCubeArray shadow_map;        // NEAREST, no compare; LINEAR for moments
 #endif
-vec4 shadow_coord(vec3 dir) { return vec4(perturb_lookup(dir, float(textureSize(shadow_map, 0).x)), float(g_light)); }
+vec4 shadow_coord(vec3 dir) { return vec4(perturb_lookup(dir, shadow_face_size()), float(g_light)); }
 #else
 #if defined(FILTER_HW_COMPARE2X2)
 layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 2x2 bilinear PCF in hardware
@@ -111,8 +135,17 @@ layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 
 layout(binding = 2) uniform samplerCube shadow_map;        // NEAREST, no compare; LINEAR for a moments cube
 #endif
 // A cube is sampled by the direction itself.
-vec3 shadow_coord(vec3 dir) { return perturb_lookup(dir, float(textureSize(shadow_map, 0).x)); }
+vec3 shadow_coord(vec3 dir) { return perturb_lookup(dir, shadow_face_size()); }
 #endif
+
+// A face's edge in texels: what a texel spans for the perturbed lookup and the normal offset.
+float shadow_face_size() {
+#if defined(LAYOUT_ATLAS)
+  return point_lights[g_light].atlas_tile.z;
+#else
+  return float(textureSize(shadow_map, 0).x);
+#endif
+}
 
 #if defined(FILTER_HW_COMPARE2X2)
 // The lit fraction of a compare lookup at reference `ref` (stored units): a cube array's compare reference is an
@@ -214,7 +247,7 @@ float shadow_factor(vec3 world_pos, vec3 normal) {
 #if defined(NORMAL_OFFSET)
   // Normal-offset remedy: look up from a point 1.5 texels (a 90-degree face's texel at this distance) along the
   // normal, so a surface does not test against its own quantised depth.
-  float texel_world = 2.0 * length(world_pos - light_position()) / float(textureSize(shadow_map, 0).x);
+  float texel_world = 2.0 * length(world_pos - light_position()) / shadow_face_size();
   world_pos += normal * (1.5 * texel_world);
 #endif
   vec3 frag_to_light = world_pos - light_position();  // the tutorial's name: it points away from the light

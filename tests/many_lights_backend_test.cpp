@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 
@@ -117,36 +118,67 @@ TEST_P(ManyLightsTest, TheLitFrameSumsEveryLight) {
   EXPECT_EQ(four.lit_rgba8, four.timed_lit_rgba8) << "the timed variant shades the same lights";
 }
 
+// An atlas's single pass routes faces by viewport, six_pass through viewport 0: the stored distances within
+// 1e-4 of far of six_pass's, and at most 0.1% of shadow factors apart (image_checks.cpp's technique
+// allowance).
+void expect_within_far_bound(const Images& got, const Images& want, const std::string& what) {
+  for (size_t f = 0; f < 6; ++f) {
+    ASSERT_EQ(got.cube_distance[f].size(), want.cube_distance[f].size()) << what;
+    for (size_t i = 0; i < got.cube_distance[f].size(); ++i)
+      ASSERT_LE(std::abs(got.cube_distance[f][i] - want.cube_distance[f][i]), 1e-4 * want.light_far)
+          << what << ", face " << f << ", texel " << i;
+  }
+  size_t differ = 0;
+  for (size_t i = 0; i < got.shadow_factor.size(); ++i)
+    differ += got.shadow_factor[i] != want.shadow_factor[i];
+  EXPECT_LE(double(differ), 0.001 * double(got.shadow_factor.size())) << what;
+}
+
 // The single-pass techniques render every light's cube as six_pass does, light by light, and so does vs_layer
-// with every light in one pass (an instance per light and face).
+// with every light in one pass (an instance per light and face); in an atlas, where a single pass routes each
+// face to its tile by viewport, within the bound above.
 TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
   backend_->load(hall_);
-  const CaseConfig reference = hall_case(4, Layout::cube_array);
-  backend_->configure(reference);
-  backend_->render(3, FrameKind::check);
-  std::vector<Images> expected;
-  for (int k = 0; k < 4; ++k) expected.push_back(backend_->read_back(CubeReadBack::full, k));
-  int compared = 0;
-  CaseConfig one_pass = hall_case(4, Layout::cube_array, Technique::vs_layer);
-  one_pass.light_grouping = LightGrouping::all_lights;
-  for (const CaseConfig& c : {hall_case(4, Layout::cube_array, Technique::geometry_shader),
-                              hall_case(4, Layout::cube_array, Technique::geometry_shader_instanced),
-                              hall_case(4, Layout::cube_array, Technique::vs_layer), one_pass}) {
-    if (!backend_->supports(c).ok) continue;
-    backend_->configure(c);
+  for (Layout layout : {Layout::cube_array, Layout::atlas}) {
+    // The atlas at 48, whose tiles' viewport scale (24) is no power of two: where the drivers here round
+    // apart.
+    auto lamps = [&](Technique t) {
+      CaseConfig c = hall_case(4, layout, t);
+      if (layout == Layout::atlas) c.cube_size = 48;
+      return c;
+    };
+    const CaseConfig reference = lamps(Technique::six_pass);
+    backend_->configure(reference);
     backend_->render(3, FrameKind::check);
-    for (int k = 0; k < 4; ++k) {
-      const Images got = backend_->read_back(CubeReadBack::full, k);
-      for (size_t f = 0; f < 6; ++f)
-        EXPECT_EQ(got.cube_distance[f], expected[size_t(k)].cube_distance[f]) << c.id();
-      EXPECT_EQ(got.shadow_factor, expected[size_t(k)].shadow_factor) << c.id() << ", light " << k;
+    std::vector<Images> expected;
+    for (int k = 0; k < 4; ++k) expected.push_back(backend_->read_back(CubeReadBack::full, k));
+    int compared = 0;
+    CaseConfig one_pass = lamps(Technique::vs_layer);
+    one_pass.light_grouping = LightGrouping::all_lights;
+    for (const CaseConfig& c :
+         {lamps(Technique::geometry_shader), lamps(Technique::geometry_shader_instanced),
+          lamps(Technique::vs_layer), one_pass}) {
+      if (!backend_->supports(c).ok) continue;
+      backend_->configure(c);
+      backend_->render(3, FrameKind::check);
+      for (int k = 0; k < 4; ++k) {
+        const Images got = backend_->read_back(CubeReadBack::full, k);
+        if (layout == Layout::atlas) {  // the bound bench/truth/image_checks.cpp gives it, and why
+          expect_within_far_bound(got, expected[size_t(k)], c.id() + ", light " + std::to_string(k));
+          continue;
+        }
+        for (size_t f = 0; f < 6; ++f)
+          EXPECT_EQ(got.cube_distance[f], expected[size_t(k)].cube_distance[f]) << c.id();
+        EXPECT_EQ(got.shadow_factor, expected[size_t(k)].shadow_factor) << c.id() << ", light " << k;
+      }
+      ++compared;
     }
-    ++compared;
+    EXPECT_GT(compared, 0) << "no single-pass technique on " << GetParam() << " in " << to_string(layout);
+    if (layout == Layout::cube_array) {
+      EXPECT_EQ(backend_->supports(one_pass).ok, backend_->supports(lamps(Technique::vs_layer)).ok)
+          << "every light in one pass wherever vs_layer renders: " << backend_->supports(one_pass).reason;
+    }
   }
-  EXPECT_GT(compared, 0) << "no single-pass technique on " << GetParam();
-  EXPECT_EQ(backend_->supports(one_pass).ok,
-            backend_->supports(hall_case(4, Layout::cube_array, Technique::vs_layer)).ok)
-      << "every light in one pass wherever vs_layer renders: " << backend_->supports(one_pass).reason;
 }
 
 // Reading another light back re-renders the check frame's lighting: refused once another frame was rendered,

@@ -277,13 +277,14 @@ TEST(Matrix, EachLayoutHasItsLightingVariants) {
   EXPECT_EQ(gpu::variant_key("lighting.frag", gpu::lighting_defines(c, gpu::LightingVariant::timed)),
             "lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD");
   const std::vector<std::string> keys = gpu::spirv_variant_keys();
-  size_t cube = 0, face_array = 0, paraboloid = 0, tetrahedral = 0, cube_array = 0;
+  size_t cube = 0, face_array = 0, paraboloid = 0, tetrahedral = 0, cube_array = 0, atlas = 0;
   for (const std::string& k : keys) {
     if (k.rfind("lighting.frag:", 0) != 0) continue;
     (k.find("LAYOUT_FACE_ARRAY") != std::string::npos        ? face_array
      : k.find("LAYOUT_DUAL_PARABOLOID") != std::string::npos ? paraboloid
      : k.find("LAYOUT_TETRAHEDRAL") != std::string::npos     ? tetrahedral
      : k.find("LAYOUT_CUBE_ARRAY") != std::string::npos      ? cube_array
+     : k.find("LAYOUT_ATLAS") != std::string::npos           ? atlas
                                                              : cube) += 1;
   }
   EXPECT_GT(cube, 0u);
@@ -293,6 +294,9 @@ TEST(Matrix, EachLayoutHasItsLightingVariants) {
   EXPECT_GT(paraboloid, 0u);
   EXPECT_LT(paraboloid, cube);
   EXPECT_EQ(tetrahedral, paraboloid);
+  // atlas: every storage but the moments (their blur runs over layers), every filter that reads one
+  EXPECT_GT(atlas, paraboloid);
+  EXPECT_LT(atlas, cube);
   for (const std::string& k : keys) {
     if (k.find("LAYOUT_DUAL_PARABOLOID") != std::string::npos ||
         k.find("LAYOUT_TETRAHEDRAL") != std::string::npos) {

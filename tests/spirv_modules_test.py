@@ -24,6 +24,7 @@ ALLOWED = {
     1: "Shader", 2: "Geometry (geometryShader)", 32: "ClipDistance (shaderClipDistance)",
     34: "ImageCubeArray", 45: "SampledCubeArray (imageCubeArray, layout cube_array)", 49: "StorageImageExtendedFormats (shaderStorageImageExtendedFormats)",
     50: "ImageQuery", 57: "MultiViewport (multiViewport, nv_swizzle)", 69: "ShaderLayer (shaderOutputLayer)",
+    70: "ShaderViewportIndex (shaderOutputViewportIndex: vs_layer into an atlas)",
     4427: "DrawParameters", 4439: "MultiView (multiview)",
     5251: "GeometryShaderPassthroughNV (VK_NV_geometry_shader_passthrough)",
     5254: "ShaderViewportIndexLayerEXT (shaderOutputLayer)", 5255: "ShaderViewportMaskNV (VK_NV_viewport_array2)",

@@ -159,6 +159,21 @@ Support common_support(const CaseConfig& c) {
       return {false, "face culling: the plans cull against cube faces' frusta, not hemispheres"};
     if (c.lookup_perturb_texels != 0.0f) return {false, "--lookup-perturb moves cube lookups only"};
   }
+  if (c.layout == Layout::atlas) {
+    const std::string technique(to_string(c.technique));
+    if (c.technique != Technique::six_pass && c.technique != Technique::geometry_shader &&
+        c.technique != Technique::geometry_shader_instanced && c.technique != Technique::vs_layer)
+      return {false,
+              "atlas routes each face to its tile by viewport (one layer): six_pass, geometry_shader, "
+              "geometry_shader_instanced and vs_layer do; " +
+                  technique + " routes by layer or view"};
+    if (c.light_grouping == LightGrouping::all_lights)
+      return {false, "every light in one pass into an atlas needs 6 viewports a light (16 on most devices)"};
+    if (traits(c.storage).moments != MomentKind::none)
+      return {false,
+              "atlas: the moments blur runs over a light's six layers; over an atlas's tiles it is not "
+              "built yet"};
+  }
   if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
     return {false, "hw_compare2x2 compares against linear distance / far (storage linear_depth); " +
                        std::string(to_string(c.storage)) +
@@ -209,6 +224,7 @@ Support common_support(const CaseConfig& c) {
 }
 
 Support layer_count_support(const CaseConfig& c, int max_layers, const std::string& limit) {
+  if (c.layout == Layout::atlas) return {};  // one layer: its size is the limit (atlas::too_large)
   const long long layers = static_cast<long long>(traits(c.layout).geometry.layers) * c.light_count;
   if (layers <= max_layers) return {};
   return {false, std::to_string(c.light_count) + " lights of " + std::string(to_string(c.layout)) + " take " +

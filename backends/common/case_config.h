@@ -73,6 +73,9 @@ enum class Layout {
                 // tetrahedron.h), each a layer of a 2D array sized to a cube's memory
   cube_array,   // every point light's cube in one cube-map array (GL 4.0 core, Vulkan imageCubeArray): the
                 // sampler picks the face as for a cube, the light is the array index
+  atlas,        // every point light's faces as bordered tiles of one 2D texture (Godot's, HDRP's and
+          // Filament's shadow atlas; backends/common/atlas.h): the shader picks the face by the cube-map
+          // rule and clamps to its tile
 };
 
 // How a case's point lights group the shadow pass's draws: each light in its own pass (six_pass: six a light,

@@ -36,11 +36,14 @@ struct PointLightRecord {
   glm::vec4 position_far;   // xyz world units, w the far plane (its range) the light's map was rendered with
   glm::vec4 colour_near;    // rgb, w the near plane
   glm::vec4 moments{0.0f};  // x: the moments filters' distance scale (FrameUniforms::moments_knobs.y)
+  // Layout atlas (backends/common/atlas.h): xy the light's block's first texel, z its faces' edge N, w the
+  // border, in texels; zero otherwise.
+  glm::vec4 atlas_tile{0.0f};
   // The light's layers' view-projections (FrameUniforms::face_view_proj): what the shadow pass reads with
   // every light in one pass (LightGrouping::all_lights).
   std::array<glm::mat4, 6> face_view_proj{};
 };
-static_assert(sizeof(PointLightRecord) == 48 + 6 * 64, "std430 layout of PointLightRecord");
+static_assert(sizeof(PointLightRecord) == 64 + 6 * 64, "std430 layout of PointLightRecord");
 
 struct PassUniforms {
   int face;

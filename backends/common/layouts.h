@@ -38,6 +38,8 @@ enum class LayoutLookup {
                 // face
   shader_paraboloid,   // sampler2DArray: the shader selects the hemisphere's layer and its paraboloid point
   shader_tetrahedral,  // sampler2DArray: the shader selects the nearest face axis and projects onto that face
+  shader_atlas,  // sampler2DArray of one layer: the shader selects the face by the cube-map rule, then its
+                 // tile (backends/common/atlas.h), clamped to the tile's texel centres
 };
 
 // The ray through a point of a layer: its unit direction, and the factor that turns the layer's near and far
@@ -120,7 +122,7 @@ struct LayoutTraits {
   const TexelGeometry& geometry;
 };
 
-inline constexpr std::array<LayoutTraits, 5> kLayouts = {{
+inline constexpr std::array<LayoutTraits, 6> kLayouts = {{
     {Layout::cube, "cube", "", LayoutLookup::hardware_cube, kCubeFaceGeometry},
     {Layout::face_array, "face_array", "LAYOUT_FACE_ARRAY", LayoutLookup::shader_face, kCubeFaceGeometry},
     {Layout::dual_paraboloid, "dual_paraboloid", "LAYOUT_DUAL_PARABOLOID", LayoutLookup::shader_paraboloid,
@@ -129,6 +131,7 @@ inline constexpr std::array<LayoutTraits, 5> kLayouts = {{
      kTetrahedralGeometry},
     {Layout::cube_array, "cube_array", "LAYOUT_CUBE_ARRAY", LayoutLookup::hardware_cube_array,
      kCubeFaceGeometry},
+    {Layout::atlas, "atlas", "LAYOUT_ATLAS", LayoutLookup::shader_atlas, kCubeFaceGeometry},
 }};
 
 constexpr const LayoutTraits& traits(Layout l) {
@@ -142,6 +145,9 @@ constexpr bool every_layout_has_its_row() {
   return true;
 }
 static_assert(every_layout_has_its_row(), "kLayouts lists the layouts in enum order");
+
+// Whether the shadow pass routes a face by its viewport (a tile of one layer) rather than by its layer.
+constexpr bool faces_by_viewport(Layout l) { return traits(l).lookup == LayoutLookup::shader_atlas; }
 
 // A layer's edge in texels for `--cube N` (TexelGeometry::layer_size_for_cube): a cube face N, a paraboloid
 // layer round(N sqrt 3), a tetrahedron's face round(N sqrt 1.5).

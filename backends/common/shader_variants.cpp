@@ -16,7 +16,9 @@ std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
   std::vector<std::string> d{std::string(t.vertex_define)};
   if (t.culling == CullingForm::per_object_masks && c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
-  if (traits(c.layout).geometry.map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
+  if (traits(c.layout).geometry.map != TexelMap::cube_faces ||
+      (faces_by_viewport(c.layout) && c.technique == Technique::vs_layer))
+    d.emplace_back(traits(c.layout).lighting_define);
   if (c.light_grouping == LightGrouping::all_lights) d.push_back("ALL_LIGHTS");
   return d;
 }
@@ -44,6 +46,7 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
     d.emplace_back(layout.lighting_define);
     d.push_back("LAYOUT_LAYERS=" + std::to_string(layout.geometry.layers));  // the loop over its layers
   }
+  if (faces_by_viewport(c.layout)) d.emplace_back(traits(c.layout).lighting_define);  // viewport, not layer
   return d;
 }
 
@@ -162,18 +165,21 @@ std::vector<std::string> spirv_variant_keys() {
         insert_shadow_keys(keys, c);
         c.emulate_nv_swizzle = false;
       }
-  // The layouts' own shadow passes where they differ from the cube's (the warp), for what common_support
-  // admits.
+  // The layouts' own shadow passes where they differ from the cube's (the warp, or faces routed by viewport),
+  // for what common_support admits.
   for (const LayoutTraits& layout : kLayouts)
     for (const TechniqueTraits& t : kTechniques)
-      for (Storage storage : all_values<Storage>()) {
-        c = CaseConfig{};
-        c.layout = layout.layout;
-        c.technique = t.technique;
-        c.storage = storage;
-        if (layout.geometry.map == TexelMap::cube_faces || !common_support(c).ok) continue;
-        insert_shadow_keys(keys, c);
-      }
+      for (Storage storage : all_values<Storage>())
+        for (bool cull : {false, true}) {
+          c = CaseConfig{};
+          c.layout = layout.layout;
+          c.technique = t.technique;
+          c.storage = storage;
+          c.optimizations.face_culling = cull;
+          if (layout.geometry.map == TexelMap::cube_faces && !faces_by_viewport(layout.layout)) continue;
+          if (!common_support(c).ok) continue;
+          insert_shadow_keys(keys, c);
+        }
   c = CaseConfig{};
   for (Storage storage : all_values<Storage>()) {
     if (traits(storage).moments != MomentKind::none)
@@ -192,7 +198,9 @@ std::vector<std::string> spirv_variant_keys() {
               c.layout = layout.layout;
               c.remedies.bias = bias;
               c.remedies.normal_offset = normal_offset;
-              if (layout.geometry.map != TexelMap::cube_faces && !common_support(c).ok) continue;
+              const bool own_rules =
+                  layout.geometry.map != TexelMap::cube_faces || faces_by_viewport(layout.layout);
+              if (own_rules && !common_support(c).ok) continue;
               keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
             }
     }

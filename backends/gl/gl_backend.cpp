@@ -213,6 +213,11 @@ Support GlBackend::supports(const CaseConfig& c) const {
       !s.ok)
     return s;
   if (Support s = all_lights_support(c); !s.ok) return s;
+  if (c.layout == Layout::atlas)
+    if (std::string why = atlas::too_large(atlas::plan_for(c), std::stoi(info_.extra.at("max_2d_size")),
+                                           "GL_MAX_TEXTURE_SIZE");
+        !why.empty())
+      return {false, why};
   if (const int layer = layer_size(c.layout, c.cube_size); layer > info_.max_cube_size)
     return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) +
                        " texels for cube " + std::to_string(c.cube_size) + " exceed " +
@@ -326,7 +331,8 @@ void GlBackend::configure_case(const CaseConfig& c) {
   shadow_ =
       create_shadow_targets({layer_size(c.layout, c.cube_size), c.storage, c.depth_format,
                              traits(c.technique).multiview, traits(c.layout).geometry.layers, c.light_count,
-                             traits(c.layout).lookup == LayoutLookup::hardware_cube_array});
+                             traits(c.layout).lookup == LayoutLookup::hardware_cube_array,
+                             c.layout == Layout::atlas ? std::optional(atlas::plan_for(c)) : std::nullopt});
   // One uniform block per light (the shadow pass binds light k's), and the lighting pass's light list.
   frame_stride_ = (GLsizeiptr(sizeof(gpu::FrameUniforms)) + uniform_alignment_ - 1) / uniform_alignment_ *
                   uniform_alignment_;
@@ -480,6 +486,7 @@ void GlBackend::all_lights_shadow_pass(const gpu::LightFrames& frame, DrawStats&
 }
 
 void GlBackend::light_shadow_pass(int light, const gpu::ShadowFrame& frame, DrawStats& stats) {
+  if (shadow_.atlas) return atlas_light_pass(light, frame, stats);
   bind_frame_uniforms(light);
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (int p = 0; p < passes.count; ++p) {
@@ -487,6 +494,37 @@ void GlBackend::light_shadow_pass(int light, const gpu::ShadowFrame& frame, Draw
     bind_pass_uniforms(p);
     draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided, shadow_draw_.draw);
   }
+}
+
+// Viewport and scissor `index` over face f's tile of light k's block: the scissor keeps every fragment inside
+// the tile, whatever the rasteriser's edge rules.
+static void set_tile_viewport(GLuint index, const atlas::Block& block, int face) {
+  const atlas::Texel o = atlas::face_origin(block, face);
+  glViewportIndexedf(index, float(o.x), float(o.y), float(block.face_size), float(block.face_size));
+  glScissorIndexed(index, o.x, o.y, block.face_size, block.face_size);
+}
+
+void GlBackend::begin_atlas_block(int light, float far_plane) {
+  const atlas::Block& block = shadow_.atlas->lights[size_t(light)];
+  glEnable(GL_SCISSOR_TEST);  // the clear clears the light's block only: tiles and borders
+  glScissor(block.x, block.y, atlas::block_width(block.face_size), atlas::block_height(block.face_size));
+  begin_shadow_target(shadow_.layered_fbos[0], far_plane);
+}
+
+// six_pass: each face its own pass through viewport 0 over its tile; a single-pass technique: viewports 0-5
+// over the six tiles, the face picked by gl_ViewportIndex.
+void GlBackend::atlas_light_pass(int light, const gpu::ShadowFrame& frame, DrawStats& stats) {
+  bind_frame_uniforms(light);
+  begin_atlas_block(light, frame.uniforms.light_position.w);
+  const atlas::Block& block = shadow_.atlas->lights[size_t(light)];
+  const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
+  for (int p = 0; p < passes.count; ++p) {
+    if (passes.count > 1) set_tile_viewport(0, block, p);
+    for (int f = 0; f < cube::kFaceCount && passes.count == 1; ++f) set_tile_viewport(GLuint(f), block, f);
+    bind_pass_uniforms(p);
+    draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided, shadow_draw_.draw);
+  }
+  glDisable(GL_SCISSOR_TEST);
 }
 
 static_assert(GL_VIEWPORT_SWIZZLE_NEGATIVE_X_NV - GL_VIEWPORT_SWIZZLE_POSITIVE_X_NV == 1 &&
@@ -554,6 +592,12 @@ void GlBackend::begin_shadow_target(GLuint fbo, float far_plane) {
 void GlBackend::clear_shadow_targets(const gpu::LightFrames& f) {
   if (config_->light_grouping == LightGrouping::all_lights) {
     begin_shadow_target(shadow_.all_lights_fbo, f.lights[0].uniforms.light_position.w);
+    return;
+  }
+  if (shadow_.atlas) {
+    for (int k = 0; k < shadow_.lights; ++k)
+      begin_atlas_block(k, f.lights[size_t(k)].uniforms.light_position.w);
+    glDisable(GL_SCISSOR_TEST);
     return;
   }
   const int passes = traits(config_->technique).passes == 6 ? shadow_.layers : 1;
@@ -660,6 +704,25 @@ void GlBackend::report_light(int light) {
   glFinish();
 }
 
+// Layout atlas: light k's six tiles, read as the faces of a cube (row 0 of a tile is t = 0, as a face's).
+void GlBackend::read_atlas_faces(int light, float near_plane, float far_plane, Images& img) {
+  const atlas::Block& block = shadow_.atlas->lights[size_t(light)];
+  const int n = block.face_size;
+  const size_t texels = size_t(n) * size_t(n);
+  img.cube_size = n;
+  const bool depth_stored = !traits(shadow_.storage).colour_checked;
+  for (int f = 0; f < cube::kFaceCount; ++f) {
+    const atlas::Texel o = atlas::face_origin(block, f);
+    auto& face = img.cube_distance[size_t(f)];
+    face.resize(texels);
+    glGetTextureSubImage(shadow_.stored, 0, o.x, o.y, 0, n, n, 1, depth_stored ? GL_DEPTH_COMPONENT : GL_RED,
+                         GL_FLOAT, static_cast<GLsizei>(texels * sizeof(float)), face.data());
+    for (size_t i = 0; i < texels; ++i)
+      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % size_t(n)), int(i / size_t(n)), n,
+                                         near_plane, far_plane, cube::DepthRange::minus_one_to_one);
+  }
+}
+
 Images GlBackend::read_back_images(CubeReadBack cube_read_back, int light) {
   const LightingTargets& timed = lighting_[size_t(gpu::LightingVariant::timed)];
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
@@ -690,7 +753,10 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back, int light) {
       scene_->has_point_light() ? scene_->point_lights[size_t(light)].near_plane : scene_->light().near_plane;
   img.light_far = far_plane;
   const int first_layer = light * shadow_.layers;
-  if (cube_read_back == CubeReadBack::sampled) {
+  if (shadow_.atlas) {
+    read_atlas_faces(light, near_plane, far_plane, img);  // in full: the summary's compute pass reads layers
+    cube_read_back = CubeReadBack::sampled;               // (nothing more to read)
+  } else if (cube_read_back == CubeReadBack::sampled) {
     read_cube_summary(summary_program_, shadow_.light_stored_layers[size_t(light)], nearest_sampler_,
                       shadow_.size, img);
     cube::sample_to_distance(img, shadow_.storage, near_plane, far_plane, cube::DepthRange::minus_one_to_one);

@@ -55,6 +55,10 @@ class GlBackend final : public Backend {
   DrawStats shadow_pass(const gpu::LightFrames& f);
   // One light's shadow pass into its layers of the shadow maps.
   void light_shadow_pass(int light, const gpu::ShadowFrame& f, DrawStats& stats);
+  // Layout atlas: light k's block cleared, its faces drawn through their tiles' viewports.
+  void atlas_light_pass(int light, const gpu::ShadowFrame& f, DrawStats& stats);
+  void begin_atlas_block(int light, float far_plane);  // binds the atlas, clears light k's block
+  void read_atlas_faces(int light, float near_plane, float far_plane, Images& img);
   void all_lights_shadow_pass(const gpu::LightFrames& f, DrawStats& stats);  // LightGrouping::all_lights
   // The lighting pass into lighting_[targets] with `program` (lighting_programs_[v], or floor_program_).
   DrawStats lighting_pass(gpu::LightingVariant targets, GLuint program);

@@ -177,7 +177,45 @@ static void create_shadow_framebuffers(ShadowTargets& t, bool arrays, const Shad
   check_complete(t.all_lights_fbo, "every light's layered shadow");
 }
 
+// Layout atlas: one layer of the plan's size, depth (and colour) sampled as a 2D array of that layer, one
+// framebuffer over it.
+static ShadowTargets create_atlas_targets(const ShadowShape& shape) {
+  ShadowTargets t;
+  t.storage = shape.storage;
+  t.size = shape.size;
+  t.layers = 6;
+  t.lights = shape.lights;
+  t.atlas = shape.atlas;
+  const int width = shape.atlas->width, height = shape.atlas->height;
+  auto layer = [&](GLenum format) {
+    GLuint tex = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &tex);
+    glTextureStorage3D(tex, 1, format, width, height, 1);
+    cube_parameters(tex);
+    return tex;
+  };
+  const GLenum depth_internal = depth_internal_format(shape.depth_format);
+  const GLenum colour_internal =
+      colour_internal_format(omnishadow::colour_format(shape.storage, shape.depth_format));
+  t.depth = t.depth_array = layer(depth_internal);
+  if (colour_internal != GL_NONE) t.colour = t.colour_array = layer(colour_internal);
+  t.stored = t.stored_array = t.stored_layers = t.sampled = t.sampled_layers =
+      traits(shape.storage).colour_checked ? t.colour : t.depth;
+  check_allocation("the shadow atlas");
+  GLuint fbo = 0;
+  glCreateFramebuffers(1, &fbo);
+  glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, t.depth, 0, 0);
+  if (t.colour) glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, t.colour, 0, 0);
+  glNamedFramebufferDrawBuffer(fbo, t.colour ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+  glNamedFramebufferReadBuffer(fbo, GL_NONE);
+  check_complete(fbo, "shadow atlas");
+  t.layered_fbos = {fbo};
+  t.all_lights_fbo = fbo;
+  return t;
+}
+
 ShadowTargets create_shadow_targets(const ShadowShape& shape) {
+  if (shape.atlas) return create_atlas_targets(shape);
   ShadowTargets t;
   t.storage = shape.storage;
   t.size = shape.size;

@@ -4,8 +4,10 @@
 
 #include <epoxy/gl.h>
 
+#include <optional>
 #include <vector>
 
+#include "backends/common/atlas.h"
 #include "backends/common/case_config.h"
 
 namespace omnishadow::gl {
@@ -46,6 +48,9 @@ struct ShadowTargets {
   std::vector<GLuint> views;  // per-light views made for the above, deleted with the targets
   Storage storage = Storage::linear_depth;
   int size = 0;
+  // Layout atlas: every light's faces are tiles of layer 0 of depth_array (and colour_array), rendered
+  // through layered_fbos[0] with a viewport per face (backends/common/atlas.h); face_fbos stay empty.
+  std::optional<atlas::Plan> atlas;
 };
 
 // What create_shadow_targets() builds: one map of `layers` layers of size^2 per light.
@@ -56,7 +61,8 @@ struct ShadowShape {
   bool multiview = false;  // GL_OVR_multiview2 renders into 2D arrays, never cube maps
   int layers = 6;          // per light
   int lights = 1;
-  bool cube_array = false;  // sampled as a cube-map array (layout cube_array)
+  bool cube_array = false;           // sampled as a cube-map array (layout cube_array)
+  std::optional<atlas::Plan> atlas;  // layout atlas: one layer of the plan's size holds every light's faces
 };
 
 // Spot/directional lights: a 2D depth-array texture, one layer and one framebuffer per light. At least one

@@ -284,6 +284,31 @@ Support VkBackend::moments_support(const CaseConfig& c, const std::string& devic
   return {};
 }
 
+// Layout atlas: one 2D texture (and framebuffer and viewport) of every light's tiles; a single pass routes
+// faces by viewport.
+Support VkBackend::atlas_support(const CaseConfig& c) const {
+  if (c.layout != Layout::atlas) return {};
+  const std::string device = info_.renderer;
+  const VkPhysicalDeviceLimits& limits = ctx_->properties().limits;
+  const int max_size =
+      int(std::min({limits.maxImageDimension2D, limits.maxFramebufferWidth, limits.maxFramebufferHeight,
+                    limits.maxViewportDimensions[0], limits.maxViewportDimensions[1]}));
+  if (std::string why =
+          atlas::too_large(atlas::plan_for(c), max_size,
+                           "maxImageDimension2D, maxFramebufferWidth/Height, maxViewportDimensions");
+      !why.empty())
+    return {false, why};
+  if (traits(c.technique).passes == 1 && !ctx_->has_multi_viewport())
+    return {false,
+            "an atlas's single pass routes faces by viewport: multiViewport not supported by " + device};
+  if (c.technique == Technique::vs_layer && !ctx_->has_viewport_output())
+    return {false,
+            "vs_layer into an atlas writes gl_ViewportIndex in the vertex stage: "
+            "shaderOutputViewportIndex (Vulkan 1.2) not supported by " +
+                device};
+  return {};
+}
+
 Support VkBackend::supports(const CaseConfig& c) const {
   if (traits(c.layout).geometry.clips_to_hemisphere && !ctx_->has_clip_distance())
     return {false, std::string(to_string(c.layout)) +
@@ -315,6 +340,7 @@ Support VkBackend::supports(const CaseConfig& c) const {
     case TechniqueFeature::none:
       break;
   }
+  if (Support s = atlas_support(c); !s.ok) return s;
   if (c.layout == Layout::cube_array && !ctx_->has_image_cube_array())
     return {false, "imageCubeArray feature not supported by " + device + " (layout cube_array)"};
   if (Support s = layer_count_support(c, static_cast<int>(ctx_->properties().limits.maxImageArrayLayers),
@@ -450,6 +476,7 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
           {static_cast<VkViewportCoordinateSwizzleNV>(f.x), static_cast<VkViewportCoordinateSwizzleNV>(f.y),
            static_cast<VkViewportCoordinateSwizzleNV>(f.z), static_cast<VkViewportCoordinateSwizzleNV>(f.w)});
   if (reversed_depth_test(c)) shadow.depth_compare = VK_COMPARE_OP_GREATER;
+  shadow.viewports = shadow_draw_.viewports;
   shadow.layout = mesh ? mesh_pass_->layout() : shadow_layout_;
   shadow.render_pass = shadow_.render_pass;
   shadow.color_attachments = traits(c.storage).colour_channels > 0 ? 1 : 0;
@@ -607,7 +634,9 @@ VkBackend::ShadowDrawStep VkBackend::shadow_draw_step(const CaseConfig& c) {
                 if (!floor) mesh_pass_->draw_list(cb, shadow_pipelines_, list, draws, frame_offset_);
               }};
   }
-  return {1, vertex_draws};
+  // Layout atlas: a single pass's faces go to viewports 0-5, one per tile (gl_ViewportIndex).
+  return {c.layout == Layout::atlas && traits(c.technique).passes == 1 ? uint32_t(cube::kFaceCount) : 1u,
+          vertex_draws};
 }
 
 // floor: the case's render passes with their clears and nothing drawn (FrameKind::floor).
@@ -652,6 +681,7 @@ void VkBackend::record_light_shadow(VkCommandBuffer cb, uint32_t light, const gp
   rp.renderArea = {{0, 0}, {shadow_.size, shadow_.size}};
   rp.clearValueCount = colour_first ? 2 : 1;
   rp.pClearValues = colour_first ? clears : clears + 1;
+  if (shadow_.atlas) return record_atlas_light(cb, light, frame, rp, draws, floor);
   VkViewport viewport{0, 0, float(shadow_.size), float(shadow_.size), 0.0f, 1.0f};
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
@@ -670,6 +700,50 @@ void VkBackend::record_light_shadow(VkCommandBuffer cb, uint32_t light, const gp
     shadow_draw_.record(cb, p, passes.draws[p], draws, floor);
     vkCmdEndRenderPass(cb);
   }
+}
+
+// Layout atlas: one render pass over light k's block (it loads: the other lights' tiles stay), the block
+// cleared first, then each pass's faces through their tiles' viewports (six_pass: viewport 0 over face p's
+// tile; a single pass: viewports 0-5 over the six, gl_ViewportIndex picks). Scissors are the tiles: no
+// fragment leaves its tile.
+void VkBackend::record_atlas_light(VkCommandBuffer cb, uint32_t light, const gpu::ShadowFrame& frame,
+                                   VkRenderPassBeginInfo rp, uint64_t& draws, bool floor) {
+  const atlas::Block& block = shadow_.atlas->lights[light];
+  const VkRect2D area{
+      {block.x, block.y},
+      {uint32_t(atlas::block_width(block.face_size)), uint32_t(atlas::block_height(block.face_size))}};
+  rp.framebuffer = shadow_.framebuffers[0];
+  rp.renderArea = area;
+  rp.clearValueCount = 0;
+  rp.pClearValues = nullptr;
+  vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
+  std::vector<VkClearAttachment> clears;
+  if (traits(shadow_.storage).colour_channels > 0) {
+    VkClearAttachment colour{VK_IMAGE_ASPECT_COLOR_BIT, 0, {}};
+    colour.clearValue.color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here"
+    clears.push_back(colour);
+  }
+  VkClearAttachment depth{VK_IMAGE_ASPECT_DEPTH_BIT, 0, {}};
+  depth.clearValue.depthStencil = {reversed_depth_test(*config_) ? 0.0f : 1.0f, 0};
+  clears.push_back(depth);
+  const VkClearRect rect{area, 0, 1};
+  vkCmdClearAttachments(cb, uint32_t(clears.size()), clears.data(), 1, &rect);
+  auto tile = [&](int face, VkViewport& v, VkRect2D& s) {
+    const atlas::Texel o = atlas::face_origin(block, face);
+    v = {float(o.x), float(o.y), float(block.face_size), float(block.face_size), 0.0f, 1.0f};
+    s = {{o.x, o.y}, {uint32_t(block.face_size), uint32_t(block.face_size)}};
+  };
+  const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
+  for (size_t p = 0; p < static_cast<size_t>(passes.count); ++p) {
+    std::array<VkViewport, cube::kFaceCount> viewports{};
+    std::array<VkRect2D, cube::kFaceCount> scissors{};
+    for (uint32_t f = 0; f < shadow_draw_.viewports; ++f)
+      tile(passes.count > 1 ? int(p) : int(f), viewports[f], scissors[f]);
+    vkCmdSetViewport(cb, 0, shadow_draw_.viewports, viewports.data());
+    vkCmdSetScissor(cb, 0, shadow_draw_.viewports, scissors.data());
+    shadow_draw_.record(cb, p, passes.draws[p], draws, floor);
+  }
+  vkCmdEndRenderPass(cb);
 }
 
 void VkBackend::record_lighting(VkCommandBuffer cb, gpu::LightingVariant variant, bool statistics,
@@ -840,6 +914,31 @@ void VkBackend::report_light(int light) {
   ctx_->wait();
 }
 
+// Layout atlas: the whole layer read back, light k's six tiles cut from it as the faces of a cube (row 0 of a
+// tile is t = 0, as a face's).
+void VkBackend::read_atlas_faces(Images& img, int light, float near_plane, float far_plane) {
+  const Image& stored = shadow_.stored();
+  const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
+  const std::vector<uint8_t> bytes =
+      read_image(*ctx_, stored, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, texel_bytes);
+  const atlas::Block& block = shadow_.atlas->lights[size_t(light)];
+  const int n = block.face_size;
+  img.cube_size = n;
+  for (int f = 0; f < cube::kFaceCount; ++f) {
+    const atlas::Texel o = atlas::face_origin(block, f);
+    std::vector<uint8_t> rows(size_t(n) * size_t(n) * texel_bytes);
+    for (int y = 0; y < n; ++y)
+      std::memcpy(rows.data() + size_t(y) * size_t(n) * texel_bytes,
+                  bytes.data() + (size_t(o.y + y) * stored.width + size_t(o.x)) * texel_bytes,
+                  size_t(n) * texel_bytes);
+    auto& face = img.cube_distance[size_t(f)];
+    face = decode_texels(stored.format, rows.data(), size_t(n) * size_t(n));
+    for (size_t i = 0; i < face.size(); ++i)
+      face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % size_t(n)), int(i / size_t(n)), n,
+                                         near_plane, far_plane, cube::DepthRange::zero_to_one);
+  }
+}
+
 Images VkBackend::read_back_images(CubeReadBack cube_read_back, int light) {
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
@@ -863,12 +962,16 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back, int light) {
   const float near_plane =
       scene_->has_point_light() ? scene_->point_lights[size_t(light)].near_plane : scene_->light().near_plane;
   img.light_far = far_plane;
-  if (cube_read_back == CubeReadBack::sampled) {
+  if (cube_read_back == CubeReadBack::sampled && !shadow_.atlas) {
     summarizer_->read(stored, nearest_sampler_, shadow_.size, img, uint32_t(light) * shadow_.layers);
     cube::sample_to_distance(img, shadow_.storage, near_plane, far_plane, cube::DepthRange::zero_to_one);
   }
   const uint32_t texel_bytes = stored.format == VK_FORMAT_D16_UNORM ? 2 : 4;
   std::vector<uint8_t> bytes;
+  if (shadow_.atlas) {  // in full: the summary's compute pass reads layers, an atlas's faces are tiles
+    read_atlas_faces(img, light, near_plane, far_plane);
+    cube_read_back = CubeReadBack::sampled;  // nothing more to read
+  }
   if (cube_read_back == CubeReadBack::full)
     bytes = read_image(*ctx_, stored, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, texel_bytes);
   const size_t texels = size_t(shadow_.size) * shadow_.size;

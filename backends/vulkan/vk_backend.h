@@ -68,6 +68,10 @@ class VkBackend final : public Backend {
                        bool floor)>
         record;
   };
+  Support atlas_support(const CaseConfig& c) const;
+  void record_atlas_light(VkCommandBuffer cb, uint32_t light, const gpu::ShadowFrame& frame,
+                          VkRenderPassBeginInfo rp, uint64_t& draws, bool floor);
+  void read_atlas_faces(Images& img, int light, float near_plane, float far_plane);
   ShadowDrawStep shadow_draw_step(const CaseConfig& c);
   void draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& pipelines, VkPipelineLayout layout,
                  VkDescriptorSet set, const std::vector<ObjectDraw>& list, uint64_t& draws);

@@ -238,6 +238,7 @@ void VkContext::read_properties() {
   storage_image_extended_formats_ = features.features.shaderStorageImageExtendedFormats;
   multiview_ = f11.multiview;
   layer_output_ = f12.shaderOutputLayer;
+  viewport_output_ = f12.shaderOutputViewportIndex;
   multi_viewport_ = features.features.multiViewport;
 
   uint32_t count = 0;
@@ -273,6 +274,7 @@ void VkContext::read_properties() {
 void VkContext::create_device() {
   VkPhysicalDeviceVulkan12Features e12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   e12.shaderOutputLayer = layer_output_;
+  e12.shaderOutputViewportIndex = viewport_output_;
   VkPhysicalDeviceVulkan11Features e11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &e12};
   e11.multiview = multiview_;
   VkPhysicalDeviceFeatures2 enable{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &e11};
@@ -281,7 +283,7 @@ void VkContext::create_device() {
   enable.features.imageCubeArray = image_cube_array_;
   enable.features.pipelineStatisticsQuery = pipeline_statistics_;
   enable.features.shaderStorageImageExtendedFormats = storage_image_extended_formats_;
-  enable.features.multiViewport = missing_for_swizzle_.empty();  // nv_swizzle's six viewports
+  enable.features.multiViewport = multi_viewport_;  // nv_swizzle's six viewports, an atlas's six tiles
   VkPhysicalDeviceMeshShaderFeaturesEXT mesh{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_FEATURES_EXT};
   mesh.taskShader = mesh.meshShader = VK_TRUE;
   if (mesh_shader_) {

@@ -49,6 +49,10 @@ class VkContext {
   bool has_image_cube_array() const { return image_cube_array_; }  // layout cube_array's views
   bool has_multiview() const { return multiview_; }
   bool has_layer_output() const { return layer_output_; }  // shaderOutputLayer (1.2) for vs_layer
+  // multiViewport, and shaderOutputViewportIndex (1.2): layout atlas routes a single pass's faces by
+  // viewport.
+  bool has_multi_viewport() const { return multi_viewport_; }
+  bool has_viewport_output() const { return viewport_output_; }
   bool has_pipeline_statistics() const { return pipeline_statistics_; }
   bool has_storage_image_extended_formats() const { return storage_image_extended_formats_; }
   // nv_swizzle: what the device lacks of VK_NV_viewport_swizzle, VK_NV_viewport_array2,
@@ -101,6 +105,7 @@ class VkContext {
   bool image_cube_array_ = false;
   bool multiview_ = false;
   bool layer_output_ = false;
+  bool viewport_output_ = false;
   bool pipeline_statistics_ = false;
   bool storage_image_extended_formats_ = false;  // rg32f / rg16f storage images (the moments blur)
   bool multi_viewport_ = false;

@@ -89,7 +89,7 @@ VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const Pipelin
   assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
   const uint32_t viewports =
-      desc.viewport_swizzles.empty() ? 1u : static_cast<uint32_t>(desc.viewport_swizzles.size());
+      desc.viewport_swizzles.empty() ? desc.viewports : static_cast<uint32_t>(desc.viewport_swizzles.size());
   viewport.viewportCount = viewports;
   viewport.scissorCount = viewports;
   VkPipelineViewportSwizzleStateCreateInfoNV swizzle{

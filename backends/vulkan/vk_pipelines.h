@@ -38,6 +38,7 @@ struct PipelineDesc {
   std::vector<int32_t> vertex_constants;
   // nv_swizzle: one viewport per face with its swizzle (VK_NV_viewport_swizzle); empty: one plain viewport.
   std::vector<VkViewportSwizzleNV> viewport_swizzles;
+  uint32_t viewports = 1;  // without swizzles: layout atlas's single pass sets six, one per face's tile
   VkCompareOp depth_compare = VK_COMPARE_OP_LESS;  // GREATER for nv_swizzle's reversed depth (techniques.h)
 };
 

@@ -6,15 +6,16 @@
 namespace omnishadow::vk {
 namespace {
 
-VkAttachmentDescription attachment(VkFormat format, VkAttachmentStoreOp store, VkImageLayout final_layout) {
+VkAttachmentDescription attachment(VkFormat format, VkAttachmentStoreOp store, VkImageLayout final_layout,
+                                   bool loads = false) {
   VkAttachmentDescription a{};
   a.format = format;
   a.samples = VK_SAMPLE_COUNT_1_BIT;
-  a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // every frame starts from the clear values
-  a.storeOp = store;
+  a.loadOp = loads ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;  // else: from the clear values
+  a.storeOp = loads ? VK_ATTACHMENT_STORE_OP_STORE : store;  // an atlas keeps the tiles of lights not redrawn
   a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
   a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  a.initialLayout = loads ? final_layout : VK_IMAGE_LAYOUT_UNDEFINED;
   a.finalLayout = final_layout;
   return a;
 }
@@ -143,28 +144,48 @@ static void create_shadow_framebuffers(VkContext& ctx, ShadowTargets& t, bool ha
                                                   t.size, layers * t.lights);
 }
 
+// Layout atlas: one framebuffer over the whole layer. Its render pass loads, so the images start in the
+// layouts the pass expects (their contents are each light's clears).
+static void create_atlas_framebuffer(VkContext& ctx, ShadowTargets& t, bool has_colour,
+                                     VkImageLayout colour_layout, VkImageLayout depth_layout) {
+  ctx.submit_and_wait([&](VkCommandBuffer cb) {
+    if (has_colour)
+      transition(cb, t.color, VK_IMAGE_LAYOUT_UNDEFINED, colour_layout, 0, 0,
+                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+    transition(cb, t.depth, VK_IMAGE_LAYOUT_UNDEFINED, depth_layout, 0, 0, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+               VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+  });
+  if (has_colour) t.attachment_views.push_back(create_view(ctx, t.color, VK_IMAGE_VIEW_TYPE_2D, 0, 1));
+  t.attachment_views.push_back(create_view(ctx, t.depth, VK_IMAGE_VIEW_TYPE_2D, 0, 1));
+  t.framebuffers.push_back(
+      create_framebuffer(ctx, t.render_pass, t.attachment_views, t.depth.width, t.depth.height, 1));
+}
+
 ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
   ShadowTargets t;
   t.storage = c.storage;
   t.size = static_cast<uint32_t>(layer_size(c.layout, c.cube_size));
-  // Six cube-compatible layers, or a layout's own (dual_paraboloid: two of a plain 2D array).
+  if (c.layout == Layout::atlas) t.atlas = atlas::plan_for(c);
+  // Six cube-compatible layers, or a layout's own (dual_paraboloid: two of a plain 2D array); an atlas: one.
   const uint32_t layers = static_cast<uint32_t>(traits(c.layout).geometry.layers);
-  const bool cube = layers == 6;
+  const bool cube = layers == 6 && !t.atlas;
+  const uint32_t width = t.atlas ? uint32_t(t.atlas->width) : t.size,
+                 height = t.atlas ? uint32_t(t.atlas->height) : t.size;
   t.layers = layers;
   t.lights = static_cast<uint32_t>(c.light_count);
-  const uint32_t all_layers = layers * t.lights;
+  const uint32_t all_layers = t.atlas ? 1u : layers * t.lights;
   const VkFormat colour = colour_format_of(colour_format(c.storage, c.depth_format));
   const bool has_colour = colour != VK_FORMAT_UNDEFINED, colour_checked = traits(c.storage).colour_checked;
   const bool moments = traits(c.storage).moments != MomentKind::none;
   const VkFormat depth_format = depth_format_of(c.depth_format);
   try {
     t.depth =
-        create_image(ctx, depth_format, t.size, t.size, all_layers, cube,
+        create_image(ctx, depth_format, width, height, all_layers, cube,
                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                          (colour_checked ? 0 : VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
     const VkImageUsageFlags storage_usage = moments ? VK_IMAGE_USAGE_STORAGE_BIT : 0;
     if (has_colour)
-      t.color = create_image(ctx, colour, t.size, t.size, all_layers, cube,
+      t.color = create_image(ctx, colour, width, height, all_layers, cube,
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT | storage_usage);
     if (moments)
@@ -180,14 +201,16 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
     // The moments stay in GENERAL: the blur reads and writes them as storage images, the lighting pass
     // samples them.
     std::vector<VkAttachmentDescription> attachments;
+    const bool loads = t.atlas.has_value();
+    const VkImageLayout colour_layout =
+        moments ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    const VkImageLayout depth_layout = colour_checked ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+                                                      : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     if (has_colour)
-      attachments.push_back(
-          attachment(colour, VK_ATTACHMENT_STORE_OP_STORE,
-                     moments ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+      attachments.push_back(attachment(colour, VK_ATTACHMENT_STORE_OP_STORE, colour_layout, loads));
     attachments.push_back(attachment(
         depth_format, colour_checked ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
-        colour_checked ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
-                       : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL));
+        depth_layout, loads));
     const TechniqueTraits& technique = traits(c.technique);
     const uint32_t view_mask = technique.multiview ? 0b111111u : 0u;
     t.render_pass = create_render_pass(
@@ -197,7 +220,11 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT | (moments ? VK_ACCESS_SHADER_WRITE_BIT : 0),
         view_mask);
 
-    create_shadow_framebuffers(ctx, t, has_colour, technique, c.light_grouping == LightGrouping::all_lights);
+    if (t.atlas)
+      create_atlas_framebuffer(ctx, t, has_colour, colour_layout, depth_layout);
+    else
+      create_shadow_framebuffers(ctx, t, has_colour, technique,
+                                 c.light_grouping == LightGrouping::all_lights);
   } catch (...) {
     destroy(ctx, t);
     throw;

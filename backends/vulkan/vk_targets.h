@@ -5,8 +5,10 @@
 #include <vulkan/vulkan.h>
 
 #include <array>
+#include <optional>
 #include <vector>
 
+#include "backends/common/atlas.h"
 #include "backends/common/case_config.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/vulkan/vk_resources.h"
@@ -33,6 +35,10 @@ struct ShadowTargets {
   // null.
   VkFramebuffer all_lights_framebuffer = VK_NULL_HANDLE;
   uint32_t lights = 1;
+  // Layout atlas: every light's faces are tiles of one layer (backends/common/atlas.h). The render pass then
+  // loads (each light's pass clears its own block, so the lights it skips keep their tiles) and starts and
+  // ends in the layouts the lighting pass samples; framebuffers[0] covers the whole atlas.
+  std::optional<atlas::Plan> atlas;
   const Image& stored() const { return traits(storage).colour_checked ? color : depth; }
 };
 

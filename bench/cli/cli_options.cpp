@@ -176,7 +176,8 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
       "comma list: " + valid_values<Layout>() +
           " (how the lights' depth is stored and looked up: a cube map, its six faces as a 2D array "
           "whose layer the shader picks, two paraboloids warped per vertex or four tetrahedral faces, "
-          "sized to the cube's memory, or every light's cube in one cube-map array; not given: cube, and "
+          "sized to the cube's memory, every light's cube in one cube-map array, or every light's faces as "
+          "bordered tiles of one 2D texture (atlas); not given: cube, and "
           "cube_array for a scene run with more than one point light)");
   r.add_option_function<std::string>(
        "--tessellate",

@@ -132,6 +132,16 @@ TechniqueAllowance technique_allowance(const CaseConfig& c, double face_toleranc
     a.face_tolerance = std::max(a.face_tolerance, 1e-4 * far_plane);
     a.images_may_differ = true;
   }
+  // An atlas's single pass routes each face to its tile's viewport by gl_ViewportIndex, where six_pass draws
+  // through viewport 0: another path through the viewport transform, which neither API holds invariant
+  // (GL 4.5 appendix A: different state), and a tile's scale N / 2 and offset are not the powers of two that
+  // make the transform exact. llvmpipe and lavapipe round them apart at cube 48 (0.33-0.42% of texels, 8.6e-6
+  // of a far of 12) and agree at 32 and 64. The interpolation that follows is the warped layouts', so their
+  // bound holds.
+  if (faces_by_viewport(c.layout) && traits(c.technique).passes == 1) {
+    a.face_tolerance = std::max(a.face_tolerance, 1e-4 * far_plane);
+    a.images_may_differ = true;
+  }
   if (reversed_depth_test(c)) {
     const double n = near_plane, f = far_plane;
     a.face_tolerance =

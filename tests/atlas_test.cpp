@@ -1,0 +1,122 @@
+// Layout atlas's packing (backends/common/atlas.h): every light's block inside the atlas and apart from every
+// other, each face's tile inside its block with a border all round, whatever the lights' sizes.
+
+#include "backends/common/atlas.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
+namespace omnishadow {
+namespace {
+
+struct Rect {
+  int x0, y0, x1, y1;  // half-open
+  bool overlaps(const Rect& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+};
+
+Rect block_rect(const atlas::Block& b) {
+  return {b.x, b.y, b.x + atlas::block_width(b.face_size), b.y + atlas::block_height(b.face_size)};
+}
+
+// Face f's texels with kBorder texels around them.
+Rect bordered_tile(const atlas::Block& b, int face) {
+  const atlas::Texel o = atlas::face_origin(b, face);
+  return {o.x - atlas::kBorder, o.y - atlas::kBorder, o.x + b.face_size + atlas::kBorder,
+          o.y + b.face_size + atlas::kBorder};
+}
+
+void expect_valid(const atlas::Plan& plan, const std::vector<int>& sizes) {
+  ASSERT_EQ(plan.lights.size(), sizes.size());
+  std::vector<Rect> tiles;
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    const atlas::Block& b = plan.lights[k];
+    SCOPED_TRACE("light " + std::to_string(k));
+    EXPECT_EQ(b.face_size, sizes[k]) << "each light keeps its own face size";
+    const Rect r = block_rect(b);
+    EXPECT_GE(r.x0, 0);
+    EXPECT_GE(r.y0, 0);
+    EXPECT_LE(r.x1, plan.width);
+    EXPECT_LE(r.y1, plan.height);
+    for (int f = 0; f < 6; ++f) {
+      const Rect t = bordered_tile(b, f);
+      EXPECT_TRUE(t.x0 >= r.x0 && t.y0 >= r.y0 && t.x1 <= r.x1 && t.y1 <= r.y1) << "face " << f;
+      tiles.push_back(t);
+    }
+  }
+  // No two faces' bordered tiles share a texel: a lookup clamped to its face's texel centres reads its own
+  // tile, and a LINEAR tap at the edge reaches the border, never a neighbour.
+  for (size_t i = 0; i < tiles.size(); ++i)
+    for (size_t j = i + 1; j < tiles.size(); ++j) EXPECT_FALSE(tiles[i].overlaps(tiles[j])) << i << ", " << j;
+}
+
+TEST(Atlas, EqualLightsPackSideBySideWithBorders) {
+  const std::vector<int> sizes(4, 32);
+  const atlas::Plan plan = atlas::pack(sizes);
+  expect_valid(plan, sizes);
+  EXPECT_EQ(atlas::block_width(32), 3 * 34);
+  EXPECT_EQ(atlas::block_height(32), 2 * 34);
+  // Light 0 at the origin, face 0 one border in; face 4 (+Z) in the second row's middle column.
+  EXPECT_EQ(plan.lights[0].x, 0);
+  EXPECT_EQ(plan.lights[0].y, 0);
+  EXPECT_EQ(atlas::face_origin(plan.lights[0], 0).x, 1);
+  EXPECT_EQ(atlas::face_origin(plan.lights[0], 0).y, 1);
+  EXPECT_EQ(atlas::face_origin(plan.lights[0], 4).x, 34 + 1);
+  EXPECT_EQ(atlas::face_origin(plan.lights[0], 4).y, 34 + 1);
+  // Four blocks of 102 x 68 in rows no wider than the square root of their area (about 166) plus a block.
+  EXPECT_EQ(plan.width, 2 * 102);
+  EXPECT_EQ(plan.height, 2 * 68);
+}
+
+TEST(Atlas, EachLightItsOwnSizeLargestFirst) {
+  const std::vector<int> sizes = {16, 128, 64, 16, 32, 128, 8};
+  const atlas::Plan plan = atlas::pack(sizes);
+  expect_valid(plan, sizes);
+  EXPECT_EQ(plan.lights[1].x, 0) << "the first of the largest leads the first shelf";
+  EXPECT_EQ(plan.lights[1].y, 0);
+  // Deterministic: the same sizes, the same plan.
+  const atlas::Plan again = atlas::pack(sizes);
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    EXPECT_EQ(again.lights[k].x, plan.lights[k].x);
+    EXPECT_EQ(again.lights[k].y, plan.lights[k].y);
+  }
+  // Not much wasted: the blocks fill at least half of the atlas.
+  long long used = 0;
+  for (int s : sizes) used += 1LL * atlas::block_width(s) * atlas::block_height(s);
+  EXPECT_GE(2 * used, 1LL * plan.width * plan.height);
+}
+
+TEST(Atlas, SixtyFourLightsFitTheSmallestDeviceLimitAtCube256) {
+  const std::vector<int> sizes(64, 256);
+  const atlas::Plan plan = atlas::pack(sizes);
+  expect_valid(plan, sizes);
+  EXPECT_EQ(atlas::too_large(plan, 8192, "a limit"), "");
+  const std::string why =
+      atlas::too_large(atlas::pack(std::vector<int>(64, 1024)), 16384, "GL_MAX_TEXTURE_SIZE");
+  EXPECT_NE(why.find("64 light(s)"), std::string::npos) << why;
+  EXPECT_NE(why.find("GL_MAX_TEXTURE_SIZE"), std::string::npos) << why;
+}
+
+TEST(Atlas, PlanForACaseGivesEveryLightTheCubeSize) {
+  CaseConfig c;
+  c.layout = Layout::atlas;
+  c.cube_size = 48;
+  c.light_count = 5;
+  const atlas::Plan plan = atlas::plan_for(c);
+  expect_valid(plan, std::vector<int>(5, 48));
+}
+
+TEST(Atlas, BadSizesAreRefusedByName) {
+  EXPECT_THROW(atlas::pack(std::vector<int>{}), std::invalid_argument);
+  try {
+    atlas::pack(std::vector<int>{16, 0});
+    FAIL() << "a face of 0 texels packed";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("got 0"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace omnishadow
