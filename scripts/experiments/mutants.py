@@ -41,6 +41,9 @@ RANGE = ["--scene", "hall", "--light-count", "1", "--filter", "hard,pcf_disk20"]
 # Four of the hall's lamps, each in its own layers of one texture (light k's cube k of a cube-map array, or its six
 # layers of a 2D array): every one of them is checked against its own truth.
 MANY = ["--scene", "hall", "--light-count", "4", "--layout", "cube_array,face_array", "--filter", "hard,pcf_disk20"]
+# The same lamps as tiles of one atlas, per face and in one pass routed by viewport.
+ATLAS = ["--scene", "hall", "--light-count", "4", "--layout", "atlas", "--technique", "six_pass,geometry_shader",
+         "--filter", "hard,pcf_disk20"]
 # The same lamps with every light in one pass (vs_layer), beside six_pass per light.
 ONE_PASS = MANY + ["--technique", "six_pass,vs_layer", "--light-grouping", "per_light,all_lights"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
@@ -170,7 +173,7 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("float light_shadow = in_range ? looked_up : 0.0;", "float light_shadow = looked_up;"),
      "a point light's range ignored: beyond its far the shadow factor is what the filter reads there", RANGE),
     ("light_maps_swapped", "shaders/shadow_filters.glsl",
-     replace("shadow_map, 0).x)), float(g_light)); }", "shadow_map, 0).x)), float(g_light ^ 1)); }"),
+     replace("shadow_face_size()), float(g_light)); }", "shadow_face_size()), float(g_light ^ 1)); }"),
      "the lighting pass reads light 1's cube for light 0 and light 0's for light 1 (likewise 2 and 3)", MANY),
     ("light_far_from_first", "shaders/common.glsl",
      replace("float light_far() { return point_lights[g_light].position_far.w; }",
@@ -179,6 +182,9 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("one_pass_layers_of_first_light", "shaders/shadow_depth.vert",
      replace("  gl_Layer = instance;\n", "  gl_Layer = face;\n"),
      "every light in one pass renders each light's faces into the first light's layers", ONE_PASS),
+    ("atlas_tile_off_by_one", "backends/common/atlas.cpp",
+     replace("(face / 3) * span + kBorder};", "(face / 3) * span + kBorder + 1};"),
+     "every atlas tile rendered and read back one texel up from where the lighting pass looks it up", ATLAS),
 ]
 
 
