@@ -4,6 +4,7 @@
 // image.
 
 #include <algorithm>
+#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
@@ -132,13 +133,15 @@ TechniqueAllowance technique_allowance(const CaseConfig& c, double face_toleranc
     a.face_tolerance = std::max(a.face_tolerance, 1e-4 * far_plane);
     a.images_may_differ = true;
   }
-  // An atlas's single pass routes each face to its tile's viewport by gl_ViewportIndex, where six_pass draws
-  // through viewport 0: another path through the viewport transform, which neither API holds invariant
-  // (GL 4.5 appendix A: different state), and a tile's scale N / 2 and offset are not the powers of two that
-  // make the transform exact. llvmpipe and lavapipe round them apart at cube 48 (0.33-0.42% of texels, 8.6e-6
-  // of a far of 12) and agree at 32 and 64. The interpolation that follows is the warped layouts', so their
-  // bound holds.
-  if (faces_by_viewport(c.layout) && traits(c.technique).passes == 1) {
+  // The viewport transform x_w = o + s x_ndc (s = N / 2 for a layer of N texels, o its centre: the atlas's tile
+  // offset added) is exact when s is a power of two and o an integer plus s: the product is exact, so an
+  // implementation that fuses it with the add rounds as one that does not. Otherwise it rounds once or twice
+  // depending on how a pipeline arranges it, and a single pass (a geometry stage, or a viewport the shader
+  // picks) need not arrange it as six_pass's vertex-only pipeline does: llvmpipe and lavapipe's geometry
+  // shaders store cube 48 and 96 up to 2e-5 units apart on the hall (5-6% of texels), and an atlas's vs_layer
+  // at 48 too, while every power of two agrees bit for bit. The interpolation that follows is the warped
+  // layouts', so their bound holds.
+  if (traits(c.technique).passes == 1 && !std::has_single_bit(unsigned(layer_size(c.layout, c.cube_size)))) {
     a.face_tolerance = std::max(a.face_tolerance, 1e-4 * far_plane);
     a.images_may_differ = true;
   }
@@ -256,10 +259,12 @@ void check_against_reference(CaseFindings& r, const Images& images, const Images
                  images.cube_size, far_plane * 0.05, false, ctx);
   }
 
+  // Where the stored values may differ, the images may as across backends: a moments filter's shadow factor moves
+  // by a few ulps with them, a lookup at a tie flips.
   CheckResult shadow_check{"shadow_factor", ref_id};
-  shadow_check.tolerance = 0.0;
+  shadow_check.tolerance = allowance.images_may_differ ? options.cross_shadow_tolerance : 0.0;
   if (allowance.images_may_differ) shadow_check.max_percent = options.cross_max_percent;
-  shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, 0.0);
+  shadow_check.difference = compare_values(images.shadow_factor, ref.shadow_factor, shadow_check.tolerance);
   record_check(r, shadow_check, images.shadow_factor, ref.shadow_factor, ref.shadow_factor, images.width,
                images.height, 1.0, true, ctx);
 
