@@ -27,6 +27,9 @@
 #              one pass (vs_layer --light-grouping all_lights), GL and Vulkan,
 #              cube 256, with --check: PASS when no check fails (quality is a figure: --max-error 100); the
 #              many-light table (scripts/analysis/many_lights_table.py); the run is cut at 7 minutes (LIGHTS_BUDGET_S)
+#   atlas      layout atlas on the GPU: hall at 4, 16 and 64 lights, atlas beside cube_array, six_pass, geometry_shader
+#              and vs_layer (faces routed by viewport), pcf_disk20, cube 256, GL and Vulkan, with --check: PASS when
+#              no check fails; the many-light table; cut at 4 minutes (ATLAS_BUDGET_S)
 #   suite      ctest as scripts/test.sh runs it (labels extended and memory left out), cut at SUITE_BUDGET_S (300):
 #              PASS when none failed (the skipped listed); about 2 minutes on an H100 with 16 cores
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
@@ -357,6 +360,18 @@ step_lights() {
   judge_and_tabulate "$out/lights/run" many_lights_table.py "$out/lights/many-lights.md"
 }
 
+step_atlas() {
+  note "## atlas"
+  timeout "${ATLAS_BUDGET_S:-240}" "$bin" run --backend gl,vulkan --scene hall --light-count 4,16,64 \
+    --layout atlas,cube_array --technique six_pass,geometry_shader,vs_layer --filter pcf_disk20 \
+    --cube 256 --check --max-error 100 --benchmark_repetitions=3 --images none --out "$out/atlas/run" \
+    >"$out/atlas/run.log" 2>&1
+  local code=$?
+  [ "$code" -eq 124 ] && note "- atlas run --check: cut at ATLAS_BUDGET_S (the cases so far kept)" ||
+    exit_note "$code" "atlas run --check"
+  judge_and_tabulate "$out/atlas/run" many_lights_table.py "$out/atlas/many-lights.md"
+}
+
 step_tutorial() {
   note "## tutorial"
   /usr/bin/python3 "$here/scripts/experiments/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
@@ -408,7 +423,7 @@ step_precision() {
   fi
 }
 
-steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights suite"
+steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas suite"
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] ($steps)" >&2; exit 2; }
 for step in "$@"; do
   case " $steps " in

@@ -730,8 +730,10 @@ TEST_F(CliRun, TetrahedralPassesItsChecksAndItsExactTexelTruth) {
 }
 
 // Layout atlas: four hall lamps as tiles of one texture pass every check light by light (texels, lookups, the
-// other API, six_pass within the atlas) on both APIs, per face and in one pass routed by viewport; each
-// light's lookups read its own tiles (the lookup check replays them against the tiles read back).
+// moments, the other API, six_pass within the atlas) on both APIs, per face and in one pass routed by
+// viewport; each light's lookups read its own tiles (the lookup check replays them against the tiles read
+// back) and vsm's blur stays in the light's tiles (the moments check). Cube 48: no power of two, the single
+// pass's bound.
 TEST_F(CliRun, AtlasPassesEveryCheckForEveryLightOnBothApis) {
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
@@ -739,20 +741,22 @@ TEST_F(CliRun, AtlasPassesEveryCheckForEveryLightOnBothApis) {
   Outcome o =
       run("run --backend " + backends +
           " --scene hall --light-count 1,4 --cube 48 --frame 200x150 --layout atlas"
-          " --technique six_pass,geometry_shader,vs_layer --filter hard,pcf_disk20 --frames 1 --warmup 0"
+          " --technique six_pass,geometry_shader,vs_layer --filter hard,pcf_disk20,vsm --frames 1 --warmup 0"
           " --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
-  int ok = 0, lookups = 0;
+  int ok = 0, lookups = 0, moments = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     EXPECT_EQ(c["axes"]["layout"], "atlas");
     EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
     ok += c["status"] == "ok";
     if (c.contains("lookups") && c["lookups"].value("pixels", 0) > 0) ++lookups;
+    if (c.contains("moments") && c["moments"].value("values", 0) > 0) ++moments;
   }
-  EXPECT_EQ(ok, backends == "gl,vulkan" ? 24 : 12);
+  EXPECT_EQ(ok, backends == "gl,vulkan" ? 36 : 18);
   EXPECT_GT(lookups, 0) << "the lookup check ran on atlas cases";
+  EXPECT_GT(moments, 0) << "the moments check ran on atlas cases";
 }
 
 // its file stem; the loader's time is in the results and the summary.

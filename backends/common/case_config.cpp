@@ -169,10 +169,6 @@ Support common_support(const CaseConfig& c) {
                   technique + " routes by layer or view"};
     if (c.light_grouping == LightGrouping::all_lights)
       return {false, "every light in one pass into an atlas needs 6 viewports a light (16 on most devices)"};
-    if (traits(c.storage).moments != MomentKind::none)
-      return {false,
-              "atlas: the moments blur runs over a light's six layers; over an atlas's tiles it is not "
-              "built yet"};
   }
   if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
     return {false, "hw_compare2x2 compares against linear distance / far (storage linear_depth); " +

@@ -554,6 +554,9 @@ void GlBackend::blur_moments(int light) {
   glUseProgram(blur_program_);
   glUniform1i(0, shadow_.size);
   glUniform1i(2, light * shadow_.layers);
+  const atlas::Block* block = shadow_.atlas ? &shadow_.atlas->lights[size_t(light)] : nullptr;
+  glUniform2i(3, block ? block->x : 0, block ? block->y : 0);  // layout atlas: the light's tiles on layer 0
+  glUniform1i(4, block ? atlas::tile_span(block->face_size) : 0);
   const GLuint groups = static_cast<GLuint>((shadow_.size + 7) / 8);
   const GLuint from[2] = {shadow_.colour_layers, shadow_.blur_layers},
                to[2] = {shadow_.blur_layers, shadow_.colour_layers};
@@ -704,6 +707,10 @@ void GlBackend::report_light(int light) {
   glFinish();
 }
 
+static GLenum moments_format(int channels) {
+  return channels == 1 ? GL_RED : channels == 2 ? GL_RG : GL_RGBA;
+}
+
 // Layout atlas: light k's six tiles, read as the faces of a cube (row 0 of a tile is t = 0, as a face's).
 void GlBackend::read_atlas_faces(int light, float near_plane, float far_plane, Images& img) {
   const atlas::Block& block = shadow_.atlas->lights[size_t(light)];
@@ -720,6 +727,15 @@ void GlBackend::read_atlas_faces(int light, float near_plane, float far_plane, I
     for (size_t i = 0; i < texels; ++i)
       face[i] = cube::stored_to_distance(shadow_.storage, face[i], int(i % size_t(n)), int(i / size_t(n)), n,
                                          near_plane, far_plane, cube::DepthRange::minus_one_to_one);
+  }
+  if (!shadow_.colour_layers) return;
+  img.moment_channels = traits(shadow_.storage).colour_channels;
+  for (int f = 0; f < cube::kFaceCount; ++f) {
+    const atlas::Texel o = atlas::face_origin(block, f);
+    auto& face = img.moments[size_t(f)];
+    face.resize(texels * size_t(img.moment_channels));
+    glGetTextureSubImage(shadow_.colour, 0, o.x, o.y, 0, n, n, 1, moments_format(img.moment_channels),
+                         GL_FLOAT, static_cast<GLsizei>(face.size() * sizeof(float)), face.data());
   }
 }
 
@@ -778,10 +794,8 @@ Images GlBackend::read_back_images(CubeReadBack cube_read_back, int light) {
       auto& face = img.moments[static_cast<size_t>(f)];
       face.resize(texels * size_t(img.moment_channels));
       glGetTextureSubImage(shadow_.colour, 0, 0, 0, first_layer + f, shadow_.size, shadow_.size, 1,
-                           img.moment_channels == 1   ? GL_RED
-                           : img.moment_channels == 2 ? GL_RG
-                                                      : GL_RGBA,
-                           GL_FLOAT, static_cast<GLsizei>(face.size() * sizeof(float)), face.data());
+                           moments_format(img.moment_channels), GL_FLOAT,
+                           static_cast<GLsizei>(face.size() * sizeof(float)), face.data());
     }
   }
   GLenum error = glGetError();

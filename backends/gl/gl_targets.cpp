@@ -199,8 +199,13 @@ static ShadowTargets create_atlas_targets(const ShadowShape& shape) {
       colour_internal_format(omnishadow::colour_format(shape.storage, shape.depth_format));
   t.depth = t.depth_array = layer(depth_internal);
   if (colour_internal != GL_NONE) t.colour = t.colour_array = layer(colour_internal);
-  t.stored = t.stored_array = t.stored_layers = t.sampled = t.sampled_layers =
-      traits(shape.storage).colour_checked ? t.colour : t.depth;
+  t.stored = t.stored_array = t.stored_layers = traits(shape.storage).colour_checked ? t.colour : t.depth;
+  t.sampled = t.sampled_layers = t.stored;
+  if (traits(shape.storage).moments != MomentKind::none) {  // the blur's images: the layer and one beside it
+    t.sampled = t.sampled_layers = t.colour_layers = t.colour;
+    t.colour_format = colour_internal;
+    t.blur_layers = layer(colour_internal);
+  }
   check_allocation("the shadow atlas");
   GLuint fbo = 0;
   glCreateFramebuffers(1, &fbo);

@@ -658,7 +658,9 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::LightFrames& frame,
   // The blurs after every render pass: each binds the moments of every light (one storage view), whose
   // layers must all have left UNDEFINED.
   for (uint32_t k = 0; k < frame.lights.size() && blur_ && !floor; ++k)
-    if (!frame.lights[k].reuse_cube) blur_->record(cb, shadow_.size, k * shadow_.layers);
+    if (!frame.lights[k].reuse_cube)
+      blur_->record(cb, shadow_.size, k * shadow_.layers,
+                    shadow_.atlas ? &shadow_.atlas->lights[k] : nullptr);
   end_pass(cb, 0, statistics);
 }
 
@@ -712,20 +714,19 @@ void VkBackend::record_atlas_light(VkCommandBuffer cb, uint32_t light, const gpu
   const VkRect2D area{
       {block.x, block.y},
       {uint32_t(atlas::block_width(block.face_size)), uint32_t(atlas::block_height(block.face_size))}};
+  // The clear values record_light_shadow chose (colour first where there is one), as attachment clears.
+  std::vector<VkClearAttachment> clears;
+  for (uint32_t i = 0; i < rp.clearValueCount; ++i) {
+    const bool colour = i + 1 < rp.clearValueCount;
+    clears.push_back({colour ? VkImageAspectFlags(VK_IMAGE_ASPECT_COLOR_BIT)
+                             : VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT),
+                      0, rp.pClearValues[i]});
+  }
   rp.framebuffer = shadow_.framebuffers[0];
   rp.renderArea = area;
   rp.clearValueCount = 0;
   rp.pClearValues = nullptr;
   vkCmdBeginRenderPass(cb, &rp, VK_SUBPASS_CONTENTS_INLINE);
-  std::vector<VkClearAttachment> clears;
-  if (traits(shadow_.storage).colour_channels > 0) {
-    VkClearAttachment colour{VK_IMAGE_ASPECT_COLOR_BIT, 0, {}};
-    colour.clearValue.color = {{FLT_MAX, FLT_MAX, FLT_MAX, FLT_MAX}};  // r32f: "nothing here"
-    clears.push_back(colour);
-  }
-  VkClearAttachment depth{VK_IMAGE_ASPECT_DEPTH_BIT, 0, {}};
-  depth.clearValue.depthStencil = {reversed_depth_test(*config_) ? 0.0f : 1.0f, 0};
-  clears.push_back(depth);
   const VkClearRect rect{area, 0, 1};
   vkCmdClearAttachments(cb, uint32_t(clears.size()), clears.data(), 1, &rect);
   auto tile = [&](int face, VkViewport& v, VkRect2D& s) {
@@ -891,6 +892,17 @@ void VkBackend::read_moments(Images& img, int light) {
     std::vector<float>& face = img.moments[f];
     face.resize(values);
     const uint8_t* src = bytes.data() + (size_t(light) * shadow_.layers + f) * values * (half ? 2 : 4);
+    std::vector<uint8_t> tile;  // layout atlas: the face's rows cut from the layer
+    if (shadow_.atlas) {
+      const atlas::Block& block = shadow_.atlas->lights[size_t(light)];
+      const atlas::Texel o = atlas::face_origin(block, int(f));
+      const size_t row = size_t(block.face_size) * texel_bytes;
+      tile.resize(row * size_t(block.face_size));
+      for (int y = 0; y < block.face_size; ++y)
+        std::memcpy(tile.data() + size_t(y) * row,
+                    bytes.data() + (size_t(o.y + y) * shadow_.color.width + size_t(o.x)) * texel_bytes, row);
+      src = tile.data();
+    }
     for (size_t i = 0; i < values; ++i) {
       if (half) {
         uint16_t h;
@@ -970,6 +982,7 @@ Images VkBackend::read_back_images(CubeReadBack cube_read_back, int light) {
   std::vector<uint8_t> bytes;
   if (shadow_.atlas) {  // in full: the summary's compute pass reads layers, an atlas's faces are tiles
     read_atlas_faces(img, light, near_plane, far_plane);
+    if (blur_) read_moments(img, light);
     cube_read_back = CubeReadBack::sampled;  // nothing more to read
   }
   if (cube_read_back == CubeReadBack::full)

@@ -23,7 +23,7 @@ MomentsBlur::MomentsBlur(VkContext& ctx, ShaderModules& modules, ColourFormat fo
     compute_ = create_compute_pipeline(
         ctx_, modules, gpu::variant_key("moments_blur.comp", gpu::moments_blur_defines(format)),
         {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-        3 * sizeof(int32_t));  // size, axis, first layer
+        6 * sizeof(int32_t));  // size, axis, first layer, an atlas tile's span, the block's x and y
     allocate_sets(ctx_, {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}}, compute_.set_layout, 2, pool_, sets_);
     views_[0] = create_view(ctx_, moments, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, moments.layers);
     views_[1] = create_view(ctx_, intermediate, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, intermediate.layers);
@@ -61,7 +61,8 @@ void MomentsBlur::release() {
   destroy(ctx_, compute_);
 }
 
-void MomentsBlur::record(VkCommandBuffer cb, uint32_t size, uint32_t first_layer) const {
+void MomentsBlur::record(VkCommandBuffer cb, uint32_t size, uint32_t first_layer,
+                         const atlas::Block* block) const {
   // The shadow pass's render pass made its moments visible to compute reads (its external dependency); the
   // intermediate's last readers and writers were the previous frame's dispatches.
   compute_barrier(
@@ -72,7 +73,9 @@ void MomentsBlur::record(VkCommandBuffer cb, uint32_t size, uint32_t first_layer
   for (int axis = 0; axis < 2; ++axis) {
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.layout, 0, 1, &sets_[axis], 0,
                             nullptr);
-    const int32_t params[3] = {int32_t(size), axis, int32_t(first_layer)};
+    const int32_t params[6] = {int32_t(size), axis, int32_t(first_layer),
+                               block ? atlas::tile_span(block->face_size) : 0, block ? block->x : 0,
+                               block ? block->y : 0};
     vkCmdPushConstants(cb, compute_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
     vkCmdDispatch(cb, groups, groups, 6);
     if (axis == 0)

@@ -6,6 +6,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "backends/common/atlas.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/vulkan/vk_context.h"
 #include "backends/vulkan/vk_pipelines.h"
@@ -25,7 +26,9 @@ class MomentsBlur {
 
   // After a light's shadow render passes: both passes over its cube (layers first_layer..+5) with their
   // barriers; the blurred moments are then visible to the lighting pass's fragment shader and to transfers.
-  void record(VkCommandBuffer cb, uint32_t size, uint32_t first_layer) const;
+  // Layout atlas: `block` is the light's (its faces are tiles of layer 0; first_layer unused).
+  void record(VkCommandBuffer cb, uint32_t size, uint32_t first_layer,
+              const atlas::Block* block = nullptr) const;
 
  private:
   void release();

@@ -189,7 +189,7 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT | storage_usage);
     if (moments)
-      t.blur = create_image(ctx, colour, t.size, t.size, all_layers, false, VK_IMAGE_USAGE_STORAGE_BIT);
+      t.blur = create_image(ctx, colour, width, height, all_layers, false, VK_IMAGE_USAGE_STORAGE_BIT);
     // Layouts other than the cube sample their layers as a 2D array (the shader picks the layer).
     const LayoutLookup lookup = traits(c.layout).lookup;
     t.sampled_view = create_view(ctx, moments ? t.color : t.stored(),
