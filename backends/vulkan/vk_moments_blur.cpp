@@ -73,9 +73,9 @@ void MomentsBlur::record(VkCommandBuffer cb, uint32_t size, uint32_t first_layer
   for (int axis = 0; axis < 2; ++axis) {
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, compute_.layout, 0, 1, &sets_[axis], 0,
                             nullptr);
-    const int32_t params[6] = {int32_t(size), axis, int32_t(first_layer),
-                               block ? atlas::tile_span(block->face_size) : 0, block ? block->x : 0,
-                               block ? block->y : 0};
+    const int32_t params[6] = {int32_t(size),        axis,
+                               int32_t(first_layer), block ? atlas::tile_span(block->face_size) : 0,
+                               block ? block->x : 0, block ? block->y : 0};
     vkCmdPushConstants(cb, compute_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, params);
     vkCmdDispatch(cb, groups, groups, 6);
     if (axis == 0)

@@ -133,8 +133,8 @@ TechniqueAllowance technique_allowance(const CaseConfig& c, double face_toleranc
     a.face_tolerance = std::max(a.face_tolerance, 1e-4 * far_plane);
     a.images_may_differ = true;
   }
-  // The viewport transform x_w = o + s x_ndc (s = N / 2 for a layer of N texels, o its centre: the atlas's tile
-  // offset added) is exact when s is a power of two and o an integer plus s: the product is exact, so an
+  // The viewport transform x_w = o + s x_ndc (s = N / 2 for a layer of N texels, o its centre: the atlas's
+  // tile offset added) is exact when s is a power of two and o an integer plus s: the product is exact, so an
   // implementation that fuses it with the add rounds as one that does not. Otherwise it rounds once or twice
   // depending on how a pipeline arranges it, and a single pass (a geometry stage, or a viewport the shader
   // picks) need not arrange it as six_pass's vertex-only pipeline does: llvmpipe and lavapipe's geometry
@@ -259,8 +259,8 @@ void check_against_reference(CaseFindings& r, const Images& images, const Images
                  images.cube_size, far_plane * 0.05, false, ctx);
   }
 
-  // Where the stored values may differ, the images may as across backends: a moments filter's shadow factor moves
-  // by a few ulps with them, a lookup at a tie flips.
+  // Where the stored values may differ, the images may as across backends: a moments filter's shadow factor
+  // moves by a few ulps with them, a lookup at a tie flips.
   CheckResult shadow_check{"shadow_factor", ref_id};
   shadow_check.tolerance = allowance.images_may_differ ? options.cross_shadow_tolerance : 0.0;
   if (allowance.images_may_differ) shadow_check.max_percent = options.cross_max_percent;
