@@ -99,13 +99,42 @@ TEST(Atlas, SixtyFourLightsFitTheSmallestDeviceLimitAtCube256) {
   EXPECT_NE(why.find("GL_MAX_TEXTURE_SIZE"), std::string::npos) << why;
 }
 
-TEST(Atlas, PlanForACaseGivesEveryLightTheCubeSize) {
+TEST(Atlas, UniformTilesGiveEveryLightTheCubeSize) {
   CaseConfig c;
   c.layout = Layout::atlas;
   c.cube_size = 48;
   c.light_count = 5;
-  const atlas::Plan plan = atlas::plan_for(c);
-  expect_valid(plan, std::vector<int>(5, 48));
+  expect_valid(atlas::uniform_plan(c), std::vector<int>(5, 48));
+  scene::Scene s;
+  s.point_lights.resize(5);  // the lights' places do not matter to uniform tiles
+  EXPECT_EQ(atlas::face_sizes(c, s), std::vector<int>(5, 48));
+}
+
+// by_distance: --cube halved round(log2(distance / range)) times, at most three, none within range.
+TEST(Atlas, TilesByDistanceHalveWithTheLightsShareOfTheView) {
+  CaseConfig c;
+  c.layout = Layout::atlas;
+  c.atlas_tiles = AtlasTiles::by_distance;
+  c.cube_size = 256;
+  c.light_count = 6;
+  scene::Scene s;
+  s.point_lights.clear();  // a default scene has a light of its own
+  s.camera.position = glm::vec3(0.0f);
+  // Ranges 10; distances 5 (inside), 14 (ratio 1.4: round(0.49) = 0), 15 (1.5: 1), 40 (4: 2), 80 (8: 3),
+  // 1000.
+  for (float d : {5.0f, 14.0f, 15.0f, 40.0f, 80.0f, 1000.0f}) {
+    scene::PointLight l;
+    l.far_plane = 10.0f;
+    l.path.base = glm::vec3(d, 0.0f, 0.0f);
+    s.point_lights.push_back(l);
+  }
+  EXPECT_EQ(atlas::face_sizes(c, s), (std::vector<int>{256, 256, 128, 64, 32, 32}));
+  expect_valid(atlas::plan_for(c, s), atlas::face_sizes(c, s));
+  const atlas::Plan uniform = atlas::uniform_plan(c);
+  const atlas::Plan sized = atlas::plan_for(c, s);
+  EXPECT_LT(1LL * sized.width * sized.height, 1LL * uniform.width * uniform.height);
+  c.light_count = 7;
+  EXPECT_THROW(atlas::face_sizes(c, s), std::logic_error) << "more lights than the scene has";
 }
 
 TEST(Atlas, BadSizesAreRefusedByName) {

@@ -232,6 +232,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --light-count 2000 --out @OUT@", "--light-count: 2000 is more than 1024 lights"},
         BadInput{"run --light-grouping per_face --out @OUT@",
                  "--light-grouping: unknown light grouping 'per_face'"},
+        BadInput{"run --atlas-tiles by_area --out @OUT@", "--atlas-tiles: unknown atlas tiling 'by_area'"},
         BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},
         BadInput{"run --case-timeout-s nan --out @OUT@", "--case-timeout-s: 'nan' is not a finite number"},
         BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},

@@ -246,8 +246,9 @@ TEST(CaseFindings, StatusIsTheWorstAndNoReasonIsLost) {
   EXPECT_FALSE(fails_run(Status::interrupted));  // the run itself exits 130/143
 }
 
-// A case of eight lights reads back light 0 and every second light after it, joins each one's findings and
-// reports under its name, and counts the shadow plan of every light.
+// A case of eight lights reads back light 0 and every second light after it, and the light farthest from the
+// camera for its range (the hall's eighth: the one sizing by screen coverage shrinks most), joins each one's
+// findings and reports under its name, and counts the shadow plan of every light.
 TEST_F(HarnessTest, ManyLightCasesCheckEveryStrideThLightAndPlanEveryLight) {
   CaseResult r;
   r.config.scene = "hall";
@@ -255,10 +256,17 @@ TEST_F(HarnessTest, ManyLightCasesCheckEveryStrideThLightAndPlanEveryLight) {
   r.config.layout = Layout::cube_array;
   r.config.light_count = 8;
   harness_->prepare(r);
-  EXPECT_EQ(backend_->reported, std::vector<int>({2, 4, 6})) << r.reason;
+  const scene::Scene& lamps = harness_->scene("hall");
+  auto view_share = [&](int k) {  // range over distance from the camera at frame 0
+    const scene::PointLight& l = lamps.point_lights[size_t(k)];
+    return l.far_plane / glm::length(l.path.at(0) - lamps.camera.position);
+  };
+  for (int k = 0; k < 7; ++k) EXPECT_GT(view_share(k), view_share(7)) << "light " << k;
+  EXPECT_EQ(backend_->reported, std::vector<int>({2, 4, 6, 7})) << r.reason;
   EXPECT_EQ(r.light_stride, 2);
-  ASSERT_EQ(r.per_light.size(), 4u) << r.reason;
+  ASSERT_EQ(r.per_light.size(), 5u) << r.reason;
   for (size_t i = 0; i < 4; ++i) EXPECT_EQ(r.per_light[i].light, int(2 * i));
+  EXPECT_EQ(r.per_light[4].light, 7);
   int pairs = 0;
   const scene::Scene& hall = harness_->scene("hall");
   for (int k = 0; k < 8; ++k) {

@@ -264,6 +264,30 @@ TEST(Matrix, LayoutsExpandIntoTheIdAfterTheDepthFormat) {
   EXPECT_NE(m.find("--layout: unknown layout 'octahedral' (valid: cube, face_array"), std::string::npos) << m;
 }
 
+// --atlas-tiles multiplies the atlas's cases only: another layout keeps one case, every light at --cube.
+TEST(Matrix, AtlasTilesMultiplyOnlyTheAtlasCases) {
+  MatrixSpec spec;
+  spec.scenes = {"hall"};
+  spec.cube_sizes = {64};
+  spec.filters = {Filter::hard};
+  spec.layouts = parse_enum_list<Layout>("cube_array,atlas", "--layout");
+  spec.layouts_given = true;
+  spec.atlas_tiles = parse_enum_list<AtlasTiles>("uniform,by_distance", "--atlas-tiles");
+  spec.light_counts = {4};
+  spec.techniques = {Technique::six_pass};
+  auto cases = expand(spec, kSizes);
+  ASSERT_EQ(cases.size(), 3u);
+  EXPECT_EQ(cases[0].layout, Layout::cube_array);
+  EXPECT_EQ(cases[0].atlas_tiles, AtlasTiles::uniform);
+  EXPECT_EQ(cases[1].id(), "gl/hall/c64/f800x600/six_pass/hard/linear_depth/d32f/atlas/l4");
+  EXPECT_EQ(cases[2].id(), "gl/hall/c64/f800x600/six_pass/hard/linear_depth/d32f/atlas/l4/tiles_by_distance");
+  spec.atlas_tiles = {AtlasTiles::by_distance};  // the only value: cube_array's case stays, uniform
+  cases = expand(spec, kSizes);
+  ASSERT_EQ(cases.size(), 2u);
+  EXPECT_EQ(cases[0].atlas_tiles, AtlasTiles::uniform);
+  EXPECT_EQ(cases[1].atlas_tiles, AtlasTiles::by_distance);
+}
+
 // A layout's lookup is a variant of the lighting shader: face_array's define is in its defines and the build
 // compiles its SPIR-V for every storage and filter the cube has (the Vulkan backend finds it by the same
 // key).

@@ -61,9 +61,26 @@ Plan pack(std::span<const int> face_sizes) {
   return best;
 }
 
-Plan plan_for(const CaseConfig& config) {
-  const std::vector<int> sizes(static_cast<size_t>(std::max(config.light_count, 1)), config.cube_size);
-  return pack(sizes);
+std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene) {
+  std::vector<int> sizes(static_cast<size_t>(std::max(config.light_count, 1)), config.cube_size);
+  if (config.atlas_tiles == AtlasTiles::uniform) return sizes;
+  if (scene.point_lights.size() < sizes.size())
+    throw std::logic_error("atlas sizes for " + std::to_string(sizes.size()) + " lights of a scene with " +
+                           std::to_string(scene.point_lights.size()));
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    const scene::PointLight& light = scene.point_lights[k];
+    const double ratio =
+        double(glm::length(light.path.at(0) - scene.camera.position)) / double(light.far_plane);
+    const int halvings = ratio <= 1.0 ? 0 : std::clamp(int(std::lround(std::log2(ratio))), 0, kMaxHalvings);
+    sizes[k] = std::max(1, config.cube_size >> halvings);
+  }
+  return sizes;
+}
+
+Plan plan_for(const CaseConfig& config, const scene::Scene& scene) { return pack(face_sizes(config, scene)); }
+
+Plan uniform_plan(const CaseConfig& config) {
+  return pack(std::vector<int>(static_cast<size_t>(std::max(config.light_count, 1)), config.cube_size));
 }
 
 std::string too_large(const Plan& plan, int max_size, const std::string& limit) {

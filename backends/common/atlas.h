@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "backends/common/case_config.h"
+#include "scenes/scene.h"
 
 namespace omnishadow::atlas {
 
@@ -48,8 +49,18 @@ Texel face_origin(const Block& block, int face);
 // always give the same plan. Throws std::invalid_argument for an empty list or a size below 1.
 Plan pack(std::span<const int> face_sizes);
 
-// The case's atlas: light k's faces at CaseConfig::cube_size (every light alike). Layout atlas only.
-Plan plan_for(const CaseConfig& config);
+// Each light's face size for the case (CaseConfig::atlas_tiles): --cube for every light (uniform), or by
+// distance: --cube halved round(log2(d / range)) times, at most kMaxHalvings, where d is the light's distance
+// from the camera at frame 0 (none within its range). A light's range sphere subtends about range / d of the
+// view, so its texels a side follow its share of the screen, as engines size atlas slots by screen coverage.
+inline constexpr int kMaxHalvings = 3;
+std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene);
+// The case's atlas (layout atlas): the lights' face_sizes packed. `scene` holds at least light_count point
+// lights.
+Plan plan_for(const CaseConfig& config, const scene::Scene& scene);
+// Every light at --cube: the plan by_distance never exceeds (what a device's limit is checked against before
+// a scene is loaded).
+Plan uniform_plan(const CaseConfig& config);
 
 // Why a plan does not fit a device's 2D textures of at most `max_size` texels a side (`limit`: the API's name
 // for it); empty when it fits.

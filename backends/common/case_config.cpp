@@ -35,6 +35,8 @@ constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
 constexpr Names<LightGrouping, 2> kLightGroupings = {
     {{LightGrouping::per_light, "per_light"}, {LightGrouping::all_lights, "all_lights"}}};
+constexpr Names<AtlasTiles, 2> kAtlasTiles = {
+    {{AtlasTiles::uniform, "uniform"}, {AtlasTiles::by_distance, "by_distance"}}};
 
 template <typename E>
 struct Table;
@@ -68,6 +70,11 @@ struct Table<LightGrouping> {
   static constexpr auto& names = kLightGroupings;
   static constexpr const char* what = "light grouping";
 };
+template <>
+struct Table<AtlasTiles> {
+  static constexpr auto& names = kAtlasTiles;
+  static constexpr const char* what = "atlas tiling";
+};
 
 template <typename E>
 std::string_view name_of(E v) {
@@ -84,6 +91,7 @@ std::string_view to_string(Storage v) { return name_of(v); }
 std::string_view to_string(DepthFormat v) { return name_of(v); }
 std::string_view to_string(Layout v) { return name_of(v); }
 std::string_view to_string(LightGrouping v) { return name_of(v); }
+std::string_view to_string(AtlasTiles v) { return name_of(v); }
 
 template <typename E>
 std::string valid_values() {
@@ -117,6 +125,7 @@ OMNISHADOW_INSTANTIATE(Storage)
 OMNISHADOW_INSTANTIATE(DepthFormat)
 OMNISHADOW_INSTANTIATE(Layout)
 OMNISHADOW_INSTANTIATE(LightGrouping)
+OMNISHADOW_INSTANTIATE(AtlasTiles)
 #undef OMNISHADOW_INSTANTIATE
 
 namespace {
@@ -169,6 +178,10 @@ Support common_support(const CaseConfig& c) {
                   technique + " routes by layer or view"};
     if (c.light_grouping == LightGrouping::all_lights)
       return {false, "every light in one pass into an atlas needs 6 viewports a light (16 on most devices)"};
+  } else if (c.atlas_tiles != AtlasTiles::uniform) {
+    return {false, "--atlas-tiles " + std::string(to_string(c.atlas_tiles)) +
+                       " sizes an atlas's tiles; layout " + std::string(to_string(c.layout)) +
+                       " gives every light --cube"};
   }
   if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
     return {false, "hw_compare2x2 compares against linear distance / far (storage linear_depth); " +
@@ -238,6 +251,7 @@ std::string CaseConfig::id() const {
   if (tessellation != 1) id += "/t" + std::to_string(tessellation);
   if (light_count != 1) id += "/l" + std::to_string(light_count);
   if (light_grouping == LightGrouping::all_lights) id += "/all_lights";
+  if (atlas_tiles != AtlasTiles::uniform) id += "/tiles_" + std::string(to_string(atlas_tiles));
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";

@@ -86,12 +86,21 @@ enum class LightGrouping {
   all_lights,
 };
 
+// How layout atlas sizes each light's tiles (backends/common/atlas.h): every light at --cube, or by the share
+// of the view its range covers (from the camera and the lights at frame 0: a light's range sphere subtends an
+// angle proportional to range / distance, so a light twice as far for its range gets half the texels a side).
+enum class AtlasTiles {
+  uniform,
+  by_distance,
+};
+
 std::string_view to_string(Technique v);
 std::string_view to_string(Filter v);
 std::string_view to_string(Storage v);
 std::string_view to_string(DepthFormat v);
 std::string_view to_string(Layout v);
 std::string_view to_string(LightGrouping v);
+std::string_view to_string(AtlasTiles v);
 
 // Parse a spelling; throws std::invalid_argument("unknown technique 'x' (valid: six_pass, ...)").
 template <typename E>
@@ -206,6 +215,8 @@ struct CaseConfig {
   int light_count = 1;
   // --light-grouping; in the id as /all_lights for every light in one pass, nothing per light.
   LightGrouping light_grouping = LightGrouping::per_light;
+  // --atlas-tiles (layout atlas only); in the id as /tiles_by_distance, nothing for uniform.
+  AtlasTiles atlas_tiles = AtlasTiles::uniform;
   Optimizations optimizations;
   Remedies remedies;
   MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default

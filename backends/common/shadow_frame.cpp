@@ -45,8 +45,9 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
   // Every light in one pass renders every light or none: one that moved makes the others render again.
   const bool all_reuse =
       std::all_of(f.lights.begin(), f.lights.end(), [](const ShadowFrame& s) { return s.reuse_cube; });
-  const std::optional<atlas::Plan> tiles =
-      config.layout == Layout::atlas ? std::optional<atlas::Plan>(atlas::plan_for(config)) : std::nullopt;
+  const std::optional<atlas::Plan> tiles = config.layout == Layout::atlas
+                                               ? std::optional<atlas::Plan>(atlas::plan_for(config, scene))
+                                               : std::nullopt;
   for (size_t k = 0; k < planners_.size(); ++k) {
     if (config.light_grouping == LightGrouping::all_lights && !all_reuse && f.lights[k].reuse_cube) {
       scene::FocusLight focus(scene, static_cast<int>(k));

@@ -214,8 +214,8 @@ Support GlBackend::supports(const CaseConfig& c) const {
     return s;
   if (Support s = all_lights_support(c); !s.ok) return s;
   if (c.layout == Layout::atlas)
-    if (std::string why = atlas::too_large(atlas::plan_for(c), std::stoi(info_.extra.at("max_2d_size")),
-                                           "GL_MAX_TEXTURE_SIZE");
+    if (std::string why = atlas::too_large(scene_ ? atlas::plan_for(c, *scene_) : atlas::uniform_plan(c),
+                                           std::stoi(info_.extra.at("max_2d_size")), "GL_MAX_TEXTURE_SIZE");
         !why.empty())
       return {false, why};
   if (const int layer = layer_size(c.layout, c.cube_size); layer > info_.max_cube_size)
@@ -328,11 +328,11 @@ void GlBackend::configure_case(const CaseConfig& c) {
   if (traits(c.filter).prefilter == Prefilter::separable_blur)
     blur_program_ = program({{GL_COMPUTE_SHADER, "moments_blur.comp"}},
                             gpu::moments_blur_defines(colour_format(c.storage, c.depth_format)));
-  shadow_ =
-      create_shadow_targets({layer_size(c.layout, c.cube_size), c.storage, c.depth_format,
-                             traits(c.technique).multiview, traits(c.layout).geometry.layers, c.light_count,
-                             traits(c.layout).lookup == LayoutLookup::hardware_cube_array,
-                             c.layout == Layout::atlas ? std::optional(atlas::plan_for(c)) : std::nullopt});
+  shadow_ = create_shadow_targets(
+      {layer_size(c.layout, c.cube_size), c.storage, c.depth_format, traits(c.technique).multiview,
+       traits(c.layout).geometry.layers, c.light_count,
+       traits(c.layout).lookup == LayoutLookup::hardware_cube_array,
+       c.layout == Layout::atlas ? std::optional(atlas::plan_for(c, *scene_)) : std::nullopt});
   // One uniform block per light (the shadow pass binds light k's), and the lighting pass's light list.
   frame_stride_ = (GLsizeiptr(sizeof(gpu::FrameUniforms)) + uniform_alignment_ - 1) / uniform_alignment_ *
                   uniform_alignment_;
@@ -552,12 +552,13 @@ void GlBackend::set_face_swizzles(bool on) {
 // then along t back. Image stores are incoherent: each reader waits on a barrier.
 void GlBackend::blur_moments(int light) {
   glUseProgram(blur_program_);
-  glUniform1i(0, shadow_.size);
-  glUniform1i(2, light * shadow_.layers);
   const atlas::Block* block = shadow_.atlas ? &shadow_.atlas->lights[size_t(light)] : nullptr;
+  const int size = block ? block->face_size : shadow_.size;  // an atlas's lights have their own sizes
+  glUniform1i(0, size);
+  glUniform1i(2, light * shadow_.layers);
   glUniform2i(3, block ? block->x : 0, block ? block->y : 0);  // layout atlas: the light's tiles on layer 0
   glUniform1i(4, block ? atlas::tile_span(block->face_size) : 0);
-  const GLuint groups = static_cast<GLuint>((shadow_.size + 7) / 8);
+  const GLuint groups = static_cast<GLuint>((size + 7) / 8);
   const GLuint from[2] = {shadow_.colour_layers, shadow_.blur_layers},
                to[2] = {shadow_.blur_layers, shadow_.colour_layers};
   for (int axis = 0; axis < 2; ++axis) {

@@ -294,7 +294,7 @@ Support VkBackend::atlas_support(const CaseConfig& c) const {
       int(std::min({limits.maxImageDimension2D, limits.maxFramebufferWidth, limits.maxFramebufferHeight,
                     limits.maxViewportDimensions[0], limits.maxViewportDimensions[1]}));
   if (std::string why =
-          atlas::too_large(atlas::plan_for(c), max_size,
+          atlas::too_large(scene_ ? atlas::plan_for(c, *scene_) : atlas::uniform_plan(c), max_size,
                            "maxImageDimension2D, maxFramebufferWidth/Height, maxViewportDimensions");
       !why.empty())
     return {false, why};
@@ -411,7 +411,7 @@ void VkBackend::configure_case(const CaseConfig& c) {
   vkDeviceWaitIdle(ctx_->device());
   release_case();
   try {
-    shadow_ = create_shadow_targets(*ctx_, c);
+    shadow_ = create_shadow_targets(*ctx_, c, *scene_);
     for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check})
       lighting_[size_t(v)] =
           create_lighting_targets(*ctx_, static_cast<uint32_t>(c.width), static_cast<uint32_t>(c.height),
@@ -658,9 +658,10 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::LightFrames& frame,
   // The blurs after every render pass: each binds the moments of every light (one storage view), whose
   // layers must all have left UNDEFINED.
   for (uint32_t k = 0; k < frame.lights.size() && blur_ && !floor; ++k)
-    if (!frame.lights[k].reuse_cube)
-      blur_->record(cb, shadow_.size, k * shadow_.layers,
-                    shadow_.atlas ? &shadow_.atlas->lights[k] : nullptr);
+    if (!frame.lights[k].reuse_cube) {
+      const atlas::Block* block = shadow_.atlas ? &shadow_.atlas->lights[k] : nullptr;  // its own size
+      blur_->record(cb, block ? uint32_t(block->face_size) : shadow_.size, k * shadow_.layers, block);
+    }
   end_pass(cb, 0, statistics);
 }
 
@@ -886,7 +887,8 @@ void VkBackend::read_moments(Images& img, int light) {
   const bool half = is_half(colour_format(shadow_.storage, config_->depth_format));
   const uint32_t texel_bytes = uint32_t(channels) * (half ? 2u : 4u);
   const std::vector<uint8_t> bytes = read_image(*ctx_, shadow_.color, VK_IMAGE_LAYOUT_GENERAL, texel_bytes);
-  const size_t values = size_t(shadow_.size) * shadow_.size * size_t(channels);
+  const size_t edge = shadow_.atlas ? size_t(shadow_.atlas->lights[size_t(light)].face_size) : shadow_.size;
+  const size_t values = edge * edge * size_t(channels);
   img.moment_channels = channels;
   for (size_t f = 0; f < 6; ++f) {
     std::vector<float>& face = img.moments[f];

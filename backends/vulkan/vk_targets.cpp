@@ -161,11 +161,11 @@ static void create_atlas_framebuffer(VkContext& ctx, ShadowTargets& t, bool has_
       create_framebuffer(ctx, t.render_pass, t.attachment_views, t.depth.width, t.depth.height, 1));
 }
 
-ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c) {
+ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c, const scene::Scene& scene) {
   ShadowTargets t;
   t.storage = c.storage;
   t.size = static_cast<uint32_t>(layer_size(c.layout, c.cube_size));
-  if (c.layout == Layout::atlas) t.atlas = atlas::plan_for(c);
+  if (c.layout == Layout::atlas) t.atlas = atlas::plan_for(c, scene);
   // Six cube-compatible layers, or a layout's own (dual_paraboloid: two of a plain 2D array); an atlas: one.
   const uint32_t layers = static_cast<uint32_t>(traits(c.layout).geometry.layers);
   const bool cube = layers == 6 && !t.atlas;

@@ -73,7 +73,8 @@ VkFormat depth_format_of(DepthFormat format);
 VkFormat colour_format_of(ColourFormat format);  // VK_FORMAT_UNDEFINED for none
 // After the shadow pass the stored cube is in SHADER_READ_ONLY_OPTIMAL; the lighting targets end in
 // TRANSFER_SRC_OPTIMAL, ready for read-back.
-ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& config);
+// `scene`: the loaded scene (layout atlas sizes each light's tiles from it).
+ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& config, const scene::Scene& scene);
 void destroy(VkContext& ctx, ShadowTargets& t);
 LightingTargets create_lighting_targets(VkContext& ctx, uint32_t width, uint32_t height, bool check_outputs);
 void destroy(VkContext& ctx, LightingTargets& t);

@@ -143,6 +143,13 @@ void add_light_axes(CLI::App& r, MatrixSpec& m) {
           " (how the point lights' shadow passes are grouped: each light in its own passes, or every "
           "light in one pass, vs_layer's instance per light and face; ids end in /all_lights for the "
           "second)");
+  list_option(
+      r, "--atlas-tiles", m.atlas_tiles, [](const std::string& s) { return parse_enum<AtlasTiles>(s); },
+      named,
+      "comma list: " + valid_values<AtlasTiles>() +
+          " (layout atlas: every light's faces at --cube, or --cube halved once per doubling of the "
+          "light's distance from the camera over its range, at most three times; ids end in "
+          "/tiles_by_distance for the second; other layouts ignore it)");
 }
 
 // The axes that say how it is drawn: technique, filter, storage, layout and what tunes them.

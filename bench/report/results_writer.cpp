@@ -73,6 +73,7 @@ json axes_to_json(const CaseConfig& c) {
                {"tessellation", c.tessellation},
                {"light_count", c.light_count},
                {"light_grouping", to_string(c.light_grouping)},
+               {"atlas_tiles", to_string(c.atlas_tiles)},
                {"optimizations", to_string(c.optimizations)},
                {"remedies", to_string(c.remedies)},
                {"moments_tuning", to_string(c.moments)},
@@ -123,11 +124,20 @@ json checks_to_json(const std::vector<CheckResult>& checks) {
 
 // What the shadow pass was asked to do at the check frame, and the depth precision that follows from far.
 json plan_to_json(const CaseResult& r) {
-  json j = {{"object_face_pairs", r.object_face_pairs},
-            {"empty_faces", r.empty_faces},
-            {"light_far", r.light_far},
-            {"storage_bytes", shadow_storage_bytes(r.config)},
-            {"texels", shadow_texels(r.config)}};
+  json j = {
+      {"object_face_pairs", r.object_face_pairs},
+      {"empty_faces", r.empty_faces},
+      {"light_far", r.light_far},
+      {"storage_bytes", r.shadow_storage_bytes ? r.shadow_storage_bytes : shadow_storage_bytes(r.config)},
+      {"texels", r.shadow_texels ? r.shadow_texels : shadow_texels(r.config)}};
+  if (r.atlas) {
+    std::vector<int> sizes;
+    for (const atlas::Block& b : r.atlas->lights) sizes.push_back(b.face_size);
+    j["atlas"] = {{"width", r.atlas->width},
+                  {"height", r.atlas->height},
+                  {"border", atlas::kBorder},
+                  {"face_sizes", sizes}};
+  }
   if (traits(r.config.storage).checked == DistanceEncoding::linear_depth) {
     // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).
     const int bits = r.config.depth_format == DepthFormat::d16 ? 16 : 24;
@@ -140,10 +150,12 @@ json accuracy_to_json(const Accuracy& a);
 
 // A many-light case's checked lights, each against its own truth; the totals beside pool them.
 json per_light_to_json(const CaseResult& r) {
-  json lights = {{"checked", "light 0 and every " + std::to_string(r.light_stride) +
-                                 "th after it (light_stride); accuracy above pools their pixels"},
-                 {"light_stride", r.light_stride},
-                 {"lights", json::array()}};
+  json lights = {
+      {"checked", "light 0 and every " + std::to_string(r.light_stride) + "th after it (light_stride)" +
+                      (r.light_stride > 1 ? ", and the light farthest from the camera for its range" : "") +
+                      "; accuracy above pools their pixels"},
+      {"light_stride", r.light_stride},
+      {"lights", json::array()}};
   if (r.lit_psnr_every_light_db)  // null: identical to the frame lit with every light's exact visibility
     lights["lit_psnr_every_light_db"] =
         *r.lit_psnr_every_light_db < 0 ? json(nullptr) : json(*r.lit_psnr_every_light_db);

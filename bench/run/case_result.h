@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "backends/backend.h"
+#include "backends/common/atlas.h"
 #include "bench/run/device_state.h"
 #include "bench/run/timing_stats.h"
 #include "bench/truth/findings.h"
@@ -55,6 +56,10 @@ struct CaseResult : CaseFindings {
   std::optional<double>
       flicker_mean_abs;       // --stability: mean |change| of the shadow factor over covered pixels
   int object_face_pairs = 0;  // object x face draws the plan asks for (six_pass draws per frame)
+  // The shadow storage as allocated for the case's scene (memory_budget.h shadow_texels); 0 before the plan.
+  uint64_t shadow_texels = 0, shadow_storage_bytes = 0;
+  // Layout atlas: its size and each light's face size (backends/common/atlas.h), as allocated.
+  std::optional<atlas::Plan> atlas;
   // The device's clocks, temperature, power and throttling before and after each repetition's frames
   // (bench/run/device_state.h), and where they came from.
   std::vector<DeviceState> device_states;

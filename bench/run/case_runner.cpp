@@ -150,6 +150,9 @@ void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
   // Summed over the case's lights, each planned as the backend plans it (its far: light 0's as read back, the
   // others' their own or fitted as make_frame_uniforms fits them).
   scene::Scene& sc = const_cast<scene::Scene&>(scene_of(r.config));  // not a const object: focus only
+  r.shadow_texels = shadow_texels(r.config, &sc);
+  r.shadow_storage_bytes = shadow_storage_bytes(r.config, &sc);
+  if (r.config.layout == Layout::atlas) r.atlas = atlas::plan_for(r.config, sc);
   for (int k = 0; k < (sc.has_point_light() ? r.config.light_count : 1); ++k) {
     scene::FocusLight focus(sc, k);
     const glm::vec3 light = sc.light().path.at(options_.check_frame);
@@ -175,7 +178,8 @@ static std::string floor_key(const CaseConfig& c) {
          std::to_string(c.width) + "x" + std::to_string(c.height) + "/" +
          std::string(to_string(c.technique)) + "/" + std::string(to_string(c.storage)) + "/" +
          std::string(to_string(c.depth_format)) + "/l" + std::to_string(c.light_count) + "/" +
-         std::string(to_string(c.light_grouping));
+         std::string(to_string(c.light_grouping)) +
+         (c.atlas_tiles == AtlasTiles::uniform ? "" : "/tiles_" + std::string(to_string(c.atlas_tiles)));
 }
 
 void Harness::measure_floor(CaseResult& r, Backend& b) {
@@ -233,7 +237,7 @@ void Harness::prepare(CaseResult& r) {
     std::vector<std::pair<int, Images>> others;
     r.light_stride = checked_light_stride(r.config.light_count);
     step("read_back", [&] {
-      for (int k : checked_lights(r.config.light_count))
+      for (int k : lights_to_check(r.config))
         if (k > 0) others.emplace_back(k, b.read_back(cube_read_back_for(r.config), k));
     });
     if (options_.stability) measure_flicker(r, b, images);
@@ -352,6 +356,21 @@ void Harness::check_light(CaseResult& r, Images& images, int light, bool is_refe
   });
 }
 
+std::vector<int> Harness::lights_to_check(const CaseConfig& c) {
+  std::vector<int> lights = checked_lights(c.light_count);
+  const scene::Scene& s = scene_of(c);
+  if (c.light_count <= kCheckedLights || int(s.point_lights.size()) < c.light_count) return lights;
+  int farthest = 0;
+  double most = -1.0;
+  for (int k = 0; k < c.light_count; ++k) {
+    const scene::PointLight& l = s.point_lights[size_t(k)];
+    const double ratio = double(glm::length(l.path.at(0) - s.camera.position)) / double(l.far_plane);
+    if (ratio > most) most = ratio, farthest = k;
+  }
+  if (std::find(lights.begin(), lights.end(), farthest) == lights.end()) lights.push_back(farthest);
+  return lights;
+}
+
 // The six_pass rendering of the case's group (rendered now if six_pass is not in the matrix or ran in another
 // shard), and both cubes read in full when their face hashes differ, for the checks to compare.
 void Harness::check_against_six_pass(CaseResult& r, Images& images, int light) {
@@ -360,8 +379,7 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images, int light) {
   if (!references_.count(light)) {  // every checked light's at once: one check frame
     Backend& b = activate(ref_config);
     b.render(options_.check_frame, FrameKind::check);
-    for (int k : checked_lights(ref_config.light_count))
-      references_[k] = b.read_back(cube_read_back_for(ref_config), k);
+    for (int k : lights_to_check(ref_config)) references_[k] = b.read_back(cube_read_back_for(ref_config), k);
     reference_key_ = group_key(r.config);
     activate(r.config);  // leave the backend on the case being measured
   }

@@ -49,6 +49,11 @@ class Harness {
   const scene::Scene& scene_of(const CaseConfig& c) {
     return scene(c.scene, c.remedies.rebase_origin, c.tessellation);
   }
+  // The point lights a case's checks read: light 0 and every stride-th (checked_lights), and where not every
+  // light is checked, the one farthest from the camera for its range (at frame 0) too: the light that sizing
+  // by screen coverage (--atlas-tiles by_distance) shrinks most, so that every layout's accuracy sees it
+  // alike.
+  std::vector<int> lights_to_check(const CaseConfig& c);
   // Makes `config` the backend's current case (loading its scene first if needed).
   Backend& activate(const CaseConfig& config);
   // The untimed part of a case. Never throws: failures become the result's status and reason.

@@ -109,6 +109,13 @@ std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& ba
   times(cases, spec.optimizations, [](CaseConfig& c, const Optimizations& v) { c.optimizations = v; });
   times(cases, spec.techniques, [](CaseConfig& c, Technique v) { c.technique = v; });
   times(cases, spec.light_groupings, [](CaseConfig& c, LightGrouping v) { c.light_grouping = v; });
+  // Tile sizes are the atlas's own: the other layouts keep one case (every light at --cube).
+  times(cases, spec.atlas_tiles, [](CaseConfig& c, AtlasTiles v) { c.atlas_tiles = v; });
+  std::erase_if(cases, [&](const CaseConfig& c) {
+    return c.layout != Layout::atlas && c.atlas_tiles != spec.atlas_tiles.front();
+  });
+  for (CaseConfig& c : cases)
+    if (c.layout != Layout::atlas) c.atlas_tiles = AtlasTiles::uniform;
   times(cases, spec.injected_work, [&](CaseConfig& c, int v) {
     c.injected_work = v;
     if (spec.injected_work.size() > 1) c.experiment = "inj" + std::to_string(v);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "backends/common/atlas.h"
 #include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 
@@ -53,13 +54,17 @@ std::string format_bytes(uint64_t bytes) {
   return buf;
 }
 
-uint64_t shadow_texels(const CaseConfig& c) {
+uint64_t shadow_texels(const CaseConfig& c, const scene::Scene* scene) {
+  if (c.layout == Layout::atlas) {
+    const atlas::Plan plan = scene ? atlas::plan_for(c, *scene) : atlas::uniform_plan(c);
+    return uint64_t(plan.width) * uint64_t(plan.height);
+  }
   const uint64_t edge = uint64_t(layer_size(c.layout, c.cube_size));
   return uint64_t(traits(c.layout).geometry.layers) * edge * edge * uint64_t(c.light_count);
 }
 
-uint64_t shadow_storage_bytes(const CaseConfig& c) {
-  const uint64_t texels = shadow_texels(c);
+uint64_t shadow_storage_bytes(const CaseConfig& c, const scene::Scene* scene) {
+  const uint64_t texels = shadow_texels(c, scene);
   const uint64_t colour = uint64_t(colour_format_bytes(colour_format(c.storage, c.depth_format)));
   const uint64_t colour_cubes = traits(c.filter).prefilter == Prefilter::separable_blur ? 2 : 1;
   return texels * (depth_bytes(c.depth_format) + colour * colour_cubes);

@@ -19,9 +19,11 @@ struct MemoryNeed {
 // The point lights' shadow storage on the device: the depth cube, the colour cube beside it (r32f distances,
 // moments) and the blur's intermediate for a moments filter, for each of the case's lights. The memory column
 // of the filter table. Texels of the stored image: the layout's layers x size^2 per light (the equal-memory
-// axis of layouts), times the light count.
-uint64_t shadow_texels(const CaseConfig& config);
-uint64_t shadow_storage_bytes(const CaseConfig& config);
+// axis of layouts), times the light count; for layout atlas, the atlas's width x height (borders and packing
+// included), its tiles sized from `scene` where given (--atlas-tiles by_distance), else every light at --cube
+// (an upper bound).
+uint64_t shadow_texels(const CaseConfig& config, const scene::Scene* scene = nullptr);
+uint64_t shadow_storage_bytes(const CaseConfig& config, const scene::Scene* scene = nullptr);
 MemoryNeed estimate_case_memory(const CaseConfig& config, CubeReadBack cube = CubeReadBack::full);
 
 struct MemoryAvailable {
