@@ -16,7 +16,8 @@ layout(std140, binding = 0) uniform FrameUniforms {
   vec4 map_light[4];       // xyz: spot position, or unit vector towards a directional light; w: 1 spot, 2 dir.
   vec4 map_color[4];       // rgb; w: spot near plane
   vec4 map_range[4];       // x: spot far plane
-  vec4 lights_info;        // x: number of map lights; y: 1 when the scene has a point light (a cube)
+  vec4 lights_info;        // x: number of map lights; y: 1 when the scene has a point light (a cube); z: the light
+                           // the check variant reports; w: the case's point lights (the list's length)
   vec4 moments_knobs;      // the moments filters' tuning (MomentsTuning): x = bleed reduction a (0: none);
                            // y = what z = distance / far is multiplied by before its moments (1, or far: world
                            // units); z = the moments format's unit roundoff (2^-24 float, 2^-11 half)

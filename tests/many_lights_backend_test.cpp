@@ -134,8 +134,9 @@ void expect_within_far_bound(const Images& got, const Images& want, const std::s
   EXPECT_LE(double(differ), 0.001 * double(got.shadow_factor.size())) << what;
 }
 
-// The single-pass techniques render every light's cube as six_pass does, light by light, and so does vs_layer
-// with every light in one pass (an instance per light and face); in an atlas, where a single pass routes each
+// The single-pass techniques render every light's cube as six_pass does, light by light, and so do vs_layer
+// and the geometry shader with every light in one pass (an instance per light and face; invocations routing
+// each triangle to the faces of every light it reaches); in an atlas, where a single pass routes each
 // face to its tile by viewport, within the bound above.
 TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
   backend_->load(hall_);
@@ -153,11 +154,11 @@ TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
     std::vector<Images> expected;
     for (int k = 0; k < 4; ++k) expected.push_back(backend_->read_back(CubeReadBack::full, k));
     int compared = 0;
-    CaseConfig one_pass = lamps(Technique::vs_layer);
-    one_pass.light_grouping = LightGrouping::all_lights;
+    CaseConfig one_pass = lamps(Technique::vs_layer), one_gs_pass = lamps(Technique::geometry_shader);
+    one_pass.light_grouping = one_gs_pass.light_grouping = LightGrouping::all_lights;
     for (const CaseConfig& c :
          {lamps(Technique::geometry_shader), lamps(Technique::geometry_shader_instanced),
-          lamps(Technique::vs_layer), one_pass}) {
+          lamps(Technique::vs_layer), one_pass, one_gs_pass}) {
       if (!backend_->supports(c).ok) continue;
       backend_->configure(c);
       backend_->render(3, FrameKind::check);
@@ -177,6 +178,8 @@ TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
     if (layout == Layout::cube_array) {
       EXPECT_EQ(backend_->supports(one_pass).ok, backend_->supports(lamps(Technique::vs_layer)).ok)
           << "every light in one pass wherever vs_layer renders: " << backend_->supports(one_pass).reason;
+      EXPECT_EQ(backend_->supports(one_gs_pass).ok, backend_->supports(lamps(Technique::geometry_shader)).ok)
+          << "and wherever the geometry shader renders: " << backend_->supports(one_gs_pass).reason;
     }
   }
 }

@@ -152,6 +152,53 @@ Support moments_tuning_support(Filter filter, const MomentsTuning& t) {
                 name};
   return {};
 }
+// Layout atlas routes faces by viewport; --atlas-tiles belongs to it alone.
+Support atlas_support(const CaseConfig& c) {
+  if (c.layout == Layout::atlas) {
+    const std::string technique(to_string(c.technique));
+    if (c.technique != Technique::six_pass && c.technique != Technique::geometry_shader &&
+        c.technique != Technique::geometry_shader_instanced && c.technique != Technique::vs_layer)
+      return {false,
+              "atlas routes each face to its tile by viewport (one layer): six_pass, geometry_shader, "
+              "geometry_shader_instanced and vs_layer do; " +
+                  technique + " routes by layer or view"};
+    if (c.light_grouping == LightGrouping::all_lights)
+      return {false, "every light in one pass into an atlas needs 6 viewports a light (16 on most devices)"};
+  } else if (c.atlas_tiles != AtlasTiles::uniform) {
+    return {false, "--atlas-tiles " + std::string(to_string(c.atlas_tiles)) +
+                       " sizes an atlas's tiles; layout " + std::string(to_string(c.layout)) +
+                       " gives every light --cube"};
+  }
+  return {};
+}
+
+// Every light in one pass: vs_layer's instances or the geometry shader's invocations.
+Support all_lights_support(const CaseConfig& c) {
+  if (c.light_grouping == LightGrouping::all_lights) {
+    if (c.technique != Technique::vs_layer && c.technique != Technique::geometry_shader)
+      return {false,
+              "every light in one pass is built for vs_layer (an instance per light and face) and "
+              "geometry_shader (32 invocations, each routing a triangle to two lights' faces); " +
+                  std::string(to_string(c.technique)) + " renders per light"};
+    if (c.technique == Technique::geometry_shader && c.light_count > kAllLightsGeometryMaxLights)
+      return {false, "every light in one geometry shader pass reaches " +
+                         std::to_string(kAllLightsGeometryMaxLights) +
+                         " lights (32 invocations, the least every device allows, of two lights each), not " +
+                         std::to_string(c.light_count)};
+    if (c.optimizations.face_culling)
+      return {
+          false,
+          c.technique == Technique::geometry_shader
+              ? "face culling with every light in one pass: the geometry shader culls per light and face "
+                "already"
+              : "face culling with every light in one pass: the per-object masks cover one light's faces"};
+    if (c.moments.world_units)
+      return {false,
+              "moments in world units with every light in one pass: one clear value for every light's far"};
+  }
+  return {};
+}
+
 }  // namespace
 
 Support common_support(const CaseConfig& c) {
@@ -168,21 +215,7 @@ Support common_support(const CaseConfig& c) {
       return {false, "face culling: the plans cull against cube faces' frusta, not hemispheres"};
     if (c.lookup_perturb_texels != 0.0f) return {false, "--lookup-perturb moves cube lookups only"};
   }
-  if (c.layout == Layout::atlas) {
-    const std::string technique(to_string(c.technique));
-    if (c.technique != Technique::six_pass && c.technique != Technique::geometry_shader &&
-        c.technique != Technique::geometry_shader_instanced && c.technique != Technique::vs_layer)
-      return {false,
-              "atlas routes each face to its tile by viewport (one layer): six_pass, geometry_shader, "
-              "geometry_shader_instanced and vs_layer do; " +
-                  technique + " routes by layer or view"};
-    if (c.light_grouping == LightGrouping::all_lights)
-      return {false, "every light in one pass into an atlas needs 6 viewports a light (16 on most devices)"};
-  } else if (c.atlas_tiles != AtlasTiles::uniform) {
-    return {false, "--atlas-tiles " + std::string(to_string(c.atlas_tiles)) +
-                       " sizes an atlas's tiles; layout " + std::string(to_string(c.layout)) +
-                       " gives every light --cube"};
-  }
+  if (Support s = atlas_support(c); !s.ok) return s;
   if (c.filter == Filter::hw_compare2x2 && c.storage != Storage::linear_depth)
     return {false, "hw_compare2x2 compares against linear distance / far (storage linear_depth); " +
                        std::string(to_string(c.storage)) +
@@ -203,17 +236,8 @@ Support common_support(const CaseConfig& c) {
   if (c.cube_size < 1 || c.width < 1 || c.height < 1)
     return {false, "cube and frame sizes must be at least 1"};
   if (c.light_count < 1) return {false, "the light count must be at least 1"};
-  if (c.light_grouping == LightGrouping::all_lights) {
-    if (c.technique != Technique::vs_layer)
-      return {false, "every light in one pass is built for vs_layer (an instance per light and face); " +
-                         std::string(to_string(c.technique)) + " renders per light"};
-    if (c.optimizations.face_culling)
-      return {false,
-              "face culling with every light in one pass: the per-object masks cover one light's faces"};
-    if (c.moments.world_units)
-      return {false,
-              "moments in world units with every light in one pass: one clear value for every light's far"};
-  }
+  if (Support s = all_lights_support(c); !s.ok) return s;
+
   if (c.light_count > 1 && c.layout == Layout::cube)
     return {false,
             std::to_string(c.light_count) +

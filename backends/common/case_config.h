@@ -85,6 +85,9 @@ enum class LightGrouping {
   per_light,
   all_lights,
 };
+// geometry_shader with every light in one pass: shaders/shadow_depth.geom's 32 invocations (the least every
+// device allows) of two lights each.
+inline constexpr int kAllLightsGeometryMaxLights = 64;
 
 // How layout atlas sizes each light's tiles (backends/common/atlas.h): every light at --cube, or by the share
 // of the view its range covers (from the camera and the lights at frame 0: a light's range sphere subtends an

@@ -53,8 +53,9 @@ FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const Ca
     u.map_color[i] = glm::vec4(m.color, m.near_plane);
     u.map_range[i] = glm::vec4(m.far_plane, 0.0f, 0.0f, 0.0f);
   }
-  u.lights_info = glm::vec4(static_cast<float>(scene.map_lights.size()),
-                            scene.has_point_light() ? 1.0f : 0.0f, 0.0f, 0.0f);
+  u.lights_info =
+      glm::vec4(static_cast<float>(scene.map_lights.size()), scene.has_point_light() ? 1.0f : 0.0f, 0.0f,
+                static_cast<float>(config.light_count));
   return u;
 }
 

@@ -25,7 +25,8 @@ struct FrameUniforms {
   std::array<glm::vec4, 4> map_color{};  // rgb; w: spot near plane
   std::array<glm::vec4, 4> map_range{};  // x: spot far plane
   glm::vec4 lights_info{0.0f};    // x: number of map lights, y: 1 when the scene has a point light, z: the
-                                  // point light whose shadow factor the check variant reports
+                                  // point light whose shadow factor the check variant reports, w: the
+                                  // case's point lights (CaseConfig::light_count)
   glm::vec4 moments_knobs{0.0f};  // x: bleed reduction, y: distance scale, z: the format's rounding unit
 };
 static_assert(sizeof(FrameUniforms) == 11 * 64 + 18 * 16, "std140 layout of FrameUniforms");

@@ -40,6 +40,7 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   if (t.stages != ShadowStages::vertex_geometry) return {};
   std::vector<std::string> d{"TECHNIQUE_GEOMETRY_SHADER"};
   if (t.gs_instanced) d.push_back("GS_INSTANCED");
+  if (c.light_grouping == LightGrouping::all_lights) d.push_back("ALL_LIGHTS");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
   if (const LayoutTraits& layout = traits(c.layout); layout.geometry.map != TexelMap::cube_faces) {

@@ -20,9 +20,12 @@ ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDr
     return out;
   }
   std::vector<ObjectDraw>& draws = out.draws[0];
-  // Every light in one pass (vs_layer): each object once, an instance per light and face.
+  // Every light in one pass: vs_layer draws each object once with an instance per light and face; the
+  // geometry shader's invocations route it to every light (one instance).
   const uint32_t lights =
-      config.light_grouping == LightGrouping::all_lights ? uint32_t(config.light_count) : 1u;
+      config.light_grouping == LightGrouping::all_lights && t.stages == ShadowStages::vertex
+          ? uint32_t(config.light_count)
+          : 1u;
   if (!cull) {
     for (uint32_t i = 0; i < object_count; ++i) draws.push_back({i, t.instances * lights, 0});
     return out;

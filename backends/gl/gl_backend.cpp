@@ -109,6 +109,7 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
   info_.extra["max_array_layers"] = std::to_string(max_layers);
   glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &max_vertex_storage_blocks_);
+  glGetIntegerv(GL_MAX_GEOMETRY_SHADER_STORAGE_BLOCKS, &max_geometry_storage_blocks_);
   glGetIntegerv(GL_MAX_FRAMEBUFFER_LAYERS, &max_framebuffer_layers_);
   GLint max_texture = 0, max_renderbuffer = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
@@ -229,12 +230,12 @@ Support GlBackend::supports(const CaseConfig& c) const {
 // (GL 4.5 may expose none there) and renders every light's layers into one layered framebuffer.
 Support GlBackend::all_lights_support(const CaseConfig& c) const {
   if (c.light_grouping != LightGrouping::all_lights) return {};
-  if (max_vertex_storage_blocks_ < 1)
-    return {
-        false,
-        "every light in one pass reads the lights in the vertex stage: GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS "
-        "is 0 on " +
-            info_.renderer};
+  const bool geometry = c.technique == Technique::geometry_shader;
+  if ((geometry ? max_geometry_storage_blocks_ : max_vertex_storage_blocks_) < 1)
+    return {false, std::string("every light in one pass reads the lights in the ") +
+                       (geometry ? "geometry stage: GL_MAX_GEOMETRY_SHADER_STORAGE_BLOCKS"
+                                 : "vertex stage: GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS") +
+                       " is 0 on " + info_.renderer};
   if (const int layers = traits(c.layout).geometry.layers * c.light_count; layers > max_framebuffer_layers_)
     return {false, "every light in one pass renders " + std::to_string(layers) + " layers, above " +
                        "GL_MAX_FRAMEBUFFER_LAYERS " + std::to_string(max_framebuffer_layers_)};

@@ -105,6 +105,7 @@ class GlBackend final : public Backend {
   bool has_pipeline_statistics_ = false;
   GLint uniform_alignment_ = 256;
   GLint max_vertex_storage_blocks_ = 0;
+  GLint max_geometry_storage_blocks_ = 0;  // every light in one pass with the geometry shader reads the list
   GLint max_framebuffer_layers_ = 0;
 
   GLuint vertex_buffer_ = 0;

@@ -130,8 +130,7 @@ void VkBackend::create_layouts() {
   // with every light in one pass it reads every light's view-projections from the light list.
   VkDescriptorSetLayoutBinding shadow_bindings[2] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, geometry_stages, nullptr},
-      {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
-       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+      {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, geometry_stages, nullptr}};
   VkDescriptorSetLayoutBinding bindings[4] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, geometry_stages, nullptr},
       {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
