@@ -24,7 +24,8 @@ GROUPING = {"six_pass": "per face (6K passes)"}  # every other technique renders
 
 def groups_of(cases):
     """{(backend, scene, cube, filter): {(layout, technique, lights): case}} of the timed cases; a technique with
-    every light in one pass or with optimisations is its own row ("vs_layer all_lights", "six_pass +cull")."""
+    every light in one pass or with optimisations is its own row ("vs_layer all_lights", "six_pass +cull"), and so
+    is an atlas whose tiles are sized by distance ("atlas tiles_by_distance")."""
     groups = {}
     for c in cases:
         a = c.get("axes", {})
@@ -33,7 +34,10 @@ def groups_of(cases):
         key = (a["backend"], a["scene"], a["cube_size"], a["filter"])
         technique = (a["technique"] + ("" if a.get("light_grouping", "per_light") == "per_light" else " all_lights") +
                      ("" if a.get("optimizations", "none") == "none" else " +" + a["optimizations"]))
-        groups.setdefault(key, {})[(a.get("layout", "cube"), technique, a.get("light_count", 1))] = c
+        # An atlas sized by distance is its own layout row beside the uniform one (--atlas-tiles).
+        layout = a.get("layout", "cube") + ("" if a.get("atlas_tiles", "uniform") == "uniform"
+                                            else " tiles_" + a["atlas_tiles"])
+        groups.setdefault(key, {})[(layout, technique, a.get("light_count", 1))] = c
     return groups
 
 
@@ -83,7 +87,8 @@ def render(doc):
           f"`{doc['omnishadow'].get('command_line', '')}`). Per layout, technique (its grouping of the shadow "
           "passes) and light count K: the median wall time of the shadow pass, the lighting pass and the frame in "
           "ms, with the time per light in brackets; misclassified: pixels whose shadow factor is on the other side "
-          "of 0.5 from exact visibility, pooled over the lights checked (light 0 and every stride-th after it).\n"]
+          "of 0.5 from exact visibility, pooled over the lights checked (light 0, every stride-th after it, and "
+          "above four lights the farthest from the camera for its range).\n"]
     for (backend, scene, cube, filt), group in sorted(groups.items()):
         md.append(f"\n## {backend} / {scene} / cube {cube} / {filt}"
                   f"{' (' + device[backend] + ')' if device.get(backend) else ''}\n")
