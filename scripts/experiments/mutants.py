@@ -46,6 +46,8 @@ ATLAS = ["--scene", "hall", "--light-count", "4", "--layout", "atlas", "--techni
          "--filter", "hard,pcf_disk20"]
 # The same lamps with every light in one pass (vs_layer), beside six_pass per light.
 ONE_PASS = MANY + ["--technique", "six_pass,vs_layer", "--light-grouping", "per_light,all_lights"]
+# The same with the geometry shader's one pass (invocations per light).
+GS_ONE_PASS = MANY + ["--technique", "six_pass,geometry_shader", "--light-grouping", "per_light,all_lights"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -182,6 +184,9 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("one_pass_layers_of_first_light", "shaders/shadow_depth.vert",
      replace("  gl_Layer = instance;\n", "  gl_Layer = face;\n"),
      "every light in one pass renders each light's faces into the first light's layers", ONE_PASS),
+    ("gs_one_pass_layers_of_first_light", "shaders/shadow_depth.geom",
+     replace("    gl_Layer = 6 * light + face;", "    gl_Layer = face;"),
+     "the geometry shader's one pass renders each light's faces into the first light's layers", GS_ONE_PASS),
     ("atlas_tile_off_by_one", "backends/common/atlas.cpp",
      replace("(face / 3) * span + kBorder};", "(face / 3) * span + kBorder + 1};"),
      "every atlas tile rendered and read back one texel up from where the lighting pass looks it up", ATLAS),
