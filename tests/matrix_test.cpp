@@ -288,6 +288,37 @@ TEST(Matrix, AtlasTilesMultiplyOnlyTheAtlasCases) {
   EXPECT_EQ(cases[1].atlas_tiles, AtlasTiles::by_distance);
 }
 
+// Every light in one pass: vs_layer and the geometry shader, the latter up to 64 lights of six cube faces
+// each, never with face culling (it culls per light and face already); each refusal names its reason.
+TEST(Matrix, EveryLightInOnePassSaysWhereItIsBuilt) {
+  CaseConfig c;
+  c.scene = "hall";
+  c.layout = Layout::cube_array;
+  c.light_grouping = LightGrouping::all_lights;
+  c.light_count = 64;
+  for (Technique t : {Technique::vs_layer, Technique::geometry_shader}) {
+    c.technique = t;
+    EXPECT_TRUE(common_support(c).ok) << c.id() << ": " << common_support(c).reason;
+  }
+  auto refused = [](CaseConfig k, const std::string& why) {
+    const Support s = common_support(k);
+    EXPECT_FALSE(s.ok) << k.id();
+    EXPECT_NE(s.reason.find(why), std::string::npos) << s.reason;
+  };
+  CaseConfig more = c;
+  more.light_count = 65;
+  refused(more, "reaches 64 lights");
+  CaseConfig warped = c;
+  warped.layout = Layout::tetrahedral;
+  refused(warped, "tetrahedral has layers of its own");
+  CaseConfig culled = c;
+  culled.optimizations = parse_optimizations("cull");
+  refused(culled, "culls per light and face already");
+  CaseConfig instanced = c;
+  instanced.technique = Technique::geometry_shader_instanced;
+  refused(instanced, "geometry_shader_instanced renders per light");
+}
+
 // A layout's lookup is a variant of the lighting shader: face_array's define is in its defines and the build
 // compiles its SPIR-V for every storage and filter the cube has (the Vulkan backend finds it by the same
 // key).

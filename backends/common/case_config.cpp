@@ -180,6 +180,9 @@ Support all_lights_support(const CaseConfig& c) {
               "every light in one pass is built for vs_layer (an instance per light and face) and "
               "geometry_shader (32 invocations, each routing a triangle to two lights' faces); " +
                   std::string(to_string(c.technique)) + " renders per light"};
+    if (c.technique == Technique::geometry_shader && traits(c.layout).geometry.map != TexelMap::cube_faces)
+      return {false, "every light in one geometry shader pass routes each light's six cube faces; " +
+                         std::string(to_string(c.layout)) + " has layers of its own"};
     if (c.technique == Technique::geometry_shader && c.light_count > kAllLightsGeometryMaxLights)
       return {false, "every light in one geometry shader pass reaches " +
                          std::to_string(kAllLightsGeometryMaxLights) +
