@@ -27,9 +27,10 @@
 #              one pass (vs_layer --light-grouping all_lights), GL and Vulkan,
 #              cube 256, with --check: PASS when no check fails (quality is a figure: --max-error 100); the
 #              many-light table (scripts/analysis/many_lights_table.py); the run is cut at 7 minutes (LIGHTS_BUDGET_S)
-#   atlas      layout atlas on the GPU: hall at 4, 16 and 64 lights, atlas beside cube_array, six_pass, geometry_shader
-#              and vs_layer (faces routed by viewport), pcf_disk20, cube 256, GL and Vulkan, with --check: PASS when
-#              no check fails; the many-light table; cut at 4 minutes (ATLAS_BUDGET_S)
+#   atlas      layout atlas on the GPU: hall at 4, 16 and 64 lights, atlas (tiles uniform and by distance) beside
+#              cube_array, six_pass, geometry_shader and vs_layer (faces routed by viewport), pcf_disk20, cube 256,
+#              GL and Vulkan, with --check: PASS when no check fails; the many-light table; cut at 4 minutes
+#              (ATLAS_BUDGET_S)
 #   suite      ctest as scripts/test.sh runs it (labels extended and memory left out), cut at SUITE_BUDGET_S (300):
 #              PASS when none failed (the skipped listed); about 2 minutes on an H100 with 16 cores
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
@@ -363,7 +364,8 @@ step_lights() {
 step_atlas() {
   note "## atlas"
   timeout "${ATLAS_BUDGET_S:-240}" "$bin" run --backend gl,vulkan --scene hall --light-count 4,16,64 \
-    --layout atlas,cube_array --technique six_pass,geometry_shader,vs_layer --filter pcf_disk20 \
+    --layout atlas,cube_array --atlas-tiles uniform,by_distance --technique six_pass,geometry_shader,vs_layer \
+    --filter pcf_disk20 \
     --cube 256 --check --max-error 100 --benchmark_repetitions=3 --images none --out "$out/atlas/run" \
     >"$out/atlas/run.log" 2>&1
   local code=$?
