@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "backends/common/atlas.h"
 #include "backends/common/frame_uniforms.h"
 
 namespace omnishadow::gpu {
@@ -45,9 +44,6 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
   // Every light in one pass renders every light or none: one that moved makes the others render again.
   const bool all_reuse =
       std::all_of(f.lights.begin(), f.lights.end(), [](const ShadowFrame& s) { return s.reuse_cube; });
-  const std::optional<atlas::Plan> tiles = config.layout == Layout::atlas
-                                               ? std::optional<atlas::Plan>(atlas::plan_for(config, scene))
-                                               : std::nullopt;
   for (size_t k = 0; k < planners_.size(); ++k) {
     if (config.light_grouping == LightGrouping::all_lights && !all_reuse && f.lights[k].reuse_cube) {
       scene::FocusLight focus(scene, static_cast<int>(k));
@@ -56,8 +52,8 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
     }
     const FrameUniforms& u = f.lights[k].uniforms;
     glm::vec4 tile(0.0f);
-    if (tiles) {
-      const atlas::Block& b = tiles->lights[k];
+    if (atlas_) {
+      const atlas::Block& b = atlas_->lights[k];
       tile = glm::vec4(float(b.x), float(b.y), float(b.face_size), float(atlas::kBorder));
     }
     f.records.push_back({u.light_position, u.light_color, glm::vec4(u.moments_knobs.y, 0.0f, 0.0f, 0.0f),

@@ -5,6 +5,7 @@
 #include <optional>
 #include <vector>
 
+#include "backends/common/atlas.h"
 #include "backends/common/case_config.h"
 #include "backends/common/cube_faces.h"
 #include "backends/common/gpu_layout.h"
@@ -46,7 +47,11 @@ struct LightFrames {
 // (scene::FocusLight), so the one-light code (make_frame_uniforms, plan_shadow_draws) serves every light.
 class LightFramePlanner {
  public:
-  void reset(int lights) { planners_.assign(static_cast<size_t>(lights), ShadowFramePlanner{}); }
+  // `atlas`: layout atlas's plan, made once at configure (each light's record carries its tiles).
+  void reset(int lights, std::optional<atlas::Plan> atlas = std::nullopt) {
+    planners_.assign(static_cast<size_t>(lights), ShadowFramePlanner{});
+    atlas_ = std::move(atlas);
+  }
   LightFrames prepare(scene::Scene& scene, int frame, const CaseConfig& config, cube::DepthRange range);
   void rendered(const LightFrames& f, const CaseConfig& config);
   void forget() {
@@ -57,6 +62,7 @@ class LightFramePlanner {
 
  private:
   std::vector<ShadowFramePlanner> planners_;
+  std::optional<atlas::Plan> atlas_;
 };
 
 }  // namespace omnishadow::gpu

@@ -353,7 +353,7 @@ void GlBackend::configure_case(const CaseConfig& c) {
     throw std::runtime_error("GL error " + std::to_string(error) + " while configuring " + c.id());
   }
   config_ = c;
-  planner_.reset(c.light_count);
+  planner_.reset(c.light_count, shadow_.atlas);
 }
 
 gpu::LightFrames GlBackend::update_frame_uniforms(int frame) {

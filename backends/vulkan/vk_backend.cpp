@@ -434,7 +434,7 @@ void VkBackend::configure_case(const CaseConfig& c) {
     throw;
   }
   config_ = c;
-  planner_.reset(c.light_count);
+  planner_.reset(c.light_count, shadow_.atlas);
 }
 
 void VkBackend::create_pipelines(const CaseConfig& c) {
