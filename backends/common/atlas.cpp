@@ -61,6 +61,11 @@ Plan pack(std::span<const int> face_sizes) {
   return best;
 }
 
+double distance_over_range(const scene::Scene& scene, int light) {
+  const scene::PointLight& l = scene.point_lights.at(size_t(light));
+  return double(glm::length(l.path.at(0) - scene.camera.position)) / double(l.far_plane);
+}
+
 std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene) {
   std::vector<int> sizes(static_cast<size_t>(std::max(config.light_count, 1)), config.cube_size);
   if (config.atlas_tiles == AtlasTiles::uniform) return sizes;
@@ -68,9 +73,7 @@ std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene)
     throw std::logic_error("atlas sizes for " + std::to_string(sizes.size()) + " lights of a scene with " +
                            std::to_string(scene.point_lights.size()));
   for (size_t k = 0; k < sizes.size(); ++k) {
-    const scene::PointLight& light = scene.point_lights[k];
-    const double ratio =
-        double(glm::length(light.path.at(0) - scene.camera.position)) / double(light.far_plane);
+    const double ratio = distance_over_range(scene, int(k));
     const int halvings = ratio <= 1.0 ? 0 : std::clamp(int(std::lround(std::log2(ratio))), 0, kMaxHalvings);
     sizes[k] = std::max(1, config.cube_size >> halvings);
   }

@@ -54,6 +54,9 @@ Plan pack(std::span<const int> face_sizes);
 // from the camera at frame 0 (none within its range). A light's range sphere subtends about range / d of the
 // view, so its texels a side follow its share of the screen, as engines size atlas slots by screen coverage.
 inline constexpr int kMaxHalvings = 3;
+// Point light k's distance from the camera at frame 0 over its range: the inverse of its range sphere's share
+// of the view (what by_distance sizes by, and what the checks pick their farthest light by).
+double distance_over_range(const scene::Scene& scene, int light);
 std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene);
 // The case's atlas (layout atlas): the lights' face_sizes packed. `scene` holds at least light_count point
 // lights.

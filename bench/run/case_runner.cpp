@@ -363,8 +363,7 @@ std::vector<int> Harness::lights_to_check(const CaseConfig& c) {
   int farthest = 0;
   double most = -1.0;
   for (int k = 0; k < c.light_count; ++k) {
-    const scene::PointLight& l = s.point_lights[size_t(k)];
-    const double ratio = double(glm::length(l.path.at(0) - s.camera.position)) / double(l.far_plane);
+    const double ratio = atlas::distance_over_range(s, k);
     if (ratio > most) most = ratio, farthest = k;
   }
   if (std::find(lights.begin(), lights.end(), farthest) == lights.end()) lights.push_back(farthest);
