@@ -348,30 +348,30 @@ step_layouts() {
   judge_and_tabulate "$out/layouts/paraboloid" layout_table.py "$out/layouts/paraboloid.md"
 }
 
-step_lights() {
-  note "## lights"
-  timeout "${LIGHTS_BUDGET_S:-420}" "$bin" run --backend gl,vulkan --scene hall --light-count 1,4,16,64 \
-    --layout cube_array,face_array --technique six_pass,geometry_shader,vs_layer,multiview \
-    --light-grouping per_light,all_lights --filter hard,pcf_disk20 \
-    --cube 256 --check --max-error 100 --benchmark_repetitions=3 --images none --out "$out/lights/run" \
-    >"$out/lights/run.log" 2>&1
+# A many-light run of the hall at cube 256 with --check, cut at a budget (the cases so far kept), judged and
+# tabulated: many_lights_run STEP BUDGET_VARIABLE DEFAULT_SECONDS RUN_ARGS...
+many_lights_run() {
+  local step=$1 budget_var=$2 budget=${!2:-$3}
+  shift 3
+  note "## $step"
+  timeout "$budget" "$bin" run --backend gl,vulkan --scene hall "$@" \
+    --cube 256 --check --max-error 100 --benchmark_repetitions=3 --images none --out "$out/$step/run" \
+    >"$out/$step/run.log" 2>&1
   local code=$?
-  [ "$code" -eq 124 ] && note "- lights run --check: cut at LIGHTS_BUDGET_S (the cases so far kept)" ||
-    exit_note "$code" "lights run --check"
-  judge_and_tabulate "$out/lights/run" many_lights_table.py "$out/lights/many-lights.md"
+  [ "$code" -eq 124 ] && note "- $step run --check: cut at $budget_var (the cases so far kept)" ||
+    exit_note "$code" "$step run --check"
+  judge_and_tabulate "$out/$step/run" many_lights_table.py "$out/$step/many-lights.md"
+}
+
+step_lights() {
+  many_lights_run lights LIGHTS_BUDGET_S 420 --light-count 1,4,16,64 --layout cube_array,face_array \
+    --technique six_pass,geometry_shader,vs_layer,multiview --light-grouping per_light,all_lights \
+    --filter hard,pcf_disk20
 }
 
 step_atlas() {
-  note "## atlas"
-  timeout "${ATLAS_BUDGET_S:-240}" "$bin" run --backend gl,vulkan --scene hall --light-count 4,16,64 \
-    --layout atlas,cube_array --atlas-tiles uniform,by_distance --technique six_pass,geometry_shader,vs_layer \
-    --filter pcf_disk20 \
-    --cube 256 --check --max-error 100 --benchmark_repetitions=3 --images none --out "$out/atlas/run" \
-    >"$out/atlas/run.log" 2>&1
-  local code=$?
-  [ "$code" -eq 124 ] && note "- atlas run --check: cut at ATLAS_BUDGET_S (the cases so far kept)" ||
-    exit_note "$code" "atlas run --check"
-  judge_and_tabulate "$out/atlas/run" many_lights_table.py "$out/atlas/many-lights.md"
+  many_lights_run atlas ATLAS_BUDGET_S 240 --light-count 4,16,64 --layout atlas,cube_array \
+    --atlas-tiles uniform,by_distance --technique six_pass,geometry_shader,vs_layer --filter pcf_disk20
 }
 
 step_tutorial() {
