@@ -122,6 +122,10 @@ struct Images {
   int cube_sample_stride = 1;
   std::array<std::vector<float>, 6> cube_sample;
   bool has_full_cube() const { return !cube_distance[0].empty(); }
+  // The faces the frame drew (bit f = face f): view culling (--optimize view) leaves the others cleared or as
+  // an earlier frame left them, read by no visible pixel; the checks read only these. Set by the harness.
+  uint8_t view_faces = 0x3f;
+  bool face_drawn(int f) const { return (view_faces >> f) & 1u; }
   // Moments storages, with a full read-back: per face the blurred moments the lighting pass sampled,
   // `moment_channels` floats a texel, texels as cube_distance's. Empty otherwise.
   int moment_channels = 0;

@@ -57,6 +57,10 @@ bool beyond_one_plane(vec4 c0, vec4 c1, vec4 c2) {
 #endif
 
 void emit_face(int face) {
+#if defined(VIEW_FACES)
+  // View culling: a face no visible point's lookup reads is not drawn (the draw's mask, gpu::view_faces).
+  if ((pass.face_mask & (1u << uint(face))) == 0u) return;
+#endif
   vec4 clip[3];
 #if defined(LAYOUT_DUAL_PARABOLOID)
   // Layer `face` of the two; the other hemisphere is clipped away (gl_ClipDistance, per vertex below).

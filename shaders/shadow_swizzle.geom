@@ -61,6 +61,9 @@ void main() {
       mask &= ~(1 << f);
   }
 #endif
+#if defined(VIEW_FACES)
+  mask &= int(pass.face_mask);  // view culling: only the faces a visible point's lookup reads (gpu::view_faces)
+#endif
 #if defined(EMULATE_SWIZZLE)
   for (int f = 0; f < 6; ++f) {
     if ((mask & (1 << f)) == 0) continue;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "backends/backend.h"
+#include "backends/common/view_culling.h"
 #include "tests/backend_availability.h"
 
 namespace omnishadow {
@@ -199,6 +200,58 @@ TEST_P(ManyLightsTest, AnotherLightIsReadBackFromTheCheckFrameOnly) {
   backend_->render(4, FrameKind::timed);
   EXPECT_THROW(backend_->read_back(CubeReadBack::sampled, 1), std::logic_error);
   EXPECT_NO_THROW(backend_->read_back(CubeReadBack::sampled, 2)) << "the light last reported reads back";
+}
+
+// Culling to the view (--optimize view) with the camera mid-hall, looking down it: lamps behind it get no
+// pass and faces no visible point reads get none, yet the lit frame, every light's shadow factor and every
+// face drawn are bit for bit those without it, at the first frame after configure (culled faces cleared) and
+// at the next (out-of-view lights and culled faces skipped, left as they were), with less shadow work.
+TEST_P(ManyLightsTest, ViewCullingChangesNothingTheFrameReads) {
+  scene::Scene hall = hall_;
+  hall.camera.position = {0.0f, 3.0f, 0.0f};
+  hall.camera.target = {20.0f, 2.0f, 0.0f};
+  backend_->load(hall);
+  const int lights = 16, frame = 3;
+  for (Technique t : {Technique::six_pass, Technique::geometry_shader, Technique::geometry_shader_instanced,
+                      Technique::vs_layer}) {
+    CaseConfig off = hall_case(lights, Layout::cube_array, t);
+    if (!backend_->supports(off).ok) continue;
+    CaseConfig on = off;
+    on.optimizations.view_culling = true;
+    ASSERT_TRUE(backend_->supports(on).ok) << backend_->supports(on).reason;
+    backend_->configure(off);
+    backend_->render(frame, FrameKind::check);
+    std::vector<Images> want;
+    for (int k = 0; k < lights; ++k) want.push_back(backend_->read_back(CubeReadBack::full, k));
+    const FrameCounters work_off = backend_->count_work(frame);
+    backend_->configure(on);
+    int out_of_view = 0, partial = 0;
+    for (int repeat = 0; repeat < 2; ++repeat) {
+      backend_->render(frame, FrameKind::check);
+      for (int k = 0; k < lights; ++k) {
+        SCOPED_TRACE(on.id() + ", light " + std::to_string(k) + ", frame " + std::to_string(repeat));
+        const Images got = backend_->read_back(CubeReadBack::full, k);
+        scene::FocusLight focus(hall, k);
+        const uint8_t faces = gpu::view_faces(hall, on, frame, got.light_far, got.cube_size);
+        out_of_view += repeat == 0 && faces == 0;
+        partial += repeat == 0 && faces != 0 && faces != cube::kAllFaces;
+        for (int f = 0; f < 6; ++f) {
+          if (!(faces >> f & 1)) continue;  // culled: cleared, or as the frame before left it
+          EXPECT_EQ(got.cube_distance[size_t(f)], want[size_t(k)].cube_distance[size_t(f)]);
+        }
+        EXPECT_EQ(got.shadow_factor, want[size_t(k)].shadow_factor);
+        EXPECT_EQ(got.lit_rgba8, want[size_t(k)].lit_rgba8);
+      }
+    }
+    EXPECT_GT(out_of_view, 0) << "lamps behind the camera";
+    EXPECT_GT(partial, 0) << "lamps beside it, some faces turned away from the view";
+    const FrameCounters work_on = backend_->count_work(frame);
+    if (work_on.shadow.valid && work_off.shadow.valid) {
+      EXPECT_LT(work_on.shadow.primitives_submitted + work_on.shadow.gs_primitives,
+                work_off.shadow.primitives_submitted + work_off.shadow.gs_primitives)
+          << to_string(t);
+    }
+  }
 }
 
 TEST_P(ManyLightsTest, LayoutCubeSaysWhyItHoldsOneLight) {

@@ -198,6 +198,10 @@ Support all_lights_support(const CaseConfig& c) {
     if (c.moments.world_units)
       return {false,
               "moments in world units with every light in one pass: one clear value for every light's far"};
+    if (c.optimizations.view_culling)
+      return {false,
+              "view culling with every light in one pass: the pass draws every light's faces (cull per light "
+              "with --light-grouping per_light)"};
   }
   return {};
 }
@@ -282,6 +286,7 @@ std::string CaseConfig::id() const {
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";
+  if (optimizations.view_culling) id += "/view";
   if (pcf_scale != 1.0f) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "/pcf%g", static_cast<double>(pcf_scale));
@@ -424,9 +429,11 @@ Optimizations parse_optimizations(std::string_view text) {
       o.fit_range = true;
     else if (word == "cache")
       o.static_cache = true;
+    else if (word == "view")
+      o.view_culling = true;
     else
       throw std::invalid_argument("unknown optimisation '" + std::string(word) +
-                                  "' (valid: none, cull, fit, cache, or a '+' join such as cull+fit)");
+                                  "' (valid: none, cull, fit, cache, view, or a '+' join such as cull+view)");
   });
   return o;
 }
@@ -436,6 +443,7 @@ std::string to_string(const Optimizations& o) {
   if (o.face_culling) out += "cull";
   if (o.fit_range) out += std::string(out.empty() ? "" : "+") + "fit";
   if (o.static_cache) out += std::string(out.empty() ? "" : "+") + "cache";
+  if (o.view_culling) out += std::string(out.empty() ? "" : "+") + "view";
   return out.empty() ? "none" : out;
 }
 

@@ -7,6 +7,7 @@
 #include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"
+#include "backends/common/view_culling.h"
 #include "backends/common/viewport_swizzle.h"
 
 namespace omnishadow::gpu {
@@ -14,7 +15,10 @@ namespace omnishadow::gpu {
 std::vector<std::string> shadow_vertex_defines(const CaseConfig& c) {
   const TechniqueTraits& t = traits(c.technique);
   std::vector<std::string> d{std::string(t.vertex_define)};
-  if (t.culling == CullingForm::per_object_masks && c.optimizations.face_culling) d.push_back("FACE_CULLING");
+  // vs_layer's instances follow the draw's face mask: the bounds' faces, or view culling's.
+  if (t.culling == CullingForm::per_object_masks &&
+      (c.optimizations.face_culling || c.optimizations.view_culling))
+    d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
   if (traits(c.layout).geometry.map != TexelMap::cube_faces ||
       (faces_by_viewport(c.layout) && c.technique == Technique::vs_layer))
@@ -28,6 +32,7 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   if (t.stages == ShadowStages::vertex_passthrough) {
     std::vector<std::string> d{std::string(t.vertex_define)};
     if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
+    if (c.optimizations.view_culling && culls_faces_to_view(c)) d.push_back("VIEW_FACES");
     if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
     if (c.emulate_nv_swizzle) {
       d.push_back("EMULATE_SWIZZLE");
@@ -42,6 +47,7 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
   if (t.gs_instanced) d.push_back("GS_INSTANCED");
   if (c.light_grouping == LightGrouping::all_lights) d.push_back("ALL_LIGHTS");
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
+  if (c.optimizations.view_culling && culls_faces_to_view(c)) d.push_back("VIEW_FACES");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
   if (const LayoutTraits& layout = traits(c.layout); layout.geometry.map != TexelMap::cube_faces) {
     d.emplace_back(layout.lighting_define);
@@ -126,6 +132,19 @@ std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant v
 }
 
 namespace {
+// The optimisations that change a shadow shader: face culling and view culling, each on and off.
+std::vector<Optimizations> culling_sets() {
+  std::vector<Optimizations> sets;
+  for (bool cull : {false, true})
+    for (bool view : {false, true}) {
+      Optimizations o;
+      o.face_culling = cull;
+      o.view_culling = view;
+      sets.push_back(o);
+    }
+  return sets;
+}
+
 void insert_shadow_keys(std::set<std::string>& keys, const CaseConfig& c) {
   if (traits(c.technique).stages == ShadowStages::task_mesh) {
     keys.insert(variant_key("shadow_mesh.task", shadow_mesh_defines(c)));
@@ -147,10 +166,10 @@ std::vector<std::string> spirv_variant_keys() {
   CaseConfig c;
   for (const TechniqueTraits& t : kTechniques)
     for (Storage storage : all_values<Storage>())
-      for (bool cull : {false, true}) {
+      for (const Optimizations& culling : culling_sets()) {
         c.technique = t.technique;
         c.storage = storage;
-        c.optimizations.face_culling = cull;
+        c.optimizations = culling;
         insert_shadow_keys(keys, c);
         c.light_grouping = LightGrouping::all_lights;  // every light in one pass, where it is built
         for (Filter f : all_values<Filter>()) {        // with a filter that reads the storage
@@ -171,12 +190,12 @@ std::vector<std::string> spirv_variant_keys() {
   for (const LayoutTraits& layout : kLayouts)
     for (const TechniqueTraits& t : kTechniques)
       for (Storage storage : all_values<Storage>())
-        for (bool cull : {false, true}) {
+        for (const Optimizations& culling : culling_sets()) {
           c = CaseConfig{};
           c.layout = layout.layout;
           c.technique = t.technique;
           c.storage = storage;
-          c.optimizations.face_culling = cull;
+          c.optimizations = culling;
           if (layout.geometry.map == TexelMap::cube_faces && !faces_by_viewport(layout.layout)) continue;
           if (!common_support(c).ok) continue;
           insert_shadow_keys(keys, c);

@@ -16,15 +16,30 @@ namespace omnishadow::gpu {
 
 struct ShadowFrame {
   FrameUniforms uniforms;
-  cube::ShadowDrawPlan plan;  // empty when reuse_cube
+  cube::ShadowDrawPlan plan;  // empty when skipped
   bool reuse_cube = false;    // static_cache and the cube already holds this light position and range
+  // View culling (gpu::view_faces): the faces the lit frame may read; the plan draws only those, the others
+  // are cleared. 0: the light's range misses the view, and once its map has been written (so that it holds
+  // defined values, and Vulkan's layers their layout) it gets no pass at all (out_of_view).
+  uint8_t view_faces = cube::kAllFaces;
+  bool out_of_view = false;
+  // The faces that get a pass of their own where each face has one (six_pass over cube faces): view_faces
+  // once the map was written (a culled face keeps what it held, read by no visible pixel), else every face.
+  uint8_t pass_faces = cube::kAllFaces;
+  bool face_pass(int face) const { return (pass_faces >> face) & 1u; }
+  bool skipped() const { return reuse_cube || out_of_view; }  // no pass this frame
 };
 
 class ShadowFramePlanner {
  public:
   // After configure(): the cube's content is unknown.
-  void reset() { cube_light_.reset(); }
-  ShadowFrame prepare(const scene::Scene& scene, int frame, const CaseConfig& config, cube::DepthRange range);
+  void reset() {
+    cube_light_.reset();
+    written_ = false;
+  }
+  // face_size: the light's face (its atlas tile's, or the cube's), for view culling's texel margins.
+  ShadowFrame prepare(const scene::Scene& scene, int frame, const CaseConfig& config, cube::DepthRange range,
+                      int face_size);
   // The shadow pass of `f` has been submitted: with static caching, the cube now holds its light.
   void rendered(const ShadowFrame& f, const CaseConfig& config);
   // The light far plane of the cube's content (fit_range makes it per frame): read-back scales linear depth
@@ -34,6 +49,7 @@ class ShadowFramePlanner {
  private:
   std::optional<glm::vec4> cube_light_;  // xyz position, w far: what the cached cube was rendered for
   float cube_far_ = 0.0f;
+  bool written_ = false;  // a pass has written the light's map since configure
 };
 
 // A frame of a case with CaseConfig::light_count point lights: each light's ShadowFrame (its uniforms, drawn
@@ -59,6 +75,9 @@ class LightFramePlanner {
   }
   float cube_far(int light) const { return planners_.at(static_cast<size_t>(light)).cube_far(); }
   int lights() const { return static_cast<int>(planners_.size()); }
+  int face_size(int light, const CaseConfig& config) const {
+    return atlas_ ? atlas_->lights.at(size_t(light)).face_size : config.cube_size;
+  }
 
  private:
   std::vector<ShadowFramePlanner> planners_;

@@ -47,6 +47,19 @@ ShadowDrawPlan plan_shadow_draws(const scene::Scene& scene, const glm::vec3& lig
   return plan;
 }
 
+void keep_faces(ShadowDrawPlan& plan, uint8_t faces) {
+  if (faces == kAllFaces) return;
+  for (int face = 0; face < 6; ++face)
+    if (!(faces & (1u << face))) plan.face_objects[size_t(face)].clear();
+  plan.reaching.clear();
+  for (uint32_t i = 0; i < plan.object_faces.size(); ++i) {
+    plan.object_faces[i] &= faces;
+    if (plan.object_faces[i]) plan.reaching.push_back(i);
+  }
+  plan.empty_faces = 0;
+  for (const auto& list : plan.face_objects) plan.empty_faces += list.empty();
+}
+
 float fitted_far(const scene::Scene& scene, const glm::vec3& light, float near_plane, float scene_far) {
   float farthest = 0.0f;
   for (const scene::Object& o : scene.objects)

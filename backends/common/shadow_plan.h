@@ -33,6 +33,9 @@ struct ShadowDrawPlan {
 ShadowDrawPlan plan_shadow_draws(const scene::Scene& scene, const glm::vec3& light, float near_plane,
                                  float far_plane, bool cull);
 
+// Only `faces` drawn (view culling): every other face's list emptied (cleared only), each object's mask cut.
+void keep_faces(ShadowDrawPlan& plan, uint8_t faces);
+
 // The far plane the shadow pass needs: the farthest bounds corner from the light (a bound on the farthest
 // vertex), slightly enlarged, never beyond the scene's own far, never below near * 2.
 float fitted_far(const scene::Scene& scene, const glm::vec3& light, float near_plane, float scene_far);

@@ -4,13 +4,14 @@
 
 #include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
+#include "backends/common/view_culling.h"
 
 namespace omnishadow {
 
 ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDrawPlan& plan,
                                   size_t object_count) {
   const TechniqueTraits& t = traits(config.technique);
-  const bool cull = config.optimizations.face_culling;
+  const bool cull = config.optimizations.face_culling, view = config.optimizations.view_culling;
   ShadowPassDraws out;
   out.count =
       t.passes == 6 ? traits(config.layout).geometry.layers : t.passes;  // one pass per face, or per layer
@@ -26,16 +27,18 @@ ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDr
       config.light_grouping == LightGrouping::all_lights && t.stages == ShadowStages::vertex
           ? uint32_t(config.light_count)
           : 1u;
-  if (!cull) {
+  if (!cull && !view) {
     for (uint32_t i = 0; i < object_count; ++i) draws.push_back({i, t.instances * lights, 0});
     return out;
   }
+  // View culling's faces reach the geometry shaders (and nv_swizzle's) through the draw's mask.
+  const bool view_mask = view && gpu::culls_faces_to_view(config);
   for (uint32_t object : plan.reaching) {
+    const uint8_t mask = plan.object_faces[object];
     if (t.culling != CullingForm::per_object_masks) {
-      draws.push_back({object, t.instances, 0});
+      draws.push_back({object, t.instances, view_mask ? mask : uint8_t{0}});
       continue;
     }
-    const uint8_t mask = plan.object_faces[object];
     draws.push_back({object, static_cast<uint32_t>(std::popcount(mask)), mask});
   }
   return out;

@@ -463,14 +463,14 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::LightFrames& frame) {
     all_lights_shadow_pass(frame, stats);
   } else {
     for (size_t k = 0; k < frame.lights.size(); ++k)
-      if (!frame.lights[k].reuse_cube)  // static caching: the light's map already holds it
+      if (!frame.lights[k].skipped())  // cached, or out of view: its map holds it already
         light_shadow_pass(static_cast<int>(k), frame.lights[k], stats);
   }
   shadow_draw_.around(false);
   glDepthFunc(GL_LESS);
   if (clip_hemisphere) glDisable(GL_CLIP_DISTANCE0);
   for (size_t k = 0; k < frame.lights.size() && blur_program_; ++k)
-    if (!frame.lights[k].reuse_cube) blur_moments(static_cast<int>(k));
+    if (!frame.lights[k].skipped()) blur_moments(static_cast<int>(k));
   return stats;
 }
 
@@ -478,7 +478,7 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::LightFrames& frame) {
 // light and face, the lights' view-projections from the light list (the frame was marked by
 // gpu::LightFramePlanner::group_reuse: every light rendered, or none).
 void GlBackend::all_lights_shadow_pass(const gpu::LightFrames& frame, DrawStats& stats) {
-  if (frame.lights[0].reuse_cube) return;
+  if (frame.lights[0].skipped()) return;
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPointLightsBinding, lights_ssbo_);
   begin_shadow_target(shadow_.all_lights_fbo, frame.lights[0].uniforms.light_position.w);
   bind_pass_uniforms(0);
@@ -491,6 +491,7 @@ void GlBackend::light_shadow_pass(int light, const gpu::ShadowFrame& frame, Draw
   bind_frame_uniforms(light);
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (int p = 0; p < passes.count; ++p) {
+    if (passes.count == cube::kFaceCount && !frame.face_pass(p)) continue;  // view culling: no pass
     begin_shadow_pass(light, p, passes.count, frame.uniforms.light_position.w);
     bind_pass_uniforms(p);
     draw_list(passes.draws[static_cast<size_t>(p)], stats, config_->remedies.two_sided, shadow_draw_.draw);

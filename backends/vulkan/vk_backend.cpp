@@ -148,7 +148,10 @@ void VkBackend::create_layouts() {
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &lighting_set_layout_));
   // Six 4x4 matrices do not fit the 128 bytes of push constants lavapipe guarantees: they live in the uniform
   // buffer, and only the face index and face mask (gpu::PassUniforms' first 8 bytes) are pushed.
-  VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t)};
+  // The geometry shaders read the face mask too (view culling's faces).
+  push_stages_ =
+      VK_SHADER_STAGE_VERTEX_BIT | (ctx_->has_geometry_shader() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
+  VkPushConstantRange push{push_stages_, 0, 2 * sizeof(int32_t)};
   VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   layout_info.setLayoutCount = 1;
   layout_info.pSetLayouts = &shadow_set_layout_;
@@ -565,7 +568,7 @@ void VkBackend::draw_list(VkCommandBuffer cb, const std::array<VkPipeline, 2>& p
     const scene::Object& obj = scene_->objects[d.object];
     if (d.face_mask) {
       const gpu::PassUniforms pass{0, d.face_mask, 0, 0};
-      vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
+      vkCmdPushConstants(cb, layout, push_stages_, 0, 2 * sizeof(int32_t), &pass);
     }
     int want = obj.cull_back_faces ? 1 : 0;
     if (want != bound) {
@@ -601,7 +604,7 @@ void VkBackend::record_maps(VkCommandBuffer cb, uint64_t& draws) {
       vkCmdSetScissor(cb, 0, 1, &scissor);
       vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
       const gpu::PassUniforms pass{static_cast<int32_t>(i), 0, 0, 0};
-      vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
+      vkCmdPushConstants(cb, shadow_layout_, push_stages_, 0, 2 * sizeof(int32_t), &pass);
       // Closed objects: back faces culled as in the cube pass, or front faces (the directional notes'
       // peter-panning fix).
       const size_t closed = scene_->map_lights[i].cull_front_faces ? 2 : 1;
@@ -619,7 +622,7 @@ VkBackend::ShadowDrawStep VkBackend::shadow_draw_step(const CaseConfig& c) {
     VkDeviceSize offset = 0;
     vkCmdBindVertexBuffers(cb, 0, 1, &vertex_buffer_.buffer, &offset);
     const gpu::PassUniforms pass{static_cast<int32_t>(p), 0, 0, 0};
-    vkCmdPushConstants(cb, shadow_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, 2 * sizeof(int32_t), &pass);
+    vkCmdPushConstants(cb, shadow_layout_, push_stages_, 0, 2 * sizeof(int32_t), &pass);
     if (!floor) draw_list(cb, shadow_pipelines_, shadow_layout_, shadow_set_, list, draws);
   };
   switch (shadow_draw(c)) {
@@ -648,8 +651,9 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::LightFrames& frame,
   // or none).
   const bool all_lights = config_->light_grouping == LightGrouping::all_lights;
   for (uint32_t k = 0; k < (all_lights ? 1u : frame.lights.size()); ++k) {
-    // Static caching: a light whose map already holds it is skipped; timestamps and queries still close.
-    if (frame.lights[k].reuse_cube && !floor) continue;
+    // A light whose map holds it already (static caching) or that is out of view is skipped; timestamps and
+    // queries still close.
+    if (frame.lights[k].skipped() && !floor) continue;
     frame_offset_ = static_cast<uint32_t>(k * frame_stride_);
     record_light_shadow(cb, k, frame.lights[k], draws, floor);
   }
@@ -657,7 +661,7 @@ void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::LightFrames& frame,
   // The blurs after every render pass: each binds the moments of every light (one storage view), whose
   // layers must all have left UNDEFINED.
   for (uint32_t k = 0; k < frame.lights.size() && blur_ && !floor; ++k)
-    if (!frame.lights[k].reuse_cube) {
+    if (!frame.lights[k].skipped()) {
       const atlas::Block* block = shadow_.atlas ? &shadow_.atlas->lights[k] : nullptr;  // its own size
       blur_->record(cb, block ? uint32_t(block->face_size) : shadow_.size, k * shadow_.layers, block);
     }
@@ -688,6 +692,7 @@ void VkBackend::record_light_shadow(VkCommandBuffer cb, uint32_t light, const gp
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (size_t p = 0; p < static_cast<size_t>(passes.count); ++p) {  // six_pass: face p; else the whole cube
+    if (passes.count == cube::kFaceCount && !frame.face_pass(int(p)) && !floor) continue;  // view culling
     rp.framebuffer = config_->light_grouping == LightGrouping::all_lights
                          ? shadow_.all_lights_framebuffer
                          : shadow_.framebuffers[light * static_cast<size_t>(passes.count) + p];

@@ -86,9 +86,10 @@ class VkBackend final : public Backend {
   std::unique_ptr<ShaderModules> modules_;
   std::unique_ptr<CubeSummarizer> summarizer_;
 
-  VkDescriptorSetLayout shadow_set_layout_ = VK_NULL_HANDLE;    // binding 0: frame uniforms
-  VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;  // + binding 2: the shadow cube, 3: 2D maps
-  VkPipelineLayout shadow_layout_ = VK_NULL_HANDLE;             // + push constant: face (six_pass)
+  VkDescriptorSetLayout shadow_set_layout_ = VK_NULL_HANDLE;     // binding 0: frame uniforms
+  VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;   // + binding 2: the shadow cube, 3: 2D maps
+  VkShaderStageFlags push_stages_ = VK_SHADER_STAGE_VERTEX_BIT;  // the stages that read PassUniforms
+  VkPipelineLayout shadow_layout_ = VK_NULL_HANDLE;              // + push constant: face (six_pass)
   VkPipelineLayout lighting_layout_ = VK_NULL_HANDLE;
   VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
   VkDescriptorSet shadow_set_ = VK_NULL_HANDLE;

@@ -203,7 +203,10 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
       r, "--optimize", m.optimizations, [](const std::string& s) { return parse_optimizations(s); },
       [](const Optimizations& o) { return to_string(o); },
       "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "
-      "cleared only), fit (far plane fitted to the scene), cache (static cube not re-rendered): "
+      "cleared only), fit (far plane fitted to the scene), cache (static cube not re-rendered), view (a "
+      "light "
+      "whose range misses the camera's view gets no pass, a face no visible point's lookup reads is cleared "
+      "only): "
       "--optimize none,cull measures culling on and off");
   list_option(
       r, "--remedy", m.remedies, [](const std::string& s) { return parse_remedies(s); },

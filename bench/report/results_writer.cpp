@@ -130,6 +130,8 @@ json plan_to_json(const CaseResult& r) {
       {"light_far", r.light_far},
       {"storage_bytes", r.shadow_storage_bytes ? r.shadow_storage_bytes : shadow_storage_bytes(r.config)},
       {"texels", r.shadow_texels ? r.shadow_texels : shadow_texels(r.config)}};
+  if (r.config.optimizations.view_culling)
+    j["view_culling"] = {{"lights_culled", r.view_culled_lights}, {"faces_culled", r.view_culled_faces}};
   if (r.atlas) {
     std::vector<int> sizes;
     for (const atlas::Block& b : r.atlas->lights) sizes.push_back(b.face_size);

@@ -56,6 +56,8 @@ struct CaseResult : CaseFindings {
   std::optional<double>
       flicker_mean_abs;       // --stability: mean |change| of the shadow factor over covered pixels
   int object_face_pairs = 0;  // object x face draws the plan asks for (six_pass draws per frame)
+  // --optimize view at the check frame: lights out of view (no pass) and faces of lights in view left out.
+  int view_culled_lights = 0, view_culled_faces = 0;
   // The shadow storage as allocated for the case's scene (memory_budget.h shadow_texels); 0 before the plan.
   uint64_t shadow_texels = 0, shadow_storage_bytes = 0;
   // Layout atlas: its size and each light's face size (backends/common/atlas.h), as allocated.

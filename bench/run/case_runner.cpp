@@ -1,6 +1,7 @@
 #include "bench/run/case_runner.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "backends/common/driver_log.h"
 #include "backends/common/layouts.h"
 #include "backends/common/shadow_plan.h"
+#include "backends/common/view_culling.h"
 #include "bench/io/image_io.h"
 #include "bench/run/case_progress.h"
 #include "bench/run/memory_budget.h"
@@ -41,6 +43,16 @@ CubeReadBack Harness::cube_read_back_for(const CaseConfig& c) const {
 // The case's check frame again, its cube read in full into `images` (for a value-by-value comparison once
 // hashes differed). Rendering is deterministic, so it is the frame already checked; the floor frame cleared
 // the cube since.
+// Light `light`'s images of the frame just rendered, with the faces that frame drew (view culling).
+Images Harness::read_light(Backend& b, const CaseConfig& c, int light) {
+  Images img = b.read_back(cube_read_back_for(c), light);
+  if (!c.optimizations.view_culling) return img;
+  scene::Scene& sc = const_cast<scene::Scene&>(scene_of(c));  // not a const object: focus only
+  scene::FocusLight focus(sc, light);
+  img.view_faces = gpu::view_faces(sc, c, options_.check_frame, img.light_far, img.cube_size);
+  return img;
+}
+
 void Harness::read_full_cube(const CaseConfig& c, Images& images, int light) {
   Backend& b = activate(c);
   b.render(options_.check_frame, FrameKind::check);
@@ -160,8 +172,13 @@ void Harness::count_work(CaseResult& r, Backend& b, float light_far) {
                             : r.config.optimizations.fit_range
                                 ? cube::fitted_far(sc, light, sc.light().near_plane, sc.light().far_plane)
                                 : sc.light().far_plane;
-    const cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, light, sc.light().near_plane, far_plane,
-                                                              r.config.optimizations.face_culling);
+    cube::ShadowDrawPlan plan = cube::plan_shadow_draws(sc, light, sc.light().near_plane, far_plane,
+                                                        r.config.optimizations.face_culling);
+    const int face_size = r.atlas ? r.atlas->lights.at(size_t(k)).face_size : r.config.cube_size;
+    const uint8_t faces = gpu::view_faces(sc, r.config, options_.check_frame, far_plane, face_size);
+    cube::keep_faces(plan, faces);
+    r.view_culled_lights += faces == 0;
+    r.view_culled_faces += faces == 0 ? 0 : 6 - std::popcount(faces);
     r.empty_faces += plan.empty_faces;
     for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
   }
@@ -229,7 +246,7 @@ void Harness::prepare(CaseResult& r) {
       b.render(options_.check_frame, FrameKind::check);
     });
     Images images;
-    step("read_back", [&] { images = b.read_back(cube_read_back_for(r.config)); });
+    step("read_back", [&] { images = read_light(b, r.config, 0); });
     r.cube_read_back = images.has_full_cube() ? "full" : "sampled";
     r.light_far = images.light_far;
     check_timed_variant(r, images, check_context(r));
@@ -238,7 +255,7 @@ void Harness::prepare(CaseResult& r) {
     r.light_stride = checked_light_stride(r.config.light_count);
     step("read_back", [&] {
       for (int k : lights_to_check(r.config))
-        if (k > 0) others.emplace_back(k, b.read_back(cube_read_back_for(r.config), k));
+        if (k > 0) others.emplace_back(k, read_light(b, r.config, k));
     });
     if (options_.stability) measure_flicker(r, b, images);
     step("work_counters", [&] { count_work(r, b, images.light_far); });
@@ -349,7 +366,10 @@ void Harness::check_light(CaseResult& r, Images& images, int light, bool is_refe
     });
     step("accuracy", [&] { check_accuracy(r, images, checks, truths_); });
   }
-  step("lookups", [&] { check_lookups_of(r, images, checks); });
+  step("lookups", [&] {
+    check_lookups_of(r, images, checks);
+    check_view_culling(r, images, checks);
+  });
   step("comparisons", [&] {
     if (!is_reference) check_against_six_pass(r, images, light);
     check_against_other_backend(r, images, light);
@@ -378,7 +398,7 @@ void Harness::check_against_six_pass(CaseResult& r, Images& images, int light) {
   if (!references_.count(light)) {  // every checked light's at once: one check frame
     Backend& b = activate(ref_config);
     b.render(options_.check_frame, FrameKind::check);
-    for (int k : lights_to_check(ref_config)) references_[k] = b.read_back(cube_read_back_for(ref_config), k);
+    for (int k : lights_to_check(ref_config)) references_[k] = read_light(b, ref_config, k);
     reference_key_ = group_key(r.config);
     activate(r.config);  // leave the backend on the case being measured
   }

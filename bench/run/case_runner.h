@@ -76,6 +76,7 @@ class Harness {
   void check_against_six_pass(CaseResult& result, Images& images, int light);
   CubeReadBack cube_read_back_for(const CaseConfig& config) const;
   void read_full_cube(const CaseConfig& config, Images& images, int light);
+  Images read_light(Backend& b, const CaseConfig& config, int light);
   void count_non_finite(CaseResult& result, const Images& images);
   void measure_flicker(CaseResult& result, Backend& b, const Images& images);
   void check_against_other_backend(CaseResult& result, const Images& images, int light);

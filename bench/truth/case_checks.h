@@ -68,8 +68,9 @@ struct CheckContext {
 CaseConfig reference_config(const CaseConfig& c);
 std::string group_key(const CaseConfig& c);
 // The cube's faces side by side in face order, one image (the cube_faces PNG and check).
-std::vector<float> concat_faces(const Images& img);  // the full cube's faces, or the check grid's
-int face_edge(const Images& img);                    // texels a face edge in concat_faces
+// The full cube's faces, or the check grid's; a face outside `faces` (bit f = face f) is left 0.
+std::vector<float> concat_faces(const Images& img, uint8_t faces = 0x3f);
+int face_edge(const Images& img);  // texels a face edge in concat_faces
 
 // Against exact ray casts (bench/truth/truth_checks.cpp): the cube's texels, a moments storage's moments, the
 // 2D maps' texels, the lighting pass's lookups replayed, and the shadow against exact visibility (with the
@@ -79,6 +80,8 @@ void check_moment_cube(CaseFindings& r, const Images& images);
 void check_maps(CaseFindings& r, const Images& images, const CheckContext& ctx, TruthCache& truths);
 void check_lookups_of(CaseFindings& r, const Images& images, const CheckContext& ctx);
 void check_accuracy(CaseFindings& r, const Images& images, const CheckContext& ctx, TruthCache& truths);
+// --optimize view: no covered pixel in the light's range looks it up through a face the frame left out.
+void check_view_culling(CaseFindings& r, const Images& images, const CheckContext& ctx);
 
 // Against other renderings (bench/truth/image_checks.cpp).
 // The timed and the check lighting variants are two compilations of one shader; a GPU compiler may contract

@@ -146,6 +146,7 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
     return ray ? ray->depth_to_distance : 1.0;
   };
   for (int f = 0; f < geometry.layers; ++f) {
+    if (!images.face_drawn(f)) continue;  // view culling left it out: no visible pixel reads it
     // The check grid is the truth's grid: read from the device's sample, or from the full cube where it came
     // back.
     const bool full = images.has_full_cube();

@@ -165,6 +165,8 @@ CaseConfig reference_config(const CaseConfig& c) {
   k.light_grouping = LightGrouping::per_light;
   k.optimizations.face_culling = false;
   k.optimizations.static_cache = false;
+  // Unculled: a case culled to the view must light the frame as if every light and face had been drawn.
+  k.optimizations.view_culling = false;
   return k;
 }
 
@@ -174,14 +176,14 @@ int face_edge(const Images& img) {
   return img.has_full_cube() ? img.cube_size : img.cube_size / std::max(img.cube_sample_stride, 1);
 }
 
-std::vector<float> concat_faces(const Images& img) {
+std::vector<float> concat_faces(const Images& img, uint8_t faces_kept) {
   // Faces side by side, face order left to right, so one PNG shows the whole cube (the check grid when only
   // that came back: every stride-th texel).
   const int n = face_edge(img);
   const auto& faces = img.has_full_cube() ? img.cube_distance : img.cube_sample;
   std::vector<float> strip(static_cast<size_t>(n) * static_cast<size_t>(n) * 6);
   for (int f = 0; f < 6; ++f)
-    for (int y = 0; y < n && faces[size_t(f)].size() >= size_t(n) * size_t(n); ++y)
+    for (int y = 0; y < n && faces[size_t(f)].size() >= size_t(n) * size_t(n) && (faces_kept >> f & 1u); ++y)
       std::copy_n(faces[static_cast<size_t>(f)].begin() + static_cast<ptrdiff_t>(y) * n, n,
                   strip.begin() + (static_cast<ptrdiff_t>(y) * 6 + f) * n);
   return strip;
@@ -253,7 +255,9 @@ void check_against_reference(CaseFindings& r, const Images& images, const Images
     faces_check.passed = true;
     r.checks.push_back(faces_check);
   } else {
-    std::vector<float> faces = concat_faces(images), ref_faces = concat_faces(ref);
+    // View culling: only the faces both frames drew hold what their lookups read.
+    const uint8_t drawn = images.view_faces & ref.view_faces;
+    std::vector<float> faces = concat_faces(images, drawn), ref_faces = concat_faces(ref, drawn);
     faces_check.difference = compare_values(faces, ref_faces, faces_check.tolerance);
     record_check(r, faces_check, faces, ref_faces, scaled(ref_faces, 1.0f / far_plane), images.cube_size * 6,
                  images.cube_size, far_plane * 0.05, false, ctx);

@@ -2,9 +2,11 @@
 // against exact visibility (with the --max-error limits and the error heatmap). The ray caster and the truths
 // come from the TruthCache: every case of a group shares them.
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 
+#include "backends/common/cube_faces.h"
 #include "backends/common/layouts.h"
 #include "bench/truth/case_checks.h"
 
@@ -123,6 +125,39 @@ void check_accuracy(CaseFindings& r, const Images& images, const CheckContext& c
   const std::string rel = (fs::path("images") / r.config.id() / "error_heatmap.png").string();
   ctx.write_image(rel, images.width, images.height, error_heatmap(truth, images));
   r.images["error_heatmap"] = rel;
+}
+
+// View culling's own check, exact and cheap: every covered pixel within the light's range looks it up
+// through a face the frame drew (Images::view_faces). What a kernel or filter reads beyond that face is held
+// by the comparison with six_pass unculled (reference_config), which the lit frame must equal.
+void check_view_culling(CaseFindings& r, const Images& images, const CheckContext& ctx) {
+  if (!r.config.optimizations.view_culling || !ctx.scene.has_point_light()) return;
+  const glm::vec3 light = ctx.scene.light().path.at(ctx.options.check_frame);
+  const std::vector<float>& p = images.world_position;
+  std::array<uint64_t, 6> missing{};
+  uint64_t total = 0;
+  for (size_t i = 0; i + 3 < p.size(); i += 4) {
+    if (p[i + 3] != 1.0f) continue;  // nothing drawn here
+    const glm::vec3 d = glm::vec3(p[i], p[i + 1], p[i + 2]) - light;
+    if (glm::length(d) >= images.light_far) continue;  // beyond the range: the light adds nothing
+    const int face = cube::direction_to_face(d).face;
+    if (images.face_drawn(face)) continue;
+    ++missing[size_t(face)];
+    ++total;
+  }
+  if (total == 0) return;
+  std::string faces;
+  for (int f = 0; f < 6; ++f)
+    if (missing[size_t(f)])
+      faces += std::string(faces.empty() ? "" : ", ") + cube::kFaceNames[size_t(f)] + " " +
+               std::to_string(missing[size_t(f)]);
+  r.add({Status::failed_check,
+         "view_culling",
+         std::to_string(total) +
+             " covered pixels within the light's range look it up through faces view "
+             "culling left out (" +
+             faces + ")",
+         {{"pixels", double(total)}}});
 }
 
 }  // namespace omnishadow::bench

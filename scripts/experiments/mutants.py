@@ -48,6 +48,10 @@ ATLAS = ["--scene", "hall", "--light-count", "4", "--layout", "atlas", "--techni
 ONE_PASS = MANY + ["--technique", "six_pass,vs_layer", "--light-grouping", "per_light,all_lights"]
 # The same with the geometry shader's one pass (invocations per light).
 GS_ONE_PASS = MANY + ["--technique", "six_pass,geometry_shader", "--light-grouping", "per_light,all_lights"]
+# Sixteen lamps seen from mid-hall, culled to the view (lamps behind the camera get no pass, faces turned away
+# none): every case is held to six_pass unculled, and its covered pixels to the faces it drew.
+VIEW = ["--scene", "hall", "--light-count", "16", "--camera", "0,3,0,20,2,0", "--optimize", "view",
+        "--technique", "six_pass,geometry_shader", "--filter", "hard,pcf_disk20"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -190,6 +194,14 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("atlas_tile_off_by_one", "backends/common/atlas.cpp",
      replace("(face / 3) * span + kBorder};", "(face / 3) * span + kBorder + 1};"),
      "every atlas tile rendered and read back one texel up from where the lighting pass looks it up", ATLAS),
+    ("view_culls_light_in_range", "backends/common/view_culling.cpp",
+     replace("if (planes[i].distance(light) > range + margin)", "if (planes[i].distance(light) > 0.5f * range)"),
+     "view culling drops a light whose range sphere is more than half its range outside the view, though it "
+     "reaches the screen", VIEW),
+    ("view_faces_without_kernel", "backends/common/view_culling.cpp",
+     replace("const float sample_margin = reach.world + margin;", "const float sample_margin = margin;"),
+     "view culling keeps the faces the lookup points' directions pick, not those a PCF kernel around them reads",
+     VIEW),
 ]
 
 
