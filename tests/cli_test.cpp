@@ -760,6 +760,45 @@ TEST_F(CliRun, AtlasPassesEveryCheckForEveryLightOnBothApis) {
   EXPECT_GT(moments, 0) << "the moments check ran on atlas cases";
 }
 
+// Culled to the view from mid-hall: lamps behind the camera and faces turned away get no pass, which
+// results.json counts, and every case still passes six_pass unculled and its pixels' faces check; with every
+// light in one pass it is unsupported with its reason.
+TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
+  std::string why;
+  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  fs::path out = scratch("view");
+  Outcome o =
+      run("run --backend " + backends +
+          " --scene hall --light-count 16 --camera 0,3,0,20,2,0 --optimize view --cube 16 --frame 96x64"
+          " --technique six_pass,vs_layer --light-grouping per_light,all_lights --filter pcf_disk20"
+          " --frames 1 --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
+          out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  int ok = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    if (c["status"] == "unsupported") {  // six_pass has no one pass at all; vs_layer's is not culled
+      if (c["axes"]["technique"] != "vs_layer") continue;
+      EXPECT_NE(c["reason"].get<std::string>().find("view culling with every light in one pass"),
+                std::string::npos)
+          << c["reason"];
+      continue;
+    }
+    EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+    ok += c["status"] == "ok";
+    const auto& culled = c["shadow_plan"]["view_culling"];
+    EXPECT_GT(culled["lights_culled"].get<int>(), 0) << c["id"];
+    EXPECT_GT(culled["faces_culled"].get<int>(), 0) << c["id"];
+    bool held_to_unculled = false;
+    for (const auto& check : c["checks"])
+      held_to_unculled |=
+          check["name"] == "lit" && check["against"].get<std::string>().find("/view") == std::string::npos;
+    EXPECT_TRUE(held_to_unculled) << c["id"] << ": its lit frame against six_pass unculled";
+  }
+  EXPECT_EQ(ok, backends == "gl,vulkan" ? 4 : 2);
+}
+
+// A model file (glTF or OBJ) given to --scene runs directly and passes its checks on both APIs, named by
 // its file stem; the loader's time is in the results and the summary.
 TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
   const std::string engine = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";

@@ -64,7 +64,8 @@ class Harness {
 
  private:
   bool admit(CaseResult& result, Backend& b);
-  void count_work(CaseResult& result, Backend& b, float light_far);
+  // Also returns every light as planned at the check frame (view culling's check reads it).
+  std::vector<PlannedLight> count_work(CaseResult& result, Backend& b, float light_far);
   void measure_floor(CaseResult& result, Backend& b);
   // What the checks read besides the images (bench/truth/case_checks.h); their image files go to write_later.
   CheckContext check_context(const CaseResult& result);

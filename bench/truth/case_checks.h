@@ -80,8 +80,17 @@ void check_moment_cube(CaseFindings& r, const Images& images);
 void check_maps(CaseFindings& r, const Images& images, const CheckContext& ctx, TruthCache& truths);
 void check_lookups_of(CaseFindings& r, const Images& images, const CheckContext& ctx);
 void check_accuracy(CaseFindings& r, const Images& images, const CheckContext& ctx, TruthCache& truths);
-// --optimize view: no covered pixel in the light's range looks it up through a face the frame left out.
-void check_view_culling(CaseFindings& r, const Images& images, const CheckContext& ctx);
+// --optimize view, every light of the case at the check frame: no covered pixel within a light's range looks
+// it up through a face the frame left out. Light k as planned: its position, range and faces drawn.
+struct PlannedLight {
+  int index;
+  glm::vec3 position;
+  float range;
+  uint8_t faces;
+  int face_size;
+};
+void check_view_culling(CaseFindings& r, const Images& images, const std::vector<PlannedLight>& lights,
+                        const glm::vec3& camera);
 
 // Against other renderings (bench/truth/image_checks.cpp).
 // The timed and the check lighting variants are two compilations of one shader; a GPU compiler may contract

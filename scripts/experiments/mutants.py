@@ -194,14 +194,10 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("atlas_tile_off_by_one", "backends/common/atlas.cpp",
      replace("(face / 3) * span + kBorder};", "(face / 3) * span + kBorder + 1};"),
      "every atlas tile rendered and read back one texel up from where the lighting pass looks it up", ATLAS),
-    ("view_culls_light_in_range", "backends/common/view_culling.cpp",
-     replace("if (planes[i].distance(light) > range + margin)", "if (planes[i].distance(light) > 0.5f * range)"),
-     "view culling drops a light whose range sphere is more than half its range outside the view, though it "
-     "reaches the screen", VIEW),
-    ("view_faces_without_kernel", "backends/common/view_culling.cpp",
-     replace("const float sample_margin = reach.world + margin;", "const float sample_margin = margin;"),
-     "view culling keeps the faces the lookup points' directions pick, not those a PCF kernel around them reads",
-     VIEW),
+    ("view_culls_light_by_centre", "backends/common/view_culling.cpp",
+     replace("if (planes[i].distance(light) > range + margin)", "if (planes[i].distance(light) > margin)"),
+     "view culling tests the light's position against the frustum, not its range sphere: lamps beside the view "
+     "whose range reaches into it get no map", VIEW),
 ]
 
 
