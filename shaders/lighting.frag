@@ -16,11 +16,18 @@
 layout(constant_id = 0) const int kMapLights = 0;     // spot and directional lights, 0-4, one 2D map each
 layout(constant_id = 1) const int kPointLights = 1;   // point lights shaded (the case's light count; 0: none)
 layout(constant_id = 2) const int kInjectedWork = 0;  // --inject-fragment-work (0 = none)
+layout(constant_id = 4) const bool kLightClusters = false;  // --optimize clusters: the pixel's cluster's lights
 #else
 const int kMapLights = MAP_LIGHTS;
 const int kPointLights = POINT_LIGHTS;
 const int kInjectedWork = INJECTED_WORK;
+const bool kLightClusters = LIGHT_CLUSTERS != 0;
 #endif
+
+// Clustered light lists (backends/common/light_clusters.h, its layout): a header, each cluster's first index
+// word and light count, then the lights' indices in the scene's order.
+const uint kClusterHeaderWords = 16u;
+layout(std430, binding = 10) readonly buffer LightClusters { uint cluster_words[]; };
 
 layout(location = 0) in vec3 world_position;
 layout(location = 1) in vec3 world_normal;
@@ -31,6 +38,19 @@ layout(location = 0) out vec4 out_color;
 layout(location = 1) out float out_shadow_factor;  // 1 = fully shadowed (the tutorial's `shadow`)
 layout(location = 2) out vec4 out_position;        // world position, w = 1 marks covered pixels
 #endif
+
+// This pixel's cluster: its screen tile (row 0 first in memory in both APIs) and the slice of its view depth,
+// gpu::cluster_of's arithmetic.
+uint pixel_cluster() {
+  uvec2 tiles = uvec2(cluster_words[0], cluster_words[1]);
+  uvec2 tile = min(uvec2(gl_FragCoord.xy) / cluster_words[3], tiles - 1u);
+  vec3 forward = uintBitsToFloat(uvec3(cluster_words[4], cluster_words[5], cluster_words[6]));
+  float near_plane = uintBitsToFloat(cluster_words[7]);
+  float depth = dot(world_position - frame.camera_position.xyz, forward);
+  float slice = floor(log(max(depth, near_plane) / near_plane) * uintBitsToFloat(cluster_words[8]));
+  uint s = uint(clamp(int(slice), 0, int(cluster_words[2]) - 1));
+  return (s * tiles.y + tile.y) * tiles.x + tile.x;
+}
 
 // Blinn-Phong diffuse + specular of one light (the tutorial's shininess 64).
 vec3 direct_light(vec3 normal, vec3 light_dir, vec3 view_dir, vec3 light_color) {
@@ -48,14 +68,25 @@ void main() {
   vec3 point_term = vec3(0.0);
   float shadow = 0.0;
   int reported_light = int(frame.lights_info.z);
-  for (int k = 0; k < kPointLights; ++k) {
-    g_light = k;  // dynamically uniform: the shadow map's layers and the record of light k
+  // Every light, or with clusters the pixel's cluster's lights: the same lights that reach the pixel in the same
+  // order, so the same sum (a light out of range adds an exact 0 in the loop over all). The cluster's loop is
+  // not uniform across a quad, so implicit derivatives are undefined there; they only choose the level of
+  // detail, and every shadow texture has one level and equal minification and magnification filters.
+  uint first = 0u, count = uint(kPointLights);
+  if (kLightClusters) {
+    uint entry = kClusterHeaderWords + 2u * pixel_cluster();
+    first = cluster_words[entry];
+    count = cluster_words[entry + 1u];
+  }
+  for (uint i = 0u; i < count; ++i) {
+    int k = kLightClusters ? int(cluster_words[first + i]) : int(i);
+    g_light = k;  // the shadow map's layers and the record of light k
     vec3 light_color = point_lights[k].colour_near.rgb;
     vec3 to_light = light_position() - world_position;
     // The light's range is its far plane: beyond it the light reaches nothing, whatever the filter would make of
     // the cube there (glTF's range; what lets a renderer skip a light). As outside a spot's cone, the shadow
     // factor there is 0 and the light adds nothing. Every bundled one-light scene lies within its light's far.
-    // The lookup itself stays in uniform control flow (implicit derivatives), the range only masks its result.
+    // Without clusters the lookup stays in uniform control flow, the range only masks its result.
     bool in_range = length(to_light) < light_far();
     vec3 light_dir = normalize(to_light);
     float diff = max(dot(light_dir, normal), 0.0);

@@ -287,6 +287,7 @@ std::string CaseConfig::id() const {
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";
   if (optimizations.view_culling) id += "/view";
+  if (optimizations.light_clusters) id += "/clusters";
   if (pcf_scale != 1.0f) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "/pcf%g", static_cast<double>(pcf_scale));
@@ -431,9 +432,12 @@ Optimizations parse_optimizations(std::string_view text) {
       o.static_cache = true;
     else if (word == "view")
       o.view_culling = true;
+    else if (word == "clusters")
+      o.light_clusters = true;
     else
       throw std::invalid_argument("unknown optimisation '" + std::string(word) +
-                                  "' (valid: none, cull, fit, cache, view, or a '+' join such as cull+view)");
+                                  "' (valid: none, cull, fit, cache, view, clusters, or a '+' join such as "
+                                  "cull+view)");
   });
   return o;
 }
@@ -444,6 +448,7 @@ std::string to_string(const Optimizations& o) {
   if (o.fit_range) out += std::string(out.empty() ? "" : "+") + "fit";
   if (o.static_cache) out += std::string(out.empty() ? "" : "+") + "cache";
   if (o.view_culling) out += std::string(out.empty() ? "" : "+") + "view";
+  if (o.light_clusters) out += std::string(out.empty() ? "" : "+") + "clusters";
   return out.empty() ? "none" : out;
 }
 

@@ -129,10 +129,13 @@ struct Optimizations {
   bool fit_range = false;  // light far plane fitted to the scene bounds around the light (never beyond the
                            // scene's far): linear depth's step is far / 2^bits, so a tighter far is precision
   bool static_cache = false;  // the cube is not re-rendered while the light stands still (casters are static)
-  bool view_culling =
-      false;  // a light whose range misses the camera's frustum gets no pass, a face no lookup
-              // of a visible point can read is cleared only (backends/common/view_culling.h)
-  bool any() const { return face_culling || fit_range || static_cache || view_culling; }
+  // A light whose range misses the camera's frustum gets no pass, a face no lookup of a visible point can
+  // read is cleared only (backends/common/view_culling.h).
+  bool view_culling = false;
+  // The lighting pass shades each pixel with its cluster's lights, from lists built each frame
+  // (backends/common/light_clusters.h).
+  bool light_clusters = false;
+  bool any() const { return face_culling || fit_range || static_cache || view_culling || light_clusters; }
   bool operator==(const Optimizations&) const = default;
 };
 // Remedies for numerical extremes (the stability suite, scripts/experiments/run_extremes.sh), measured on and
@@ -190,8 +193,8 @@ struct MomentsTuning {
 MomentsTuning parse_moments_tuning(std::string_view text);
 std::string to_string(const MomentsTuning& t);  // the same spellings, numbers as %g; "none" at the defaults
 
-// "none", "cull", "fit", "cache", "view" or a '+' join such as "cull+fit"; throws std::invalid_argument
-// naming the word.
+// "none", "cull", "fit", "cache", "view", "clusters" or a '+' join such as "cull+fit"; throws
+// std::invalid_argument naming the word.
 Optimizations parse_optimizations(std::string_view text);
 std::string to_string(const Optimizations& o);  // the same spellings; "none" when all are off
 

@@ -66,6 +66,7 @@ inline constexpr int kMeshletVerticesBinding = 6;
 inline constexpr int kMeshletTrianglesBinding = 7;
 inline constexpr int kSceneVerticesBinding = 8;  // the scene's vertex buffer read as floats
 inline constexpr int kPointLightsBinding = 9;    // the lighting pass's PointLightRecord list (storage buffer)
+inline constexpr int kLightClustersBinding = 10;  // its per-cluster light lists (gpu::build_light_clusters)
 inline constexpr int kFirstMeshBinding = kMeshletsBinding, kMeshBindingCount = 5;
 
 // Vertex attributes: location 0 position, 1 normal, 2 colour; interleaved scene::Vertex.

@@ -229,7 +229,7 @@ std::vector<std::string> spirv_variant_keys() {
 
 LightingConstants lighting_constants(const CaseConfig& c, const scene::Scene& s) {
   return {static_cast<int32_t>(s.map_lights.size()), s.has_point_light() ? c.light_count : 0, c.injected_work,
-          c.lookup_perturb_texels};
+          c.lookup_perturb_texels, c.optimizations.light_clusters ? 1 : 0};
 }
 
 namespace {
@@ -245,7 +245,8 @@ std::string float_literal(float v) {
 std::vector<std::string> lighting_constant_defines(const LightingConstants& k) {
   return {"MAP_LIGHTS=" + std::to_string(k.map_lights), "POINT_LIGHTS=" + std::to_string(k.point_lights),
           "INJECTED_WORK=" + std::to_string(k.injected_work),
-          "LOOKUP_PERTURB_TEXELS=" + float_literal(k.lookup_perturb_texels)};
+          "LOOKUP_PERTURB_TEXELS=" + float_literal(k.lookup_perturb_texels),
+          "LIGHT_CLUSTERS=" + std::to_string(k.light_clusters)};
 }
 
 float raster_perturb_ndc(const CaseConfig& c, int subpixel_bits) {

@@ -61,7 +61,8 @@ struct LightingConstants {
       1;  // point lights shaded, each with its shadow map: the case's light count (0: none)
   int32_t injected_work = 0;  // --inject-fragment-work iterations
   float lookup_perturb_texels =
-      0.0f;  // test only (CaseConfig::lookup_perturb_texels); Vulkan: id 3, as float bits
+      0.0f;                    // test only (CaseConfig::lookup_perturb_texels); Vulkan: id 3, as float bits
+  int32_t light_clusters = 0;  // 1: each pixel's cluster's lights (--optimize clusters); Vulkan: id 4
 };
 // Every SPIR-V variant the Vulkan backend can ask for ("lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD",
 // ...), enumerated over the tables' axes with the functions above, so the build compiles exactly what the

@@ -110,6 +110,8 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   info_.extra["max_array_layers"] = std::to_string(max_layers);
   glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &max_vertex_storage_blocks_);
   glGetIntegerv(GL_MAX_GEOMETRY_SHADER_STORAGE_BLOCKS, &max_geometry_storage_blocks_);
+  glGetIntegerv(GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS, &max_fragment_storage_blocks_);
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &max_storage_bindings_);
   glGetIntegerv(GL_MAX_FRAMEBUFFER_LAYERS, &max_framebuffer_layers_);
   GLint max_texture = 0, max_renderbuffer = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
@@ -214,6 +216,13 @@ Support GlBackend::supports(const CaseConfig& c) const {
       !s.ok)
     return s;
   if (Support s = all_lights_support(c); !s.ok) return s;
+  if (c.optimizations.light_clusters &&
+      (max_fragment_storage_blocks_ < 2 || max_storage_bindings_ <= gpu::kLightClustersBinding))
+    return {false,
+            "clustered light lists are a second storage buffer in the fragment stage at binding " +
+                std::to_string(gpu::kLightClustersBinding) + ": GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS " +
+                std::to_string(max_fragment_storage_blocks_) + ", GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS " +
+                std::to_string(max_storage_bindings_) + " on " + info_.renderer};
   if (c.layout == Layout::atlas)
     if (std::string why = atlas::too_large(scene_ ? atlas::plan_for(c, *scene_) : atlas::uniform_plan(c),
                                            std::stoi(info_.extra.at("max_2d_size")), "GL_MAX_TEXTURE_SIZE");
@@ -290,9 +299,9 @@ void GlBackend::release_case() {
   for (LightingTargets& t : lighting_)
     if (t.fbo) destroy(t);
   if (maps_.depth) destroy(maps_);
-  const GLuint buffers[] = {frame_ubo_, lights_ssbo_};
-  glDeleteBuffers(2, buffers);
-  frame_ubo_ = lights_ssbo_ = 0;
+  const GLuint buffers[] = {frame_ubo_, lights_ssbo_, clusters_ssbo_};
+  glDeleteBuffers(3, buffers);
+  frame_ubo_ = lights_ssbo_ = clusters_ssbo_ = 0;
   config_.reset();
 }
 
@@ -342,6 +351,13 @@ void GlBackend::configure_case(const CaseConfig& c) {
   glCreateBuffers(1, &lights_ssbo_);
   glNamedBufferStorage(lights_ssbo_, GLsizeiptr(sizeof(gpu::PointLightRecord)) * c.light_count, nullptr,
                        GL_DYNAMIC_STORAGE_BIT);
+  if (c.optimizations.light_clusters) {
+    cluster_grid_ = gpu::cluster_grid(scene_->camera, c.width, c.height);
+    glCreateBuffers(1, &clusters_ssbo_);
+    glNamedBufferStorage(
+        clusters_ssbo_, GLsizeiptr(gpu::light_cluster_words(cluster_grid_, c.light_count) * sizeof(uint32_t)),
+        nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
   lighting_[size_t(gpu::LightingVariant::timed)] = create_lighting_targets(c.width, c.height, false);
@@ -364,6 +380,12 @@ gpu::LightFrames GlBackend::update_frame_uniforms(int frame) {
   glNamedBufferSubData(lights_ssbo_, 0, GLsizeiptr(f.records.size() * sizeof(gpu::PointLightRecord)),
                        f.records.data());
   return f;
+}
+
+void GlBackend::upload_light_clusters(const gpu::LightFrames& f) {
+  if (!clusters_ssbo_) return;
+  const std::vector<uint32_t> words = gpu::build_light_clusters(cluster_grid_, f.records);
+  glNamedBufferSubData(clusters_ssbo_, 0, GLsizeiptr(words.size() * sizeof(uint32_t)), words.data());
 }
 
 // Light k's uniform block; the lighting pass binds light 0's, whose camera and knobs every light shares.
@@ -632,6 +654,7 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
   glBindVertexArray(lighting_vao_);
   bind_frame_uniforms(0);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPointLightsBinding, lights_ssbo_);
+  if (clusters_ssbo_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kLightClustersBinding, clusters_ssbo_);
   const LayoutLookup lookup = traits(config_->layout).lookup;
   const bool by_direction =
       lookup == LayoutLookup::hardware_cube || lookup == LayoutLookup::hardware_cube_array;
@@ -668,6 +691,7 @@ FrameTiming GlBackend::render_frame(int frame, FrameKind kind) {
   glFinish();
   auto t2 = Clock::now();
   queries_->begin_timer(kLightingPass);
+  if (kind != FrameKind::floor) upload_light_clusters(plan);  // the floor's lighting reads no light
   lighting_pass(variant, program);
   queries_->end_timer();
   auto t3 = Clock::now();
@@ -690,6 +714,7 @@ FrameCounters GlBackend::count_frame_work(int frame) {
   DrawStats shadow = shadow_pass(plan);
   planner_.rendered(plan, *config_);
   if (queries_->has_statistics()) queries_->end_statistics();
+  upload_light_clusters(plan);
   if (queries_->has_statistics()) queries_->begin_statistics(kLightingPass);
   DrawStats lighting =
       lighting_pass(gpu::LightingVariant::timed, lighting_programs_[size_t(gpu::LightingVariant::timed)]);

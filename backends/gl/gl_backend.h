@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "backends/backend.h"
+#include "backends/common/light_clusters.h"
 #include "backends/common/shader_variants.h"
 #include "backends/common/shadow_frame.h"
 #include "backends/common/techniques.h"
@@ -51,6 +52,7 @@ class GlBackend final : public Backend {
   // Every light's uniforms into frame_ubo_ (light k's block at k * frame_stride_) and the lighting pass's
   // light list into lights_ssbo_.
   gpu::LightFrames update_frame_uniforms(int frame);
+  void upload_light_clusters(const gpu::LightFrames& f);  // --optimize clusters, timed with the lighting pass
   void bind_frame_uniforms(int light);
   DrawStats shadow_pass(const gpu::LightFrames& f);
   // One light's shadow pass into its layers of the shadow maps.
@@ -114,7 +116,11 @@ class GlBackend final : public Backend {
   GLuint frame_ubo_ = 0;     // one FrameUniforms per light of the case, frame_stride_ apart
   GLsizeiptr frame_stride_ = 0;
   GLuint lights_ssbo_ = 0;  // gpu::PointLightRecord per light of the case
-  GLuint pass_ubo_ = 0;     // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
+  // --optimize clusters: the case's clustered light lists, built each frame over its grid.
+  GLuint clusters_ssbo_ = 0;
+  gpu::ClusterGrid cluster_grid_;
+  GLint max_fragment_storage_blocks_ = 0, max_storage_bindings_ = 0;
+  GLuint pass_ubo_ = 0;  // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
   GLuint nearest_sampler_ = 0;
   GLuint compare_sampler_ = 0;
   GLuint linear_sampler_ = 0;

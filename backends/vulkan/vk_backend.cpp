@@ -131,19 +131,20 @@ void VkBackend::create_layouts() {
   VkDescriptorSetLayoutBinding shadow_bindings[2] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, geometry_stages, nullptr},
       {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, geometry_stages, nullptr}};
-  VkDescriptorSetLayoutBinding bindings[4] = {
+  VkDescriptorSetLayoutBinding bindings[5] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, geometry_stages, nullptr},
       {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
        nullptr},
       {gpu::kMapShadowsBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
        nullptr},
-      {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+      {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {gpu::kLightClustersBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
        nullptr}};
   VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   set_info.bindingCount = 2;
   set_info.pBindings = shadow_bindings;
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &shadow_set_layout_));
-  set_info.bindingCount = 4;
+  set_info.bindingCount = 5;
   set_info.pBindings = bindings;
   OMNISHADOW_VK(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &lighting_set_layout_));
   // Six 4x4 matrices do not fit the 128 bytes of push constants lavapipe guarantees: they live in the uniform
@@ -168,7 +169,7 @@ void VkBackend::create_descriptor_sets() {
   VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
                                    {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1},
                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
-                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2}};
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool_info.maxSets = 2;
   pool_info.poolSizeCount = 4;
@@ -405,6 +406,7 @@ void VkBackend::release_case() {
   blur_.reset();
   destroy(*ctx_, maps_);
   destroy(*ctx_, shadow_);
+  destroy(*ctx_, light_clusters_);
   for (LightingTargets& t : lighting_) destroy(*ctx_, t);
   config_.reset();
 }
@@ -431,6 +433,12 @@ void VkBackend::configure_case(const CaseConfig& c) {
     if (traits(c.filter).prefilter == Prefilter::separable_blur)
       blur_ = std::make_unique<MomentsBlur>(*ctx_, *modules_, colour_format(c.storage, c.depth_format),
                                             shadow_.color, shadow_.blur);
+    cluster_grid_ = gpu::cluster_grid(scene_->camera, c.width, c.height);
+    const size_t cluster_words = c.optimizations.light_clusters
+                                     ? gpu::light_cluster_words(cluster_grid_, c.light_count)
+                                     : size_t(gpu::kClusterHeaderWords);
+    light_clusters_ =
+        create_buffer(*ctx_, cluster_words * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
     write_lighting_descriptors(c);
   } catch (...) {
     release_case();
@@ -500,7 +508,8 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
     lighting.render_pass = lighting_[size_t(v)].render_pass;
     lighting.color_attachments = static_cast<uint32_t>(gpu::kLightingColorOutputs[size_t(v)]);
     lighting.fragment_constants = {constants.map_lights, constants.point_lights, constants.injected_work,
-                                   std::bit_cast<int32_t>(constants.lookup_perturb_texels)};
+                                   std::bit_cast<int32_t>(constants.lookup_perturb_texels),
+                                   constants.light_clusters};
     for (int cull = 0; cull < 2; ++cull) {
       lighting.cull = cull ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE;
       lighting_pipelines_[size_t(v)][static_cast<size_t>(cull)] = create_pipeline(*ctx_, *modules_, lighting);
@@ -526,7 +535,9 @@ void VkBackend::write_lighting_descriptors(const CaseConfig& c) {
                                   : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   VkDescriptorImageInfo map_image{nearest_sampler_, maps_.sampled_view,
                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-  VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+  VkDescriptorBufferInfo clusters{light_clusters_.buffer, 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet writes[3] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                    {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
                                     {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
   writes[0].dstSet = writes[1].dstSet = lighting_set_;
   writes[0].dstBinding = gpu::kShadowMapBinding;
@@ -535,7 +546,12 @@ void VkBackend::write_lighting_descriptors(const CaseConfig& c) {
   writes[0].descriptorType = writes[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   writes[0].pImageInfo = &image;
   writes[1].pImageInfo = &map_image;
-  vkUpdateDescriptorSets(ctx_->device(), 2, writes, 0, nullptr);
+  writes[2].dstSet = lighting_set_;
+  writes[2].dstBinding = gpu::kLightClustersBinding;
+  writes[2].descriptorCount = 1;
+  writes[2].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  writes[2].pBufferInfo = &clusters;
+  vkUpdateDescriptorSets(ctx_->device(), 3, writes, 0, nullptr);
 }
 
 // A pass's command buffer opens with its queries: timestamps 2 * pass and 2 * pass + 1 bracket it, and in
@@ -800,6 +816,13 @@ void VkBackend::write_frame_uniforms(const gpu::LightFrames& frame) {
               frame.records.size() * sizeof(gpu::PointLightRecord));
 }
 
+// The frame's clustered light lists, built on the CPU and written for the lighting pass (timed with it).
+void VkBackend::write_light_clusters(const gpu::LightFrames& frame) {
+  if (!config_->optimizations.light_clusters) return;
+  const std::vector<uint32_t> words = gpu::build_light_clusters(cluster_grid_, frame.records);
+  std::memcpy(light_clusters_.mapped, words.data(), words.size() * sizeof(uint32_t));
+}
+
 FrameTiming VkBackend::render_frame(int frame, FrameKind kind) {
   const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
   const bool floor = kind == FrameKind::floor;
@@ -816,6 +839,7 @@ FrameTiming VkBackend::render_frame(int frame, FrameKind kind) {
   auto t1 = Clock::now();
   ctx_->wait();
   auto t2 = Clock::now();
+  if (!floor) write_light_clusters(plan);  // the floor's lighting reads no light
   record_lighting(command_buffers_[1], variant, false, draws, floor);
   ctx_->submit(command_buffers_[1]);
   auto t3 = Clock::now();
@@ -845,6 +869,7 @@ FrameCounters VkBackend::count_frame_work(int frame) {
   ctx_->submit(command_buffers_[0]);
   planner_.rendered(plan, *config_);
   ctx_->wait();
+  write_light_clusters(plan);
   record_lighting(command_buffers_[1], gpu::LightingVariant::timed, stats, c.lighting.draw_calls);
   ctx_->submit(command_buffers_[1]);
   ctx_->wait();

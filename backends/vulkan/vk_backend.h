@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "backends/backend.h"
+#include "backends/common/light_clusters.h"
 #include "backends/common/shader_variants.h"
 #include "backends/common/shadow_frame.h"
 #include "backends/common/techniques.h"
@@ -104,6 +105,11 @@ class VkBackend final : public Backend {
   VkDeviceSize frame_stride_ = 0;
   uint32_t frame_offset_ = 0;
   Buffer point_lights_;  // gpu::PointLightRecord per light (host-visible), the lighting pass's binding 9
+  // The case's clustered light lists (host-visible, binding 10; a header's worth without --optimize
+  // clusters), built each frame over the case's grid.
+  Buffer light_clusters_;
+  gpu::ClusterGrid cluster_grid_;
+  void write_light_clusters(const gpu::LightFrames& frame);
   VkQueryPool timestamps_ = VK_NULL_HANDLE;  // 0,1: shadow pass; 2,3: lighting pass
   VkQueryPool statistics_ = VK_NULL_HANDLE;  // 0: shadow pass, 1: lighting pass
   std::array<VkCommandBuffer, 2> command_buffers_{};

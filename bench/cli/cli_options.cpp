@@ -205,9 +205,9 @@ void add_technique_axes(CLI::App& r, MatrixSpec& m) {
       "comma list of optimisation sets, each none or a '+' join of cull (per-face culling, empty faces "
       "cleared only), fit (far plane fitted to the scene), cache (static cube not re-rendered), view (a "
       "light "
-      "whose range misses the camera's view gets no pass, a face no visible point's lookup reads is cleared "
-      "only): "
-      "--optimize none,cull measures culling on and off");
+      "whose range misses the camera's view gets no pass, a face no visible point's lookup reads none), "
+      "clusters (each pixel shaded with its cluster's lights, lists built each frame): --optimize none,cull "
+      "measures culling on and off");
   list_option(
       r, "--remedy", m.remedies, [](const std::string& s) { return parse_remedies(s); },
       [](const Remedies& o) { return to_string(o); },

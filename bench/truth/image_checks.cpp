@@ -169,6 +169,7 @@ CaseConfig reference_config(const CaseConfig& c) {
   k.optimizations.static_cache = false;
   // Unculled: a case culled to the view must light the frame as if every light and face had been drawn.
   k.optimizations.view_culling = false;
+  k.optimizations.light_clusters = false;  // and every light looped over at every pixel
   return k;
 }
 
