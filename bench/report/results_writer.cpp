@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 
+#include "backends/common/light_clusters.h"
 #include "backends/common/storage_filter_tables.h"
 #include "bench/io/file_io.h"
 #include "bench/run/memory_budget.h"
@@ -302,6 +303,13 @@ json case_to_json(const CaseResult& r) {
   j["checks"] = checks_to_json(r.checks);
   j["images"] = r.images;
   j["shadow_plan"] = plan_to_json(r);
+  if (r.light_clusters)
+    j["light_clusters"] = {{"clusters", r.light_clusters->clusters},
+                           {"tile_pixels", gpu::kClusterTilePixels},
+                           {"slices", gpu::kClusterSlices},
+                           {"mean_lights_listed", r.light_clusters->mean_listed},
+                           {"mean_lights_reaching", r.light_clusters->mean_reaching},
+                           {"max_lights_listed", r.light_clusters->max_listed}};
   j["non_finite"] = {{"cube", r.non_finite_cube},
                      {"shadow_factor", r.non_finite_shadow},
                      {"world_position", r.non_finite_position}};

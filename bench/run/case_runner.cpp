@@ -276,6 +276,7 @@ void Harness::prepare(CaseResult& r) {
     if (is_reference) references_.clear();
     check_lights(r, images, others, is_reference);
     check_view_culling(r, images, planned, scene_of(r.config).camera.position);
+    check_light_clusters(r, images, planned, scene_of(r.config).camera);
     // Last, when the case's status is known: a failed check also keeps every float buffer.
     if (options_.write_images()) step("images", [&] { write_images(r, images); });
     if (is_reference) {

@@ -91,6 +91,10 @@ struct PlannedLight {
 };
 void check_view_culling(CaseFindings& r, const Images& images, const std::vector<PlannedLight>& lights,
                         const glm::vec3& camera);
+// --optimize clusters: every light that reaches a covered pixel is in the pixel's cluster's list; the lists'
+// figures into r.light_clusters.
+void check_light_clusters(CaseFindings& r, const Images& images, const std::vector<PlannedLight>& lights,
+                          const scene::Camera& camera);
 
 // Against other renderings (bench/truth/image_checks.cpp).
 // The timed and the check lighting variants are two compilations of one shader; a GPU compiler may contract

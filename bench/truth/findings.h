@@ -79,6 +79,14 @@ struct LightReport {
   std::optional<LookupReport> lookups;
 };
 
+// --optimize clusters: the lists the check frame's pixels read (bench/truth/frame_needs_checks.cpp).
+struct LightClusterReport {
+  int clusters = 0;
+  int max_listed = 0;          // the longest list a covered pixel read
+  double mean_listed = 0.0;    // lights a covered pixel's cluster lists, on average
+  double mean_reaching = 0.0;  // lights that reach a covered pixel, on average
+};
+
 struct CaseFindings {
   CaseConfig config;
   Status status = Status::ok;  // the worst finding's (ok without any)
@@ -108,6 +116,7 @@ struct CaseFindings {
   // With every light checked (light_stride 1): the lit frame's PSNR from every light's shadow together
   // (lit_psnr_of_lights; -1 when identical to exact visibility's).
   std::optional<double> lit_psnr_every_light_db;
+  std::optional<LightClusterReport> light_clusters;
 };
 
 // The point lights of a case with `light_count` lights whose images the checks read: every one up to

@@ -2,16 +2,11 @@
 // against exact visibility (with the --max-error limits and the error heatmap). The ray caster and the truths
 // come from the TruthCache: every case of a group shares them.
 
-#include <algorithm>
-#include <array>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
-#include "backends/common/cube_faces.h"
 #include "backends/common/layouts.h"
 #include "bench/truth/case_checks.h"
-#include "bench/truth/lookup_check.h"
 
 namespace omnishadow::bench {
 
@@ -128,85 +123,6 @@ void check_accuracy(CaseFindings& r, const Images& images, const CheckContext& c
   const std::string rel = (fs::path("images") / r.config.id() / "error_heatmap.png").string();
   ctx.write_image(rel, images.width, images.height, error_heatmap(truth, images));
   r.images["error_heatmap"] = rel;
-}
-
-namespace {
-
-// The world offsets a filter's taps add to the lookup vector (shaders/shadow_filters.glsl, its disk table
-// read from the shader source by the lookup replay), for a point `view_distance` from the camera. PCSS's
-// penumbra has no bound (its light keeps every face): only its centre tap.
-std::vector<glm::vec3> tap_offsets(const CaseConfig& c, float view_distance, float range) {
-  const float scale = c.pcf_scale;
-  std::vector<glm::vec3> taps;
-  if (c.filter == Filter::pcf_grid64) {
-    const float grid = 0.1f * scale, step = grid / 2.0f;
-    for (int x = 0; x < 4; ++x)
-      for (int y = 0; y < 4; ++y)
-        for (int z = 0; z < 4; ++z) taps.push_back(glm::vec3(-grid) + step * glm::vec3(x, y, z));
-  } else if (c.filter == Filter::pcf_disk20) {
-    const float radius = (1.0f + view_distance / range) / 25.0f * scale;
-    for (const glm::dvec3& d : disk_directions()) taps.push_back(glm::vec3(d) * radius);
-  } else {
-    taps.push_back(glm::vec3(0.0f));
-  }
-  return taps;
-}
-
-// The faces a tap in direction d reads: the one its major axis picks, and any whose edge lies within half a
-// texel (a LINEAR tap there filters across the seam).
-uint8_t faces_read(const glm::vec3& d, int face_size) {
-  const float slope = 1.0f + 1.0f / float(std::max(face_size, 1));
-  uint8_t mask = 0;
-  for (int f = 0; f < 6; ++f) {
-    const int axis = f / 2;
-    const float u = (f % 2 == 0 ? 1.0f : -1.0f) * d[axis];
-    if (u > 0.0f && std::fabs(d[(axis + 1) % 3]) <= slope * u && std::fabs(d[(axis + 2) % 3]) <= slope * u)
-      mask |= uint8_t(1u << f);
-  }
-  return mask;
-}
-
-}  // namespace
-
-// View culling's own check, over every light (not only the checked ones), independent of the culling's
-// geometry: every tap of every covered pixel within a light's range (the filter's kernel replayed from the
-// pixel's world position) reads faces the frame drew. It skips the normal offset's shift (the normal is not
-// read back); the comparison with six_pass unculled (reference_config) still holds the lit frame to the
-// unculled one.
-void check_view_culling(CaseFindings& r, const Images& images, const std::vector<PlannedLight>& lights,
-                        const glm::vec3& camera) {
-  if (!r.config.optimizations.view_culling) return;
-  const std::vector<float>& p = images.world_position;
-  uint64_t total = 0;
-  std::string where;
-  for (const PlannedLight& light : lights) {
-    std::array<uint64_t, 6> missing{};
-    for (size_t i = 0; i + 3 < p.size(); i += 4) {
-      if (p[i + 3] != 1.0f) continue;  // nothing drawn here
-      const glm::vec3 point(p[i], p[i + 1], p[i + 2]);
-      const glm::vec3 d = point - light.position;
-      if (glm::length(d) >= light.range) continue;  // beyond the range: the light adds nothing
-      uint8_t read = 0;
-      for (const glm::vec3& tap : tap_offsets(r.config, glm::length(camera - point), light.range))
-        read |= faces_read(d + tap, light.face_size);
-      if (light.faces == 0) read = 1u << cube::direction_to_face(d).face;  // a light out of view: any pixel
-      for (int f = 0; f < 6; ++f) missing[size_t(f)] += (read & ~light.faces) >> f & 1u;
-    }
-    for (int f = 0; f < 6; ++f) {
-      if (!missing[size_t(f)]) continue;
-      total += missing[size_t(f)];
-      where += std::string(where.empty() ? "" : ", ") + "light " + std::to_string(light.index) + " " +
-               cube::kFaceNames[size_t(f)] + ": " + std::to_string(missing[size_t(f)]);
-    }
-  }
-  if (total == 0) return;
-  r.add({Status::failed_check,
-         "view_culling",
-         std::to_string(total) +
-             " covered pixels within a light's range read it through faces view culling "
-             "left out (" +
-             where + ")",
-         {{"pixels", double(total)}}});
 }
 
 }  // namespace omnishadow::bench

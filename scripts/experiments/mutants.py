@@ -52,6 +52,10 @@ GS_ONE_PASS = MANY + ["--technique", "six_pass,geometry_shader", "--light-groupi
 # none): every case is held to six_pass unculled, and its covered pixels to the faces it drew.
 VIEW = ["--scene", "hall", "--light-count", "16", "--camera", "0,3,0,20,2,0", "--optimize", "view",
         "--technique", "six_pass,geometry_shader", "--filter", "hard,pcf_disk20"]
+# Sixteen lamps shaded from clustered light lists: every case is held to the loop over every light, and every
+# covered pixel's cluster to the lights that reach it.
+CLUSTERS = ["--scene", "hall", "--light-count", "16", "--optimize", "clusters", "--technique", "six_pass",
+            "--filter", "hard,pcf_disk20"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -198,6 +202,9 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("if (planes[i].distance(light) > range + margin)", "if (planes[i].distance(light) > margin)"),
      "view culling tests the light's position against the frustum, not its range sphere: lamps beside the view "
      "whose range reaches into it get no map", VIEW),
+    ("cluster_lists_drop_last_light", "backends/common/light_clusters.cpp",
+     replace("for (uint32_t k = 0; k < lights.size(); ++k) {", "for (uint32_t k = 0; k + 1 < lights.size(); ++k) {"),
+     "the clustered light lists leave out the case's last light: no pixel is shaded by it", CLUSTERS),
 ]
 
 
