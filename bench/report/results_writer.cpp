@@ -284,48 +284,8 @@ json timing_to_json(const CaseResult& r) {
           {"lighting", pass_timing_to_json(r.frames, &FrameTiming::lighting, r.gpu_timer.reliable)}};
 }
 
-}  // namespace
-
-json case_to_json(const CaseResult& r) {
-  json j{{"id", r.config.id()},
-         {"axes", axes_to_json(r.config)},
-         {"status", to_string(r.status)},
-         {"reason", r.reason},
-         {"findings", json::array()}};
-  for (const Finding& f : r.findings)
-    j["findings"].push_back({{"status", to_string(f.status)},
-                             {"check", f.check},
-                             {"message", f.message},
-                             {"figures", f.figures}});
-  if (r.status == Status::unsupported) return j;
-  j["counters"] = {{"shadow", counters_to_json(r.counters.shadow)},
-                   {"lighting", counters_to_json(r.counters.lighting)}};
-  j["checks"] = checks_to_json(r.checks);
-  j["images"] = r.images;
-  j["shadow_plan"] = plan_to_json(r);
-  if (r.light_clusters)
-    j["light_clusters"] = {{"clusters", r.light_clusters->clusters},
-                           {"tile_pixels", gpu::kClusterTilePixels},
-                           {"slices", gpu::kClusterSlices},
-                           {"mean_lights_listed", r.light_clusters->mean_listed},
-                           {"mean_lights_reaching", r.light_clusters->mean_reaching},
-                           {"max_lights_listed", r.light_clusters->max_listed}};
-  j["non_finite"] = {{"cube", r.non_finite_cube},
-                     {"shadow_factor", r.non_finite_shadow},
-                     {"world_position", r.non_finite_position}};
-  if (r.flicker_percent)
-    j["stability"] = {{"next_frame", "check_frame + 1"},
-                      {"flicker_percent", *r.flicker_percent},
-                      {"mean_abs_change", *r.flicker_mean_abs}};
-  if (r.first_frame)
-    j["first_frame"] = {{"shadow_wall_ms", r.first_frame->shadow.cpu_wall_ms},
-                        {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
-                        {"frame_wall_ms", r.first_frame->frame_wall_ms}};
-  if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
-  if (!r.per_light.empty()) j["accuracy"]["per_light"] = per_light_to_json(r);
-  if (!r.untimed_ms.empty()) j["untimed_ms"] = r.untimed_ms;
-  if (!r.cube_read_back.empty()) j["cube_read_back"] = r.cube_read_back;
-  if (r.floor) j["floor"] = floor_to_json(r);
+// The checks' own reports: moments, texels against exact distances, lookups replayed, clustered lists.
+void add_check_reports(json& j, const CaseResult& r) {
   if (r.moments)
     j["moments"] = {{"bound",
                      "the blur of the stored depths' moments, widened by each step's rounding "
@@ -357,6 +317,51 @@ json case_to_json(const CaseResult& r) {
                                      kMapTexelLimitPercent);
     j["map_texels"]["bad_per_map"] = r.map_texels->bad_per_map;
   }
+  if (r.light_clusters)
+    j["light_clusters"] = {{"clusters", r.light_clusters->clusters},
+                           {"tile_pixels", gpu::kClusterTilePixels},
+                           {"slices", gpu::kClusterSlices},
+                           {"mean_lights_listed", r.light_clusters->mean_listed},
+                           {"mean_lights_reaching", r.light_clusters->mean_reaching},
+                           {"max_lights_listed", r.light_clusters->max_listed}};
+}
+
+}  // namespace
+
+json case_to_json(const CaseResult& r) {
+  json j{{"id", r.config.id()},
+         {"axes", axes_to_json(r.config)},
+         {"status", to_string(r.status)},
+         {"reason", r.reason},
+         {"findings", json::array()}};
+  for (const Finding& f : r.findings)
+    j["findings"].push_back({{"status", to_string(f.status)},
+                             {"check", f.check},
+                             {"message", f.message},
+                             {"figures", f.figures}});
+  if (r.status == Status::unsupported) return j;
+  j["counters"] = {{"shadow", counters_to_json(r.counters.shadow)},
+                   {"lighting", counters_to_json(r.counters.lighting)}};
+  j["checks"] = checks_to_json(r.checks);
+  j["images"] = r.images;
+  j["shadow_plan"] = plan_to_json(r);
+  j["non_finite"] = {{"cube", r.non_finite_cube},
+                     {"shadow_factor", r.non_finite_shadow},
+                     {"world_position", r.non_finite_position}};
+  if (r.flicker_percent)
+    j["stability"] = {{"next_frame", "check_frame + 1"},
+                      {"flicker_percent", *r.flicker_percent},
+                      {"mean_abs_change", *r.flicker_mean_abs}};
+  if (r.first_frame)
+    j["first_frame"] = {{"shadow_wall_ms", r.first_frame->shadow.cpu_wall_ms},
+                        {"lighting_wall_ms", r.first_frame->lighting.cpu_wall_ms},
+                        {"frame_wall_ms", r.first_frame->frame_wall_ms}};
+  if (r.accuracy) j["accuracy"] = accuracy_to_json(*r.accuracy);
+  if (!r.per_light.empty()) j["accuracy"]["per_light"] = per_light_to_json(r);
+  if (!r.untimed_ms.empty()) j["untimed_ms"] = r.untimed_ms;
+  if (!r.cube_read_back.empty()) j["cube_read_back"] = r.cube_read_back;
+  if (r.floor) j["floor"] = floor_to_json(r);
+  add_check_reports(j, r);
   if (!r.device_states.empty()) {
     j["device_state"] = {{"source", r.device_state_source},
                          {"samples", json::array()},
