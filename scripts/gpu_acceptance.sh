@@ -31,6 +31,11 @@
 #              cube_array, six_pass, geometry_shader and vs_layer (faces routed by viewport), pcf_disk20, cube 256,
 #              GL and Vulkan, with --check: PASS when no check fails; the many-light table; cut at 4 minutes
 #              (ATLAS_BUDGET_S)
+#   policies   what each frame needs with many lights: hall at 16 and 64 lights seen from mid-hall, culling to the
+#              view and clustered light lists each on and off (--optimize none,view,clusters,view+clusters),
+#              six_pass and vs_layer, cube_array, pcf_disk20, cube 256, GL and Vulkan, with --check: PASS when no
+#              check fails (the culled and clustered frames equal the plain one); the many-light table; cut at 4
+#              minutes (POLICIES_BUDGET_S)
 #   suite      ctest as scripts/test.sh runs it (labels extended and memory left out), cut at SUITE_BUDGET_S (300):
 #              PASS when none failed (the skipped listed); about 2 minutes on an H100 with 16 cores
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
@@ -374,6 +379,11 @@ step_atlas() {
     --atlas-tiles uniform,by_distance --technique six_pass,geometry_shader,vs_layer --filter pcf_disk20
 }
 
+step_policies() {
+  many_lights_run policies POLICIES_BUDGET_S 240 --light-count 16,64 --camera 0,3,0,20,2,0 --layout cube_array \
+    --technique six_pass,vs_layer --optimize none,view,clusters,view+clusters --filter pcf_disk20
+}
+
 step_tutorial() {
   note "## tutorial"
   /usr/bin/python3 "$here/scripts/experiments/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
@@ -425,7 +435,7 @@ step_precision() {
   fi
 }
 
-steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas suite"
+steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas policies suite"
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] ($steps)" >&2; exit 2; }
 for step in "$@"; do
   case " $steps " in

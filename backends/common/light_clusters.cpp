@@ -38,18 +38,14 @@ float tile_ndc(int edge, int pixels) {
   return -1.0f + 2.0f * float(std::min(edge * kClusterTilePixels, pixels)) / float(pixels);
 }
 
-// The squared distance from c to the view-space box of tile (tx, ty) between depths z0 and z1 (finite).
-float box_distance2(const ClusterGrid& g, int tx, int ty, float z0, float z1, const glm::vec3& c) {
+// The distance along one screen axis from view coordinate v to tile `tile`'s extent between depths z0 and z1
+// (the box is separable: its squared distance from a point is the sum of the three axes' squares).
+float axis_distance(int tile, int pixels, float tan_half, float z0, float z1, float v) {
   const float margin = 1e-3f * z1;
-  auto extent = [&](float ndc0, float ndc1, float tan_half, float v) {
-    const float lo = std::min(ndc0 * tan_half * z0, ndc0 * tan_half * z1) - margin;
-    const float hi = std::max(ndc1 * tan_half * z0, ndc1 * tan_half * z1) + margin;
-    return v < lo ? lo - v : v > hi ? v - hi : 0.0f;
-  };
-  const float dx = extent(tile_ndc(tx, g.width), tile_ndc(tx + 1, g.width), g.view.tan_half_x, c.x);
-  const float dy = extent(tile_ndc(ty, g.height), tile_ndc(ty + 1, g.height), g.view.tan_half_y, c.y);
-  const float dz = c.z < z0 ? z0 - c.z : c.z > z1 ? c.z - z1 : 0.0f;
-  return dx * dx + dy * dy + dz * dz;
+  const float ndc0 = tile_ndc(tile, pixels), ndc1 = tile_ndc(tile + 1, pixels);
+  const float lo = std::min(ndc0 * tan_half * z0, ndc0 * tan_half * z1) - margin;
+  const float hi = std::max(ndc1 * tan_half * z0, ndc1 * tan_half * z1) + margin;
+  return v < lo ? lo - v : v > hi ? v - hi : 0.0f;
 }
 
 // The tiles [lo, hi] along an axis that a sphere (view coordinate v, depth cz, radius r) may cover between
@@ -72,8 +68,10 @@ size_t light_cluster_words(const ClusterGrid& grid, int lights) {
   return kClusterHeaderWords + size_t(grid.clusters()) * (2 + size_t(std::max(lights, 0)));
 }
 
-std::vector<uint32_t> build_light_clusters(const ClusterGrid& g, const std::vector<ClusterLight>& lights) {
-  std::vector<std::vector<uint32_t>> lists(size_t(g.clusters()));
+// Every (cluster, light) pair whose light's range reaches the cluster's box, lights in the scene's order.
+static void reached_clusters(const ClusterGrid& g, const std::vector<ClusterLight>& lights,
+                             std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
+  std::vector<float> dx2;  // per tile of the span: the x axis's squared distance
   for (uint32_t k = 0; k < lights.size(); ++k) {
     const glm::vec3 d = lights[k].position - g.view.eye;
     const glm::vec3 c(glm::dot(d, g.view.right), glm::dot(d, g.view.up), glm::dot(d, g.view.forward));
@@ -89,34 +87,59 @@ std::vector<uint32_t> build_light_clusters(const ClusterGrid& g, const std::vect
       int x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0;
       tile_span(c.x, r, z0, z1, g.view.tan_half_x, g.width, g.tiles_x, x_lo, x_hi);
       tile_span(c.y, r, z0, z1, g.view.tan_half_y, g.height, g.tiles_y, y_lo, y_hi);
-      for (int ty = y_lo; ty <= y_hi; ++ty)
+      const float dz = c.z < z0 ? z0 - c.z : c.z > z1 ? c.z - z1 : 0.0f;
+      dx2.clear();
+      for (int tx = x_lo; tx <= x_hi; ++tx) {
+        const float dx = axis_distance(tx, g.width, g.view.tan_half_x, z0, z1, c.x);
+        dx2.push_back(dx * dx);
+      }
+      for (int ty = y_lo; ty <= y_hi; ++ty) {
+        const float dy = axis_distance(ty, g.height, g.view.tan_half_y, z0, z1, c.y);
+        const float left = r * r - dy * dy - dz * dz;  // what the x axis may still add
+        if (left < 0.0f) continue;
         for (int tx = x_lo; tx <= x_hi; ++tx)
-          if (box_distance2(g, tx, ty, z0, z1, c) <= r * r)
-            lists[size_t((s * g.tiles_y + ty) * g.tiles_x + tx)].push_back(k);
+          if (dx2[size_t(tx - x_lo)] <= left)
+            pairs.emplace_back(uint32_t((s * g.tiles_y + ty) * g.tiles_x + tx), k);
+      }
     }
   }
-  std::vector<uint32_t> words(kClusterHeaderWords + 2 * lists.size(), 0u);
-  words[0] = uint32_t(g.tiles_x);
-  words[1] = uint32_t(g.tiles_y);
-  words[2] = uint32_t(g.slices);
-  words[3] = uint32_t(kClusterTilePixels);
-  for (int i = 0; i < 3; ++i) words[size_t(4 + i)] = std::bit_cast<uint32_t>(g.view.forward[i]);
-  words[7] = std::bit_cast<uint32_t>(g.view.near_plane);
-  words[8] = std::bit_cast<uint32_t>(g.slice_scale);
-  for (size_t c = 0; c < lists.size(); ++c) {
-    words[kClusterHeaderWords + 2 * c] = uint32_t(words.size());
-    words[kClusterHeaderWords + 2 * c + 1] = uint32_t(lists[c].size());
-    words.insert(words.end(), lists[c].begin(), lists[c].end());
-  }
-  return words;
 }
 
-std::vector<uint32_t> build_light_clusters(const ClusterGrid& grid,
-                                           const std::vector<PointLightRecord>& records) {
-  std::vector<ClusterLight> lights;
-  lights.reserve(records.size());
-  for (const PointLightRecord& r : records) lights.push_back({glm::vec3(r.position_far), r.position_far.w});
-  return build_light_clusters(grid, lights);
+const std::vector<uint32_t>& LightClusterBuilder::build(const std::vector<ClusterLight>& lights) {
+  const ClusterGrid& g = grid_;
+  pairs_.clear();
+  reached_clusters(g, lights, pairs_);
+  const size_t clusters = size_t(g.clusters()), lists = kClusterHeaderWords + 2 * clusters;
+  words_.assign(lists + pairs_.size(), 0u);
+  words_[0] = uint32_t(g.tiles_x);
+  words_[1] = uint32_t(g.tiles_y);
+  words_[2] = uint32_t(g.slices);
+  words_[3] = uint32_t(kClusterTilePixels);
+  for (int i = 0; i < 3; ++i) words_[size_t(4 + i)] = std::bit_cast<uint32_t>(g.view.forward[i]);
+  words_[7] = std::bit_cast<uint32_t>(g.view.near_plane);
+  words_[8] = std::bit_cast<uint32_t>(g.slice_scale);
+  // A counting sort by cluster, stable: each list keeps the scene's order.
+  for (const auto& [cluster, light] : pairs_) ++words_[kClusterHeaderWords + 2 * cluster + 1];
+  uint32_t next = uint32_t(lists);
+  for (size_t c = 0; c < clusters; ++c) {
+    words_[kClusterHeaderWords + 2 * c] = next;
+    next += words_[kClusterHeaderWords + 2 * c + 1];
+  }
+  filled_.assign(clusters, 0u);
+  for (const auto& [cluster, light] : pairs_)
+    words_[words_[kClusterHeaderWords + 2 * cluster] + filled_[cluster]++] = light;
+  return words_;
+}
+
+const std::vector<uint32_t>& LightClusterBuilder::build(const std::vector<PointLightRecord>& records) {
+  lights_.clear();
+  for (const PointLightRecord& r : records) lights_.push_back({glm::vec3(r.position_far), r.position_far.w});
+  return build(lights_);
+}
+
+std::vector<uint32_t> build_light_clusters(const ClusterGrid& grid, const std::vector<ClusterLight>& lights) {
+  LightClusterBuilder builder(grid);
+  return builder.build(lights);
 }
 
 int cluster_of(const ClusterGrid& g, int x, int y, const glm::vec3& world) {

@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <utility>
 #include <vector>
 
 #include "backends/common/gpu_layout.h"
@@ -48,9 +49,23 @@ struct ClusterLight {
 
 // The uploaded words (layout above) for `lights` in the scene's order.
 std::vector<uint32_t> build_light_clusters(const ClusterGrid& grid, const std::vector<ClusterLight>& lights);
-// The same for the lighting pass's records (their position and far plane).
-std::vector<uint32_t> build_light_clusters(const ClusterGrid& grid,
-                                           const std::vector<PointLightRecord>& records);
+
+// The same frame after frame over one grid, its buffers kept: a frame's lists at 1080p are megabytes, and
+// allocated afresh each frame their first touch costs more than building them.
+class LightClusterBuilder {
+ public:
+  explicit LightClusterBuilder(const ClusterGrid& grid = {}) : grid_(grid) {}
+  const std::vector<uint32_t>& build(const std::vector<ClusterLight>& lights);
+  // From the lighting pass's records (their position and far plane).
+  const std::vector<uint32_t>& build(const std::vector<PointLightRecord>& records);
+  const ClusterGrid& grid() const { return grid_; }
+
+ private:
+  ClusterGrid grid_;
+  std::vector<std::pair<uint32_t, uint32_t>> pairs_;  // (cluster, light), lights in the scene's order
+  std::vector<uint32_t> filled_, words_;
+  std::vector<ClusterLight> lights_;
+};
 // The most words build_light_clusters can write for `lights` lights (the buffer's size).
 size_t light_cluster_words(const ClusterGrid& grid, int lights);
 

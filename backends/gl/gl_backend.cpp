@@ -352,11 +352,12 @@ void GlBackend::configure_case(const CaseConfig& c) {
   glNamedBufferStorage(lights_ssbo_, GLsizeiptr(sizeof(gpu::PointLightRecord)) * c.light_count, nullptr,
                        GL_DYNAMIC_STORAGE_BIT);
   if (c.optimizations.light_clusters) {
-    cluster_grid_ = gpu::cluster_grid(scene_->camera, c.width, c.height);
+    clusters_ = gpu::LightClusterBuilder(gpu::cluster_grid(scene_->camera, c.width, c.height));
     glCreateBuffers(1, &clusters_ssbo_);
     glNamedBufferStorage(
-        clusters_ssbo_, GLsizeiptr(gpu::light_cluster_words(cluster_grid_, c.light_count) * sizeof(uint32_t)),
-        nullptr, GL_DYNAMIC_STORAGE_BIT);
+        clusters_ssbo_,
+        GLsizeiptr(gpu::light_cluster_words(clusters_.grid(), c.light_count) * sizeof(uint32_t)), nullptr,
+        GL_DYNAMIC_STORAGE_BIT);
   }
   // 2D maps share the cube's face size and depth format, so one --cube / --depth-format axis sizes both.
   maps_ = create_map_targets(c.cube_size, static_cast<int>(scene_->map_lights.size()), c.depth_format);
@@ -384,7 +385,7 @@ gpu::LightFrames GlBackend::update_frame_uniforms(int frame) {
 
 void GlBackend::upload_light_clusters(const gpu::LightFrames& f) {
   if (!clusters_ssbo_) return;
-  const std::vector<uint32_t> words = gpu::build_light_clusters(cluster_grid_, f.records);
+  const std::vector<uint32_t>& words = clusters_.build(f.records);
   glNamedBufferSubData(clusters_ssbo_, 0, GLsizeiptr(words.size() * sizeof(uint32_t)), words.data());
 }
 

@@ -118,7 +118,7 @@ class GlBackend final : public Backend {
   GLuint lights_ssbo_ = 0;  // gpu::PointLightRecord per light of the case
   // --optimize clusters: the case's clustered light lists, built each frame over its grid.
   GLuint clusters_ssbo_ = 0;
-  gpu::ClusterGrid cluster_grid_;
+  gpu::LightClusterBuilder clusters_;
   GLint max_fragment_storage_blocks_ = 0, max_storage_bindings_ = 0;
   GLuint pass_ubo_ = 0;  // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
   GLuint nearest_sampler_ = 0;

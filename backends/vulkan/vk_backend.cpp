@@ -433,9 +433,9 @@ void VkBackend::configure_case(const CaseConfig& c) {
     if (traits(c.filter).prefilter == Prefilter::separable_blur)
       blur_ = std::make_unique<MomentsBlur>(*ctx_, *modules_, colour_format(c.storage, c.depth_format),
                                             shadow_.color, shadow_.blur);
-    cluster_grid_ = gpu::cluster_grid(scene_->camera, c.width, c.height);
+    clusters_ = gpu::LightClusterBuilder(gpu::cluster_grid(scene_->camera, c.width, c.height));
     const size_t cluster_words = c.optimizations.light_clusters
-                                     ? gpu::light_cluster_words(cluster_grid_, c.light_count)
+                                     ? gpu::light_cluster_words(clusters_.grid(), c.light_count)
                                      : size_t(gpu::kClusterHeaderWords);
     light_clusters_ =
         create_buffer(*ctx_, cluster_words * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
@@ -819,7 +819,7 @@ void VkBackend::write_frame_uniforms(const gpu::LightFrames& frame) {
 // The frame's clustered light lists, built on the CPU and written for the lighting pass (timed with it).
 void VkBackend::write_light_clusters(const gpu::LightFrames& frame) {
   if (!config_->optimizations.light_clusters) return;
-  const std::vector<uint32_t> words = gpu::build_light_clusters(cluster_grid_, frame.records);
+  const std::vector<uint32_t>& words = clusters_.build(frame.records);
   std::memcpy(light_clusters_.mapped, words.data(), words.size() * sizeof(uint32_t));
 }
 

@@ -108,7 +108,7 @@ class VkBackend final : public Backend {
   // The case's clustered light lists (host-visible, binding 10; a header's worth without --optimize
   // clusters), built each frame over the case's grid.
   Buffer light_clusters_;
-  gpu::ClusterGrid cluster_grid_;
+  gpu::LightClusterBuilder clusters_;
   void write_light_clusters(const gpu::LightFrames& frame);
   VkQueryPool timestamps_ = VK_NULL_HANDLE;  // 0,1: shadow pass; 2,3: lighting pass
   VkQueryPool statistics_ = VK_NULL_HANDLE;  // 0: shadow pass, 1: lighting pass
