@@ -137,6 +137,52 @@ TEST(Atlas, TilesByDistanceHalveWithTheLightsShareOfTheView) {
   EXPECT_THROW(atlas::face_sizes(c, s), std::logic_error) << "more lights than the scene has";
 }
 
+// by_coverage: the camera at the origin looking along +x; lamps of range 2 ahead at growing distances, one
+// around the camera, one behind it.
+scene::Scene lamps_ahead() {
+  scene::Scene s;
+  s.point_lights.clear();
+  s.camera.position = glm::vec3(0.0f);
+  s.camera.target = glm::vec3(1.0f, 0.0f, 0.0f);
+  for (glm::vec3 p : {glm::vec3(1.0f, 0, 0), glm::vec3(4.0f, 0, 0), glm::vec3(8.0f, 0, 0),
+                      glm::vec3(30.0f, 0, 0), glm::vec3(-10.0f, 0, 0)}) {
+    scene::PointLight l;
+    l.far_plane = 2.0f;
+    l.path.base = p;
+    s.point_lights.push_back(l);
+  }
+  return s;
+}
+
+TEST(Atlas, TilesByCoverageFollowTheScreenAreaWithinTheBudget) {
+  const scene::Scene s = lamps_ahead();
+  EXPECT_EQ(atlas::screen_coverage(s, 0, 400, 300), 1.0) << "the camera inside the range";
+  EXPECT_EQ(atlas::screen_coverage(s, 4, 400, 300), 0.0) << "behind the camera";
+  EXPECT_GT(atlas::screen_coverage(s, 1, 400, 300), atlas::screen_coverage(s, 2, 400, 300));
+  EXPECT_GT(atlas::screen_coverage(s, 2, 400, 300), atlas::screen_coverage(s, 3, 400, 300));
+  CaseConfig c;
+  c.layout = Layout::atlas;
+  c.atlas_tiles = AtlasTiles::by_coverage;
+  c.cube_size = 256;
+  c.light_count = 5;
+  c.width = 400;
+  c.height = 300;
+  for (uint64_t budget : {uint64_t(0), uint64_t(1) << 20, uint64_t(1) << 18, uint64_t(1) << 16}) {
+    c.shadow_budget_texels = budget;
+    const std::vector<int> sizes = atlas::face_sizes(c, s);
+    const atlas::Plan plan = atlas::plan_for(c, s);
+    expect_valid(plan, sizes);
+    EXPECT_LE(uint64_t(plan.width) * uint64_t(plan.height), atlas::budget_texels(c)) << budget;
+    for (size_t k = 0; k + 2 < sizes.size(); ++k) EXPECT_GE(sizes[k], sizes[k + 1]) << "nearer, larger";
+    EXPECT_EQ(sizes[4], atlas::kMinCoverageFace) << "out of view: the smallest";
+    EXPECT_EQ(atlas::budget_problem(c, s), "");
+  }
+  c.shadow_budget_texels = 0;
+  EXPECT_EQ(atlas::face_sizes(c, s)[0], 256) << "the uniform atlas's texels: the nearest keeps --cube";
+  c.shadow_budget_texels = 100;
+  EXPECT_NE(atlas::budget_problem(c, s).find("--shadow-budget 100 texels"), std::string::npos);
+}
+
 TEST(Atlas, BadSizesAreRefusedByName) {
   EXPECT_THROW(atlas::pack(std::vector<int>{}), std::invalid_argument);
   try {

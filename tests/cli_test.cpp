@@ -233,6 +233,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --light-grouping per_face --out @OUT@",
                  "--light-grouping: unknown light grouping 'per_face'"},
         BadInput{"run --atlas-tiles by_area --out @OUT@", "--atlas-tiles: unknown atlas tiling 'by_area'"},
+        BadInput{"run --shadow-budget 4G --out @OUT@", "--shadow-budget: '4G' is not a texel count"},
         BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},
         BadInput{"run --case-timeout-s nan --out @OUT@", "--case-timeout-s: 'nan' is not a finite number"},
         BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},

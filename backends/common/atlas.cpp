@@ -7,6 +7,8 @@
 #include <string>
 #include <tuple>
 
+#include "backends/common/view_culling.h"
+
 namespace omnishadow::atlas {
 
 Texel face_origin(const Block& block, int face) {
@@ -66,12 +68,63 @@ double distance_over_range(const scene::Scene& scene, int light) {
   return double(glm::length(l.path.at(0) - scene.camera.position)) / double(l.far_plane);
 }
 
+double screen_coverage(const scene::Scene& scene, int light, int width, int height) {
+  const scene::PointLight& l = scene.point_lights.at(size_t(light));
+  const cube::ViewVolume v = cube::camera_view(scene.camera, width, height);
+  const glm::vec3 p = l.path.at(0);
+  const float r = l.far_plane;
+  if (glm::length(p - v.eye) <= r) return 1.0;  // the camera inside the range: it fills the view
+  if (cube::view_face_mask(v, p, r, {}, 1, false) == 0) return 0.0;
+  const glm::vec3 d = p - v.eye;
+  const glm::vec3 c(glm::dot(d, v.right), glm::dot(d, v.up), glm::dot(d, v.forward));
+  const float z = std::max(c.z - r, v.near_plane);  // the sphere's nearest depth: its widest projection
+  auto extent = [&](float centre, float tan_half) {
+    const float lo = std::max((centre - r) / (z * tan_half), -1.0f);
+    const float hi = std::min((centre + r) / (z * tan_half), 1.0f);
+    return std::max(hi - lo, 0.0f) / 2.0f;
+  };
+  return double(extent(c.x, v.tan_half_x)) * double(extent(c.y, v.tan_half_y));
+}
+
+namespace {
+
+// by_coverage: face sizes t sqrt(coverage) rounded down to a power of two, between kMinCoverageFace and
+// --cube, for the largest scale t (in steps of 2^(1/4)) whose atlas fits the budget; every light at the
+// smallest when none does (budget_problem says so).
+std::vector<int> sizes_by_coverage(const CaseConfig& config, const scene::Scene& scene, size_t lights) {
+  std::vector<double> coverage(lights);
+  for (size_t k = 0; k < lights; ++k)
+    coverage[k] = screen_coverage(scene, int(k), config.width, config.height);
+  const uint64_t budget = budget_texels(config);
+  std::vector<int> sizes(lights);
+  for (double t = 16.0 * config.cube_size; t >= 1.0; t /= std::pow(2.0, 0.25)) {
+    for (size_t k = 0; k < lights; ++k) {
+      const double ideal = t * std::sqrt(coverage[k]);
+      int size = kMinCoverageFace;
+      while (size * 2 <= std::min(ideal, double(config.cube_size))) size *= 2;
+      sizes[k] = std::min(size, config.cube_size);
+    }
+    const Plan plan = pack(sizes);
+    if (uint64_t(plan.width) * uint64_t(plan.height) <= budget) return sizes;
+  }
+  return std::vector<int>(lights, std::min(kMinCoverageFace, config.cube_size));
+}
+
+}  // namespace
+
+uint64_t budget_texels(const CaseConfig& config) {
+  if (config.shadow_budget_texels) return config.shadow_budget_texels;
+  const Plan uniform = uniform_plan(config);
+  return uint64_t(uniform.width) * uint64_t(uniform.height);
+}
+
 std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene) {
   std::vector<int> sizes(static_cast<size_t>(std::max(config.light_count, 1)), config.cube_size);
   if (config.atlas_tiles == AtlasTiles::uniform) return sizes;
   if (scene.point_lights.size() < sizes.size())
     throw std::logic_error("atlas sizes for " + std::to_string(sizes.size()) + " lights of a scene with " +
                            std::to_string(scene.point_lights.size()));
+  if (config.atlas_tiles == AtlasTiles::by_coverage) return sizes_by_coverage(config, scene, sizes.size());
   for (size_t k = 0; k < sizes.size(); ++k) {
     const double ratio = distance_over_range(scene, int(k));
     const int halvings = ratio <= 1.0 ? 0 : std::clamp(int(std::lround(std::log2(ratio))), 0, kMaxHalvings);
@@ -81,6 +134,16 @@ std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene)
 }
 
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene) { return pack(face_sizes(config, scene)); }
+
+std::string budget_problem(const CaseConfig& config, const scene::Scene& scene) {
+  if (config.layout != Layout::atlas || config.atlas_tiles != AtlasTiles::by_coverage) return {};
+  const Plan plan = plan_for(config, scene);
+  const uint64_t texels = uint64_t(plan.width) * uint64_t(plan.height), budget = budget_texels(config);
+  if (texels <= budget) return {};
+  return "--shadow-budget " + std::to_string(budget) + " texels: " + std::to_string(config.light_count) +
+         " lights' atlas takes " + std::to_string(texels) + " at the smallest tiles (" +
+         std::to_string(kMinCoverageFace) + " texels a side)";
+}
 
 Plan uniform_plan(const CaseConfig& config) {
   return pack(std::vector<int>(static_cast<size_t>(std::max(config.light_count, 1)), config.cube_size));

@@ -57,10 +57,20 @@ inline constexpr int kMaxHalvings = 3;
 // Point light k's distance from the camera at frame 0 over its range: the inverse of its range sphere's share
 // of the view (what by_distance sizes by, and what the checks pick their farthest light by).
 double distance_over_range(const scene::Scene& scene, int light);
+// by_coverage: the share of a width x height view that point light k's range sphere covers at frame 0, by its
+// projected bounding rectangle (1 with the camera inside the range, 0 out of view); each light's faces get
+// --cube x sqrt(coverage) times a scale, powers of two from kMinCoverageFace to --cube, the largest scale
+// whose atlas fits budget_texels(config).
+double screen_coverage(const scene::Scene& scene, int light, int width, int height);
+inline constexpr int kMinCoverageFace = 4;         // the moments blur's least face
+uint64_t budget_texels(const CaseConfig& config);  // --shadow-budget, or the uniform atlas's texels
 std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene);
 // The case's atlas (layout atlas): the lights' face_sizes packed. `scene` holds at least light_count point
 // lights.
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene);
+// by_coverage: why no allocation fits the case's budget (every light at the smallest tiles exceeds it); empty
+// when one does.
+std::string budget_problem(const CaseConfig& config, const scene::Scene& scene);
 // Every light at --cube: the plan by_distance never exceeds (what a device's limit is checked against before
 // a scene is loaded).
 Plan uniform_plan(const CaseConfig& config);

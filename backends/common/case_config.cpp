@@ -35,8 +35,9 @@ constexpr Names<DepthFormat, 3> kDepthFormats = {
     {{DepthFormat::d16, "d16"}, {DepthFormat::d24, "d24"}, {DepthFormat::d32f, "d32f"}}};
 constexpr Names<LightGrouping, 2> kLightGroupings = {
     {{LightGrouping::per_light, "per_light"}, {LightGrouping::all_lights, "all_lights"}}};
-constexpr Names<AtlasTiles, 2> kAtlasTiles = {
-    {{AtlasTiles::uniform, "uniform"}, {AtlasTiles::by_distance, "by_distance"}}};
+constexpr Names<AtlasTiles, 3> kAtlasTiles = {{{AtlasTiles::uniform, "uniform"},
+                                               {AtlasTiles::by_distance, "by_distance"},
+                                               {AtlasTiles::by_coverage, "by_coverage"}}};
 
 template <typename E>
 struct Table;
@@ -164,6 +165,9 @@ Support atlas_support(const CaseConfig& c) {
                   technique + " routes by layer or view"};
     if (c.light_grouping == LightGrouping::all_lights)
       return {false, "every light in one pass into an atlas needs 6 viewports a light (16 on most devices)"};
+    if (c.shadow_budget_texels && c.atlas_tiles != AtlasTiles::by_coverage)
+      return {false, "--shadow-budget sizes the tiles by coverage (--atlas-tiles by_coverage), not " +
+                         std::string(to_string(c.atlas_tiles))};
   } else if (c.atlas_tiles != AtlasTiles::uniform) {
     return {false, "--atlas-tiles " + std::string(to_string(c.atlas_tiles)) +
                        " sizes an atlas's tiles; layout " + std::string(to_string(c.layout)) +
@@ -283,6 +287,7 @@ std::string CaseConfig::id() const {
   if (light_count != 1) id += "/l" + std::to_string(light_count);
   if (light_grouping == LightGrouping::all_lights) id += "/all_lights";
   if (atlas_tiles != AtlasTiles::uniform) id += "/tiles_" + std::string(to_string(atlas_tiles));
+  if (shadow_budget_texels) id += "/budget" + std::to_string(shadow_budget_texels);
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";

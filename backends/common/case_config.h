@@ -92,9 +92,12 @@ inline constexpr int kAllLightsGeometryMaxLights = 64;
 // How layout atlas sizes each light's tiles (backends/common/atlas.h): every light at --cube, or by the share
 // of the view its range covers (from the camera and the lights at frame 0: a light's range sphere subtends an
 // angle proportional to range / distance, so a light twice as far for its range gets half the texels a side).
+// by_coverage: each light's faces by the screen area its range covers at frame 0, within a texel budget
+// (CaseConfig::shadow_budget_texels).
 enum class AtlasTiles {
   uniform,
   by_distance,
+  by_coverage,
 };
 
 std::string_view to_string(Technique v);
@@ -226,6 +229,9 @@ struct CaseConfig {
   LightGrouping light_grouping = LightGrouping::per_light;
   // --atlas-tiles (layout atlas only); in the id as /tiles_by_distance, nothing for uniform.
   AtlasTiles atlas_tiles = AtlasTiles::uniform;
+  // --shadow-budget (atlas by_coverage only): the atlas's texels at most; 0: the uniform atlas's (the same
+  // memory, given by coverage). In the id as /budget<texels> when set.
+  uint64_t shadow_budget_texels = 0;
   Optimizations optimizations;
   Remedies remedies;
   MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default

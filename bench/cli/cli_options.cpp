@@ -91,6 +91,17 @@ float parse_pcf_scale(const std::string& t) {
   return v;
 }
 
+// A texel count: digits, optionally K or M (2^10, 2^20 texels): "4M" is 4194304. 0: the uniform atlas's.
+uint64_t parse_texel_budget(const std::string& t) {
+  const size_t digits = t.find_first_not_of("0123456789");
+  const std::string number = t.substr(0, digits),
+                    suffix = digits == std::string::npos ? "" : t.substr(digits);
+  const int shift = suffix.empty() ? 0 : suffix == "K" ? 10 : suffix == "M" ? 20 : -1;
+  if (number.empty() || number.size() > 12 || shift < 0)
+    throw std::invalid_argument("'" + t + "' is not a texel count (digits, optionally K or M)");
+  return std::stoull(number) << shift;
+}
+
 // The axes that say what is drawn and at what size: backends, scenes, cube and frame sizes.
 void add_scene_axes(CLI::App& r, MatrixSpec& m) {
   auto text = [](const std::string& s) { return s; };
@@ -148,9 +159,17 @@ void add_light_axes(CLI::App& r, MatrixSpec& m) {
       r, "--atlas-tiles", m.atlas_tiles, [](const std::string& s) { return parse_enum<AtlasTiles>(s); },
       named,
       "comma list: " + valid_values<AtlasTiles>() +
-          " (layout atlas: every light's faces at --cube, or --cube halved once per doubling of the "
-          "light's distance from the camera over its range, at most three times; ids end in "
-          "/tiles_by_distance for the second; other layouts ignore it)");
+          " (layout atlas: every light's faces at --cube, --cube halved once per doubling of the "
+          "light's distance from the camera over its range (at most three times), or by its range's "
+          "screen coverage within --shadow-budget; ids end in /tiles_<tiling> but for uniform; other "
+          "layouts ignore it)");
+  list_option(
+      r, "--shadow-budget", m.shadow_budgets, parse_texel_budget,
+      [](uint64_t v) { return std::to_string(v); },
+      "comma list of texel counts (4M = 4194304; 0: the uniform atlas's texels), for --atlas-tiles "
+      "by_coverage: each light's faces by the screen area its range covers, the largest that fit the atlas "
+      "in "
+      "the budget; ids end in /budget<texels> when not 0; other tilings ignore it");
 }
 
 // The axes that say how it is drawn: technique, filter, storage, layout and what tunes them.

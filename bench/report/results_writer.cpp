@@ -75,6 +75,7 @@ json axes_to_json(const CaseConfig& c) {
                {"light_count", c.light_count},
                {"light_grouping", to_string(c.light_grouping)},
                {"atlas_tiles", to_string(c.atlas_tiles)},
+               {"shadow_budget_texels", c.shadow_budget_texels},
                {"optimizations", to_string(c.optimizations)},
                {"remedies", to_string(c.remedies)},
                {"moments_tuning", to_string(c.moments)},
@@ -140,6 +141,10 @@ json plan_to_json(const CaseResult& r) {
                   {"height", r.atlas->height},
                   {"border", atlas::kBorder},
                   {"face_sizes", sizes}};
+    if (r.config.atlas_tiles == AtlasTiles::by_coverage) {
+      j["atlas"]["budget_texels"] = atlas::budget_texels(r.config);
+      j["atlas"]["coverage"] = r.atlas_coverage;
+    }
   }
   if (traits(r.config.storage).checked == DistanceEncoding::linear_depth) {
     // distance / far in [0, 1]: UNORM steps by 2^-bits; D32F by at most 2^-24 (its ulp just below 1).

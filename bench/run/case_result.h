@@ -62,6 +62,7 @@ struct CaseResult : CaseFindings {
   uint64_t shadow_texels = 0, shadow_storage_bytes = 0;
   // Layout atlas: its size and each light's face size (backends/common/atlas.h), as allocated.
   std::optional<atlas::Plan> atlas;
+  std::vector<double> atlas_coverage;  // by_coverage: each light's screen coverage at frame 0
   // The device's clocks, temperature, power and throttling before and after each repetition's frames
   // (bench/run/device_state.h), and where they came from.
   std::vector<DeviceState> device_states;

@@ -158,6 +158,21 @@ bool Harness::admit(CaseResult& r, Backend& b) {
 
 // The shadow plan's figures at the check frame (faces with no caster, object x face draws, over every light)
 // and the work counters.
+// by_coverage: the atlas the case allocated within its budget (an allocation that exceeds it fails), and each
+// light's coverage for results.json.
+static void check_shadow_budget(CaseResult& r, const scene::Scene& sc) {
+  for (int k = 0; k < r.config.light_count; ++k)
+    r.atlas_coverage.push_back(atlas::screen_coverage(sc, k, r.config.width, r.config.height));
+  const uint64_t texels = uint64_t(r.atlas->width) * uint64_t(r.atlas->height);
+  const uint64_t budget = atlas::budget_texels(r.config);
+  if (texels <= budget) return;
+  r.add(
+      {Status::failed_check,
+       "shadow_budget",
+       "the atlas takes " + std::to_string(texels) + " texels, above its budget of " + std::to_string(budget),
+       {{"texels", double(texels)}, {"budget", double(budget)}}});
+}
+
 std::vector<PlannedLight> Harness::count_work(CaseResult& r, Backend& b, float light_far) {
   std::vector<PlannedLight> planned;
   // Summed over the case's lights, each planned as the backend plans it (its far: light 0's as read back, the
@@ -166,6 +181,7 @@ std::vector<PlannedLight> Harness::count_work(CaseResult& r, Backend& b, float l
   r.shadow_texels = shadow_texels(r.config, &sc);
   r.shadow_storage_bytes = shadow_storage_bytes(r.config, &sc);
   if (r.config.layout == Layout::atlas) r.atlas = atlas::plan_for(r.config, sc);
+  if (r.atlas && r.config.atlas_tiles == AtlasTiles::by_coverage) check_shadow_budget(r, sc);
   for (int k = 0; k < (sc.has_point_light() ? r.config.light_count : 1); ++k) {
     scene::FocusLight focus(sc, k);
     const glm::vec3 light = sc.light().path.at(options_.check_frame);

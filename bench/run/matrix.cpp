@@ -116,6 +116,13 @@ std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& ba
   });
   for (CaseConfig& c : cases)
     if (c.layout != Layout::atlas) c.atlas_tiles = AtlasTiles::uniform;
+  // A budget sizes by_coverage tiles only: the other cases keep one, without a budget.
+  times(cases, spec.shadow_budgets, [](CaseConfig& c, uint64_t v) { c.shadow_budget_texels = v; });
+  std::erase_if(cases, [&](const CaseConfig& c) {
+    return c.atlas_tiles != AtlasTiles::by_coverage && c.shadow_budget_texels != spec.shadow_budgets.front();
+  });
+  for (CaseConfig& c : cases)
+    if (c.atlas_tiles != AtlasTiles::by_coverage) c.shadow_budget_texels = 0;
   times(cases, spec.injected_work, [&](CaseConfig& c, int v) {
     c.injected_work = v;
     if (spec.injected_work.size() > 1) c.experiment = "inj" + std::to_string(v);

@@ -34,8 +34,9 @@ struct MatrixSpec {
   std::vector<int> tessellations{1};  // --tessellate 1,4,16
   std::vector<int> light_counts;  // --light-count 1,4,16,64; empty: each scene's own number of point lights
   std::vector<LightGrouping> light_groupings{
-      LightGrouping::per_light};                                // --light-grouping per_light,all_lights
-  std::vector<AtlasTiles> atlas_tiles{AtlasTiles::uniform};     // --atlas-tiles uniform,by_distance (atlas)
+      LightGrouping::per_light};                             // --light-grouping per_light,all_lights
+  std::vector<AtlasTiles> atlas_tiles{AtlasTiles::uniform};  // --atlas-tiles uniform,by_distance (atlas)
+  std::vector<uint64_t> shadow_budgets{0};  // --shadow-budget (atlas by_coverage; 0: the uniform atlas's)
   std::vector<Optimizations> optimizations{Optimizations{}};    // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                   // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01

@@ -56,6 +56,9 @@ VIEW = ["--scene", "hall", "--light-count", "16", "--camera", "0,3,0,20,2,0", "-
 # covered pixel's cluster to the lights that reach it.
 CLUSTERS = ["--scene", "hall", "--light-count", "16", "--optimize", "clusters", "--technique", "six_pass",
             "--filter", "hard,pcf_disk20"]
+# Sixteen lamps in an atlas whose tiles follow each lamp's screen coverage within 256K texels.
+BUDGET = ["--scene", "hall", "--light-count", "16", "--layout", "atlas", "--atlas-tiles", "by_coverage",
+          "--shadow-budget", "256K", "--technique", "six_pass", "--filter", "hard,pcf_disk20"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -205,6 +208,10 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("cluster_lists_drop_last_light", "backends/common/light_clusters.cpp",
      replace("for (uint32_t k = 0; k < lights.size(); ++k) {", "for (uint32_t k = 0; k + 1 < lights.size(); ++k) {"),
      "the clustered light lists leave out the case's last light: no pixel is shaded by it", CLUSTERS),
+    ("budget_allocation_exceeds_budget", "backends/common/atlas.cpp",
+     replace("if (uint64_t(plan.width) * uint64_t(plan.height) <= budget) return sizes;",
+             "if (uint64_t(plan.width) * uint64_t(plan.height) <= 2 * budget) return sizes;"),
+     "the coverage allocation accepts an atlas of up to twice its --shadow-budget", BUDGET),
 ]
 
 
