@@ -175,12 +175,12 @@ TEST(Atlas, TilesByCoverageFollowTheScreenAreaWithinTheBudget) {
     EXPECT_LE(uint64_t(plan.width) * uint64_t(plan.height), atlas::budget_texels(c)) << budget;
     for (size_t k = 0; k + 2 < sizes.size(); ++k) EXPECT_GE(sizes[k], sizes[k + 1]) << "nearer, larger";
     EXPECT_EQ(sizes[4], atlas::kMinCoverageFace) << "out of view: the smallest";
-    EXPECT_EQ(atlas::budget_problem(c, s), "");
+    EXPECT_EQ(atlas::budget_problem(c), "");
   }
   c.shadow_budget_texels = 0;
   EXPECT_EQ(atlas::face_sizes(c, s)[0], 256) << "the uniform atlas's texels: the nearest keeps --cube";
   c.shadow_budget_texels = 100;
-  EXPECT_NE(atlas::budget_problem(c, s).find("--shadow-budget 100 texels"), std::string::npos);
+  EXPECT_NE(atlas::budget_problem(c).find("--shadow-budget 100 texels"), std::string::npos);
 }
 
 TEST(Atlas, BadSizesAreRefusedByName) {

@@ -135,9 +135,10 @@ std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene)
 
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene) { return pack(face_sizes(config, scene)); }
 
-std::string budget_problem(const CaseConfig& config, const scene::Scene& scene) {
+std::string budget_problem(const CaseConfig& config) {
   if (config.layout != Layout::atlas || config.atlas_tiles != AtlasTiles::by_coverage) return {};
-  const Plan plan = plan_for(config, scene);
+  const Plan plan = pack(std::vector<int>(size_t(std::max(config.light_count, 1)),
+                                          std::min(kMinCoverageFace, config.cube_size)));
   const uint64_t texels = uint64_t(plan.width) * uint64_t(plan.height), budget = budget_texels(config);
   if (texels <= budget) return {};
   return "--shadow-budget " + std::to_string(budget) + " texels: " + std::to_string(config.light_count) +

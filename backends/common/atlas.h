@@ -70,7 +70,7 @@ std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene)
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene);
 // by_coverage: why no allocation fits the case's budget (every light at the smallest tiles exceeds it); empty
 // when one does.
-std::string budget_problem(const CaseConfig& config, const scene::Scene& scene);
+std::string budget_problem(const CaseConfig& config);
 // Every light at --cube: the plan by_distance never exceeds (what a device's limit is checked against before
 // a scene is loaded).
 Plan uniform_plan(const CaseConfig& config);

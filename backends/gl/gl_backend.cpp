@@ -228,8 +228,7 @@ Support GlBackend::supports(const CaseConfig& c) const {
                                            std::stoi(info_.extra.at("max_2d_size")), "GL_MAX_TEXTURE_SIZE");
         !why.empty())
       return {false, why};
-  if (scene_)
-    if (std::string why = atlas::budget_problem(c, *scene_); !why.empty()) return {false, why};
+  if (std::string why = atlas::budget_problem(c); !why.empty()) return {false, why};
   if (const int layer = layer_size(c.layout, c.cube_size); layer > info_.max_cube_size)
     return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) +
                        " texels for cube " + std::to_string(c.cube_size) + " exceed " +

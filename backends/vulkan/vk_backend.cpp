@@ -301,8 +301,7 @@ Support VkBackend::atlas_support(const CaseConfig& c) const {
                            "maxImageDimension2D, maxFramebufferWidth/Height, maxViewportDimensions");
       !why.empty())
     return {false, why};
-  if (scene_)
-    if (std::string why = atlas::budget_problem(c, *scene_); !why.empty()) return {false, why};
+  if (std::string why = atlas::budget_problem(c); !why.empty()) return {false, why};
   if (traits(c.technique).passes == 1 && !ctx_->has_multi_viewport())
     return {false,
             "an atlas's single pass routes faces by viewport: multiViewport not supported by " + device};

@@ -93,6 +93,12 @@ IntervalCube unblurred(const Images& img, MomentKind kind, int channels, DepthFo
   for (int f = 0; f < 6; ++f) {
     const std::vector<float>& distance = img.cube_distance[static_cast<size_t>(f)];
     out[static_cast<size_t>(f)].resize(distance.size() * size_t(channels));
+    // A face view culling left out holds moments an earlier frame left (blurred again since): unknown, and so
+    // is every blurred texel whose taps reach it.
+    if (!img.face_drawn(f)) {
+      std::fill(out[size_t(f)].begin(), out[size_t(f)].end(), Interval{-INFINITY, INFINITY});
+      continue;
+    }
     for (size_t i = 0; i < distance.size(); ++i) {
       const double z = double(distance[i]) / far_plane;
       double low = z * (1.0 - 0x1p-23) - step, high = z * (1.0 + 0x1p-23) + step;
@@ -157,6 +163,7 @@ MomentsReport check_moments(const Images& img, Storage storage, DepthFormat dept
   bound = blur(bound, size, channels, 1, half);
   double worst = -1.0;
   for (int f = 0; f < 6; ++f) {
+    if (!img.face_drawn(f)) continue;  // not drawn this frame (view culling)
     const std::vector<float>& got = img.moments[static_cast<size_t>(f)];
     for (size_t i = 0; i < got.size(); ++i) {
       ++r.values;

@@ -25,7 +25,7 @@ GROUPING = {"six_pass": "per face (6K passes)"}  # every other technique renders
 def groups_of(cases):
     """{(backend, scene, cube, filter): {(layout, technique, lights): case}} of the timed cases; a technique with
     every light in one pass or with optimisations is its own row ("vs_layer all_lights", "six_pass +cull"), and so
-    is an atlas whose tiles are sized by distance ("atlas tiles_by_distance")."""
+    is an atlas whose tiles are sized otherwise ("atlas tiles_by_distance", "atlas tiles_by_coverage budget262144")."""
     groups = {}
     for c in cases:
         a = c.get("axes", {})
@@ -37,6 +37,8 @@ def groups_of(cases):
         # An atlas sized by distance is its own layout row beside the uniform one (--atlas-tiles).
         layout = a.get("layout", "cube") + ("" if a.get("atlas_tiles", "uniform") == "uniform"
                                             else " tiles_" + a["atlas_tiles"])
+        if a.get("shadow_budget_texels"):  # by_coverage within a budget: a row per budget
+            layout += f" budget{a['shadow_budget_texels']}"
         groups.setdefault(key, {})[(layout, technique, a.get("light_count", 1))] = c
     return groups
 
