@@ -797,6 +797,23 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
     EXPECT_TRUE(held_to_unculled) << c["id"] << ": its lit frame against six_pass unculled";
   }
   EXPECT_EQ(ok, backends == "gl,vulkan" ? 4 : 2);
+  // Beside a lamp, inside its range: faces culled, not lights. The moments blur still runs over a face left
+  // out (it holds an earlier frame's moments, blurred again): the moments check must not hold it to this
+  // frame's.
+  fs::path beside = scratch("view_beside_lamp");
+  o = run(
+      "run --backend " + backends +
+      " --scene hall --light-count 16 --camera -30,5.2,-4.2,10,3,0 --optimize view --cube 32 --frame 96x64"
+      " --technique six_pass --filter vsm --frames 1 --warmup 0 --images none --check --max-error 100"
+      " --benchmark_repetitions=1 --out " +
+      beside.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  j = nlohmann::json::parse(omnishadow::bench::read_file((beside / "results.json").string()));
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+    EXPECT_GT(c["shadow_plan"]["view_culling"]["faces_culled"].get<int>(), 0) << c["id"];
+    EXPECT_GT(c["moments"]["values"].get<int>(), 0) << c["id"] << ": the moments check ran";
+  }
 }
 
 // A model file (glTF or OBJ) given to --scene runs directly and passes its checks on both APIs, named by
