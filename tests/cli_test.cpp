@@ -761,19 +761,20 @@ TEST_F(CliRun, AtlasPassesEveryCheckForEveryLightOnBothApis) {
   EXPECT_GT(moments, 0) << "the moments check ran on atlas cases";
 }
 
-// Culled to the view from mid-hall: lamps behind the camera and faces turned away get no pass, which
-// results.json counts, and every case still passes six_pass unculled and its pixels' faces check; with every
-// light in one pass it is unsupported with its reason.
+// Culled to the view from mid-hall and shaded from clustered lists: lamps behind the camera and faces turned
+// away get no pass, which results.json counts, and every case still passes six_pass unculled and unclustered,
+// its pixels' faces check and its clusters' check; with every light in one pass it is unsupported with its
+// reason.
 TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
   std::string why;
   const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
   fs::path out = scratch("view");
-  Outcome o =
-      run("run --backend " + backends +
-          " --scene hall --light-count 16 --camera 0,3,0,20,2,0 --optimize view --cube 16 --frame 96x64"
-          " --technique six_pass,vs_layer --light-grouping per_light,all_lights --filter pcf_disk20"
-          " --frames 1 --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
-          out.string());
+  Outcome o = run(
+      "run --backend " + backends +
+      " --scene hall --light-count 16 --camera 0,3,0,20,2,0 --optimize view+clusters --cube 16 --frame 96x64"
+      " --technique six_pass,vs_layer --light-grouping per_light,all_lights --filter pcf_disk20"
+      " --frames 1 --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
+      out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
   int ok = 0;

@@ -9,6 +9,7 @@
 
 #include "backends/common/atlas.h"
 #include "backends/common/layouts.h"
+#include "backends/common/light_clusters.h"
 #include "backends/common/storage_filter_tables.h"
 
 namespace omnishadow::bench {
@@ -86,6 +87,11 @@ MemoryNeed estimate_case_memory(const CaseConfig& c, CubeReadBack cube) {
   // keeps one light's.
   const uint64_t host_texels = cube == CubeReadBack::full ? texels : 6ull * uint64_t(grid) * uint64_t(grid);
   need.host_bytes = host_texels * 4 * 3 + host_texels + pixels * (4 + 4 + 4 + 16) * 4;
+  if (c.optimizations.light_clusters) {  // the lists' buffer, and the builder's words and pairs on the host
+    const uint64_t words = gpu::light_cluster_words(gpu::cluster_grid({}, c.width, c.height), c.light_count);
+    need.device_bytes += words * 4;
+    need.host_bytes += words * 4 * 3;
+  }
   return need;
 }
 
