@@ -9,6 +9,7 @@
 #include <cmath>
 #include <random>
 
+#include "backends/common/cube_faces.h"
 #include "backends/common/shadow_plan.h"
 
 namespace omnishadow {
@@ -60,19 +61,6 @@ TEST(ViewCulling, OnlyTheFacesTheViewLooksThroughAreKept) {
   EXPECT_EQ(cube::view_face_mask(v, {0, 0, -1}, 20.0f, unbounded, 64, true), cube::kAllFaces);
 }
 
-// Bit f: the direction lies within face f widened by `texels` texels of a face_size face.
-uint8_t faces_reading(const glm::vec3& d, float texels, int face_size) {
-  const float slope = 1.0f + 2.0f * texels / float(face_size);
-  uint8_t mask = 0;
-  for (int f = 0; f < 6; ++f) {
-    const int axis = f / 2;
-    const float u = (f % 2 == 0 ? 1.0f : -1.0f) * d[axis];
-    if (u > 0.0f && std::fabs(d[(axis + 1) % 3]) <= slope * u && std::fabs(d[(axis + 2) % 3]) <= slope * u)
-      mask |= uint8_t(1u << f);
-  }
-  return mask;
-}
-
 TEST(ViewCulling, NoFaceALookupOfAVisiblePointReadsIsLeftOut) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f), zero_one(0.0f, 1.0f);
@@ -99,7 +87,7 @@ TEST(ViewCulling, NoFaceALookupOfAVisiblePointReadsIsLeftOut) {
       if (glm::length(p - light) >= range) continue;
       glm::vec3 offset(unit(rng), unit(rng), unit(rng));
       if (glm::length(offset) > 1.0f) continue;
-      const uint8_t read = faces_reading(p + reach.world * offset - light, reach.texels, face_size);
+      const uint8_t read = cube::faces_within(p + reach.world * offset - light, reach.texels, face_size);
       ++checked;
       ASSERT_EQ(read & ~mask, 0) << "trial " << trial << ": a visible point reads faces " << int(read)
                                  << ", kept " << int(mask);

@@ -1,5 +1,6 @@
 #include "backends/common/cube_faces.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -132,6 +133,18 @@ FaceTexel neighbour_texel(int face, int s, int t, int axis, int k, int size) {
   const int sc = to == 0 ? -z : to == 1 ? z : to == 5 ? -x : x;
   const int tc = to == 2 ? z : to == 3 ? -z : -y;
   return {to, (sc + size - 1) / 2, (tc + size - 1) / 2};
+}
+
+uint8_t faces_within(const glm::vec3& d, float texels, int face_size) {
+  const float slope = 1.0f + 2.0f * texels / float(std::max(face_size, 1));
+  uint8_t mask = 0;
+  for (int f = 0; f < kFaceCount; ++f) {
+    const int axis = f / 2;
+    const float u = (f % 2 == 0 ? 1.0f : -1.0f) * d[axis];
+    if (u > 0.0f && std::fabs(d[(axis + 1) % 3]) <= slope * u && std::fabs(d[(axis + 2) % 3]) <= slope * u)
+      mask |= uint8_t(1u << f);
+  }
+  return mask;
 }
 
 FaceCoord direction_to_face(const glm::vec3& d) {

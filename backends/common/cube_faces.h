@@ -12,6 +12,7 @@
 // takes it.
 
 #include <array>
+#include <cstdint>
 #include <glm/glm.hpp>
 
 #include "backends/common/case_config.h"
@@ -61,6 +62,10 @@ struct FaceCoord {
   float t;
 };
 FaceCoord direction_to_face(const glm::vec3& direction);
+// The faces a lookup in `direction` may read on a cube of face_size texels: each whose face, widened by
+// `texels` texels across its edges, holds the direction (a face's half-width is 1 in tangent units, size / 2
+// texels). The independent answer the view-culling check and its test hold view_culling.h's planes to.
+uint8_t faces_within(const glm::vec3& direction, float texels, int face_size);
 
 // The direction through the centre of texel (s, t) of a face of `size`, straight from the same spec table
 // (not from the face view matrices above, so that a wrong up vector or face order there cannot hide from a

@@ -36,20 +36,6 @@ std::vector<glm::vec3> tap_offsets(const CaseConfig& c, float view_distance, flo
   return taps;
 }
 
-// The faces a tap in direction d reads: the one its major axis picks, and any whose edge lies within half a
-// texel (a LINEAR tap there filters across the seam).
-uint8_t faces_read(const glm::vec3& d, int face_size) {
-  const float slope = 1.0f + 1.0f / float(std::max(face_size, 1));
-  uint8_t mask = 0;
-  for (int f = 0; f < 6; ++f) {
-    const int axis = f / 2;
-    const float u = (f % 2 == 0 ? 1.0f : -1.0f) * d[axis];
-    if (u > 0.0f && std::fabs(d[(axis + 1) % 3]) <= slope * u && std::fabs(d[(axis + 2) % 3]) <= slope * u)
-      mask |= uint8_t(1u << f);
-  }
-  return mask;
-}
-
 }  // namespace
 
 // View culling's own check, over every light (not only the checked ones), independent of the culling's
@@ -72,7 +58,7 @@ void check_view_culling(CaseFindings& r, const Images& images, const std::vector
       if (glm::length(d) >= light.range) continue;  // beyond the range: the light adds nothing
       uint8_t read = 0;
       for (const glm::vec3& tap : tap_offsets(r.config, glm::length(camera - point), light.range))
-        read |= faces_read(d + tap, light.face_size);
+        read |= cube::faces_within(d + tap, 0.5f, light.face_size);        // a LINEAR tap's half texel
       if (light.faces == 0) read = 1u << cube::direction_to_face(d).face;  // a light out of view: any pixel
       for (int f = 0; f < 6; ++f) missing[size_t(f)] += (read & ~light.faces) >> f & 1u;
     }
