@@ -159,6 +159,10 @@ class Backend {
   // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
   // when the checking mode is off. Drained outside timed loops.
   virtual std::vector<std::string> drain_api_errors();
+  // Per point light, the frame index whose light position each face's content was rendered for (-1: nothing,
+  // or cleared) after the last frame: what the update budget left stale (gpu::FaceContent). Empty where the
+  // backend keeps no such record.
+  virtual std::vector<std::array<int, 6>> face_frames() const { return {}; }
 
  protected:
   // Whether this device runs technique mesh_shader: load() then builds the scene's meshlets before it lets

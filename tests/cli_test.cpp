@@ -234,6 +234,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "--light-grouping: unknown light grouping 'per_face'"},
         BadInput{"run --atlas-tiles by_area --out @OUT@", "--atlas-tiles: unknown atlas tiling 'by_area'"},
         BadInput{"run --shadow-budget 4G --out @OUT@", "--shadow-budget: '4G' is not a texel count"},
+        BadInput{"run --update-budget 0 --out @OUT@", "--update-budget: '0' is not a face count"},
+        BadInput{"run --staleness-frames -1 --out @OUT@", "--staleness-frames: Value -1 not in range 0 to 10000"},
         BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},
         BadInput{"run --case-timeout-s nan --out @OUT@", "--case-timeout-s: 'nan' is not a finite number"},
         BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},
@@ -815,6 +817,49 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
     EXPECT_GT(c["shadow_plan"]["view_culling"]["faces_culled"].get<int>(), 0) << c["id"];
     EXPECT_GT(c["moments"]["values"].get<int>(), 0) << c["id"] << ": the moments check ran";
   }
+}
+
+// An update budget on both APIs: the check frame's maps are whole (every check holds), and the sequence from
+// a fresh start renders at most the budget's faces a frame after the first, every face read within its wait
+// bound; the swaying lamps' stale faces cost misclassified pixels that a budget covering them does not.
+TEST_F(CliRun, UpdateBudgetRendersAtMostItsFacesAndReportsWhatStalenessCosts) {
+  std::string why;
+  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  fs::path out = scratch("update_budget");
+  Outcome o = run("run --backend " + backends +
+                  " --scene hall --light-count 8 --update-budget none,2,12 --staleness-frames 12 --cube 32"
+                  " --frame 96x64 --technique six_pass,geometry_shader --filter hard --frames 1 --warmup 0"
+                  " --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
+                  out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  int sequences = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    const int budget = c["axes"]["update_budget_faces"].get<int>();
+    if (c["status"] == "unsupported") {  // geometry_shader refreshes whole lights: 2 faces are too few
+      EXPECT_EQ(c["axes"]["technique"], "geometry_shader");
+      EXPECT_EQ(budget, 2);
+      EXPECT_NE(c["reason"].get<std::string>().find("the budget must be at least 6"), std::string::npos);
+      continue;
+    }
+    ASSERT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+    const auto& s = c["staleness"];
+    ASSERT_EQ(s["frames"].size(), 12u) << c["id"];
+    ++sequences;
+    EXPECT_EQ(s["lights"], nlohmann::json({0, 2, 3, 4, 6, 7})) << "checked (0, 2, 4, 6) and swaying (3, 7)";
+    EXPECT_EQ(s["frames"][0]["faces_rendered"], 48) << "the first frame renders every light whole";
+    for (size_t t = 1; t < s["frames"].size(); ++t) {
+      const int rendered = s["frames"][t]["faces_rendered"].get<int>();
+      if (budget > 0) EXPECT_LE(rendered, budget) << c["id"] << " frame " << t;
+      if (budget == 0) EXPECT_EQ(rendered, 48) << "no budget: every light every frame";
+    }
+    if (budget == 2) {  // two lamps sway: 12 stale faces a frame, 2 refreshed
+      EXPECT_GT(s["max_wait_frames"].get<int>(), 0);
+      EXPECT_GT(s["misclassified_percent"]["worst"].get<double>(), 0.0) << c["id"];
+    }
+    if (budget == 12) EXPECT_EQ(s["max_wait_frames"], 0) << "12 faces a frame cover both swaying lamps";
+  }
+  EXPECT_EQ(sequences, backends == "gl,vulkan" ? 10 : 5);
 }
 
 // A model file (glTF or OBJ) given to --scene runs directly and passes its checks on both APIs, named by

@@ -210,7 +210,30 @@ Support all_lights_support(const CaseConfig& c) {
   return {};
 }
 
+Support update_budget_support(const CaseConfig& c) {
+  if (c.update_budget_faces == 0) return {};
+  if (c.update_budget_faces < 0) return {false, "the update budget must be at least 1 face a frame"};
+  if (c.light_grouping == LightGrouping::all_lights)
+    return {false, "an update budget with every light in one pass: the pass renders every light's faces"};
+  if (c.optimizations.static_cache)
+    return {false,
+            "an update budget keeps the faces whose light stands still itself (static caching's "
+            "saving, face by face): cache adds nothing"};
+  if (!refreshes_single_faces(c) && c.update_budget_faces < cube::kFaceCount)
+    return {false, "an update budget of " + std::to_string(c.update_budget_faces) +
+                       " face(s): " + std::string(to_string(c.technique)) +
+                       " refreshes a light's six faces together here (one pass, an atlas block or the "
+                       "moments blur), so the budget must be at least 6"};
+  return {};
+}
+
 }  // namespace
+
+bool refreshes_single_faces(const CaseConfig& c) {
+  return traits(c.technique).passes == cube::kFaceCount && c.layout != Layout::atlas &&
+         traits(c.layout).geometry.layers == cube::kFaceCount &&
+         traits(c.filter).prefilter != Prefilter::separable_blur;
+}
 
 Support common_support(const CaseConfig& c) {
   if (traits(c.layout).geometry.map != TexelMap::cube_faces) {
@@ -260,6 +283,7 @@ Support common_support(const CaseConfig& c) {
             "depth is not the face projection's that hardware_depth stores"};
   if (c.technique == Technique::nv_swizzle && c.raster_perturb_steps != 0.0f)
     return {false, "--raster-perturb moves clip positions before the swizzle could permute them"};
+  if (Support s = update_budget_support(c); !s.ok) return s;
   if (c.optimizations.face_culling && traits(c.technique).culling == CullingForm::unsupported)
     return {false,
             "face culling: a multiview pass renders every view of each draw (the view mask is per render "
@@ -288,6 +312,7 @@ std::string CaseConfig::id() const {
   if (light_grouping == LightGrouping::all_lights) id += "/all_lights";
   if (atlas_tiles != AtlasTiles::uniform) id += "/tiles_" + std::string(to_string(atlas_tiles));
   if (shadow_budget_texels) id += "/budget" + std::to_string(shadow_budget_texels);
+  if (update_budget_faces) id += "/update" + std::to_string(update_budget_faces);
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";
   if (optimizations.static_cache) id += "/cache";

@@ -207,6 +207,11 @@ Support common_support(const CaseConfig& config);
 // Whether the case's layers (the layout's layers per light times the light count) fit a device's array
 // textures of at most `max_layers` layers (`limit`: the API's name for it).
 Support layer_count_support(const CaseConfig& config, int max_layers, const std::string& limit);
+// Whether the update budget (CaseConfig::update_budget_faces) refreshes a light's faces one by one: each face
+// is a render pass of its own that clears only its own layer (six_pass over a light's six layers; an atlas
+// clears the light's whole block) and nothing after the pass rewrites a face from the others (the moments
+// blur does). Otherwise a refresh renders the whole light and costs its six faces.
+bool refreshes_single_faces(const CaseConfig& config);
 
 struct CaseConfig {
   std::string backend = "gl";
@@ -232,6 +237,10 @@ struct CaseConfig {
   // --shadow-budget (atlas by_coverage only): the atlas's texels at most; 0: the uniform atlas's (the same
   // memory, given by coverage). In the id as /budget<texels> when set.
   uint64_t shadow_budget_texels = 0;
+  // --update-budget: at most this many cube faces rendered a frame, the faces whose content is stale (their
+  // light moved since they were rendered) oldest first; the others keep what they hold
+  // (backends/common/shadow_frame.h). 0: every stale face every frame. In the id as /update<faces> when set.
+  int update_budget_faces = 0;
   Optimizations optimizations;
   Remedies remedies;
   MomentsTuning moments;  // --moments-tuning; in the id as /lbr0.5/exp1.01/floor0/world where not the default

@@ -1,6 +1,8 @@
 #include "backends/common/shadow_frame.h"
 
 #include <algorithm>
+#include <bit>
+#include <tuple>
 
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/view_culling.h"
@@ -10,6 +12,7 @@ namespace omnishadow::gpu {
 ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, const CaseConfig& config,
                                         cube::DepthRange range, int face_size) {
   ShadowFrame f;
+  f.frame = frame;
   f.uniforms = make_frame_uniforms(scene, frame, config, range);
   // Casters never move (scenes are baked at load), so the light's position and range decide the cube's
   // content. Exact float equality: a light that moves by one ulp renders again.
@@ -36,10 +39,30 @@ ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, co
   return f;
 }
 
+uint8_t ShadowFramePlanner::stale_faces(const glm::vec4& light, int frame) {
+  uint8_t stale = 0;
+  for (int face = 0; face < cube::kFaceCount; ++face) {
+    FaceContent& c = faces_[size_t(face)];
+    if (c.frame >= 0 && c.light == light) continue;  // exact: a light that moved by one ulp is stale
+    stale |= uint8_t(1u << face);
+    if (c.stale_since < 0) c.stale_since = frame;
+  }
+  return stale;
+}
+
 void ShadowFramePlanner::rendered(const ShadowFrame& f, const CaseConfig& config) {
   if (f.skipped()) return;
   cube_far_ = f.uniforms.light_position.w;
   written_ = true;
+  // The faces the pass rewrote: its own passes' faces where each face has one, else all six (one layered
+  // clear, an atlas block's clear, the moments blur over the whole cube); of those, the faces drawn now hold
+  // this frame's light, the others are cleared.
+  const uint8_t touched = refreshes_single_faces(config) ? f.pass_faces : cube::kAllFaces;
+  for (int face = 0; face < cube::kFaceCount; ++face) {
+    if (!((touched >> face) & 1u)) continue;
+    const bool drawn = (f.view_faces >> face) & 1u;
+    faces_[size_t(face)] = drawn ? FaceContent{f.frame, f.uniforms.light_position, -1} : FaceContent{};
+  }
   // A cube with faces left out by view culling is not whole: a later view may need them.
   if (config.optimizations.static_cache) {
     if (f.view_faces == cube::kAllFaces)
@@ -59,6 +82,7 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
   // Every light in one pass renders every light or none: one that moved makes the others render again.
   const bool all_reuse =
       std::all_of(f.lights.begin(), f.lights.end(), [](const ShadowFrame& s) { return s.reuse_cube; });
+  if (config.update_budget_faces > 0) apply_update_budget(f, frame, config);
   for (size_t k = 0; k < planners_.size(); ++k) {
     if (config.light_grouping == LightGrouping::all_lights && !all_reuse && f.lights[k].reuse_cube) {
       scene::FocusLight focus(scene, static_cast<int>(k));
@@ -75,6 +99,64 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
                          tile, u.face_view_proj});
   }
   return f;
+}
+
+// Units are faces where a face can be refreshed alone, else lights (their faces drawn as cost), taken by
+// the frame their content went stale (then light, then face, so that the order is deterministic) while the
+// budget lasts; the first that does not fit ends the frame's refreshes, so that no unit waits behind later
+// ones: a unit waits at most ceil(units that can be stale / units a frame) - 1 frames. A light never written
+// since configure renders whole, outside the budget (its map must hold defined values).
+void LightFramePlanner::apply_update_budget(LightFrames& f, int frame, const CaseConfig& config) {
+  struct Unit {
+    int since, light, face, cost;  // face -1: the whole light
+  };
+  const bool single = refreshes_single_faces(config);
+  std::vector<Unit> units;
+  std::vector<uint8_t> refresh(f.lights.size(), 0);
+  for (size_t k = 0; k < f.lights.size(); ++k) {
+    ShadowFrame& s = f.lights[k];
+    ShadowFramePlanner& p = planners_[k];
+    if (s.skipped() || !p.written()) continue;  // out of view, or rendered whole this frame
+    const uint8_t stale = p.stale_faces(s.uniforms.light_position, frame) & s.view_faces;
+    int oldest = frame;
+    for (int face = 0; face < cube::kFaceCount; ++face) {
+      if (!((stale >> face) & 1u)) continue;
+      const int since = p.faces()[size_t(face)].stale_since;
+      if (single) units.push_back({since, int(k), face, 1});
+      oldest = std::min(oldest, since);
+    }
+    if (!single && stale) units.push_back({oldest, int(k), -1, std::popcount(s.view_faces)});
+  }
+  std::sort(units.begin(), units.end(), [](const Unit& a, const Unit& b) {
+    return std::tie(a.since, a.light, a.face) < std::tie(b.since, b.light, b.face);
+  });
+  int left = config.update_budget_faces;
+  for (const Unit& u : units) {
+    if (u.cost > left) break;
+    left -= u.cost;
+    refresh[size_t(u.light)] |= u.face < 0 ? cube::kAllFaces : uint8_t(1u << u.face);
+  }
+  for (size_t k = 0; k < f.lights.size(); ++k) {
+    ShadowFrame& s = f.lights[k];
+    if (s.skipped() || !planners_[k].written()) continue;
+    if (!refresh[k]) {
+      s.deferred = true;
+      s.plan = {};
+    } else if (single) {
+      s.pass_faces = refresh[k] & s.view_faces;
+      cube::keep_faces(s.plan, s.pass_faces);
+    }
+  }
+}
+
+std::vector<std::array<int, 6>> LightFramePlanner::face_frames() const {
+  std::vector<std::array<int, 6>> out;
+  for (const ShadowFramePlanner& p : planners_) {
+    std::array<int, 6> frames{};
+    for (int face = 0; face < cube::kFaceCount; ++face) frames[size_t(face)] = p.faces()[size_t(face)].frame;
+    out.push_back(frames);
+  }
+  return out;
 }
 
 void LightFramePlanner::rendered(const LightFrames& f, const CaseConfig& config) {

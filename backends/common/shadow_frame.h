@@ -2,6 +2,7 @@
 // The per-frame decisions both backends share: the uniform block, the shadow draw plan (per-face object
 // lists, per-object face masks) and whether the cube rendered earlier can be reused (static caching).
 
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -27,7 +28,19 @@ struct ShadowFrame {
   // once the map was written (a culled face keeps what it held, read by no visible pixel), else every face.
   uint8_t pass_faces = cube::kAllFaces;
   bool face_pass(int face) const { return (pass_faces >> face) & 1u; }
-  bool skipped() const { return reuse_cube || out_of_view; }  // no pass this frame
+  // The update budget (CaseConfig::update_budget_faces) left every stale face of this light for a later
+  // frame: no pass, the map keeps what it holds.
+  bool deferred = false;
+  bool skipped() const { return reuse_cube || out_of_view || deferred; }  // no pass this frame
+  int frame = 0;  // the frame index it was prepared for
+};
+
+// What one face of a light's map holds: the frame whose light position it was rendered for (-1: nothing
+// yet, or cleared), that light (xyz position, w far), and the first frame it was found stale since then.
+struct FaceContent {
+  int frame = -1;
+  glm::vec4 light{0.0f};
+  int stale_since = -1;
 };
 
 class ShadowFramePlanner {
@@ -36,6 +49,7 @@ class ShadowFramePlanner {
   void reset() {
     cube_light_.reset();
     written_ = false;
+    faces_ = {};
   }
   // face_size: the light's face (its atlas tile's, or the cube's), for view culling's texel margins.
   ShadowFrame prepare(const scene::Scene& scene, int frame, const CaseConfig& config, cube::DepthRange range,
@@ -45,11 +59,17 @@ class ShadowFramePlanner {
   // The light far plane of the cube's content (fit_range makes it per frame): read-back scales linear depth
   // by it.
   float cube_far() const { return cube_far_; }
+  bool written() const { return written_; }
+  // The faces that do not hold `light` (xyz position, w far), each marked stale since `frame` the first time
+  // it is found so. Casters never move, so a face holding its light's position and range is up to date.
+  uint8_t stale_faces(const glm::vec4& light, int frame);
+  const std::array<FaceContent, 6>& faces() const { return faces_; }
 
  private:
   std::optional<glm::vec4> cube_light_;  // xyz position, w far: what the cached cube was rendered for
   float cube_far_ = 0.0f;
   bool written_ = false;  // a pass has written the light's map since configure
+  std::array<FaceContent, 6> faces_{};
 };
 
 // A frame of a case with CaseConfig::light_count point lights: each light's ShadowFrame (its uniforms, drawn
@@ -78,8 +98,14 @@ class LightFramePlanner {
   int face_size(int light, const CaseConfig& config) const {
     return atlas_ ? atlas_->lights.at(size_t(light)).face_size : config.cube_size;
   }
+  // Per light, the frame each face's content was rendered for (FaceContent::frame): what the staleness
+  // checks hold to the lights' paths.
+  std::vector<std::array<int, 6>> face_frames() const;
 
  private:
+  // The update budget: which stale faces `f` refreshes (the oldest first), the others deferred.
+  void apply_update_budget(LightFrames& f, int frame, const CaseConfig& config);
+
   std::vector<ShadowFramePlanner> planners_;
   std::optional<atlas::Plan> atlas_;
 };

@@ -34,6 +34,7 @@ class GlBackend final : public Backend {
   ~GlBackend() override;
 
   Support supports(const CaseConfig& config) const override;
+  std::vector<std::array<int, 6>> face_frames() const override { return planner_.face_frames(); }
 
  private:
   void create_shared_objects();

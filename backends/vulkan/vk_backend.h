@@ -31,6 +31,7 @@ class VkBackend final : public Backend {
   ~VkBackend() override;
 
   Support supports(const CaseConfig& config) const override;
+  std::vector<std::array<int, 6>> face_frames() const override { return planner_.face_frames(); }
   // The validation layer's messages, collected by the context's messenger.
   std::vector<std::string> drain_api_errors() override { return ctx_->drain_messages(); }
 

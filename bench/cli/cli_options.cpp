@@ -102,6 +102,15 @@ uint64_t parse_texel_budget(const std::string& t) {
   return std::stoull(number) << shift;
 }
 
+// "none" (0: every stale face each frame) or a positive count of faces.
+int parse_face_budget(const std::string& t) {
+  if (t == "none") return 0;
+  const bool digits = !t.empty() && t.size() <= 6 && t.find_first_not_of("0123456789") == std::string::npos;
+  if (!digits || std::stoi(t) < 1)
+    throw std::invalid_argument("'" + t + "' is not a face count (none, or a whole number from 1 to 999999)");
+  return std::stoi(t);
+}
+
 // The axes that say what is drawn and at what size: backends, scenes, cube and frame sizes.
 void add_scene_axes(CLI::App& r, MatrixSpec& m) {
   auto text = [](const std::string& s) { return s; };
@@ -170,6 +179,13 @@ void add_light_axes(CLI::App& r, MatrixSpec& m) {
       "by_coverage: each light's faces by the screen area its range covers, the largest that fit the atlas "
       "in "
       "the budget; ids end in /budget<texels> when not 0; other tilings ignore it");
+  list_option(
+      r, "--update-budget", m.update_budgets, parse_face_budget,
+      [](int v) { return v ? std::to_string(v) : std::string("none"); },
+      "comma list of cube faces rendered at most a frame (none: every stale face): the faces whose light "
+      "moved since they were rendered, oldest first, the others keep what they hold; such a case also runs "
+      "a sequence of frames for the error its stale faces cost (--staleness-frames); ids end in "
+      "/update<faces>");
 }
 
 // The axes that say how it is drawn: technique, filter, storage, layout and what tunes them.
@@ -285,6 +301,14 @@ void add_frame_options(CLI::App& r, RunOptions& o) {
   r.add_option("--check-frame", o.check_frame, "frame index whose images are written and compared")
       ->capture_default_str()
       ->check(CLI::Range(0, 100000000));
+  r.add_option(
+       "--staleness-frames", o.staleness_frames,
+       "frames 0..N-1 rendered from a fresh start after a case's checks, each with its faces rendered "
+       "and stale and its error against that frame's exact visibility (results.json staleness); "
+       "default: " +
+           std::to_string(RunOptions::kStalenessFrames) +
+           " for cases with an --update-budget, none for the others; 0: none")
+      ->check(CLI::Range(0, 10000));
   r.add_flag("--stability", o.stability,
              "also render the check frame + 1 and report how much of the shadow factor changed (flicker)");
 }

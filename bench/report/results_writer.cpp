@@ -76,6 +76,7 @@ json axes_to_json(const CaseConfig& c) {
                {"light_grouping", to_string(c.light_grouping)},
                {"atlas_tiles", to_string(c.atlas_tiles)},
                {"shadow_budget_texels", c.shadow_budget_texels},
+               {"update_budget_faces", c.update_budget_faces},
                {"optimizations", to_string(c.optimizations)},
                {"remedies", to_string(c.remedies)},
                {"moments_tuning", to_string(c.moments)},
@@ -132,6 +133,12 @@ json plan_to_json(const CaseResult& r) {
       {"light_far", r.light_far},
       {"storage_bytes", r.shadow_storage_bytes ? r.shadow_storage_bytes : shadow_storage_bytes(r.config)},
       {"texels", r.shadow_texels ? r.shadow_texels : shadow_texels(r.config)}};
+  if (r.faces_rendered >= 0)
+    j["rendered"] = {
+        {"frame", "the frame counted (the check frame, or the next with caching or an update budget)"},
+        {"faces", r.faces_rendered},
+        {"texels", r.texels_rendered},
+        {"passes", r.passes_rendered}};
   if (r.config.optimizations.view_culling)
     j["view_culling"] = {{"lights_culled", r.view_culled_lights}, {"faces_culled", r.view_culled_faces}};
   if (r.atlas) {
@@ -289,6 +296,28 @@ json timing_to_json(const CaseResult& r) {
           {"lighting", pass_timing_to_json(r.frames, &FrameTiming::lighting, r.gpu_timer.reliable)}};
 }
 
+// The update budget's sequence: each frame's faces and error, and the worst and mean.
+json staleness_to_json(const StalenessReport& s) {
+  json frames = json::array();
+  for (const StalenessFrame& f : s.frames)
+    frames.push_back({{"frame", f.frame},
+                      {"faces_rendered", f.faces_rendered},
+                      {"faces_stale", f.faces_stale},
+                      {"max_wait_frames", f.max_wait},
+                      {"misclassified_percent", f.misclassified_percent},
+                      {"pixels", f.pixels}});
+  return {{"lights", s.lights},
+          {"frames", frames},
+          {"wait_bound_frames", s.wait_bound},
+          {"max_wait_frames", s.max_wait},
+          {"mean_faces_rendered", s.mean_faces_rendered},
+          {"misclassified_percent",
+           {{"mean", s.mean_misclassified_percent},
+            {"worst", s.worst_misclassified_percent},
+            {"worst_frame", s.worst_frame}}},
+          {"truth", "exact point-light visibility of each frame, over the lights listed"}};
+}
+
 // The checks' own reports: moments, texels against exact distances, lookups replayed, clustered lists.
 void add_check_reports(json& j, const CaseResult& r) {
   if (r.moments)
@@ -329,6 +358,7 @@ void add_check_reports(json& j, const CaseResult& r) {
                            {"mean_lights_listed", r.light_clusters->mean_listed},
                            {"mean_lights_reaching", r.light_clusters->mean_reaching},
                            {"max_lights_listed", r.light_clusters->max_listed}};
+  if (r.staleness) j["staleness"] = staleness_to_json(*r.staleness);
 }
 
 }  // namespace

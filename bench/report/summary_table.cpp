@@ -177,6 +177,29 @@ void diagnoses(std::ostringstream& md, const std::vector<CaseResult>& results) {
   for (const auto& [key, line] : lines) md << line;
 }
 
+// The staleness sequences (--update-budget, --staleness-frames): what refreshing fewer faces a frame costs.
+void staleness_table(std::ostringstream& md, const std::vector<CaseResult>& results) {
+  std::ostringstream rows;
+  for (const CaseResult& r : results) {
+    if (!r.staleness || r.staleness->frames.empty()) continue;
+    const StalenessReport& s = *r.staleness;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "| %zu | %.1f | %d (bound %d) | %.3g%% | %.3g%% (frame %d) |\n",
+                  s.frames.size(), s.mean_faces_rendered, s.max_wait, s.wait_bound,
+                  s.mean_misclassified_percent, s.worst_misclassified_percent, s.worst_frame);
+    rows << "| `" << r.config.id() << "` " << buf;
+  }
+  if (rows.str().empty()) return;
+  md << "\n## Staleness over a sequence of frames (update budget)\n\n"
+     << "Frames 0..N-1 from a fresh start; a face waits while it is read holding an older position of its "
+        "light. Misclassified: the lights that move and those checked, against each frame's exact "
+        "visibility.\n\n"
+     << "| case | frames | faces rendered a frame after the first | longest wait, frames | misclassified, "
+        "mean | worst |\n"
+     << "|---|---|---|---|---|---|\n"
+     << rows.str();
+}
+
 // Every timed case's passes as multiples of their floor (the same render passes with nothing drawn; the frame
 // shaded with a constant): how far a technique or filter is from what the device does at all.
 void floor_table(std::ostringstream& md, const std::vector<CaseResult>& results) {
@@ -318,6 +341,7 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
   diagnoses(md, results);
   repetition_table(md, results, policy);
   floor_table(md, results);
+  staleness_table(md, results);
   ratio_table<Technique>(
       md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
       &CaseConfig::technique, Technique::six_pass, shadow_wall);

@@ -58,6 +58,11 @@ struct CaseResult : CaseFindings {
   int object_face_pairs = 0;  // object x face draws the plan asks for (six_pass draws per frame)
   // --optimize view at the check frame: lights out of view (no pass) and faces of lights in view left out.
   int view_culled_lights = 0, view_culled_faces = 0;
+  // What the counted frame (count_work's) rendered into the lights' maps: faces drawn, their texels, and its
+  // shadow passes (six_pass: one a face drawn; a single pass: one a light drawn). -1: the backend keeps no
+  // record of its faces (Backend::face_frames).
+  int faces_rendered = -1, passes_rendered = -1;
+  int64_t texels_rendered = -1;
   // The shadow storage as allocated for the case's scene (memory_budget.h shadow_texels); 0 before the plan.
   uint64_t shadow_texels = 0, shadow_storage_bytes = 0;
   // Layout atlas: its size and each light's face size (backends/common/atlas.h), as allocated.

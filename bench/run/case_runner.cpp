@@ -173,6 +173,21 @@ static void check_shadow_budget(CaseResult& r, const scene::Scene& sc) {
        {{"texels", double(texels)}, {"budget", double(budget)}}});
 }
 
+// The faces the counted frame drew (their content is that frame's), their texels and the passes that drew
+// them.
+static void count_rendered(CaseResult& r, const std::vector<std::array<int, 6>>& face_frames, int frame) {
+  if (face_frames.empty()) return;
+  r.faces_rendered = r.passes_rendered = 0;
+  r.texels_rendered = 0;
+  for (size_t k = 0; k < face_frames.size(); ++k) {
+    const int64_t size = r.atlas ? r.atlas->lights.at(k).face_size : r.config.cube_size;
+    const int faces = int(std::count(face_frames[k].begin(), face_frames[k].end(), frame));
+    r.faces_rendered += faces;
+    r.texels_rendered += faces * size * size;
+    r.passes_rendered += traits(r.config.technique).passes == cube::kFaceCount ? faces : faces > 0;
+  }
+}
+
 std::vector<PlannedLight> Harness::count_work(CaseResult& r, Backend& b, float light_far) {
   std::vector<PlannedLight> planned;
   // Summed over the case's lights, each planned as the backend plans it (its far: light 0's as read back, the
@@ -200,9 +215,13 @@ std::vector<PlannedLight> Harness::count_work(CaseResult& r, Backend& b, float l
     r.empty_faces += plan.empty_faces;
     for (const auto& list : plan.face_objects) r.object_face_pairs += static_cast<int>(list.size());
   }
-  // With static caching the work of a frame depends on the one before: count the frame after the check frame,
-  // rendered right after it (the steady state: zero shadow work while the light stands still).
-  r.counters = b.count_work(options_.check_frame + (r.config.optimizations.static_cache ? 1 : 0));
+  // With static caching or an update budget the work of a frame depends on the one before: count the frame
+  // after the check frame, rendered right after it (the steady state: zero shadow work while the light stands
+  // still, the budget's faces while lights move).
+  const bool after_check = r.config.optimizations.static_cache || r.config.update_budget_faces > 0;
+  const int counted = options_.check_frame + (after_check ? 1 : 0);
+  r.counters = b.count_work(counted);
+  count_rendered(r, b.face_frames(), counted);
   return planned;
 }
 
@@ -293,6 +312,7 @@ void Harness::prepare(CaseResult& r) {
     check_lights(r, images, others, is_reference);
     check_view_culling(r, images, planned, scene_of(r.config).camera.position);
     check_light_clusters(r, images, planned, scene_of(r.config).camera);
+    step("staleness", [&] { measure_staleness(r, b); });
     // Last, when the case's status is known: a failed check also keeps every float buffer.
     if (options_.write_images()) step("images", [&] { write_images(r, images); });
     if (is_reference) {

@@ -75,6 +75,9 @@ class Harness {
   void check_light(CaseResult& result, Images& images, int light, bool is_reference);
   // Against six_pass and the other API, for point light `light`; may read the cubes again in full.
   void check_against_six_pass(CaseResult& result, Images& images, int light);
+  // --staleness-frames: frames 0..N-1 from a fresh start, each frame's faces and error, held to the lights'
+  // paths (check_update_budget). Leaves the backend on the case.
+  void measure_staleness(CaseResult& result, Backend& b);
   CubeReadBack cube_read_back_for(const CaseConfig& config) const;
   void read_full_cube(const CaseConfig& config, Images& images, int light);
   Images read_light(Backend& b, const CaseConfig& config, int light);

@@ -123,6 +123,7 @@ std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& ba
   });
   for (CaseConfig& c : cases)
     if (c.atlas_tiles != AtlasTiles::by_coverage) c.shadow_budget_texels = 0;
+  times(cases, spec.update_budgets, [](CaseConfig& c, int v) { c.update_budget_faces = v; });
   times(cases, spec.injected_work, [&](CaseConfig& c, int v) {
     c.injected_work = v;
     if (spec.injected_work.size() > 1) c.experiment = "inj" + std::to_string(v);

@@ -37,6 +37,7 @@ struct MatrixSpec {
       LightGrouping::per_light};                             // --light-grouping per_light,all_lights
   std::vector<AtlasTiles> atlas_tiles{AtlasTiles::uniform};  // --atlas-tiles uniform,by_distance (atlas)
   std::vector<uint64_t> shadow_budgets{0};  // --shadow-budget (atlas by_coverage; 0: the uniform atlas's)
+  std::vector<int> update_budgets{0};       // --update-budget faces a frame (0: every stale face)
   std::vector<Optimizations> optimizations{Optimizations{}};    // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                   // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01

@@ -68,6 +68,15 @@ struct RunOptions : CheckOptions {
   // Also render check_frame + 1 and report how much of the shadow factor changed (flicker): with a light that
   // moves by tiny steps (scenes/extremes/stability_*), any change beyond the motion itself is instability.
   bool stability = false;
+  // --staleness-frames: cases render frames 0..N-1 from a fresh start and report, per frame, the faces
+  // rendered and stale and the error against that frame's exact visibility
+  // (bench/run/staleness_sequence.cpp). Negative: kStalenessFrames for cases with an update budget, none for
+  // the others; 0: none.
+  int staleness_frames = -1;
+  static constexpr int kStalenessFrames = 24;
+  int staleness_frames_for(const CaseConfig& c) const {
+    return staleness_frames >= 0 ? staleness_frames : c.update_budget_faces > 0 ? kStalenessFrames : 0;
+  }
   std::map<std::string, std::string> backend_options;  // egl_platform, gl_device, vk_device, api_checks
   // Crash isolation (bench/cli/case_isolation.h): the pipe on which this worker process names the case and
   // step it is in (-1: not a worker), and the test-only faults (bench/run/case_progress.h): regexes of case

@@ -96,6 +96,21 @@ void check_view_culling(CaseFindings& r, const Images& images, const std::vector
 void check_light_clusters(CaseFindings& r, const Images& images, const std::vector<PlannedLight>& lights,
                           const scene::Camera& camera);
 
+// --update-budget's sequence: per frame, what each light's faces hold (Backend::face_frames) and which faces
+// the frame reads (view culling's, else all six), with the error measured. Holds every face read to its
+// light's path: it holds a position its light had (never nothing), it has not waited beyond the bound that
+// refreshing the oldest stale faces first guarantees, and no frame after the first renders more faces than
+// the budget. Fills r.staleness.
+struct SequenceFrame {
+  int frame = 0;
+  std::vector<std::array<int, 6>> face_frames;  // per light
+  std::vector<uint8_t> read_faces;              // per light
+  double misclassified_percent = 0.0;
+  uint64_t pixels = 0;
+};
+void check_update_budget(CaseFindings& r, const scene::Scene& scene, const std::vector<int>& lights,
+                         const std::vector<SequenceFrame>& frames);
+
 // Against other renderings (bench/truth/image_checks.cpp).
 // The timed and the check lighting variants are two compilations of one shader; a GPU compiler may contract
 // or reorder their float operations. Each colour channel is fp32 until the final 8-bit rounding, and

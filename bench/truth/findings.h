@@ -87,6 +87,28 @@ struct LightClusterReport {
   double mean_reaching = 0.0;  // lights that reach a covered pixel, on average
 };
 
+// --update-budget: a sequence of frames from a fresh start (bench/run/staleness_sequence.cpp), each frame's
+// figures, and the worst and mean over the sequence. A face's wait: the frames, up to and including this one,
+// that it was read (in view) while holding an older position of its light.
+struct StalenessFrame {
+  int frame = 0;
+  int faces_rendered = 0;              // faces whose content is this frame's
+  int faces_stale = 0;                 // faces read this frame that hold an older position of their light
+  int max_wait = 0;                    // frames, the longest any face read this frame has waited
+  double misclassified_percent = 0.0;  // the sequence's lights' pixels together, against this frame's truth
+  uint64_t pixels = 0;
+};
+struct StalenessReport {
+  std::vector<int> lights;  // the lights whose error is measured: those checked, and every one that moves
+  std::vector<StalenessFrame> frames;
+  int wait_bound = 0;  // frames no face may wait: ceil(units that can be stale / units a frame) - 1
+  int max_wait = 0;    // over the sequence
+  double mean_faces_rendered = 0.0;  // over the frames after the first (which renders every light whole)
+  double mean_misclassified_percent = 0.0;
+  double worst_misclassified_percent = 0.0;
+  int worst_frame = 0;
+};
+
 struct CaseFindings {
   CaseConfig config;
   Status status = Status::ok;  // the worst finding's (ok without any)
@@ -117,6 +139,7 @@ struct CaseFindings {
   // (lit_psnr_of_lights; -1 when identical to exact visibility's).
   std::optional<double> lit_psnr_every_light_db;
   std::optional<LightClusterReport> light_clusters;
+  std::optional<StalenessReport> staleness;
 };
 
 // The point lights of a case with `light_count` lights whose images the checks read: every one up to

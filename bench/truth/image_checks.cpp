@@ -170,6 +170,7 @@ CaseConfig reference_config(const CaseConfig& c) {
   // Unculled: a case culled to the view must light the frame as if every light and face had been drawn.
   k.optimizations.view_culling = false;
   k.optimizations.light_clusters = false;  // and every light looped over at every pixel
+  k.update_budget_faces = 0;  // and every stale face refreshed (the check frame's maps are whole anyway)
   return k;
 }
 

@@ -4,6 +4,7 @@ lights' error against the number of lights, one inline SVG line per backend/scen
 (hover a point for its case) and the same figures as a table. Nothing for a run with one light count.
 """
 from many_lights_table import figures, groups_of, several_counts
+from policy_table import figures as policy_figures, groups_of as policy_groups, pareto_set
 from report_util import esc
 
 W, H, LEFT, RIGHT, TOP, BOTTOM = 720, 300, 56, 250, 14, 40
@@ -55,10 +56,40 @@ def chart(series):
     return "".join(out) + "</svg>"
 
 
+def policies_section(cases):
+    """Per backend/scene/light count with more than one policy (optimisations, update budget, tiles): what each
+    rendered and cost, the Pareto set marked (policy_table.py's figures); "" where no group has two."""
+    out = []
+    for (backend, scene, lights, cube, filt), group in sorted(policy_groups(cases).items()):
+        if len(group) < 2:
+            continue
+        front = pareto_set(group)
+        rows = []
+        for policy, c in sorted(group.items()):
+            f = policy_figures(c)
+            cells = [f["faces"], f["texels"], f["passes"], f["frame"], f["check"], f["mean"], f["worst"]]
+            text = "".join("<td>-</td>" if v is None else f"<td>{v:.2f}</td>" if isinstance(v, float)
+                           else f"<td>{v}</td>" for v in cells)
+            mark = "<b>Pareto</b>" if policy in front else ""
+            rows.append(f"<tr><td><code>{esc(policy)}</code></td>{text}<td>{mark}</td></tr>")
+        out.append(f"<h3>{esc(backend)} / {esc(scene)} / {lights} lights / cube {cube} / {esc(filt)}</h3>"
+                   "<table><tr><th>policy (layout / optimisations / update budget)</th><th>faces</th><th>texels</th>"
+                   "<th>passes</th><th>frame ms</th><th>misclassified % (check frame)</th><th>mean % (sequence)</th>"
+                   f"<th>worst %</th><th></th></tr>{''.join(rows)}</table>")
+    if not out:
+        return ""
+    return ("<p class='small'>What each frame needs: per policy, what the counted frame rendered and its median "
+            "frame time, with the error at the check frame and over the staleness sequence; Pareto: no other "
+            "policy has both a shorter frame and a smaller error (scripts/analysis/policy_table.py).</p>" +
+            "".join(out))
+
+
 def lights_section(cases):
-    """The section's HTML: the chart and the table, or a line saying the run has one light count."""
+    """The section's HTML: the chart and the table, or a line saying the run has one light count; then the
+    policies, where a light count has several."""
     if not several_counts(cases):
-        return "<p class='small'>one light count in this run (--light-count 1,4,16,64 measures many)</p>"
+        return ("<p class='small'>one light count in this run (--light-count 1,4,16,64 measures many)</p>" +
+                policies_section(cases))
     series = series_of(cases)
     counts = sorted({k for pts in series.values() for k, _, _ in pts})
     rows = []
@@ -71,4 +102,5 @@ def lights_section(cases):
     return (chart(series) + "<p class='small'>Each cell: frame time per light (median / K) and the pixels "
             "misclassified against exact visibility, pooled over the lights checked (results.json "
             "accuracy.per_light). docs/many-lights.md reads them.</p>"
-            f"<table><tr><th>backend/scene/cube/filter/layout/technique</th>{head}</tr>{''.join(rows)}</table>")
+            f"<table><tr><th>backend/scene/cube/filter/layout/technique</th>{head}</tr>{''.join(rows)}</table>" +
+            policies_section(cases))

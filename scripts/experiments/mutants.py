@@ -59,6 +59,10 @@ CLUSTERS = ["--scene", "hall", "--light-count", "16", "--optimize", "clusters", 
 # Sixteen lamps in an atlas whose tiles follow each lamp's screen coverage within 256K texels.
 BUDGET = ["--scene", "hall", "--light-count", "16", "--layout", "atlas", "--atlas-tiles", "by_coverage",
           "--shadow-budget", "256K", "--technique", "six_pass", "--filter", "hard,pcf_disk20"]
+# Sixteen lamps (four swaying) under an update budget of 8 faces a frame, faces one by one (six_pass) and whole
+# lights (geometry_shader), with the staleness sequence that holds what every face shows to the lamps' paths.
+UPDATE = ["--scene", "hall", "--light-count", "16", "--update-budget", "8", "--technique", "six_pass,geometry_shader",
+          "--filter", "hard"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -212,6 +216,11 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("if (uint64_t(plan.width) * uint64_t(plan.height) <= budget) return sizes;",
              "if (uint64_t(plan.width) * uint64_t(plan.height) <= 2 * budget) return sizes;"),
      "the coverage allocation accepts an atlas of up to twice its --shadow-budget", BUDGET),
+    ("stale_face_never_refreshed", "backends/common/shadow_frame.cpp",
+     replace("if (c.frame >= 0 && c.light == light) continue;",
+             "if ((c.frame >= 0 && c.light == light) || face == 5) continue;"),
+     "the update budget never finds a light's -Z face stale: after the first frame it keeps its first position",
+     UPDATE),
 ]
 
 

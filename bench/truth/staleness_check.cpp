@@ -1,0 +1,108 @@
+// The update budget's check: what each face of each light holds, frame by frame, held to the lights' paths
+// (functions of the frame index), independently of the planner's own bookkeeping of what is stale.
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "backends/common/cube_faces.h"
+#include "bench/truth/case_checks.h"
+
+namespace omnishadow::bench {
+
+namespace {
+
+bool moves_within(const scene::LightPath& path, int last_frame) {
+  for (int t = 1; t <= last_frame; ++t)
+    if (path.at(t) != path.at(0)) return true;
+  return false;
+}
+
+// Frames a face has waited at sequence index `i`: those up to and including it that read the face (in view)
+// while it held an older position of its light, counted back from the first frame its light left the
+// position the face holds. 0 for a face that is up to date.
+int wait_of(const std::vector<SequenceFrame>& frames, size_t i, int light, int face,
+            const scene::LightPath& path) {
+  const int content = frames[i].face_frames[size_t(light)][size_t(face)];
+  const glm::vec3 held = path.at(content);
+  int wait = 0;
+  for (size_t j = 0; j <= i; ++j) {
+    const SequenceFrame& s = frames[j];
+    if (s.frame <= content || path.at(s.frame) == held) continue;
+    wait += (s.read_faces[size_t(light)] >> face) & 1u;
+  }
+  return wait;
+}
+
+// ceil(units that can be stale / units refreshed a frame) - 1: the oldest-first order serves every unit that
+// went stale before a given one ahead of it, each once, so that one waits at most that many frames read.
+int wait_bound(const CaseConfig& c, const scene::Scene& scene, int last_frame) {
+  if (c.update_budget_faces <= 0) return 0;
+  int moving = 0;
+  for (int k = 0; k < c.light_count && k < int(scene.point_lights.size()); ++k)
+    moving += moves_within(scene.point_lights[size_t(k)].path, last_frame);
+  const bool single = refreshes_single_faces(c);
+  const int units = single ? moving * cube::kFaceCount : moving;
+  const int per_frame = single ? c.update_budget_faces : c.update_budget_faces / cube::kFaceCount;
+  return std::max(0, (units + per_frame - 1) / std::max(per_frame, 1) - 1);
+}
+
+}  // namespace
+
+void check_update_budget(CaseFindings& r, const scene::Scene& scene, const std::vector<int>& lights,
+                         const std::vector<SequenceFrame>& frames) {
+  StalenessReport report;
+  report.lights = lights;
+  if (frames.empty()) return;
+  report.wait_bound = wait_bound(r.config, scene, frames.back().frame);
+  std::string unread, over_wait, over_budget;
+  double rendered_sum = 0.0, error_sum = 0.0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const SequenceFrame& s = frames[i];
+    StalenessFrame out{s.frame, 0, 0, 0, s.misclassified_percent, s.pixels};
+    for (size_t k = 0; k < s.face_frames.size(); ++k) {
+      const scene::LightPath& path = scene.point_lights.at(k).path;
+      for (int face = 0; face < cube::kFaceCount; ++face) {
+        const int content = s.face_frames[k][size_t(face)];
+        out.faces_rendered += content == s.frame;
+        if (!((s.read_faces[k] >> face) & 1u)) continue;
+        if (content < 0) {
+          if (unread.empty())
+            unread = "frame " + std::to_string(s.frame) + ": light " + std::to_string(k) + " face " +
+                     cube::kFaceNames[size_t(face)] + " is read but holds no light's depth";
+          continue;
+        }
+        const int wait = wait_of(frames, i, int(k), face, path);
+        out.faces_stale += wait > 0;
+        out.max_wait = std::max(out.max_wait, wait);
+        if (wait > report.wait_bound && over_wait.empty())
+          over_wait = "frame " + std::to_string(s.frame) + ": light " + std::to_string(k) + " face " +
+                      cube::kFaceNames[size_t(face)] + " has shown its light's position of frame " +
+                      std::to_string(content) + " for " + std::to_string(wait) + " frames, above the " +
+                      std::to_string(report.wait_bound) + " that refreshing the oldest first allows";
+      }
+    }
+    // The first frame renders every light whole, outside the budget (its maps must hold defined values).
+    if (i > 0 && r.config.update_budget_faces > 0 && out.faces_rendered > r.config.update_budget_faces &&
+        over_budget.empty())
+      over_budget = "frame " + std::to_string(s.frame) + " rendered " + std::to_string(out.faces_rendered) +
+                    " faces, above the update budget of " + std::to_string(r.config.update_budget_faces);
+    report.max_wait = std::max(report.max_wait, out.max_wait);
+    if (i > 0) rendered_sum += out.faces_rendered;  // the steady state: the first frame renders everything
+    error_sum += out.misclassified_percent;
+    if (out.misclassified_percent > report.worst_misclassified_percent || i == 0) {
+      report.worst_misclassified_percent = out.misclassified_percent;
+      report.worst_frame = out.frame;
+    }
+    report.frames.push_back(out);
+  }
+  report.mean_faces_rendered = frames.size() > 1 ? rendered_sum / double(frames.size() - 1) : 0.0;
+  report.mean_misclassified_percent = error_sum / double(frames.size());
+  const std::map<std::string, double> figures = {{"max_wait", double(report.max_wait)},
+                                                 {"wait_bound", double(report.wait_bound)}};
+  for (const std::string* message : {&unread, &over_wait, &over_budget})
+    if (!message->empty()) r.add({Status::failed_check, "update_budget", *message, figures});
+  r.staleness = std::move(report);
+}
+
+}  // namespace omnishadow::bench
