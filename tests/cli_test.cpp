@@ -235,7 +235,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --atlas-tiles by_area --out @OUT@", "--atlas-tiles: unknown atlas tiling 'by_area'"},
         BadInput{"run --shadow-budget 4G --out @OUT@", "--shadow-budget: '4G' is not a texel count"},
         BadInput{"run --update-budget 0 --out @OUT@", "--update-budget: '0' is not a face count"},
-        BadInput{"run --staleness-frames -1 --out @OUT@", "--staleness-frames: Value -1 not in range 0 to 10000"},
+        BadInput{"run --staleness-frames -1 --out @OUT@",
+                 "--staleness-frames: Value -1 not in range 0 to 10000"},
         BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},
         BadInput{"run --case-timeout-s nan --out @OUT@", "--case-timeout-s: 'nan' is not a finite number"},
         BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},
@@ -860,6 +861,19 @@ TEST_F(CliRun, UpdateBudgetRendersAtMostItsFacesAndReportsWhatStalenessCosts) {
     if (budget == 12) EXPECT_EQ(s["max_wait_frames"], 0) << "12 faces a frame cover both swaying lamps";
   }
   EXPECT_EQ(sequences, backends == "gl,vulkan" ? 10 : 5);
+  // Without the exact reference the sequence still holds the faces to the paths, and claims no error.
+  fs::path plain = scratch("update_budget_no_accuracy");
+  o =
+      run("run --backend gl --scene hall --light-count 8 --update-budget 2 --staleness-frames 6 --cube 16"
+          " --frame 64x48 --technique six_pass --filter hard --frames 1 --warmup 0 --images none --check"
+          " --no-accuracy --benchmark_repetitions=1 --out " +
+          plain.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  j = nlohmann::json::parse(omnishadow::bench::read_file((plain / "results.json").string()));
+  const auto& s = j["omnishadow"]["cases"][0]["staleness"];
+  EXPECT_TRUE(s["misclassified_percent"].is_null()) << s.dump();
+  EXPECT_TRUE(s["frames"][5]["misclassified_percent"].is_null());
+  EXPECT_GT(s["max_wait_frames"].get<int>(), 0);
 }
 
 // A model file (glTF or OBJ) given to --scene runs directly and passes its checks on both APIs, named by

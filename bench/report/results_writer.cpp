@@ -298,23 +298,24 @@ json timing_to_json(const CaseResult& r) {
 
 // The update budget's sequence: each frame's faces and error, and the worst and mean.
 json staleness_to_json(const StalenessReport& s) {
+  const bool measured = !s.lights.empty();  // --no-accuracy measures no error
   json frames = json::array();
   for (const StalenessFrame& f : s.frames)
     frames.push_back({{"frame", f.frame},
                       {"faces_rendered", f.faces_rendered},
                       {"faces_stale", f.faces_stale},
                       {"max_wait_frames", f.max_wait},
-                      {"misclassified_percent", f.misclassified_percent},
+                      {"misclassified_percent", measured ? json(f.misclassified_percent) : json(nullptr)},
                       {"pixels", f.pixels}});
   return {{"lights", s.lights},
           {"frames", frames},
           {"wait_bound_frames", s.wait_bound},
           {"max_wait_frames", s.max_wait},
           {"mean_faces_rendered", s.mean_faces_rendered},
-          {"misclassified_percent",
-           {{"mean", s.mean_misclassified_percent},
-            {"worst", s.worst_misclassified_percent},
-            {"worst_frame", s.worst_frame}}},
+          {"misclassified_percent", measured ? json{{"mean", s.mean_misclassified_percent},
+                                                    {"worst", s.worst_misclassified_percent},
+                                                    {"worst_frame", s.worst_frame}}
+                                             : json(nullptr)},
           {"truth", "exact point-light visibility of each frame, over the lights listed"}};
 }
 

@@ -183,6 +183,11 @@ void staleness_table(std::ostringstream& md, const std::vector<CaseResult>& resu
   for (const CaseResult& r : results) {
     if (!r.staleness || r.staleness->frames.empty()) continue;
     const StalenessReport& s = *r.staleness;
+    if (s.lights.empty()) {  // --no-accuracy: no error measured
+      rows << "| `" << r.config.id() << "` | " << s.frames.size() << " | " << s.mean_faces_rendered << " | "
+           << s.max_wait << " (bound " << s.wait_bound << ") | - | - |\n";
+      continue;
+    }
     char buf[160];
     std::snprintf(buf, sizeof buf, "| %zu | %.1f | %d (bound %d) | %.3g%% | %.3g%% (frame %d) |\n",
                   s.frames.size(), s.mean_faces_rendered, s.max_wait, s.wait_bound,
