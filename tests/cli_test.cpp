@@ -234,6 +234,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "--light-grouping: unknown light grouping 'per_face'"},
         BadInput{"run --atlas-tiles by_area --out @OUT@", "--atlas-tiles: unknown atlas tiling 'by_area'"},
         BadInput{"run --shadow-budget 4G --out @OUT@", "--shadow-budget: '4G' is not a texel count"},
+        BadInput{"run --shadow-budget 0MiB --out @OUT@",
+                 "--shadow-budget: '0MiB': a budget in bytes must be"},
         BadInput{"run --update-budget 0 --out @OUT@", "--update-budget: '0' is not a face count"},
         BadInput{"run --staleness-frames -1 --out @OUT@",
                  "--staleness-frames: Value -1 not in range 0 to 10000"},

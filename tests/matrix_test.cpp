@@ -54,6 +54,30 @@ TEST(Matrix, AMomentsFilterRunsOnceOnItsOwnStorage) {
   EXPECT_NE(common_support(lookup_on_moments).reason.find("hard reads a stored distance"), std::string::npos);
 }
 
+// A shadow budget in bytes is each case's texels at its storage's bytes a texel: 4 for d32f depth alone, 20
+// for vsm (d32f depth, and RG32F moments twice: the map and the blur's intermediate). Only by_coverage keeps
+// it.
+TEST(Matrix, AShadowBudgetInBytesBecomesEachCasesTexels) {
+  MatrixSpec spec;
+  spec.scenes = {"hall"};
+  spec.light_counts = {16};
+  spec.techniques = {Technique::six_pass};
+  spec.cube_sizes = {128};
+  spec.layouts = {Layout::atlas};
+  spec.layouts_given = true;
+  spec.filters = {Filter::hard, Filter::vsm};
+  spec.atlas_tiles = {AtlasTiles::uniform, AtlasTiles::by_coverage};
+  spec.shadow_budgets = {ShadowBudget{1u << 20, true}};
+  const auto cases = expand(spec, kSizes);
+  std::map<std::string, uint64_t> budgets;
+  for (const auto& c : cases)
+    budgets[std::string(to_string(c.filter)) + "/" + std::string(to_string(c.atlas_tiles))] =
+        c.shadow_budget_texels;
+  EXPECT_EQ(budgets.at("hard/by_coverage"), (1u << 20) / 4);
+  EXPECT_EQ(budgets.at("vsm/by_coverage"), (1u << 20) / 20);
+  EXPECT_EQ(budgets.at("hard/uniform"), 0u) << "a uniform atlas has no budget";
+}
+
 // The moments tunings (--moments-tuning): spelling round trip, one id segment per knob away from its default,
 // a one-line error naming a bad word, and each knob refused by the filters it means nothing to.
 TEST(Matrix, MomentsTuningsParseIntoTheIdAndOnlyTheirFilters) {

@@ -92,14 +92,22 @@ float parse_pcf_scale(const std::string& t) {
 }
 
 // A texel count: digits, optionally K or M (2^10, 2^20 texels): "4M" is 4194304. 0: the uniform atlas's.
-uint64_t parse_texel_budget(const std::string& t) {
+// Texels ("4M" = 4194304, "256K") or bytes of shadow storage ("64MiB", "512KiB").
+ShadowBudget parse_shadow_budget(const std::string& t) {
   const size_t digits = t.find_first_not_of("0123456789");
   const std::string number = t.substr(0, digits),
                     suffix = digits == std::string::npos ? "" : t.substr(digits);
-  const int shift = suffix.empty() ? 0 : suffix == "K" ? 10 : suffix == "M" ? 20 : -1;
+  const bool bytes = suffix == "KiB" || suffix == "MiB";
+  const int shift = suffix.empty()                     ? 0
+                    : suffix == "K" || suffix == "KiB" ? 10
+                    : suffix == "M" || suffix == "MiB" ? 20
+                                                       : -1;
   if (number.empty() || number.size() > 12 || shift < 0)
-    throw std::invalid_argument("'" + t + "' is not a texel count (digits, optionally K or M)");
-  return std::stoull(number) << shift;
+    throw std::invalid_argument("'" + t +
+                                "' is not a texel count (digits, optionally K or M) or a size (KiB, MiB)");
+  if (bytes && std::stoull(number) == 0)
+    throw std::invalid_argument("'" + t + "': a budget in bytes must be above 0");
+  return {std::stoull(number) << shift, bytes};
 }
 
 // "none" (0: every stale face each frame) or a positive count of faces.
@@ -173,9 +181,10 @@ void add_light_axes(CLI::App& r, MatrixSpec& m) {
           "screen coverage within --shadow-budget; ids end in /tiles_<tiling> but for uniform; other "
           "layouts ignore it)");
   list_option(
-      r, "--shadow-budget", m.shadow_budgets, parse_texel_budget,
-      [](uint64_t v) { return std::to_string(v); },
-      "comma list of texel counts (4M = 4194304; 0: the uniform atlas's texels), for --atlas-tiles "
+      r, "--shadow-budget", m.shadow_budgets, parse_shadow_budget,
+      [](const ShadowBudget& v) { return std::to_string(v.amount) + (v.bytes ? " bytes" : ""); },
+      "comma list of texel counts (4M = 4194304; 0: the uniform atlas's texels) or sizes of shadow storage "
+      "(64MiB, 512KiB: each case's texels are the size over its storage's bytes a texel), for --atlas-tiles "
       "by_coverage: each light's faces by the screen area its range covers, the largest that fit the atlas "
       "in "
       "the budget; ids end in /budget<texels> when not 0; other tilings ignore it");

@@ -150,6 +150,7 @@ json plan_to_json(const CaseResult& r) {
                   {"face_sizes", sizes}};
     if (r.config.atlas_tiles == AtlasTiles::by_coverage) {
       j["atlas"]["budget_texels"] = atlas::budget_texels(r.config);
+      j["atlas"]["budget_bytes"] = atlas::budget_texels(r.config) * shadow_bytes_per_texel(r.config);
       j["atlas"]["coverage"] = r.atlas_coverage;
     }
   }

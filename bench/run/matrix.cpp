@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "backends/common/storage_filter_tables.h"
+#include "bench/run/memory_budget.h"
 
 namespace omnishadow::bench {
 
@@ -117,9 +118,14 @@ std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& ba
   for (CaseConfig& c : cases)
     if (c.layout != Layout::atlas) c.atlas_tiles = AtlasTiles::uniform;
   // A budget sizes by_coverage tiles only: the other cases keep one, without a budget.
-  times(cases, spec.shadow_budgets, [](CaseConfig& c, uint64_t v) { c.shadow_budget_texels = v; });
+  times(cases, spec.shadow_budgets, [](CaseConfig& c, const ShadowBudget& v) {
+    c.shadow_budget_texels = v.bytes ? std::max<uint64_t>(v.amount / shadow_bytes_per_texel(c), 1) : v.amount;
+  });
   std::erase_if(cases, [&](const CaseConfig& c) {
-    return c.atlas_tiles != AtlasTiles::by_coverage && c.shadow_budget_texels != spec.shadow_budgets.front();
+    const ShadowBudget& first = spec.shadow_budgets.front();
+    const uint64_t first_texels =
+        first.bytes ? std::max<uint64_t>(first.amount / shadow_bytes_per_texel(c), 1) : first.amount;
+    return c.atlas_tiles != AtlasTiles::by_coverage && c.shadow_budget_texels != first_texels;
   });
   for (CaseConfig& c : cases)
     if (c.atlas_tiles != AtlasTiles::by_coverage) c.shadow_budget_texels = 0;

@@ -15,6 +15,14 @@
 
 namespace omnishadow::bench {
 
+// --shadow-budget: texels (0: the uniform atlas's), or bytes of shadow storage (a MiB or KiB count), which
+// each case turns into texels by its storage's bytes a texel (shadow_bytes_per_texel).
+struct ShadowBudget {
+  uint64_t amount = 0;
+  bool bytes = false;
+  bool operator==(const ShadowBudget&) const = default;
+};
+
 struct MatrixSpec {
   std::vector<std::string> backends{"gl"};
   std::vector<std::string> scenes{"room", "heavy", "bunny"};  // bunny: a real mesh (scenes/bunny.json)
@@ -36,8 +44,8 @@ struct MatrixSpec {
   std::vector<LightGrouping> light_groupings{
       LightGrouping::per_light};                             // --light-grouping per_light,all_lights
   std::vector<AtlasTiles> atlas_tiles{AtlasTiles::uniform};  // --atlas-tiles uniform,by_distance (atlas)
-  std::vector<uint64_t> shadow_budgets{0};  // --shadow-budget (atlas by_coverage; 0: the uniform atlas's)
-  std::vector<int> update_budgets{0};       // --update-budget faces a frame (0: every stale face)
+  std::vector<ShadowBudget> shadow_budgets{ShadowBudget{}};  // --shadow-budget (atlas by_coverage)
+  std::vector<int> update_budgets{0};  // --update-budget faces a frame (0: every stale face)
   std::vector<Optimizations> optimizations{Optimizations{}};    // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                   // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01

@@ -64,11 +64,14 @@ uint64_t shadow_texels(const CaseConfig& c, const scene::Scene* scene) {
   return uint64_t(traits(c.layout).geometry.layers) * edge * edge * uint64_t(c.light_count);
 }
 
-uint64_t shadow_storage_bytes(const CaseConfig& c, const scene::Scene* scene) {
-  const uint64_t texels = shadow_texels(c, scene);
+uint64_t shadow_bytes_per_texel(const CaseConfig& c) {
   const uint64_t colour = uint64_t(colour_format_bytes(colour_format(c.storage, c.depth_format)));
   const uint64_t colour_cubes = traits(c.filter).prefilter == Prefilter::separable_blur ? 2 : 1;
-  return texels * (depth_bytes(c.depth_format) + colour * colour_cubes);
+  return depth_bytes(c.depth_format) + colour * colour_cubes;
+}
+
+uint64_t shadow_storage_bytes(const CaseConfig& c, const scene::Scene* scene) {
+  return shadow_texels(c, scene) * shadow_bytes_per_texel(c);
 }
 
 MemoryNeed estimate_case_memory(const CaseConfig& c, CubeReadBack cube) {

@@ -24,6 +24,8 @@ struct MemoryNeed {
 // (an upper bound).
 uint64_t shadow_texels(const CaseConfig& config, const scene::Scene* scene = nullptr);
 uint64_t shadow_storage_bytes(const CaseConfig& config, const scene::Scene* scene = nullptr);
+// Bytes a texel of the case's shadow storage takes: depth, and colour (twice with the moments blur).
+uint64_t shadow_bytes_per_texel(const CaseConfig& config);
 MemoryNeed estimate_case_memory(const CaseConfig& config, CubeReadBack cube = CubeReadBack::full);
 
 struct MemoryAvailable {
