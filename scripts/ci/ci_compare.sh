@@ -29,9 +29,10 @@ else
 fi
 
 # Deterministic work: instructions per timed frame under callgrind (scripts/ci/instruction_counts.sh), compared with
-# the baseline for this device key *and* this CPU and valgrind (JIT code depends on both), when one exists. Same
+# the baseline for this device key *and* this CPU (its model and instruction-set extensions: scripts/ci/cpu_key.sh)
+# and valgrind (JIT code depends on both), when one exists. Same
 # build, same machine: counts agree within 0.035% run to run (4 runs), so a change above 0.2% is a change of work.
-cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | tr -cs 'A-Za-z0-9.' '-' | sed 's/^-//; s/-$//')"
+cpu="$(bash scripts/ci/cpu_key.sh)"  # model and instruction-set extensions
 vg="$(valgrind --version 2>/dev/null || echo none)"
 counts="$base/instructions-$cpu-$vg.json"
 # OMNISHADOW_GATE_FORCE_BASE=1 takes the base-commit path even where a committed baseline exists (to test it).

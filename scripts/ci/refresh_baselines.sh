@@ -13,7 +13,7 @@ dest="results/baselines/$key"
 bash scripts/ci/store_baseline.sh "$tmp/run" "$dest" >/dev/null
 echo "baseline for device key $key: $dest ($(du -sh "$dest" | cut -f1))"
 # Instruction counts for this CPU and valgrind (scripts/ci/ci_compare.sh compares them when they exist).
-cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | tr -cs 'A-Za-z0-9.' '-' | sed 's/^-//; s/-$//')"
+cpu="$(bash scripts/ci/cpu_key.sh)"  # model and instruction-set extensions
 vg="$(valgrind --version 2>/dev/null || echo none)"
 if [ "$vg" != none ]; then
   bash scripts/ci/instruction_counts.sh "$tmp/instructions" >/dev/null
