@@ -175,7 +175,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --scene room --out /proc/omnishadow", "--out /proc/omnishadow"},
         BadInput{"run --frobnicate", "frobnicate"}, BadInput{"run --shard 3/2 --out @OUT@", "--shard"},
         BadInput{"frobnicate",
-                 "unknown command 'frobnicate' (commands: list, run, compare, merge, report, "
+                 "unknown command 'frobnicate' (commands: list, run, compare, merge, report, store, "
                  "device-key"},
         BadInput{"", "no command given (commands: list, run"},
         BadInput{"run --cube 16 --cube 32 --out @OUT@", "--cube is given 2 times: give it once"},
@@ -284,6 +284,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"merge /proc/omnishadow @RUN@", "merge OUT /proc/omnishadow: cannot create the folder"},
         BadInput{"merge @OUT@ /nonexistent/run", "/nonexistent/run: cannot read"},
         BadInput{"report /nonexistent/run", "report: /nonexistent/run is no run"},
+        BadInput{"store /nonexistent/run --db sqlite:@OUT@/store.db", "store: /nonexistent/run: cannot read"},
+        BadInput{"store @RUN@ --db mysql://localhost/runs", "--db mysql://localhost/runs: not sqlite:PATH"},
         BadInput{"report @RUN@ --history /nonexistent/h", "report --history /nonexistent/h: no such run"},
         BadInput{"report @RUN@ --out /proc/omnishadow/r.html", "--out /proc/omnishadow/r.html"},
         BadInput{"list --scenes-dir /nonexistent", "--scenes-dir /nonexistent: no such folder"},
@@ -853,14 +855,19 @@ TEST_F(CliRun, UpdateBudgetRendersAtMostItsFacesAndReportsWhatStalenessCosts) {
     EXPECT_EQ(s["frames"][0]["faces_rendered"], 48) << "the first frame renders every light whole";
     for (size_t t = 1; t < s["frames"].size(); ++t) {
       const int rendered = s["frames"][t]["faces_rendered"].get<int>();
-      if (budget > 0) EXPECT_LE(rendered, budget) << c["id"] << " frame " << t;
-      if (budget == 0) EXPECT_EQ(rendered, 48) << "no budget: every light every frame";
+      if (budget > 0) {
+        EXPECT_LE(rendered, budget) << c["id"] << " frame " << t;
+      } else {
+        EXPECT_EQ(rendered, 48) << "no budget: every light every frame";
+      }
     }
     if (budget == 2) {  // two lamps sway: 12 stale faces a frame, 2 refreshed
       EXPECT_GT(s["max_wait_frames"].get<int>(), 0);
       EXPECT_GT(s["misclassified_percent"]["worst"].get<double>(), 0.0) << c["id"];
     }
-    if (budget == 12) EXPECT_EQ(s["max_wait_frames"], 0) << "12 faces a frame cover both swaying lamps";
+    if (budget == 12) {
+      EXPECT_EQ(s["max_wait_frames"], 0) << "12 faces a frame cover both swaying lamps";
+    }
   }
   EXPECT_EQ(sequences, backends == "gl,vulkan" ? 10 : 5);
   // Without the exact reference the sequence still holds the faces to the paths, and claims no error.

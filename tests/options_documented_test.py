@@ -22,6 +22,7 @@ OPTION_GROUPS = {
     "merge": [],
     "report": ["report"],
     "device-key": [],
+    "store": ["store"],
 }
 HELP_OPTION = re.compile(r"^\s+(?:-\w,)?(--[a-z0-9][a-z0-9-]*)", re.M)
 MARKER = re.compile(r"^<!-- options: ([a-z-]+) -->$")

@@ -48,6 +48,11 @@ int list_command(const std::string& scenes_dir, const std::map<std::string, std:
 // missing.
 int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out);
 
+// `store RUN... [--db URL]`: each run into the database in a transaction of its own (bench/report/
+// results_store.h), one line each on stdout; exit 2 at the first run that cannot be read or stored (the runs
+// before it are stored whole, it and the ones after not at all).
+int store_command(const std::vector<std::string>& runs, const std::string& db);
+
 // One line on stderr, "omnishadow: error: ...".
 void print_error(const std::string& message);
 

@@ -14,6 +14,7 @@
 #include "bench/cli/commands.h"
 #include "bench/report/compare.h"
 #include "bench/report/merge.h"
+#include "bench/report/results_store.h"
 
 using namespace omnishadow;
 using namespace omnishadow::bench;
@@ -56,6 +57,17 @@ int run_file_command(CLI::App* cmp, CLI::App* mrg, const CompareFlags& cf, Compa
   }
 }
 
+struct StoreArgs {
+  std::vector<std::string> runs;
+  std::string db = kDefaultStoreUrl;
+};
+CLI::App* add_store_command(CLI::App& app, StoreArgs& a) {
+  CLI::App* sto = app.add_subcommand("store", "put runs into a database: an SQLite file or PostgreSQL");
+  sto->add_option("runs", a.runs, "run folders or results.json files")->required();
+  sto->add_option("--db", a.db, "sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE")->capture_default_str();
+  return sto;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -96,18 +108,18 @@ int main(int argc, char** argv) {
   add_compare_options(
       *app.add_subcommand("compare", "compare two runs: timing (U-test), work counters, images"), compare,
       compare_flags);
-  std::string merge_out, key_run;
-  std::vector<std::string> merge_inputs;
+  std::string merge_out, key_run, report_run, report_out;
+  std::vector<std::string> merge_inputs, report_history;
   CLI::App* mrg = app.add_subcommand("merge", "join the results of --shard runs into one run");
   mrg->add_option("out", merge_out, "folder for the merged results.json")->required();
   mrg->add_option("runs", merge_inputs, "run folders or results.json files")->required();
-  std::string report_run, report_out;
-  std::vector<std::string> report_history;
   CLI::App* rep = app.add_subcommand("report", "one self-contained HTML page of a run (and its history)");
   rep->add_option("run", report_run, "run folder")->required();
   rep->add_option("--history", report_history,
                   "run folders (or folders of runs) of the same device, any order");
   rep->add_option("--out", report_out, "the HTML file (default RUN/report.html)");
+  StoreArgs store;
+  CLI::App* sto = add_store_command(app, store);
   CLI::App* key =
       app.add_subcommand("device-key", "print the device key of each backend of a run (baselines/)");
   key->add_option("run", key_run, "run folder or results.json")->required();
@@ -133,6 +145,7 @@ int main(int argc, char** argv) {
   if (list->parsed()) return list_command(common.scenes_dir, common.backend_options());
   if (r->parsed()) return run_command(run);
   if (rep->parsed()) return report_command(report_run, report_history, report_out);
+  if (sto->parsed()) return store_command(store.runs, store.db);
   return run_file_command(app.get_subcommand("compare"), mrg, compare_flags, compare, merge_out, merge_inputs,
                           key_run);
 }

@@ -1,0 +1,31 @@
+// `omnishadow store`: runs into the results database.
+
+#include <iostream>
+
+#include "bench/cli/commands.h"
+#include "bench/io/results_reader.h"
+#include "bench/report/results_store.h"
+
+namespace omnishadow::bench {
+
+int store_command(const std::vector<std::string>& runs, const std::string& db) {
+  try {
+    ResultsStore store(db);
+    for (const std::string& path : runs) {
+      const StoredRun s = store.store(load_run(path));
+      if (s.added)
+        std::cout << "stored " << s.file << " as run " << s.run_key << ": " << s.cases << " cases, "
+                  << s.measures << " measures\n";
+      else
+        std::cout << "already stored: " << s.file << " (run " << s.run_key << "), nothing written\n";
+    }
+    std::cout << "store " << db << ": schema version " << store.schema_version() << ", "
+              << store.count("runs") << " runs, " << store.count("cases") << " cases\n";
+    return 0;
+  } catch (const std::exception& e) {
+    print_error("store: " + std::string(e.what()));
+    return 2;
+  }
+}
+
+}  // namespace omnishadow::bench

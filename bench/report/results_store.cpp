@@ -1,0 +1,279 @@
+#include "bench/report/results_store.h"
+
+#include <soci/postgresql/soci-postgresql.h>
+#include <soci/soci.h>
+#include <soci/sqlite3/soci-sqlite3.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+
+#include "bench/report/compare.h"
+
+namespace omnishadow::bench {
+
+using nlohmann::json;
+
+namespace {
+
+// Each migration's statements, in order; version k is kMigrations[k - 1]. The SQL is what SQLite and
+// PostgreSQL both read (TEXT, INTEGER, DOUBLE PRECISION, composite primary keys). Never edit a published
+// migration: add the next one.
+struct Migration {
+  const char* description;
+  std::vector<const char*> statements;
+};
+const std::vector<Migration> kMigrations = {
+    {"runs, their devices, cases with their axes and statuses, every measure, every finding",
+     {"CREATE TABLE runs (run_key TEXT PRIMARY KEY, file TEXT NOT NULL, format TEXT NOT NULL, commit_sha "
+      "TEXT "
+      "NOT NULL, commit_date TEXT NOT NULL, command_line TEXT NOT NULL, shard_index INTEGER NOT NULL, "
+      "shard_count INTEGER NOT NULL, complete INTEGER NOT NULL)",
+      "CREATE TABLE devices (run_key TEXT NOT NULL, backend TEXT NOT NULL, device_key TEXT NOT NULL, api "
+      "TEXT "
+      "NOT NULL, renderer TEXT NOT NULL, version TEXT NOT NULL, PRIMARY KEY (run_key, backend))",
+      "CREATE TABLE cases (run_key TEXT NOT NULL, case_id TEXT NOT NULL, backend TEXT NOT NULL, status TEXT "
+      "NOT "
+      "NULL, reason TEXT NOT NULL, axes TEXT NOT NULL, PRIMARY KEY (run_key, case_id))",
+      "CREATE INDEX cases_by_id ON cases (case_id)",
+      "CREATE TABLE measures (run_key TEXT NOT NULL, case_id TEXT NOT NULL, metric TEXT NOT NULL, repetition "
+      "INTEGER NOT NULL, value DOUBLE PRECISION NOT NULL, PRIMARY KEY (run_key, case_id, metric, "
+      "repetition))",
+      "CREATE TABLE findings (run_key TEXT NOT NULL, case_id TEXT NOT NULL, seq INTEGER NOT NULL, check_name "
+      "TEXT NOT NULL, status TEXT NOT NULL, message TEXT NOT NULL, PRIMARY KEY (run_key, case_id, seq))"}},
+};
+
+// sqlite:PATH (the file, its folder created), or postgresql://... / postgres://... (libpq's URI, as is).
+struct Target {
+  bool sqlite = true;
+  std::string connect;
+};
+Target parse_url(const std::string& url) {
+  if (url.rfind("sqlite:", 0) == 0) {
+    const std::string path = url.substr(7);
+    if (path.empty()) throw StoreError("--db " + url + ": no file after sqlite:");
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+    // timeout: a second writer (a fleet's shards stored at once) waits for the first's transaction.
+    return {true, "db=\"" + path + "\" timeout=60"};
+  }
+  if (url.rfind("postgresql://", 0) == 0 || url.rfind("postgres://", 0) == 0) return {false, url};
+  throw StoreError("--db " + url + ": not sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE");
+}
+
+// The numbers a case reports once (accuracy, counters, staleness, what was rendered), as metric names of
+// their JSON paths ("accuracy.misclassified_percent"); arrays (per light, per frame) are left to
+// results.json.
+void numeric_leaves(const json& j, const std::string& prefix,
+                    std::vector<std::pair<std::string, double>>& out) {
+  if (j.is_number()) {
+    out.emplace_back(prefix, j.get<double>());
+  } else if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) numeric_leaves(value, prefix + "." + key, out);
+  }
+}
+
+}  // namespace
+
+std::string run_key_of(const std::string& text) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+struct ResultsStore::Impl {
+  bool sqlite = true;
+  soci::session sql;
+};
+
+ResultsStore::ResultsStore(const std::string& url) : impl_(new Impl), url_(url) {
+  try {
+    const Target t = parse_url(url);
+    impl_->sqlite = t.sqlite;
+    impl_->sql.open(t.sqlite ? *soci::factory_sqlite3() : *soci::factory_postgresql(), t.connect);
+  } catch (const StoreError&) {
+    delete impl_;
+    throw;
+  } catch (const std::exception& e) {
+    delete impl_;
+    std::string what = e.what();
+    what = what.substr(0, what.find('\n'));
+    throw StoreError("--db " + url + ": cannot open: " + what);
+  }
+}
+
+ResultsStore::~ResultsStore() { delete impl_; }
+
+namespace {
+
+// Writers take turns: SQLite's BEGIN IMMEDIATE takes the write lock at once (a deferred transaction that
+// reads first could not upgrade while another writes), PostgreSQL's transaction-scoped advisory lock keeps
+// two stores from migrating or adding one run at the same time.
+void begin_exclusive(soci::session& sql, bool sqlite) {
+  if (sqlite) {
+    sql << "BEGIN IMMEDIATE";
+  } else {
+    sql << "BEGIN";
+    sql << "SELECT pg_advisory_xact_lock(7340001)";
+  }
+}
+
+int current_version(soci::session& sql) {
+  sql << "CREATE TABLE IF NOT EXISTS schema_migrations (version INTEGER PRIMARY KEY, description TEXT NOT "
+         "NULL)";
+  int version = 0;
+  soci::indicator ind = soci::i_ok;
+  sql << "SELECT MAX(version) FROM schema_migrations", soci::into(version, ind);
+  return ind == soci::i_null ? 0 : version;
+}
+
+void migrate(soci::session& sql) {
+  for (int v = current_version(sql); v < int(kMigrations.size()); ++v) {
+    for (const char* statement : kMigrations[size_t(v)].statements) sql << statement;
+    const int version = v + 1;
+    const std::string description = kMigrations[size_t(v)].description;
+    sql << "INSERT INTO schema_migrations (version, description) VALUES (:v, :d)", soci::use(version),
+        soci::use(description);
+  }
+}
+
+struct Rows {
+  std::vector<std::string> case_id, metric;
+  std::vector<int> repetition;
+  std::vector<double> value;
+  void add(const std::string& id, const std::string& m, int rep, double v) {
+    case_id.push_back(id), metric.push_back(m), repetition.push_back(rep), value.push_back(v);
+  }
+};
+
+// Every case's per-repetition times and its once-reported figures.
+Rows measures_of(const RunData& run) {
+  Rows rows;
+  auto series = [&](const std::map<std::string, std::vector<double>>& by_case, const char* metric) {
+    for (const auto& [id, values] : by_case)
+      for (size_t i = 0; i < values.size(); ++i) rows.add(id, metric, int(i), values[i]);
+  };
+  series(run.samples, "frame_ms");
+  series(run.cpu_samples, "frame_cpu_ms");
+  series(run.gpu_samples, "frame_gpu_ms");
+  for (const auto& [id, c] : run.cases) {
+    std::vector<std::pair<std::string, double>> leaves;
+    for (const char* section : {"accuracy", "counters", "staleness"})
+      if (c->contains(section)) numeric_leaves((*c)[section], section, leaves);
+    if (c->contains("shadow_plan") && (*c)["shadow_plan"].contains("rendered"))
+      numeric_leaves((*c)["shadow_plan"]["rendered"], "rendered", leaves);
+    for (const auto& [metric, value] : leaves) rows.add(id, metric, -1, value);
+  }
+  return rows;
+}
+
+void insert_run(soci::session& sql, const RunData& run, const std::string& key, StoredRun& out) {
+  const json& o = run.doc["omnishadow"];
+  const std::string format = o.value("format", ""), commit = o.value("commit", ""),
+                    date = o.value("commit_date", ""), command = o.value("command_line", "");
+  const int shard_index = o.contains("shard") ? o["shard"].value("index", 0) : 0;
+  const int shard_count = o.contains("shard") ? o["shard"].value("count", 1) : 1;
+  const int complete = o.value("complete", false) ? 1 : 0;
+  sql << "INSERT INTO runs (run_key, file, format, commit_sha, commit_date, command_line, shard_index, "
+         "shard_count, complete) VALUES (:k, :f, :fm, :c, :d, :cl, :si, :sc, :co)",
+      soci::use(key), soci::use(run.file), soci::use(format), soci::use(commit), soci::use(date),
+      soci::use(command), soci::use(shard_index), soci::use(shard_count), soci::use(complete);
+  const std::map<std::string, std::string> keys = device_keys(run);
+  if (o.contains("devices") && o["devices"].is_object())
+    for (const auto& [backend, d] : o["devices"].items()) {
+      const std::string device_key = keys.count(backend) ? keys.at(backend) : backend;
+      const std::string api = d.value("api", ""), renderer = d.value("renderer", ""),
+                        version = d.value("version", "");
+      sql << "INSERT INTO devices (run_key, backend, device_key, api, renderer, version) VALUES (:k, :b, "
+             ":dk, "
+             ":a, :r, :v)",
+          soci::use(key), soci::use(backend), soci::use(device_key), soci::use(api), soci::use(renderer),
+          soci::use(version);
+    }
+  std::vector<std::string> ids, backends, statuses, reasons, axes;
+  std::vector<std::string> f_ids, f_checks, f_statuses, f_messages;
+  std::vector<int> f_seq;
+  for (const auto& [id, c] : run.cases) {
+    ids.push_back(id);
+    backends.push_back(id.substr(0, id.find('/')));
+    statuses.push_back(c->value("status", ""));
+    reasons.push_back(c->value("reason", ""));
+    axes.push_back(c->contains("axes") ? (*c)["axes"].dump() : "{}");
+    if (!c->contains("findings") || !(*c)["findings"].is_array()) continue;
+    int seq = 0;
+    for (const json& f : (*c)["findings"]) {
+      f_ids.push_back(id), f_seq.push_back(seq++), f_checks.push_back(f.value("check", ""));
+      f_statuses.push_back(f.value("status", "")), f_messages.push_back(f.value("message", ""));
+    }
+  }
+  const std::vector<std::string> run_keys(ids.size(), key), f_keys(f_ids.size(), key);
+  if (!ids.empty())
+    sql << "INSERT INTO cases (run_key, case_id, backend, status, reason, axes) VALUES (:k, :i, :b, :s, :r, "
+           ":a)",
+        soci::use(run_keys), soci::use(ids), soci::use(backends), soci::use(statuses), soci::use(reasons),
+        soci::use(axes);
+  if (!f_ids.empty())
+    sql << "INSERT INTO findings (run_key, case_id, seq, check_name, status, message) VALUES (:k, :i, :q, "
+           ":c, "
+           ":s, :m)",
+        soci::use(f_keys), soci::use(f_ids), soci::use(f_seq), soci::use(f_checks), soci::use(f_statuses),
+        soci::use(f_messages);
+  Rows m = measures_of(run);
+  const std::vector<std::string> m_keys(m.case_id.size(), key);
+  if (!m.case_id.empty())
+    sql << "INSERT INTO measures (run_key, case_id, metric, repetition, value) VALUES (:k, :i, :m, :r, :v)",
+        soci::use(m_keys), soci::use(m.case_id), soci::use(m.metric), soci::use(m.repetition),
+        soci::use(m.value);
+  out.cases = int(ids.size());
+  out.measures = int(m.case_id.size());
+}
+
+}  // namespace
+
+StoredRun ResultsStore::store(const RunData& run) {
+  StoredRun out{run.file, run_key_of(run.doc.dump()), false, 0, 0};
+  soci::session& sql = impl_->sql;
+  try {
+    begin_exclusive(sql, impl_->sqlite);
+    migrate(sql);
+    int present = 0;
+    sql << "SELECT COUNT(*) FROM runs WHERE run_key = :k", soci::use(out.run_key), soci::into(present);
+    if (present == 0) {
+      insert_run(sql, run, out.run_key, out);
+      out.added = true;
+    }
+    sql << "COMMIT";
+  } catch (const std::exception& e) {
+    try {
+      sql << "ROLLBACK";
+    } catch (const std::exception&) {  // the connection may be gone; the server rolls back itself then
+    }
+    std::string what = e.what();
+    what = what.substr(0, what.find('\n'));
+    throw StoreError(run.file + ": not stored in " + url_ + " (nothing of it written): " + what);
+  }
+  return out;
+}
+
+int ResultsStore::schema_version() {
+  soci::session& sql = impl_->sql;
+  begin_exclusive(sql, impl_->sqlite);
+  migrate(sql);
+  const int v = current_version(sql);
+  sql << "COMMIT";
+  return v;
+}
+
+long long ResultsStore::count(const std::string& table) {
+  if (table != "runs" && table != "cases" && table != "measures" && table != "findings" && table != "devices")
+    throw StoreError("no table " + table);
+  long long n = 0;
+  impl_->sql << "SELECT COUNT(*) FROM " + table, soci::into(n);
+  return n;
+}
+
+}  // namespace omnishadow::bench

@@ -1,0 +1,58 @@
+#pragma once
+// Runs kept in a database (`omnishadow store RUN... --db URL`), through SOCI: an SQLite file on one machine
+// (sqlite:PATH), a PostgreSQL server for a fleet (postgresql://...). The schema is versioned (docs/store.md):
+// each migration runs once, in order, inside the transaction of the store that finds it missing. A run is
+// stored in one transaction, so a crash, a full disk or a second writer leaves either the whole run or none
+// of it; a run is keyed by a hash of its results.json, so storing it again changes nothing.
+
+#include <string>
+#include <vector>
+
+#include "bench/io/results_reader.h"
+
+namespace omnishadow::bench {
+
+class StoreError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+inline constexpr const char* kDefaultStoreUrl = "sqlite:results/omnishadow.db";
+// The newest schema version this binary writes (docs/store.md lists each migration).
+inline constexpr int kStoreSchemaVersion = 1;
+
+// What one store did: the run's key, and whether it was new (false: already stored, nothing written).
+struct StoredRun {
+  std::string file;
+  std::string run_key;
+  bool added = false;
+  int cases = 0;
+  int measures = 0;
+};
+
+class ResultsStore {
+ public:
+  // Opens (creating an SQLite file, and migrating the schema). Throws StoreError with one line naming the URL
+  // on a URL it cannot read, a server it cannot reach or a database it cannot open.
+  explicit ResultsStore(const std::string& url);
+  ~ResultsStore();
+  ResultsStore(const ResultsStore&) = delete;
+  ResultsStore& operator=(const ResultsStore&) = delete;
+
+  // One run, in one transaction. Throws StoreError naming the file and the cause (a locked database, a full
+  // disk); nothing of the run is then stored.
+  StoredRun store(const RunData& run);
+  int schema_version();
+  // Rows of a table (tests, `store` summary): runs, cases, measures.
+  long long count(const std::string& table);
+
+ private:
+  struct Impl;
+  Impl* impl_;
+  std::string url_;
+};
+
+// A content key of a results file: 16 hex digits of a 64-bit FNV-1a over its bytes.
+std::string run_key_of(const std::string& text);
+
+}  // namespace omnishadow::bench

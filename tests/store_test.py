@@ -1,0 +1,160 @@
+#!/usr/bin/python3
+"""`omnishadow store` into SQLite and into a real PostgreSQL server started from Debian's packages in a temporary
+folder (initdb, pg_ctl, a free local port, a socket in the folder), then stopped. On each: two runs stored, each
+case with its status and axes and every measure; storing a run again changes nothing; a second writer waits for the
+first (two stores at once both land whole); a results file that cannot be read stores nothing and is one line with
+exit 2; a URL that is neither is one line with exit 2. PostgreSQL skips (ctest 77) with its reason where its server
+binaries are absent or cannot run here (initdb refuses root, so it runs as the `postgres` user the package makes).
+
+Usage: store_test.py OMNISHADOW
+"""
+import glob
+import json
+import os
+import shutil
+import socket
+import sqlite3
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+BIN = sys.argv[1]
+
+
+def sh(args, **kw):
+    return subprocess.run(args, capture_output=True, text=True, **kw)
+
+
+def make_run(tmp, name, extra):
+    out = os.path.join(tmp, name)
+    r = sh([BIN, "run", "--backend", "gl", "--scene", "room", "--technique",
+            "six_pass,geometry_shader", "--filter", "hard", "--frames", "2", "--warmup", "0", "--images", "none",
+            "--check", "--benchmark_repetitions=2", "--out", out] + extra,
+           env={**os.environ, "XDG_RUNTIME_DIR": os.environ.get("XDG_RUNTIME_DIR", "/tmp")})
+    assert r.returncode in (0, 1), f"run {name} failed:\n{r.stderr[-2000:]}"
+    return out
+
+
+def store(db, *runs):
+    return sh([BIN, "store", *runs, "--db", db])
+
+
+def check_store(db, runs, count):
+    """Stores the runs, again, and at once from two processes; `count(table)` reads the database."""
+    doc = json.load(open(os.path.join(runs[0], "results.json")))
+    cases = len(doc["omnishadow"]["cases"])
+    r = store(db, runs[0])
+    assert r.returncode == 0 and "stored " in r.stdout, r.stdout + r.stderr
+    assert count("runs") == 1 and count("cases") == cases, (count("runs"), count("cases"))
+    measures = count("measures")
+    assert measures >= cases * 2, f"per-repetition times of every case: {measures}"
+    assert count("schema_migrations") == 1
+    r = store(db, runs[0])
+    assert r.returncode == 0 and "already stored" in r.stdout, r.stdout + r.stderr
+    assert (count("runs"), count("cases"), count("measures")) == (1, cases, measures), "storing again changed it"
+    # Two writers at once: each run lands whole.
+    procs = [subprocess.Popen([BIN, "store", run, "--db", db], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True) for run in runs[1:]]
+    for p in procs:
+        out, err = p.communicate(timeout=120)
+        assert p.returncode == 0, out + err
+    assert count("runs") == len(runs), count("runs")
+    # A results file that cannot be read: one line, exit 2, nothing stored.
+    bad = os.path.join(os.path.dirname(runs[0]), "bad")
+    os.makedirs(bad, exist_ok=True)
+    open(os.path.join(bad, "results.json"), "w").write('{"omnishadow": {"cases": [')
+    r = store(db, bad)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "bad/results.json" in r.stderr, r.stderr
+    assert count("runs") == len(runs)
+
+
+def sqlite_part(tmp, runs):
+    path = os.path.join(tmp, "db", "omnishadow.db")
+    db = "sqlite:" + path
+
+    def count(table):
+        with sqlite3.connect(path) as c:
+            return c.execute(f"SELECT COUNT(*) FROM {table}").fetchone()[0]
+
+    # The first store creates the folder and the file, and migrates.
+    check_store(db, runs, count)
+    with sqlite3.connect(path) as c:
+        statuses = dict(c.execute("SELECT case_id, status FROM cases WHERE case_id LIKE '%six_pass%'").fetchall())
+        axes = json.loads(c.execute("SELECT axes FROM cases LIMIT 1").fetchone()[0])
+        metrics = {m for (m,) in c.execute("SELECT DISTINCT metric FROM measures")}
+    assert statuses and set(statuses.values()) <= {"ok", "failed_quality"}, statuses
+    assert axes["scene"] == "room", axes
+    assert {"frame_ms", "frame_cpu_ms", "accuracy.misclassified_percent"} <= metrics, metrics
+    # A writer holding the database for a while: the store waits for it, then lands.
+    holder = sqlite3.connect(path, isolation_level=None, check_same_thread=False)
+    extra = make_run(tmp, "third", ["--cube", "16", "--frame", "32x24", "--pcf-scale", "2"])
+    holder.execute("BEGIN EXCLUSIVE")
+    threading.Timer(1.5, lambda: holder.execute("ROLLBACK")).start()
+    r = store(db, extra)
+    assert r.returncode == 0, r.stderr
+    assert count("runs") == len(runs) + 1
+    print(f"sqlite: {count('runs')} runs, {count('cases')} cases, {count('measures')} measures")
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def postgresql_part(tmp, runs):
+    bins = sorted(glob.glob("/usr/lib/postgresql/*/bin/initdb"))
+    if not bins:
+        return "no PostgreSQL server binaries (Debian package postgresql; scripts/setup.sh installs it)"
+    bindir = os.path.dirname(bins[-1])
+    as_user = []
+    if os.geteuid() == 0:  # initdb and postgres refuse root: the package's own user runs them
+        if not shutil.which("runuser") or sh(["id", "postgres"]).returncode:
+            return "running as root without a postgres user to run the server as"
+        as_user = ["runuser", "-u", "postgres", "--"]
+    data = tempfile.mkdtemp(prefix="omnishadow-pg-")
+    os.chmod(data, 0o777)
+    port = free_port()
+    try:
+        r = sh(as_user + [f"{bindir}/initdb", "-D", f"{data}/data", "-U", "omnishadow", "--auth", "trust"])
+        if r.returncode:
+            return "initdb failed here: " + (r.stderr.strip().splitlines() or ["?"])[-1]
+        r = sh(as_user + [f"{bindir}/pg_ctl", "-D", f"{data}/data", "-l", f"{data}/log", "-w", "-o",
+                          f"-p {port} -k {data} -c listen_addresses=''", "start"])
+        if r.returncode:
+            return "pg_ctl start failed: " + open(f"{data}/log").read()[-500:]
+        db = f"postgresql:///postgres?host={data}&port={port}&user=omnishadow"
+
+        def count(table):
+            r = sh([f"{bindir}/psql", "-h", data, "-p", str(port), "-U", "omnishadow", "-d", "postgres", "-tAc",
+                    f"SELECT COUNT(*) FROM {table}"])
+            assert r.returncode == 0, r.stderr
+            return int(r.stdout.strip())
+
+        check_store(db, runs, count)
+        print(f"postgresql: {count('runs')} runs, {count('cases')} cases, {count('measures')} measures")
+    finally:
+        sh(as_user + [f"{bindir}/pg_ctl", "-D", f"{data}/data", "-m", "immediate", "stop"])
+        shutil.rmtree(data, ignore_errors=True)
+    return None
+
+
+def main():
+    r = store("mysql://localhost/x", "/nonexistent")
+    assert r.returncode == 2 and "not sqlite:PATH or postgresql://" in r.stderr, r.stderr
+    with tempfile.TemporaryDirectory() as tmp:
+        small = ["--cube", "16", "--frame", "32x24"]
+        runs = [make_run(tmp, "first", small), make_run(tmp, "second", ["--cube", "32", "--frame", "32x24"]),
+                make_run(tmp, "fourth", ["--cube", "16", "--frame", "48x32"])]
+        sqlite_part(tmp, runs)
+        skipped = postgresql_part(tmp, runs)
+    if skipped:
+        print(f"SKIP: PostgreSQL: {skipped} (SQLite passed)")
+        sys.exit(77)
+    print("store: SQLite and PostgreSQL hold every run whole, once")
+
+
+if __name__ == "__main__":
+    main()
