@@ -175,7 +175,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --scene room --out /proc/omnishadow", "--out /proc/omnishadow"},
         BadInput{"run --frobnicate", "frobnicate"}, BadInput{"run --shard 3/2 --out @OUT@", "--shard"},
         BadInput{"frobnicate",
-                 "unknown command 'frobnicate' (commands: list, run, compare, merge, report, store, "
+                 "unknown command 'frobnicate' (commands: list, run, compare, merge, report, store, export, "
                  "device-key"},
         BadInput{"", "no command given (commands: list, run"},
         BadInput{"run --cube 16 --cube 32 --out @OUT@", "--cube is given 2 times: give it once"},
@@ -285,6 +285,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"merge @OUT@ /nonexistent/run", "/nonexistent/run: cannot read"},
         BadInput{"report /nonexistent/run", "report: /nonexistent/run is no run"},
         BadInput{"store /nonexistent/run --db sqlite:@OUT@/store.db", "store: /nonexistent/run: cannot read"},
+        BadInput{"export /nonexistent/run --format bencher", "export: /nonexistent/run: cannot read"},
+        BadInput{"export @RUN@ --format csv",
+                 "export: --format: 'csv' is not bencher or github-action-benchmark"},
+        BadInput{"export @RUN@ --format bencher --out /proc/omnishadow/x.json", "/proc/omnishadow/x.json"},
         BadInput{"store @RUN@ --db mysql://localhost/runs", "--db mysql://localhost/runs: not sqlite:PATH"},
         BadInput{"report @RUN@ --history /nonexistent/h", "report --history /nonexistent/h: no such run"},
         BadInput{"report @RUN@ --out /proc/omnishadow/r.html", "--out /proc/omnishadow/r.html"},
@@ -822,6 +826,45 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
     EXPECT_GT(c["shadow_plan"]["view_culling"]["faces_culled"].get<int>(), 0) << c["id"];
     EXPECT_GT(c["moments"]["values"].get<int>(), 0) << c["id"] << ": the moments check ran";
   }
+}
+
+// `export`: a run as Bencher's metric format and as github-action-benchmark's list, each timed case with its
+// frame time (median, least and greatest repetition), its misclassified pixels and whether it is ok.
+TEST_F(CliRun, ExportWritesBencherAndGithubActionBenchmarkFormats) {
+  fs::path out = scratch("export_run");
+  Outcome o = run(
+      "run --backend gl --scene room --cube 16 --frame 32x24 --technique six_pass,geometry_shader"
+      " --filter hard --frames 2 --warmup 0 --images none --max-error 100 --benchmark_repetitions=3 --out " +
+      out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  const fs::path bmf = out / "bencher.json";
+  o = run("export " + out.string() + " --format bencher --out " + bmf.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto b = nlohmann::json::parse(omnishadow::bench::read_file(bmf.string()));
+  ASSERT_EQ(b.size(), 2u) << b.dump();
+  for (const auto& [id, measures] : b.items()) {
+    const auto& wall = measures["frame-wall-ms"];
+    EXPECT_LE(wall["lower_value"].get<double>(), wall["value"].get<double>()) << id;
+    EXPECT_LE(wall["value"].get<double>(), wall["upper_value"].get<double>()) << id;
+    EXPECT_GT(wall["value"].get<double>(), 0.0) << id;
+    EXPECT_TRUE(measures.contains("frame-cpu-ms")) << id;
+    EXPECT_TRUE(measures["misclassified-percent"]["value"].is_number()) << id;
+    EXPECT_EQ(measures["status-ok"]["value"], 1.0) << id;
+  }
+  o = run("export " + out.string() + " --format github-action-benchmark");
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto g = nlohmann::json::parse(o.out);
+  ASSERT_TRUE(g.is_array());
+  int walls = 0;
+  for (const auto& e : g) {
+    EXPECT_TRUE(e["name"].is_string() && e["unit"].is_string() && e["value"].is_number()) << e.dump();
+    if (e["name"].get<std::string>().find(" frame-wall-ms") != std::string::npos) {
+      ++walls;
+      EXPECT_EQ(e["unit"], "ms");
+      EXPECT_TRUE(e["range"].is_string()) << e.dump();
+    }
+  }
+  EXPECT_EQ(walls, 2);
 }
 
 // An update budget on both APIs: the check frame's maps are whole (every check holds), and the sequence from

@@ -23,6 +23,7 @@ OPTION_GROUPS = {
     "report": ["report"],
     "device-key": [],
     "store": ["store"],
+    "export": ["export"],
 }
 HELP_OPTION = re.compile(r"^\s+(?:-\w,)?(--[a-z0-9][a-z0-9-]*)", re.M)
 MARKER = re.compile(r"^<!-- options: ([a-z-]+) -->$")

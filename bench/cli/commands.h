@@ -52,6 +52,9 @@ int report_command(const std::string& run, const std::vector<std::string>& histo
 // results_store.h), one line each on stdout; exit 2 at the first run that cannot be read or stored (the runs
 // before it are stored whole, it and the ones after not at all).
 int store_command(const std::vector<std::string>& runs, const std::string& db);
+// `export RUN --format bencher|github-action-benchmark [--out FILE]` (bench/report/export.h): to stdout, or
+// written atomically to FILE.
+int export_command(const std::string& run, const std::string& format, const std::string& out);
 
 // One line on stderr, "omnishadow: error: ...".
 void print_error(const std::string& message);

@@ -57,15 +57,34 @@ int run_file_command(CLI::App* cmp, CLI::App* mrg, const CompareFlags& cf, Compa
   }
 }
 
-struct StoreArgs {
+struct FileArgs {
+  std::string report_run, report_out;
+  std::vector<std::string> report_history;
   std::vector<std::string> runs;
   std::string db = kDefaultStoreUrl;
+  std::string export_run, export_format, export_out;
 };
-CLI::App* add_store_command(CLI::App& app, StoreArgs& a) {
+CLI::App* add_report_command(CLI::App& app, FileArgs& a) {
+  CLI::App* rep = app.add_subcommand("report", "one self-contained HTML page of a run (and its history)");
+  rep->add_option("run", a.report_run, "run folder")->required();
+  rep->add_option("--history", a.report_history,
+                  "run folders (or folders of runs) of the same device, any order");
+  rep->add_option("--out", a.report_out, "the HTML file (default RUN/report.html)");
+  return rep;
+}
+CLI::App* add_store_command(CLI::App& app, FileArgs& a) {
   CLI::App* sto = app.add_subcommand("store", "put runs into a database: an SQLite file or PostgreSQL");
   sto->add_option("runs", a.runs, "run folders or results.json files")->required();
   sto->add_option("--db", a.db, "sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE")->capture_default_str();
   return sto;
+}
+CLI::App* add_export_command(CLI::App& app, FileArgs& a) {
+  CLI::App* exp =
+      app.add_subcommand("export", "a run in a dashboard's format: Bencher or github-action-benchmark");
+  exp->add_option("run", a.export_run, "run folder or results.json")->required();
+  exp->add_option("--format", a.export_format, "bencher or github-action-benchmark")->required();
+  exp->add_option("--out", a.export_out, "the JSON file (default: stdout)");
+  return exp;
 }
 
 }  // namespace
@@ -108,18 +127,15 @@ int main(int argc, char** argv) {
   add_compare_options(
       *app.add_subcommand("compare", "compare two runs: timing (U-test), work counters, images"), compare,
       compare_flags);
-  std::string merge_out, key_run, report_run, report_out;
-  std::vector<std::string> merge_inputs, report_history;
+  std::string merge_out, key_run;
+  std::vector<std::string> merge_inputs;
   CLI::App* mrg = app.add_subcommand("merge", "join the results of --shard runs into one run");
   mrg->add_option("out", merge_out, "folder for the merged results.json")->required();
   mrg->add_option("runs", merge_inputs, "run folders or results.json files")->required();
-  CLI::App* rep = app.add_subcommand("report", "one self-contained HTML page of a run (and its history)");
-  rep->add_option("run", report_run, "run folder")->required();
-  rep->add_option("--history", report_history,
-                  "run folders (or folders of runs) of the same device, any order");
-  rep->add_option("--out", report_out, "the HTML file (default RUN/report.html)");
-  StoreArgs store;
-  CLI::App* sto = add_store_command(app, store);
+  FileArgs files;  // report, store and export, in functions of their own: main() stays short
+  CLI::App* rep = add_report_command(app, files);
+  CLI::App* sto = add_store_command(app, files);
+  CLI::App* exp = add_export_command(app, files);
   CLI::App* key =
       app.add_subcommand("device-key", "print the device key of each backend of a run (baselines/)");
   key->add_option("run", key_run, "run folder or results.json")->required();
@@ -144,8 +160,9 @@ int main(int argc, char** argv) {
   if ((list->parsed() || r->parsed()) && !scenes_dir_exists(common.scenes_dir)) return 2;
   if (list->parsed()) return list_command(common.scenes_dir, common.backend_options());
   if (r->parsed()) return run_command(run);
-  if (rep->parsed()) return report_command(report_run, report_history, report_out);
-  if (sto->parsed()) return store_command(store.runs, store.db);
+  if (rep->parsed()) return report_command(files.report_run, files.report_history, files.report_out);
+  if (sto->parsed()) return store_command(files.runs, files.db);
+  if (exp->parsed()) return export_command(files.export_run, files.export_format, files.export_out);
   return run_file_command(app.get_subcommand("compare"), mrg, compare_flags, compare, merge_out, merge_inputs,
                           key_run);
 }
