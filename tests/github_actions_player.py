@@ -16,9 +16,10 @@ class PlayError(AssertionError):
 
 
 class Player:
-    def __init__(self, workflow, repo, sha, event, work, base_ref=""):
+    def __init__(self, workflow, repo, sha, event, work, base_ref="", secrets=None):
         self.workflow, self.repo, self.sha, self.event, self.work = workflow, repo, sha, event, work
         self.base_ref = base_ref
+        self.secrets = secrets or {}  # a secret the repository lacks reads as "", as on GitHub
         self.artifacts = os.path.join(work, "artifacts")
         self.results = {}      # job id -> "success" | "failure" | "skipped"
         self.summaries = {}    # job id -> what its steps wrote to GITHUB_STEP_SUMMARY
@@ -35,6 +36,8 @@ class Player:
             "strategy.job-total": ctx.get("job_total"),
             "github.workspace": ctx.get("workspace"),
             "github.base_ref || 'main'": self.base_ref or "main",
+            "github.event.repository.default_branch": "main",
+            "secrets.OMNISHADOW_STORE_URL": self.secrets.get("OMNISHADOW_STORE_URL", ""),
             "!cancelled()": True,
             "!cancelled() && needs.build.result == 'success'": self.results.get("build") == "success",
         }

@@ -38,6 +38,8 @@ def main():
     assert "fleet-build/bin/omnishadow" in gitlab["variables"]["OMNISHADOW_BIN"], "later jobs use the build artifact"
     assert "fleet_shard.sh" in scripts_of(gitlab[".bench"]) and "build.sh" not in scripts_of(gitlab[".bench"])
     assert "fleet_merge.sh" in scripts_of(gitlab[".merge"]) and "fleet_compare.sh" in scripts_of(gitlab[".merge"])
+    merge = scripts_of(gitlab[".merge"])
+    assert merge.index("fleet_store.sh") < merge.index("fleet_compare.sh"), "a regressed run is stored too"
     assert "build.sh" not in scripts_of(gitlab[".merge"]), "the fan-in uses the device's build, not its own"
     for device in devices:
         build, bench, merge = (gitlab[f"{kind}:{device}"] for kind in ("build", "bench", "merge"))
@@ -77,12 +79,15 @@ def main():
     assert "concurrency" not in jobs["bench"], "concurrency: cancels pending measurements"
     assert "fleet_shard.sh" in scripts_of(jobs["bench"]) and "build.sh" not in scripts_of(jobs["bench"])
     assert "fleet_merge.sh" in scripts_of(jobs["merge"]) and "fleet_compare.sh" in scripts_of(jobs["merge"])
+    merge = scripts_of(jobs["merge"])
+    assert merge.index("fleet_store.sh") < merge.index("fleet_compare.sh"), "a regressed run is stored too"
     assert "!cancelled()" in jobs["merge"]["if"] and "always()" not in jobs["merge"]["if"], "no merge after a cancel"
     upload = [s for s in jobs["merge"]["steps"] if s.get("uses", "").startswith("actions/upload-artifact")][0]
     assert "shards/" in upload["with"]["path"] and "merged/" in upload["with"]["path"], "images uploaded with the run"
     with open(os.path.join(ROOT, "scripts", "setup.sh")) as f:
         assert "curl" in f.read(), "setup.sh installs curl for the merge-request note"
     for path in ("scripts/ci/fleet_build.sh", "scripts/ci/fleet_shard.sh", "scripts/ci/fleet_merge.sh",
+                 "scripts/ci/fleet_store.sh",
                  "scripts/ci/fleet_compare.sh", "scripts/ci/fleet_baseline.sh", "scripts/ci/store_baseline.sh"):
         assert os.access(os.path.join(ROOT, path), os.X_OK), f"{path} is not executable"
     print("workflows: .gitlab-ci.yml and the GitHub fleet workflows parse and hold one build, one shard per GPU and "

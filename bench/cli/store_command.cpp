@@ -21,7 +21,7 @@ int store_command(const std::vector<std::string>& runs, const std::string& db) {
       else
         std::cout << "already stored: " << s.file << " (run " << s.run_key << "), nothing written\n";
     }
-    std::cout << "store " << db << ": schema version " << store.schema_version() << ", "
+    std::cout << "store " << redacted_store_url(db) << ": schema version " << store.schema_version() << ", "
               << store.count("runs") << " runs, " << store.count("cases") << " cases\n";
     return 0;
   } catch (const std::exception& e) {

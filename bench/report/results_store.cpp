@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <regex>
 
 #include "bench/report/compare.h"
 
@@ -60,7 +61,8 @@ Target parse_url(const std::string& url) {
     return {true, "db=\"" + path + "\" timeout=60"};
   }
   if (url.rfind("postgresql://", 0) == 0 || url.rfind("postgres://", 0) == 0) return {false, url};
-  throw StoreError("--db " + url + ": not sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE");
+  throw StoreError("--db " + redacted_store_url(url) +
+                   ": not sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE");
 }
 
 // The numbers a case reports once (accuracy, counters, staleness, what was rendered), as metric names of
@@ -77,6 +79,11 @@ void numeric_leaves(const json& j, const std::string& prefix,
 
 }  // namespace
 
+std::string redacted_store_url(const std::string& url) {
+  static const std::regex user_password(R"((://[^:/@?]*:)[^@/]*@)"), parameter(R"((password=)[^&\s]*)");
+  return std::regex_replace(std::regex_replace(url, user_password, "$1***@"), parameter, "$1***");
+}
+
 std::string run_key_of(const std::string& text) {
   uint64_t h = 1469598103934665603ull;
   for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
@@ -90,7 +97,7 @@ struct ResultsStore::Impl {
   soci::session sql;
 };
 
-ResultsStore::ResultsStore(const std::string& url) : impl_(new Impl), url_(url) {
+ResultsStore::ResultsStore(const std::string& url) : impl_(new Impl), url_(redacted_store_url(url)) {
   try {
     const Target t = parse_url(url);
     impl_->sqlite = t.sqlite;
@@ -102,7 +109,7 @@ ResultsStore::ResultsStore(const std::string& url) : impl_(new Impl), url_(url) 
     delete impl_;
     std::string what = e.what();
     what = what.substr(0, what.find('\n'));
-    throw StoreError("--db " + url + ": cannot open: " + what);
+    throw StoreError("--db " + redacted_store_url(url) + ": cannot open: " + what);
   }
 }
 

@@ -52,6 +52,9 @@ class ResultsStore {
   std::string url_;
 };
 
+// The URL as messages may show it: a password (postgresql://user:PASSWORD@host, ?password=...) as ***.
+std::string redacted_store_url(const std::string& url);
+
 // A content key of a results file: 16 hex digits of a 64-bit FNV-1a over its bytes.
 std::string run_key_of(const std::string& text);
 
