@@ -23,9 +23,7 @@ std::vector<int> sequence_lights(const std::vector<int>& checked, const scene::S
                                  int frames) {
   std::vector<int> lights = checked;
   for (int k = 0; k < light_count && k < int(scene.point_lights.size()); ++k) {
-    const scene::LightPath& path = scene.point_lights[size_t(k)].path;
-    bool moves = false;
-    for (int t = 1; t < frames && !moves; ++t) moves = path.at(t) != path.at(0);
+    const bool moves = moves_within(scene.point_lights[size_t(k)].path, frames - 1);
     if (moves && std::find(lights.begin(), lights.end(), k) == lights.end()) lights.push_back(k);
   }
   std::sort(lights.begin(), lights.end());

@@ -110,6 +110,8 @@ struct SequenceFrame {
 };
 void check_update_budget(CaseFindings& r, const scene::Scene& scene, const std::vector<int>& lights,
                          const std::vector<SequenceFrame>& frames);
+// Whether a light on `path` is anywhere else at some frame 1..last_frame than at frame 0.
+bool moves_within(const scene::LightPath& path, int last_frame);
 
 // Against other renderings (bench/truth/image_checks.cpp).
 // The timed and the check lighting variants are two compilations of one shader; a GPU compiler may contract

@@ -10,13 +10,13 @@
 
 namespace omnishadow::bench {
 
-namespace {
-
 bool moves_within(const scene::LightPath& path, int last_frame) {
   for (int t = 1; t <= last_frame; ++t)
     if (path.at(t) != path.at(0)) return true;
   return false;
 }
+
+namespace {
 
 // Frames a face has waited at sequence index `i`: those up to and including it that read the face (in view)
 // while it held an older position of its light, counted back from the first frame its light left the
