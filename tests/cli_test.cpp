@@ -1589,7 +1589,8 @@ TEST_F(CliRun, ACrashInTheTimedRoundsCostsOneCase) {
 
 // A case that makes no progress for --case-timeout-s (a hang, injected: --inject-hang) is killed and recorded
 // `crashed` with the timeout; the run goes on. The hang never ends, so it is always caught; 10 s is over ten
-// times the longest step of these 16-texel cases here, so no other case is.
+// times the longest step of these 16-texel cases here, so no other case is. The rule's timing (silence since
+// the last line, not since the start) is SilenceWatch's test, on a clock that test drives.
 TEST_F(CliRun, AHangIsKilledAfterTheCaseTimeoutAndCostsOneCase) {
   expect_one_case_each(run_with_fault("hang_checks", "--inject-hang /geometry_shader/ --case-timeout-s 10"),
                        "no progress for 10 s", "check_frame");

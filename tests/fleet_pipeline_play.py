@@ -3,8 +3,8 @@
 .gitlab-ci.yml with gitlab-ci-local (shell executor, each job in its own copy of the tree), and the GitHub
 workflow's jobs with tests/github_actions_player.py. Commit A (main, a small fleet matrix) has no baseline: both
 pipelines pass and say so on the page. Its merged GitLab run becomes the fleet baseline as docs/regressions.md documents
-(scripts/ci/fleet_baseline.sh with a gate; commit B). Commit C (a branch) injects fragment work in every case and
-plants a bug that makes the geometry-shader case fail its checks: both merge-request pipelines build it, and their
+(scripts/ci/fleet_baseline.sh with a gate; commit B). Commit C (a branch) injects fragment work in every case (the
+scripted clock times it: 1 ms frames become 2 ms on any machine) and plants a bug that makes the geometry-shader case fail its checks: both merge-request pipelines build it, and their
 compare step fails (exit 1) with a summary naming the slowed case and the failed one; GitLab's merge-request note
 is posted (to a stand-in curl). Skips (ctest 77) with the reason where gitlab-ci-local cannot be installed from npm,
 or OpenGL is unavailable. Slow (four builds, ccache shares their compilations): not run under the sanitizers."""
@@ -30,7 +30,11 @@ BIN = os.environ.get("OMNISHADOW_BIN", os.path.join(ROOT, "build", "release", "o
 TOOLS = os.environ.get("OMNISHADOW_TOOLS_DIR", os.path.join(ROOT, "build", "tools"))
 GITLAB_CI_LOCAL = "4.60.0"  # the newest release that runs on Debian 12's Node.js 20 (4.75 needs Node 22)
 DEVICE = "nvidia-h100"      # the device block of .gitlab-ci.yml / gpu-fleet.yml the play runs (tags are not honoured)
-PLAY_MATRIX = """# the play's fleet matrix: two cases, one per shard, 8 repetitions as the fleet runs them
+# The play's fleet matrix: two cases, one per shard, 8 repetitions as the fleet runs them, on the scripted clock
+# (--inject-frame-ms, bench/run/scripted_clock.h): every frame lasts 1 ms on every clock the harness reads, 1% more
+# per unit of injected fragment work, so commit C's slowdown is +100% exactly and its verdict the same on any
+# machine, however loaded. Images and checks are rendered as usual.
+PLAY_MATRIX = """# the play's fleet matrix: two cases, one per shard, 8 repetitions, frames timed by the scripted clock
 --backend
 gl
 --scene
@@ -49,6 +53,8 @@ hard
 1
 --benchmark_repetitions=8
 --benchmark_enable_random_interleaving=true
+--inject-frame-ms
+1
 """
 SLOWED, FAILED = "gl/room/c64/f160x120/six_pass/hard", "gl/room/c64/f160x120/geometry_shader/hard"
 GATE = {"metric": "cpu", "alpha": 0.01, "min_effect": 0.1}
@@ -150,6 +156,8 @@ def check_regressions(merged, summary, where):
     assert {k: comparison[k] for k in GATE} == GATE, f"{where}: the baseline's gate was not applied: {comparison}"
     slowed = [c for c in comparison["cases"] if c["id"].startswith(SLOWED + "/")]
     assert slowed and slowed[0]["regressed"], f"{where}: the slower case does not fail the comparison: {slowed}"
+    assert (slowed[0]["base_ms"], slowed[0]["new_ms"]) == (1.0, 2.0), \
+        f"{where}: not the scripted clock's 1 ms against 2 ms (CPU ms per frame): {slowed[0]}"
     assert any(line.startswith(FAILED + "/") for line in comparison["status_regressions"]), comparison
 
 

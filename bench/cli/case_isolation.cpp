@@ -18,6 +18,7 @@
 #include <set>
 
 #include "bench/cli/commands.h"
+#include "bench/cli/silence_watch.h"
 #include "bench/io/file_io.h"
 #include "bench/run/case_runner.h"
 
@@ -95,7 +96,11 @@ pid_t spawn_worker(const std::vector<std::string>& args, int progress_write_fd) 
 WorkerEnd watch_worker(pid_t pid, int read_fd, double timeout_s, WorkerState& state) {
   WorkerEnd end;
   std::string pending;
-  auto last_heard = std::chrono::steady_clock::now();
+  const auto start = std::chrono::steady_clock::now();
+  auto now_s = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  SilenceWatch silence(timeout_s, now_s());
   for (;;) {
     pass_on_signal(pid);
     pollfd p{read_fd, POLLIN, 0};
@@ -109,9 +114,8 @@ WorkerEnd watch_worker(pid_t pid, int read_fd, double timeout_s, WorkerState& st
       pending.append(buf, size_t(n));
       for (size_t nl; (nl = pending.find('\n')) != std::string::npos; pending.erase(0, nl + 1))
         state.apply(pending.substr(0, nl));
-      last_heard = std::chrono::steady_clock::now();
-    } else if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_heard).count() >
-               timeout_s) {
+      silence.heard(now_s());
+    } else if (silence.hung(now_s())) {
       kill(pid, SIGKILL);  // a hang: it will never answer a polite signal
       end.timed_out = true;
       break;

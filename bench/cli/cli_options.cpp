@@ -294,8 +294,9 @@ void add_frame_options(CLI::App& r, RunOptions& o) {
        "this takes (default: 100 on a GPU, whose sub-millisecond frames vary a lot; 0 on a CPU driver)")
       ->check(finite_in(0.0, 600000.0));
   r.add_option("--inject-frame-ms", o.inject_frame_ms,
-               "tests of the sizing by time only: --warmup-ms and --repetition-ms count every frame as this "
-               "many ms instead of its measured wall time (0: measured); the timings reported stay measured")
+               "tests about time: every timed frame lasts this many ms (1% more per unit of "
+               "--inject-fragment-work) on every clock the harness reads: wall, process CPU, GPU; the sizing "
+               "and warm-up by time count it (0: measured)")
       ->check(finite_in(0.0, 600000.0));
   r.add_option(
        "--settle-s", o.settle_s,

@@ -16,6 +16,7 @@
 #include "bench/io/image_io.h"
 #include "bench/run/case_progress.h"
 #include "bench/run/memory_budget.h"
+#include "bench/run/scripted_clock.h"
 #include "bench/run/timing_stats.h"
 #include "bench/truth/truth_cache.h"
 
@@ -244,6 +245,7 @@ void Harness::measure_floor(CaseResult& r, Backend& b) {
     std::vector<FrameTiming> frames;
     for (int i = 0; i < 2 + kFloorFrames; ++i) {  // two warm-up frames first
       FrameTiming t = b.render(options_.check_frame, FrameKind::floor);
+      apply_scripted_clock(options_.inject_frame_ms, 0, t);  // a floor frame has no injected work
       if (i >= 2) frames.push_back(t);
     }
     auto median_of = [&](auto get) {

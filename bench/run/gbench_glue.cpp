@@ -14,6 +14,7 @@
 #include "backends/common/driver_log.h"
 #include "bench/run/case_progress.h"
 #include "bench/run/gbench_report.h"
+#include "bench/run/scripted_clock.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -26,11 +27,13 @@ double process_cpu_ms() {
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
-// One frame with the process's CPU time around it (every thread: the driver's workers included).
-FrameTiming render_measured(Backend& b, int frame) {
+// One frame with the process's CPU time around it (every thread: the driver's workers included), or the
+// scripted clock's times (--inject-frame-ms).
+FrameTiming render_measured(Backend& b, int frame, const RunOptions& o, const CaseConfig& config) {
   double before = process_cpu_ms();
   FrameTiming t = b.render(frame, FrameKind::timed);
   t.process_cpu_ms = process_cpu_ms() - before;
+  apply_scripted_clock(o.inject_frame_ms, config.injected_work, t);
   return t;
 }
 
@@ -93,10 +96,8 @@ void settle_clock(Harness& harness, const CaseConfig& config, double limit_s) {
       source.c_str(), clocks.front().mhz);
 }
 
-// A frame's length as the sizing by time counts it: its measured wall time, or --inject-frame-ms in tests.
-double sizing_ms(const RunOptions& o, const FrameTiming& frame) {
-  return o.inject_frame_ms > 0 ? o.inject_frame_ms : std::max(frame.frame_wall_ms, 0.0);
-}
+// A frame's length as the sizing by time counts it: its wall time (scripted by --inject-frame-ms in tests).
+double sizing_ms(const FrameTiming& frame) { return std::max(frame.frame_wall_ms, 0.0); }
 
 // Timed frames per repetition for each case: RunOptions::frames, or more where a repetition of that many
 // frames would last less than RunOptions::repetition_ms (measured here over a few frames after warm-up
@@ -120,7 +121,7 @@ void size_repetitions(Harness& harness, std::vector<CaseResult>& results, const 
       double ms = 0.0;
       int n = 0;
       while (n < 3 || (ms < 10.0 && n < 100))
-        ms += sizing_ms(o, b.render(n++ % std::max(o.warmup_frames, 1), FrameKind::timed));
+        ms += sizing_ms(render_measured(b, n++ % std::max(o.warmup_frames, 1), o, r.config));
       const double per_frame = std::max(ms / n, 1e-3);
       r.frames_per_repetition =
           std::clamp(static_cast<int>(std::ceil(target_ms / per_frame)), o.frames, kMaxTimedWarmupFrames);
@@ -137,14 +138,14 @@ void size_repetitions(Harness& harness, std::vector<CaseResult>& results, const 
 void warm_up(Backend& b, const RunOptions& o, CaseResult& r) {
   double warmed_ms = 0.0;
   for (int i = 0; i < o.warmup_frames; ++i) {
-    r.warmup.push_back(render_measured(b, i));
-    warmed_ms += sizing_ms(o, r.warmup.back());
+    r.warmup.push_back(render_measured(b, i, o, r.config));
+    warmed_ms += sizing_ms(r.warmup.back());
   }
   const double warmup_ms =
       o.warmup_ms >= 0 ? o.warmup_ms : (b.device().shares_host_memory ? 0.0 : RunOptions::kGpuWarmupMs);
   for (int i = 0; warmed_ms < warmup_ms && i < kMaxTimedWarmupFrames; ++i) {
-    r.warmup.push_back(render_measured(b, o.warmup_frames > 0 ? i % o.warmup_frames : 0));
-    warmed_ms += sizing_ms(o, r.warmup.back());
+    r.warmup.push_back(render_measured(b, o.warmup_frames > 0 ? i % o.warmup_frames : 0, o, r.config));
+    warmed_ms += sizing_ms(r.warmup.back());
   }
 }
 
@@ -167,7 +168,7 @@ void time_case(Harness& harness, CaseResult& r, benchmark::State& state) {
     // instructions.
     CALLGRIND_TOGGLE_COLLECT;
     for (auto _ : state) {
-      FrameTiming t = render_measured(b, frame++);
+      FrameTiming t = render_measured(b, frame++, o, r.config);
       state.SetIterationTime(t.frame_wall_ms * 1e-3);
       sums[6] += t.process_cpu_ms;
       frames.push_back(t);

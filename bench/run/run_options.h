@@ -84,9 +84,9 @@ struct RunOptions : CheckOptions {
   int progress_fd = -1;
   std::string inject_crash, inject_hang;
   bool inject_in_timed = false;
-  // Tests of the sizing by time only (--inject-frame-ms): the warm-up by time and the repetitions' sizing
-  // count every frame as this many milliseconds instead of its measured wall time, so a test gets exact frame
-  // counts on any machine. 0: measured. The timings reported are measured either way.
+  // Tests about time (--inject-frame-ms): the scripted clock (bench/run/scripted_clock.h) replaces every
+  // timed and floor frame's times, so the sizing and warm-up by time and the timings reported are one on any
+  // machine. 0: measured.
   double inject_frame_ms = 0.0;
 };
 
