@@ -14,6 +14,7 @@ packages=(
   libvulkan-dev glslc mesa-vulkan-drivers vulkan-validationlayers  # Vulkan loader, SPIR-V compiler, lavapipe
   libmeshoptimizer-dev                     # mesh_shader's meshlets (backends/common/meshlets.cpp)
   libsoci-dev libpq-dev libsqlite3-dev    # the results store: SOCI with its SQLite and PostgreSQL backends
+  libssl-dev                               # the results store: SHA-256 of each run's images (OpenSSL's libcrypto)
   postgresql                               # tests/store_test.py: a PostgreSQL server started in a temporary folder
   glslang-tools                            # tests: the GL-only shader variants (NV extensions) compile with glslang
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)

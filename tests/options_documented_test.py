@@ -23,6 +23,8 @@ OPTION_GROUPS = {
     "report": ["report"],
     "device-key": [],
     "store": ["store"],
+    "fetch": ["fetch"],
+    "history": ["history"],
     "export": ["export"],
 }
 HELP_OPTION = re.compile(r"^\s+(?:-\w,)?(--[a-z0-9][a-z0-9-]*)", re.M)

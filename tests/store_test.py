@@ -27,10 +27,10 @@ def sh(args, **kw):
     return subprocess.run(args, capture_output=True, text=True, **kw)
 
 
-def make_run(tmp, name, extra):
+def make_run(tmp, name, extra, images="none"):
     out = os.path.join(tmp, name)
     r = sh([BIN, "run", "--backend", "gl", "--scene", "room", "--technique",
-            "six_pass,geometry_shader", "--filter", "hard", "--frames", "2", "--warmup", "0", "--images", "none",
+            "six_pass,geometry_shader", "--filter", "hard", "--frames", "2", "--warmup", "0", "--images", images,
             "--check", "--benchmark_repetitions=2", "--out", out] + extra,
            env={**os.environ, "XDG_RUNTIME_DIR": os.environ.get("XDG_RUNTIME_DIR", "/tmp")})
     assert r.returncode in (0, 1), f"run {name} failed:\n{r.stderr[-2000:]}"
@@ -50,7 +50,8 @@ def check_store(db, runs, count):
     assert count("runs") == 1 and count("cases") == cases, (count("runs"), count("cases"))
     measures = count("measures")
     assert measures >= cases * 2, f"per-repetition times of every case: {measures}"
-    assert count("schema_migrations") == 1
+    assert count("schema_migrations") == 2, "both migrations applied, once each"
+    assert count("documents") == 1, "the run's results.json kept whole"
     r = store(db, runs[0])
     assert r.returncode == 0 and "already stored" in r.stdout, r.stdout + r.stderr
     assert (count("runs"), count("cases"), count("measures")) == (1, cases, measures), "storing again changed it"
@@ -68,6 +69,68 @@ def check_store(db, runs, count):
     r = store(db, bad)
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "bad/results.json" in r.stderr, r.stderr
     assert count("runs") == len(runs)
+
+
+def history_runs(tmp):
+    """Three commits of one small matrix, a day apart: c1 and c2 alike; c3 with a planted accuracy regression (every
+    cube lookup moved by half a texel, --lookup-perturb 0.5: the ids stay, the shadows and images change)."""
+    folder = os.path.join(tmp, "history")
+    for i, extra in enumerate([[], [], ["--lookup-perturb", "0.5"]], 1):
+        run = make_run(folder, f"c{i}", ["--cube", "16", "--frame", "32x24"] + extra, images="all")
+        path = os.path.join(run, "results.json")
+        doc = json.load(open(path))
+        doc["omnishadow"].update(commit=f"c{i}", commit_date=f"2026-11-0{i}T00:00:00+00:00")
+        json.dump(doc, open(path, "w"))
+    return folder
+
+
+def check_history(db, folder, tmp):
+    """history --db and report --db give the pages the same runs' folders give; the planted step is on them."""
+    r = store(db, *sorted(glob.glob(os.path.join(folder, "c*"))))
+    assert r.returncode == 0, r.stderr
+    pages = {}
+    for name, source in (("folders", [folder]), ("db", ["--db", db])):
+        out = os.path.join(tmp, f"history-{name}")
+        h = sh([BIN, "history", *source, "--out", out, "--accepted", os.path.join(tmp, "no-accepted.json")])
+        assert h.returncode == 1, f"history from {name}: the planted step alerts (exit 1): {h.stdout}{h.stderr}"
+        page = os.path.join(tmp, f"report-{name}.html")
+        rep = sh([BIN, "report", os.path.join(folder, "c3"), "--out", page] +
+                 (["--history", folder] if name == "folders" else ["--db", db]))
+        assert rep.returncode == 0, rep.stderr
+        pages[name] = [open(os.path.join(out, "history.md")).read(), open(os.path.join(out, "history.json")).read(),
+                       open(page).read()]
+    alerts = json.loads(pages["db"][1])["alerts"]
+    planted = [a for a in alerts if a["commit"] == "c3" and a["metric"] == "misclassified_percent"]
+    assert planted and len({a["case"] for a in planted}) == 2, f"the accuracy step at c3, both cases: {alerts}"
+    assert any(a["metric"].startswith("image_") and a["commit"] == "c3" for a in alerts), \
+        f"the images' step at c3, from the hashes the store kept: {alerts}"
+    for i, what in enumerate(("history.md", "history.json", "report.html")):
+        assert pages["folders"][i] == pages["db"][i], f"{what} from the store differs from the folders'"
+    return len(alerts)
+
+
+def check_migration_from_schema_1(tmp, runs):
+    """A store written at schema 1 (the first binary's: the state of a schema-2 store without migration 2's
+    tables and row) is migrated by the next store; its old runs have no document until stored again, and say so."""
+    path = os.path.join(tmp, "db", "schema1.db")
+    r = store("sqlite:" + path, runs[0])
+    assert r.returncode == 0, r.stderr
+    with sqlite3.connect(path) as c:
+        c.executescript("DROP TABLE documents; DROP TABLE images; DELETE FROM schema_migrations WHERE version = 2;")
+    fetched = os.path.join(tmp, "fetched-schema1")
+    r = sh([BIN, "fetch", "--db", "sqlite:" + path, "--out", fetched])
+    assert r.returncode == 0 and "fetched 0 runs" in r.stdout and "1 stored run(s) have no document" in r.stdout, \
+        r.stdout + r.stderr
+    with sqlite3.connect(path) as c:
+        versions = [v for (v,) in c.execute("SELECT version FROM schema_migrations ORDER BY version")]
+    assert versions == [1, 2], f"fetch migrates an old store first: {versions}"
+    r = store("sqlite:" + path, runs[0])
+    assert r.returncode == 0 and "its document and" in r.stdout, r.stdout + r.stderr
+    shutil.rmtree(fetched)
+    r = sh([BIN, "fetch", "--db", "sqlite:" + path, "--out", fetched])
+    assert r.returncode == 0 and "fetched 1 runs" in r.stdout, r.stdout + r.stderr
+    assert json.load(open(os.path.join(fetched, os.path.basename(runs[0]), "results.json"))) == \
+        json.load(open(os.path.join(runs[0], "results.json"))), "the fetched run is the stored one"
 
 
 def sqlite_part(tmp, runs):
@@ -96,6 +159,9 @@ def sqlite_part(tmp, runs):
     assert r.returncode == 0, r.stderr
     assert count("runs") == len(runs) + 1
     print(f"sqlite: {count('runs')} runs, {count('cases')} cases, {count('measures')} measures")
+    check_migration_from_schema_1(tmp, runs)
+    alerts = check_history("sqlite:" + os.path.join(tmp, "db", "history.db"), history_runs(tmp), tmp)
+    print(f"sqlite: history and report from the store equal the folders' ({alerts} alerts)")
 
 
 def free_port():
@@ -135,6 +201,11 @@ def postgresql_part(tmp, runs):
 
         check_store(db, runs, count)
         print(f"postgresql: {count('runs')} runs, {count('cases')} cases, {count('measures')} measures")
+        r = sh([f"{bindir}/psql", "-h", data, "-p", str(port), "-U", "omnishadow", "-d", "postgres", "-c",
+                "CREATE DATABASE history"])
+        assert r.returncode == 0, r.stderr
+        alerts = check_history(db.replace("/postgres?", "/history?"), os.path.join(tmp, "history"), tmp)
+        print(f"postgresql: history and report from the store equal the folders' ({alerts} alerts)")
     finally:
         sh(as_user + [f"{bindir}/pg_ctl", "-D", f"{data}/data", "-m", "immediate", "stop"])
         shutil.rmtree(data, ignore_errors=True)

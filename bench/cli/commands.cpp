@@ -439,48 +439,4 @@ std::string project_path(const std::string& relative) {
   return (fs::path(OMNISHADOW_SOURCE_DIR) / relative).string();
 }
 
-int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out) {
-  const std::string python = "/usr/bin/python3";
-  const std::string script = project_path("scripts/analysis/report.py");
-  std::error_code ec;
-  if (!fs::exists(python, ec) || !fs::exists(script, ec)) {
-    print_error("report needs " + python + " and " + script +
-                " (scripts/setup.sh installs Python's packages)");
-    return 2;
-  }
-  // The paths first, in this process's words: the script would say them in Python's.
-  auto is_run = [&](const std::string& path) {
-    return fs::is_regular_file(path, ec) || fs::is_regular_file(fs::path(path) / "results.json", ec);
-  };
-  if (!is_run(run)) {
-    print_error("report: " + run +
-                " is no run (no results.json there; give a run folder or its results.json)");
-    return 2;
-  }
-  for (const std::string& h : history)
-    if (!fs::exists(h, ec)) {
-      print_error("report --history " + h + ": no such run or folder");
-      return 2;
-    }
-  if (!out.empty() && (fs::is_directory(out, ec) || !fs::is_directory(fs::absolute(out).parent_path(), ec))) {
-    print_error(
-        "report --out " + out + ": " +
-        (fs::is_directory(out, ec) ? "is a folder; give the HTML file's path" : "its folder does not exist"));
-    return 2;
-  }
-  std::vector<std::string> args = {python, script, run};
-  if (!history.empty()) {
-    args.push_back("--history");
-    args.insert(args.end(), history.begin(), history.end());
-  }
-  if (!out.empty()) args.insert(args.end(), {"--out", out});
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  std::fflush(stdout);
-  execv(python.c_str(), argv.data());
-  print_error("report: cannot run " + python + ": " + std::strerror(errno));
-  return 2;
-}
-
 }  // namespace omnishadow::bench

@@ -43,10 +43,22 @@ struct RunCommand {
 int run_command(const RunCommand& cmd);
 int list_command(const std::string& scenes_dir, const std::map<std::string, std::string>& backend_options);
 
-// `report RUN [--history ...] [--out FILE]`: scripts/analysis/report.py (the HTML page is written with
-// matplotlib, in Python), run with Debian's /usr/bin/python3 in place of this process. Exit 2 when either is
-// missing.
-int report_command(const std::string& run, const std::vector<std::string>& history, const std::string& out);
+// `report RUN [--history ...] [--db URL] [--out FILE]`: scripts/analysis/report.py (the HTML page is written
+// with matplotlib, in Python), run with Debian's /usr/bin/python3; the history from run folders, the results
+// store, or both (bench/cli/analysis_commands.cpp). Exit 2 when either is missing.
+struct ReportArgs {
+  std::string run, out, db;
+  std::vector<std::string> history;
+};
+int report_command(const ReportArgs& args);
+// `history RUN_OR_FOLDER... | --db URL [--out DIR] [--device-key KEY] [--accepted FILE]`:
+// scripts/analysis/history.py over run folders, the results store's runs, or both; its exit code (1: an
+// alert).
+struct HistoryArgs {
+  std::vector<std::string> runs;
+  std::string db, out, device_key, accepted;
+};
+int history_command(const HistoryArgs& args);
 
 // `store RUN... [--db URL]`: each run into the database in a transaction of its own (bench/report/
 // results_store.h), one line each on stdout; exit 2 at the first run that cannot be read or stored (the runs
@@ -55,6 +67,18 @@ int store_command(const std::vector<std::string>& runs, const std::string& db);
 // `export RUN --format bencher|github-action-benchmark [--out FILE]` (bench/report/export.h): to stdout, or
 // written atomically to FILE.
 int export_command(const std::string& run, const std::string& format, const std::string& out);
+// `fetch --db URL --out DIR [--device-key KEY]`: every stored run (with a device of that key) as a run folder
+// under DIR, as fetch_into writes them; DIR must be new or empty.
+int fetch_command(const std::string& db, const std::string& out, const std::string& device_key);
+// Each stored run as DIR/NAME/results.json (the document as stored) and DIR/NAME/image_hashes.json (image
+// path
+// -> SHA-256, which history.py reads where the image itself is absent). NAME is the stored run's folder name,
+// with its run key added where two share one. Throws StoreError.
+struct FetchSummary {
+  int runs = 0;
+  int without_document = 0;  // runs stored under schema 1, not written
+};
+FetchSummary fetch_into(const std::string& db, const std::string& device_key, const std::string& dir);
 
 // One line on stderr, "omnishadow: error: ...".
 void print_error(const std::string& message);

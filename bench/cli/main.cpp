@@ -58,24 +58,42 @@ int run_file_command(CLI::App* cmp, CLI::App* mrg, const CompareFlags& cf, Compa
 }
 
 struct FileArgs {
-  std::string report_run, report_out;
-  std::vector<std::string> report_history;
+  ReportArgs report;
+  HistoryArgs history;
   std::vector<std::string> runs;
   std::string db = kDefaultStoreUrl;
+  std::string fetch_db = kDefaultStoreUrl, fetch_out, fetch_device_key;
   std::string export_run, export_format, export_out;
 };
 CLI::App* add_report_command(CLI::App& app, FileArgs& a) {
   CLI::App* rep = app.add_subcommand("report", "one self-contained HTML page of a run (and its history)");
-  rep->add_option("run", a.report_run, "run folder")->required();
-  rep->add_option("--history", a.report_history,
+  rep->add_option("run", a.report.run, "run folder")->required();
+  rep->add_option("--history", a.report.history,
                   "run folders (or folders of runs) of the same device, any order");
-  rep->add_option("--out", a.report_out, "the HTML file (default RUN/report.html)");
+  rep->add_option("--db", a.report.db,
+                  "the history from the results store too: sqlite:PATH or postgresql://...");
+  rep->add_option("--out", a.report.out, "the HTML file (default RUN/report.html)");
   return rep;
+}
+CLI::App* add_history_command(CLI::App& app, FileArgs& a) {
+  CLI::App* his = app.add_subcommand("history", "change points over many runs of one device, and alerts");
+  his->add_option("runs", a.history.runs, "run folders or folders of runs, any order");
+  his->add_option("--db", a.history.db, "the runs of the results store too: sqlite:PATH or postgresql://...");
+  his->add_option("--out", a.history.out, "folder for history.json and history.md (default: .)");
+  his->add_option("--device-key", a.history.device_key,
+                  "the device to follow, as history.md names it (default: the one with most runs)");
+  his->add_option("--accepted", a.history.accepted, "accepted steps (default results/accepted_steps.json)");
+  return his;
 }
 CLI::App* add_store_command(CLI::App& app, FileArgs& a) {
   CLI::App* sto = app.add_subcommand("store", "put runs into a database: an SQLite file or PostgreSQL");
   sto->add_option("runs", a.runs, "run folders or results.json files")->required();
   sto->add_option("--db", a.db, "sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE")->capture_default_str();
+  CLI::App* fet = app.add_subcommand("fetch", "stored runs back out of the database, as run folders");
+  fet->add_option("--db", a.fetch_db, "sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE")
+      ->capture_default_str();
+  fet->add_option("--out", a.fetch_out, "a new (or empty) folder for the runs")->required();
+  fet->add_option("--device-key", a.fetch_device_key, "only runs with this device (omnishadow device-key)");
   return sto;
 }
 CLI::App* add_export_command(CLI::App& app, FileArgs& a) {
@@ -85,6 +103,15 @@ CLI::App* add_export_command(CLI::App& app, FileArgs& a) {
   exp->add_option("--format", a.export_format, "bencher or github-action-benchmark")->required();
   exp->add_option("--out", a.export_out, "the JSON file (default: stdout)");
   return exp;
+}
+// report, history, store, fetch and export: -1 when none of them was asked for.
+int run_store_or_page_command(CLI::App& app, const FileArgs& a) {
+  if (app.got_subcommand("report")) return report_command(a.report);
+  if (app.got_subcommand("history")) return history_command(a.history);
+  if (app.got_subcommand("store")) return store_command(a.runs, a.db);
+  if (app.got_subcommand("fetch")) return fetch_command(a.fetch_db, a.fetch_out, a.fetch_device_key);
+  if (app.got_subcommand("export")) return export_command(a.export_run, a.export_format, a.export_out);
+  return -1;
 }
 
 }  // namespace
@@ -132,10 +159,11 @@ int main(int argc, char** argv) {
   CLI::App* mrg = app.add_subcommand("merge", "join the results of --shard runs into one run");
   mrg->add_option("out", merge_out, "folder for the merged results.json")->required();
   mrg->add_option("runs", merge_inputs, "run folders or results.json files")->required();
-  FileArgs files;  // report, store and export, in functions of their own: main() stays short
-  CLI::App* rep = add_report_command(app, files);
-  CLI::App* sto = add_store_command(app, files);
-  CLI::App* exp = add_export_command(app, files);
+  FileArgs files;  // report, history, store, fetch and export, in functions of their own: main() stays short
+  add_report_command(app, files);
+  add_history_command(app, files);
+  add_store_command(app, files);
+  add_export_command(app, files);
   CLI::App* key =
       app.add_subcommand("device-key", "print the device key of each backend of a run (baselines/)");
   key->add_option("run", key_run, "run folder or results.json")->required();
@@ -160,9 +188,7 @@ int main(int argc, char** argv) {
   if ((list->parsed() || r->parsed()) && !scenes_dir_exists(common.scenes_dir)) return 2;
   if (list->parsed()) return list_command(common.scenes_dir, common.backend_options());
   if (r->parsed()) return run_command(run);
-  if (rep->parsed()) return report_command(files.report_run, files.report_history, files.report_out);
-  if (sto->parsed()) return store_command(files.runs, files.db);
-  if (exp->parsed()) return export_command(files.export_run, files.export_format, files.export_out);
+  if (const int code = run_store_or_page_command(app, files); code >= 0) return code;
   return run_file_command(app.get_subcommand("compare"), mrg, compare_flags, compare, merge_out, merge_inputs,
                           key_run);
 }

@@ -1,6 +1,9 @@
-// `omnishadow store` (runs into the results database) and `omnishadow export` (a run for a dashboard).
+// `omnishadow store` (runs into the results database), `omnishadow fetch` (runs back out of it, as folders)
+// and `omnishadow export` (a run for a dashboard).
 
+#include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "bench/cli/commands.h"
 #include "bench/io/file_io.h"
@@ -18,6 +21,9 @@ int store_command(const std::vector<std::string>& runs, const std::string& db) {
       if (s.added)
         std::cout << "stored " << s.file << " as run " << s.run_key << ": " << s.cases << " cases, "
                   << s.measures << " measures\n";
+      else if (s.completed)
+        std::cout << "already stored: " << s.file << " (run " << s.run_key << "); its document and "
+                  << s.images << " image hashes added (stored before schema 2)\n";
       else
         std::cout << "already stored: " << s.file << " (run " << s.run_key << "), nothing written\n";
     }
@@ -26,6 +32,67 @@ int store_command(const std::vector<std::string>& runs, const std::string& db) {
     return 0;
   } catch (const std::exception& e) {
     print_error("store: " + std::string(e.what()));
+    return 2;
+  }
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The stored run's folder name ("first" for /tmp/x/first/results.json), its key where that is empty or taken.
+std::string folder_name(const FetchedRun& run, std::set<std::string>& taken) {
+  fs::path p(run.file);
+  if (p.filename() == "results.json") p = p.parent_path();
+  std::string name = p.filename().string();
+  if (name.empty() || name == "." || name == "..") name = run.run_key;
+  if (!taken.insert(name).second) {
+    name += "-" + run.run_key;
+    taken.insert(name);
+  }
+  return name;
+}
+
+}  // namespace
+
+FetchSummary fetch_into(const std::string& db, const std::string& device_key, const std::string& dir) {
+  ResultsStore store(db);
+  FetchSummary summary;
+  const std::vector<FetchedRun> runs = store.fetch(device_key, summary.without_document);
+  std::error_code made;
+  fs::create_directories(dir, made);  // there even when empty: "fetched 0 runs into DIR" names a folder
+  if (made) throw StoreError("cannot make " + dir + ": " + made.message());
+  std::set<std::string> taken;
+  for (const FetchedRun& run : runs) {
+    const fs::path folder = fs::path(dir) / folder_name(run, taken);
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (ec) throw StoreError("cannot make " + folder.string() + ": " + ec.message());
+    write_file_atomic((folder / "results.json").string(), run.body);
+    write_file_atomic((folder / "image_hashes.json").string(),
+                      nlohmann::json(run.image_sha256).dump(1) + "\n");
+    ++summary.runs;
+  }
+  return summary;
+}
+
+int fetch_command(const std::string& db, const std::string& out, const std::string& device_key) {
+  std::error_code ec;
+  if (fs::exists(out, ec) && !(fs::is_directory(out, ec) && fs::is_empty(out, ec))) {
+    print_error("fetch --out " + out + ": exists and is not an empty folder (fetch writes a fresh one)");
+    return 2;
+  }
+  try {
+    const FetchSummary f = fetch_into(db, device_key, out);
+    std::cout << "fetched " << f.runs << " runs from " << redacted_store_url(db)
+              << (device_key.empty() ? "" : " with device key " + device_key) << " into " << out << "\n";
+    if (f.without_document > 0)
+      std::cout << f.without_document
+                << " stored run(s) have no document (stored before schema 2): store their folders again to "
+                   "add it\n";
+    return 0;
+  } catch (const std::exception& e) {
+    print_error("fetch: " + std::string(e.what()));
     return 2;
   }
 }

@@ -1,5 +1,6 @@
 #include "bench/report/results_store.h"
 
+#include <openssl/evp.h>
 #include <soci/postgresql/soci-postgresql.h>
 #include <soci/soci.h>
 #include <soci/sqlite3/soci-sqlite3.h>
@@ -7,8 +8,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <regex>
+#include <set>
 
 #include "bench/report/compare.h"
 
@@ -43,6 +46,11 @@ const std::vector<Migration> kMigrations = {
       "repetition))",
       "CREATE TABLE findings (run_key TEXT NOT NULL, case_id TEXT NOT NULL, seq INTEGER NOT NULL, check_name "
       "TEXT NOT NULL, status TEXT NOT NULL, message TEXT NOT NULL, PRIMARY KEY (run_key, case_id, seq))"}},
+    {"each run's results.json whole (fetch, history --db and report --db read it back), and the SHA-256 of "
+     "every image file the run wrote",
+     {"CREATE TABLE documents (run_key TEXT PRIMARY KEY, body TEXT NOT NULL)",
+      "CREATE TABLE images (run_key TEXT NOT NULL, case_id TEXT NOT NULL, role TEXT NOT NULL, path TEXT NOT "
+      "NULL, sha256 TEXT NOT NULL, PRIMARY KEY (run_key, case_id, role))"}},
 };
 
 // sqlite:PATH (the file, its folder created), or postgresql://... / postgres://... (libpq's URI, as is).
@@ -178,6 +186,51 @@ Rows measures_of(const RunData& run) {
   return rows;
 }
 
+// 64 hex digits of the file's SHA-256 (what `sha256sum` prints), or "" when it cannot be read.
+std::string sha256_of_file(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return "";
+  EVP_MD_CTX* ctx = EVP_MD_CTX_new();
+  EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
+  char buf[1 << 16];
+  while (f.read(buf, sizeof buf) || f.gcount() > 0) EVP_DigestUpdate(ctx, buf, size_t(f.gcount()));
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  EVP_DigestFinal_ex(ctx, digest, &length);
+  EVP_MD_CTX_free(ctx);
+  std::string hex;
+  for (unsigned int i = 0; i < length; ++i) {
+    char two[3];
+    std::snprintf(two, sizeof two, "%02x", digest[i]);
+    hex += two;
+  }
+  return f.bad() ? "" : hex;
+}
+
+// The run's results.json whole, and the hash of every image it names that is there (--images none writes
+// none; a folder copied without its images keeps its document).
+void insert_document(soci::session& sql, const RunData& run, const std::string& key, StoredRun& out) {
+  const std::string body = run.doc.dump();
+  sql << "INSERT INTO documents (run_key, body) VALUES (:k, :b)", soci::use(key), soci::use(body);
+  std::vector<std::string> ids, roles, paths, hashes;
+  for (const auto& [id, c] : run.cases) {
+    if (!c->contains("images") || !(*c)["images"].is_object()) continue;
+    for (const auto& [role, relative] : (*c)["images"].items()) {
+      if (!relative.is_string()) continue;
+      const std::string hash =
+          sha256_of_file((std::filesystem::path(run.dir) / relative.get<std::string>()).string());
+      if (hash.empty()) continue;
+      ids.push_back(id), roles.push_back(role), paths.push_back(relative.get<std::string>());
+      hashes.push_back(hash);
+    }
+  }
+  const std::vector<std::string> keys(ids.size(), key);
+  if (!ids.empty())
+    sql << "INSERT INTO images (run_key, case_id, role, path, sha256) VALUES (:k, :i, :r, :p, :h)",
+        soci::use(keys), soci::use(ids), soci::use(roles), soci::use(paths), soci::use(hashes);
+  out.images = int(ids.size());
+}
+
 void insert_run(soci::session& sql, const RunData& run, const std::string& key, StoredRun& out) {
   const json& o = run.doc["omnishadow"];
   const std::string format = o.value("format", ""), commit = o.value("commit", ""),
@@ -242,7 +295,9 @@ void insert_run(soci::session& sql, const RunData& run, const std::string& key, 
 }  // namespace
 
 StoredRun ResultsStore::store(const RunData& run) {
-  StoredRun out{run.file, run_key_of(run.doc.dump()), false, 0, 0};
+  StoredRun out;
+  out.file = run.file;
+  out.run_key = run_key_of(run.doc.dump());
   soci::session& sql = impl_->sql;
   try {
     begin_exclusive(sql, impl_->sqlite);
@@ -251,7 +306,16 @@ StoredRun ResultsStore::store(const RunData& run) {
     sql << "SELECT COUNT(*) FROM runs WHERE run_key = :k", soci::use(out.run_key), soci::into(present);
     if (present == 0) {
       insert_run(sql, run, out.run_key, out);
+      insert_document(sql, run, out.run_key, out);
       out.added = true;
+    } else {
+      int documents = 0;  // a run stored under schema 1 gets its document and image hashes now
+      sql << "SELECT COUNT(*) FROM documents WHERE run_key = :k", soci::use(out.run_key),
+          soci::into(documents);
+      if (documents == 0) {
+        insert_document(sql, run, out.run_key, out);
+        out.completed = true;
+      }
     }
     sql << "COMMIT";
   } catch (const std::exception& e) {
@@ -276,11 +340,45 @@ int ResultsStore::schema_version() {
 }
 
 long long ResultsStore::count(const std::string& table) {
-  if (table != "runs" && table != "cases" && table != "measures" && table != "findings" && table != "devices")
-    throw StoreError("no table " + table);
+  static const std::set<std::string> tables = {"runs",    "cases",     "measures", "findings",
+                                               "devices", "documents", "images"};
+  if (!tables.count(table)) throw StoreError("no table " + table);
   long long n = 0;
   impl_->sql << "SELECT COUNT(*) FROM " + table, soci::into(n);
   return n;
+}
+
+std::vector<FetchedRun> ResultsStore::fetch(const std::string& device_key, int& without_document) {
+  schema_version();  // migrated first: a store made by an older binary reads as empty, not as an error
+  soci::session& sql = impl_->sql;
+  std::vector<FetchedRun> runs;
+  try {
+    // Every run when no device key is asked for; the key is bound either way (one statement).
+    soci::rowset<soci::row> rows =
+        (sql.prepare << "SELECT r.run_key, r.file, r.commit_date, d.body FROM runs r JOIN documents d ON "
+                        "d.run_key = r.run_key WHERE :dk = '' OR EXISTS (SELECT 1 FROM devices v WHERE "
+                        "v.run_key = r.run_key AND v.device_key = :dk2) ORDER BY r.commit_date, r.run_key",
+         soci::use(device_key), soci::use(device_key));
+    for (const soci::row& row : rows)
+      runs.push_back({row.get<std::string>(0),
+                      row.get<std::string>(1),
+                      row.get<std::string>(2),
+                      row.get<std::string>(3),
+                      {}});
+    for (FetchedRun& run : runs) {
+      soci::rowset<soci::row> images =
+          (sql.prepare << "SELECT path, sha256 FROM images WHERE run_key = :k", soci::use(run.run_key));
+      for (const soci::row& row : images) run.image_sha256[row.get<std::string>(0)] = row.get<std::string>(1);
+    }
+    long long all = 0, with_document = 0;
+    sql << "SELECT COUNT(*) FROM runs", soci::into(all);
+    sql << "SELECT COUNT(*) FROM documents", soci::into(with_document);
+    without_document = int(all - with_document);
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    throw StoreError("cannot read " + url_ + ": " + what.substr(0, what.find('\n')));
+  }
+  return runs;
 }
 
 }  // namespace omnishadow::bench

@@ -5,6 +5,7 @@
 // stored in one transaction, so a crash, a full disk or a second writer leaves either the whole run or none
 // of it; a run is keyed by a hash of its results.json, so storing it again changes nothing.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -19,15 +20,26 @@ class StoreError : public std::runtime_error {
 
 inline constexpr const char* kDefaultStoreUrl = "sqlite:results/omnishadow.db";
 // The newest schema version this binary writes (docs/store.md lists each migration).
-inline constexpr int kStoreSchemaVersion = 1;
+inline constexpr int kStoreSchemaVersion = 2;
 
 // What one store did: the run's key, and whether it was new (false: already stored, nothing written).
 struct StoredRun {
   std::string file;
   std::string run_key;
   bool added = false;
+  bool completed = false;  // already stored, under schema 1: its document and image hashes added now
   int cases = 0;
   int measures = 0;
+  int images = 0;
+};
+
+// A stored run as fetch gives it back: its results.json as stored, and its images' hashes.
+struct FetchedRun {
+  std::string run_key;
+  std::string file;  // as given to `store`
+  std::string commit_date;
+  std::string body;                                 // the results.json
+  std::map<std::string, std::string> image_sha256;  // image path (relative to the run folder) -> SHA-256
 };
 
 class ResultsStore {
@@ -43,6 +55,9 @@ class ResultsStore {
   // disk); nothing of the run is then stored.
   StoredRun store(const RunData& run);
   int schema_version();
+  // Every run stored with its document, oldest commit first (runs of one commit by key); with `device_key`,
+  // only the runs with a device of that key. `without_document`: runs stored under schema 1, which have none.
+  std::vector<FetchedRun> fetch(const std::string& device_key, int& without_document);
   // Rows of a table (tests, `store` summary): runs, cases, measures.
   long long count(const std::string& table);
 

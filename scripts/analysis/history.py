@@ -35,15 +35,21 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 TIMING_GATE = {"penalty": 3.0, "alpha": 0.01, "min_effect": 0.02, "min_size": 3}
 
 
+def fail(message):
+    """Bad input: one line in the CLI's words (omnishadow history runs this script), exit 2 (1 is an alert)."""
+    print(f"omnishadow: error: history: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
 def load(path):
     file = os.path.join(path, "results.json") if os.path.isdir(path) else path
     try:
         with open(file) as f:
             doc = json.load(f)
     except (OSError, ValueError) as e:
-        sys.exit(f"history: cannot read {file}: {e}")
+        fail(f"cannot read {file}: {e}")
     if not isinstance(doc, dict) or not isinstance(doc.get("omnishadow"), dict):
-        sys.exit(f"history: {file} is not an omnishadow results file")
+        fail(f"{file} is not an omnishadow results file")
     doc["_path"] = path
     return doc
 
@@ -57,7 +63,7 @@ def find_runs(paths):
             runs += sorted(os.path.join(p, d) for d in os.listdir(p)
                            if os.path.isfile(os.path.join(p, d, "results.json")))
         else:
-            sys.exit(f"history: {p}: no such run or folder")
+            fail(f"{p}: no such run or folder")
     return runs
 
 
@@ -87,11 +93,19 @@ IMAGE_ROLES = ("lit", "cube_faces", "shadow_factor_png")
 
 
 def image_digest(run_dir, relative):
+    """The image file's SHA-256, or, for a run fetched from the results store (`omnishadow fetch`, history and
+    report --db), the hash the store kept when the run was stored (image_hashes.json: path -> SHA-256)."""
     try:
         with open(os.path.join(run_dir, relative), "rb") as f:
             return hashlib.sha256(f.read()).hexdigest()[:16]
     except OSError:
+        pass
+    try:
+        with open(os.path.join(run_dir, "image_hashes.json")) as f:
+            stored = json.load(f).get(relative)
+    except (OSError, ValueError):
         return None
+    return stored[:16] if isinstance(stored, str) else None
 
 
 def metrics(case, run_dir="."):
@@ -131,15 +145,21 @@ def commit_order(docs, repo):
 
 
 def load_accepted(path):
+    """The accepted steps; none while the file does not exist yet (nothing accepted so far)."""
     if not path or not os.path.exists(path):
         return []
-    with open(path) as f:
-        doc = json.load(f)
-    steps = doc.get("steps", [])
+    try:
+        with open(path) as f:
+            doc = json.load(f)
+    except (OSError, ValueError) as e:
+        fail(f"--accepted {path}: cannot read: {e}")
+    steps = doc.get("steps", []) if isinstance(doc, dict) else None
+    if not isinstance(steps, list):
+        fail(f"--accepted {path}: /steps: a list of accepted steps is required")
     for i, s in enumerate(steps):
         for field in ("case", "metric", "commit", "reason"):
             if not isinstance(s.get(field), str) or not s[field]:
-                sys.exit(f"history: {path}: /steps/{i}/{field}: a non-empty string is required")
+                fail(f"{path}: /steps/{i}/{field}: a non-empty string is required")
     return steps
 
 
@@ -190,7 +210,7 @@ def analyse(runs, accepted, repo, key=None):
     key = key or keys.most_common(1)[0][0]
     docs = [d for d in docs if device_key(d) == key]
     if not docs:
-        sys.exit(f"history: no run of device key {key!r}; keys found: {', '.join(keys)}")
+        fail(f"no run of device key {key!r}; keys found: {', '.join(keys)}")
     order = sorted(zip(commit_order(docs, repo), docs), key=lambda kv: kv[0][0])
     commits = []
     values = {}  # (case, metric) -> {commit: [values]}
@@ -256,12 +276,20 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("runs", nargs="+")
     parser.add_argument("--out", default=".")
-    parser.add_argument("--accepted", default=os.path.join(ROOT, "results", "accepted_steps.json"))
+    parser.add_argument("--accepted", default=os.path.join(ROOT, "results", "accepted_steps.json"),
+                        help="accepted steps (a file not there yet: nothing accepted)")
     parser.add_argument("--repo", default=ROOT)
     parser.add_argument("--device-key")
     args = parser.parse_args()
-    result = analyse(find_runs(args.runs), load_accepted(args.accepted), args.repo, args.device_key)
-    os.makedirs(args.out, exist_ok=True)
+    accepted = load_accepted(args.accepted)
+    runs = find_runs(args.runs)
+    if not runs:
+        fail(f"no run (no results.json) in {', '.join(args.runs)}")
+    result = analyse(runs, accepted, args.repo, args.device_key)
+    try:
+        os.makedirs(args.out, exist_ok=True)
+    except OSError as e:
+        fail(f"--out {args.out}: cannot create: {e.strerror}")
     text = markdown(result)
     write_atomic(os.path.join(args.out, "history.json"), json.dumps(result, indent=1))
     write_atomic(os.path.join(args.out, "history.md"), text)
