@@ -12,7 +12,8 @@ import re
 import subprocess
 import sys
 
-SUBCOMMANDS = ["list", "run", "compare", "merge", "report", "history", "store", "fetch", "export"]
+SUBCOMMANDS = ["list", "run", "compare", "merge", "report", "history", "alerts", "accept", "threshold", "store", "fetch",
+               "export"]
 VALUE_OPTION = re.compile(r"^\s+(?:-\w,)?(--[a-z0-9][a-z0-9-]*)\s+(?:TEXT|INT|UINT|FLOAT|REGEX|INDEX)", re.M)
 ROW = re.compile(r'BadInput\{\s*"((?:[^"\\]|\\.)*)"')
 

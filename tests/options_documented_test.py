@@ -25,6 +25,9 @@ OPTION_GROUPS = {
     "store": ["store"],
     "fetch": ["fetch"],
     "history": ["history"],
+    "alerts": ["alerts"],
+    "accept": ["accept"],
+    "threshold": ["threshold"],
     "export": ["export"],
 }
 HELP_OPTION = re.compile(r"^\s+(?:-\w,)?(--[a-z0-9][a-z0-9-]*)", re.M)

@@ -49,7 +49,7 @@ def check_store(db, runs, count):
     assert count("runs") == 1 and count("cases") == cases, (count("runs"), count("cases"))
     measures = count("measures")
     assert measures >= cases * 2, f"per-repetition times of every case: {measures}"
-    assert count("schema_migrations") == 2, "both migrations applied, once each"
+    assert count("schema_migrations") == 3, "every migration applied, once each"
     assert count("documents") == 1, "the run's results.json kept whole"
     r = store(db, runs[0])
     assert r.returncode == 0 and "already stored" in r.stdout, r.stdout + r.stderr
@@ -71,10 +71,13 @@ def check_store(db, runs, count):
 
 
 def history_runs(tmp):
-    """Three commits of one small matrix, a day apart: c1 and c2 alike; c3 with a planted accuracy regression (every
-    cube lookup moved by half a texel, --lookup-perturb 0.5: the ids stay, the shadows and images change)."""
+    """Four commits of one small matrix, a day apart: c1 and c2 alike; c3 with a planted accuracy regression (every
+    cube lookup moved by half a texel, --lookup-perturb 0.5: the ids stay, the shadows and images change, and the
+    lookup check fails six_pass: ok -> failed_check); c4 the same shadows held to the default error bound (5%)
+    instead of 100%: geometry_shader ok -> failed_quality."""
     folder = os.path.join(tmp, "history")
-    for i, extra in enumerate([[], [], ["--lookup-perturb", "0.5"]], 1):
+    lenient, perturbed = ["--max-error", "100"], ["--lookup-perturb", "0.5"]
+    for i, extra in enumerate([lenient, lenient, lenient + perturbed, perturbed], 1):
         run = make_run(folder, f"c{i}", ["--cube", "16", "--frame", "32x24"] + extra, images="all")
         path = os.path.join(run, "results.json")
         doc = json.load(open(path))
@@ -100,7 +103,7 @@ def check_history(db, folder, tmp):
                        open(page).read()]
     alerts = json.loads(pages["db"][1])["alerts"]
     planted = [a for a in alerts if a["commit"] == "c3" and a["metric"] == "misclassified_percent"]
-    assert planted and len({a["case"] for a in planted}) == 2, f"the accuracy step at c3, both cases: {alerts}"
+    assert len({a["case"] for a in planted}) == 2, f"the accuracy step at c3, both cases: {alerts}"
     assert any(a["metric"].startswith("image_") and a["commit"] == "c3" for a in alerts), \
         f"the images' step at c3, from the hashes the store kept: {alerts}"
     for i, what in enumerate(("history.md", "history.json", "report.html")):
@@ -109,20 +112,21 @@ def check_history(db, folder, tmp):
 
 
 def check_migration_from_schema_1(tmp, runs):
-    """A store written at schema 1 (the first binary's: the state of a schema-2 store without migration 2's
-    tables and row) is migrated by the next store; its old runs have no document until stored again, and say so."""
+    """A store written at schema 1 (the first binary's: the state of a newer store without the later migrations'
+    tables and rows) is migrated by the next fetch; its old runs have no document until stored again, and say so."""
     path = os.path.join(tmp, "db", "schema1.db")
     r = store("sqlite:" + path, runs[0])
     assert r.returncode == 0, r.stderr
     with sqlite3.connect(path) as c:
-        c.executescript("DROP TABLE documents; DROP TABLE images; DELETE FROM schema_migrations WHERE version = 2;")
+        c.executescript("DROP TABLE documents; DROP TABLE images; DROP TABLE thresholds; DROP TABLE accepted_steps; "
+                        "DELETE FROM schema_migrations WHERE version >= 2;")
     fetched = os.path.join(tmp, "fetched-schema1")
     r = sh([BIN, "fetch", "--db", "sqlite:" + path, "--out", fetched])
     assert r.returncode == 0 and "fetched 0 runs" in r.stdout and "1 stored run(s) have no document" in r.stdout, \
         r.stdout + r.stderr
     with sqlite3.connect(path) as c:
         versions = [v for (v,) in c.execute("SELECT version FROM schema_migrations ORDER BY version")]
-    assert versions == [1, 2], f"fetch migrates an old store first: {versions}"
+    assert versions == [1, 2, 3], f"fetch migrates an old store first: {versions}"
     r = store("sqlite:" + path, runs[0])
     assert r.returncode == 0 and "its document and" in r.stdout, r.stdout + r.stderr
     shutil.rmtree(fetched)
@@ -130,6 +134,37 @@ def check_migration_from_schema_1(tmp, runs):
     assert r.returncode == 0 and "fetched 1 runs" in r.stdout, r.stdout + r.stderr
     assert json.load(open(os.path.join(fetched, os.path.basename(runs[0]), "results.json"))) == \
         json.load(open(os.path.join(runs[0], "results.json"))), "the fetched run is the stored one"
+
+
+def alerts(db, out):
+    r = sh([BIN, "alerts", "--db", db, "--out", out])
+    assert r.returncode in (0, 1), r.stdout + r.stderr
+    found = {(a["metric"], a["previous_commit"], a["commit"], a["regression"]): a for a in
+             json.load(open(os.path.join(out, "alerts.json")))["alerts"]}
+    assert (r.returncode == 1) == bool(found), f"alerts exit 1 exactly when there are some: {r.returncode} {found}"
+    return {k[:3]: k[3] for k in found}, r.stdout
+
+
+def check_alerts(db, tmp):
+    """alerts lists the steps not yet accepted with their commit ranges: the planted accuracy regression at c3
+    and the status regressions at c3 and c4; a threshold in the store (a fixed 50% on misclassified pixels) and
+    accepted steps in the store silence them."""
+    found, page = alerts(db, os.path.join(tmp, "alerts-1"))
+    assert found.get(("misclassified_percent", "c2", "c3")) is True, f"the accuracy regression, c2..c3: {found}"
+    assert found.get(("status", "c3", "c4")) is True, f"the status regression ok -> failed_quality, c3..c4: {found}"
+    assert {k[0] for k in found if k[2] == "c4"} == {"status"}, f"c4 changed the statuses only: {found}"
+    assert ("image_lit", "c2", "c3") in found, found
+    assert "| c2..c3 |" in page and "| ok | failed_quality |" in page, page
+    r = sh([BIN, "threshold", "--db", db, "--metric", "^misclassified_percent$", "--percent", "50"])
+    assert r.returncode == 0, r.stderr
+    found, _ = alerts(db, os.path.join(tmp, "alerts-2"))
+    assert ("misclassified_percent", "c2", "c3") not in found, f"+19% is under the store's 50% threshold: {found}"
+    assert ("status", "c3", "c4") in found, found
+    for metric, commit in (("status", "c3"), ("status", "c4"), ("image_", "c3")):
+        r = sh([BIN, "accept", "--db", db, "--case", "room", "--metric", metric, "--commit", commit, "--reason", "planted"])
+        assert r.returncode == 0, r.stderr
+    found, page = alerts(db, os.path.join(tmp, "alerts-3"))
+    assert not found and "0 not accepted" in page, f"every step accepted or under its threshold: {found}"
 
 
 def sqlite_part(tmp, runs):
@@ -168,8 +203,11 @@ def sqlite_part(tmp, runs):
     assert count("runs") == len(runs) + 1
     print(f"sqlite: {count('runs')} runs, {count('cases')} cases, {count('measures')} measures")
     check_migration_from_schema_1(tmp, runs)
-    alerts = check_history("sqlite:" + os.path.join(tmp, "db", "history.db"), history_runs(tmp), tmp)
-    print(f"sqlite: history and report from the store equal the folders' ({alerts} alerts)")
+    db = "sqlite:" + os.path.join(tmp, "db", "history.db")
+    count = check_history(db, history_runs(tmp), tmp)
+    check_alerts(db, tmp)
+    print(f"sqlite: history and report from the store equal the folders' ({count} alerts); alerts, thresholds, "
+          "accepted steps")
 
 
 def free_port():
@@ -212,8 +250,11 @@ def postgresql_part(tmp, runs):
         r = sh([f"{bindir}/psql", "-h", data, "-p", str(port), "-U", "omnishadow", "-d", "postgres", "-c",
                 "CREATE DATABASE history"])
         assert r.returncode == 0, r.stderr
-        alerts = check_history(db.replace("/postgres?", "/history?"), os.path.join(tmp, "history"), tmp)
-        print(f"postgresql: history and report from the store equal the folders' ({alerts} alerts)")
+        history_db = db.replace("/postgres?", "/history?")
+        alerts_count = check_history(history_db, os.path.join(tmp, "history"), tmp)
+        check_alerts(history_db, tmp)
+        print(f"postgresql: history and report from the store equal the folders' ({alerts_count} alerts); alerts, "
+              "thresholds, accepted steps")
     finally:
         sh(as_user + [f"{bindir}/pg_ctl", "-D", f"{data}/data", "-m", "immediate", "stop"])
         shutil.rmtree(data, ignore_errors=True)

@@ -137,7 +137,7 @@ int report_command(const ReportArgs& a) {
   return run_python("report", project_path("scripts/analysis/report.py"), args);
 }
 
-int history_command(const HistoryArgs& a) {
+int history_command(const HistoryArgs& a, bool alerts_only) {
   if (a.runs.empty() && a.db.empty()) {
     print_error("history: give run folders (or folders of runs) or --db URL");
     return 2;
@@ -149,15 +149,20 @@ int history_command(const HistoryArgs& a) {
       return 2;
     }
   std::vector<std::string> args = a.runs;
+  // The accepted steps of the file (given, or the project's) and, with --db, of the store as well; the
+  // store's thresholds.
+  args.insert(args.end(),
+              {"--accepted", a.accepted.empty() ? project_path("results/accepted_steps.json") : a.accepted});
   std::optional<TemporaryFolder> fetched;  // removed when the history is written
   if (!a.db.empty()) {
-    const std::string runs = fetch_for("history", a.db, fetched);
+    const std::string runs = fetch_for(alerts_only ? "alerts" : "history", a.db, fetched);
     if (runs.empty()) return 2;
-    args.push_back(runs);
+    args.insert(args.end(), {runs, "--accepted", (fs::path(runs) / "accepted_steps.json").string(),
+                             "--thresholds", (fs::path(runs) / "thresholds.json").string()});
   }
+  if (alerts_only) args.push_back("--alerts");
   if (!a.out.empty()) args.insert(args.end(), {"--out", a.out});
   if (!a.device_key.empty()) args.insert(args.end(), {"--device-key", a.device_key});
-  if (!a.accepted.empty()) args.insert(args.end(), {"--accepted", a.accepted});
   return run_python("history", project_path("scripts/analysis/history.py"), args);
 }
 

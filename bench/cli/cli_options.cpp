@@ -39,27 +39,6 @@ std::optional<double> finite_number(const std::string& text) {
   return v;
 }
 
-// CLI::Range lets NaN through (every comparison with it is false) and "inf" is a number to it: a real-valued
-// option must be a finite number within its range.
-CLI::Validator finite_in(double lo, double hi) {
-  return CLI::Validator(
-      [lo, hi](std::string& text) -> std::string {
-        const std::optional<double> v = finite_number(text);
-        if (!v) return "'" + text + "' is not a finite number";
-        if (*v < lo || *v > hi) {
-          std::ostringstream range;
-          range << "Value " << text << " not in range " << lo << " to " << hi;
-          return range.str();
-        }
-        return "";
-      },
-      [&] {
-        std::ostringstream d;
-        d << "FLOAT in [" << lo << " - " << hi << "]";
-        return d.str();
-      }());
-}
-
 template <typename T, typename Name>
 std::string join(const std::vector<T>& values, Name name) {
   std::string out;
@@ -392,6 +371,27 @@ void add_repetition_options(CLI::App& r, RepetitionPolicy& p) {
 }
 
 }  // namespace
+
+// CLI::Range lets NaN through (every comparison with it is false) and "inf" is a number to it: a real-valued
+// option must be a finite number within its range.
+CLI::Validator finite_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        const std::optional<double> v = finite_number(text);
+        if (!v) return "'" + text + "' is not a finite number";
+        if (*v < lo || *v > hi) {
+          std::ostringstream range;
+          range << "Value " << text << " not in range " << lo << " to " << hi;
+          return range.str();
+        }
+        return "";
+      },
+      [&] {
+        std::ostringstream d;
+        d << "FLOAT in [" << lo << " - " << hi << "]";
+        return d.str();
+      }());
+}
 
 std::map<std::string, std::string> CommonOptions::backend_options() const {
   return {{"egl_platform", egl_platform},

@@ -23,6 +23,9 @@ struct CommonOptions {
   bool api_checks = false;
   std::map<std::string, std::string> backend_options() const;  // create_backend's options
 };
+// A real-valued option's check: a finite number from lo to hi (CLI::Range lets NaN and "inf" through).
+CLI::Validator finite_in(double lo, double hi);
+
 void add_common_options(CLI::App& sub, CommonOptions& o);
 
 // `run`: the matrix axes, the harness options and the command's own. Flags that are the negation of a default

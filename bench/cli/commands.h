@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/report/results_store.h"
 #include "bench/run/case_runner.h"
 #include "bench/run/matrix.h"
 #include "bench/run/repetition_policy.h"
@@ -58,7 +59,9 @@ struct HistoryArgs {
   std::vector<std::string> runs;
   std::string db, out, device_key, accepted;
 };
-int history_command(const HistoryArgs& args);
+// alerts_only (`alerts --db URL`): only what is not yet accepted, with the commit range of each step, as
+// alerts.md and alerts.json.
+int history_command(const HistoryArgs& args, bool alerts_only = false);
 
 // `store RUN... [--db URL]`: each run into the database in a transaction of its own (bench/report/
 // results_store.h), one line each on stdout; exit 2 at the first run that cannot be read or stored (the runs
@@ -77,7 +80,21 @@ int fetch_command(const std::string& db, const std::string& out, const std::stri
 struct FetchSummary {
   int runs = 0;
   int without_document = 0;  // runs stored under schema 1, not written
+  int accepted_steps = 0,
+      thresholds = 0;  // written beside the runs: DIR/accepted_steps.json, thresholds.json
 };
+// `accept --db URL --case RE --metric RE --commit SHA --reason TEXT`: a step judged meant, kept in the store.
+struct AcceptArgs {
+  std::string db;
+  AcceptedStep step;
+};
+int accept_command(const AcceptArgs& args);
+// `threshold --db URL --metric RE [--device RE] (--percent P | --alpha A --min-effect E)`.
+struct ThresholdArgs {
+  std::string db;
+  Threshold threshold;
+};
+int threshold_command(const ThresholdArgs& args);
 FetchSummary fetch_into(const std::string& db, const std::string& device_key, const std::string& dir);
 
 // One line on stderr, "omnishadow: error: ...".

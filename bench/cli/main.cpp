@@ -59,7 +59,9 @@ int run_file_command(CLI::App* cmp, CLI::App* mrg, const CompareFlags& cf, Compa
 
 struct FileArgs {
   ReportArgs report;
-  HistoryArgs history;
+  HistoryArgs history, alerts;
+  AcceptArgs accept{kDefaultStoreUrl, {}};
+  ThresholdArgs threshold{kDefaultStoreUrl, {".*", "", {}, {}, {}}};
   std::vector<std::string> runs;
   std::string db = kDefaultStoreUrl;
   std::string fetch_db = kDefaultStoreUrl, fetch_out, fetch_device_key;
@@ -85,6 +87,37 @@ CLI::App* add_history_command(CLI::App& app, FileArgs& a) {
   his->add_option("--accepted", a.history.accepted, "accepted steps (default results/accepted_steps.json)");
   return his;
 }
+// alerts, accept and threshold: what changed and is not yet accepted, and the store's rules for it.
+void add_alert_commands(CLI::App& app, FileArgs& a) {
+  CLI::App* ale = app.add_subcommand("alerts", "what changed in the store's runs and is not yet accepted");
+  a.alerts.db = kDefaultStoreUrl;
+  ale->add_option("--db", a.alerts.db, "sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE")
+      ->capture_default_str();
+  ale->add_option("--out", a.alerts.out, "folder for alerts.json and alerts.md (default: .)");
+  ale->add_option("--device-key", a.alerts.device_key,
+                  "the device to follow, as the alerts name it (default: the one with most runs)");
+  CLI::App* acc = app.add_subcommand("accept", "keep a step in the store as meant: it stops alerting");
+  acc->add_option("--db", a.accept.db, "sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE")
+      ->capture_default_str();
+  acc->add_option("--case", a.accept.step.case_pattern, "the cases (a regular expression, searched)")
+      ->required();
+  acc->add_option("--metric", a.accept.step.metric_pattern, "the metrics (a regular expression)")->required();
+  acc->add_option("--commit", a.accept.step.commit, "the first commit after the step (or a prefix)")
+      ->required();
+  acc->add_option("--reason", a.accept.step.reason, "why it is meant")->required();
+  CLI::App* thr = app.add_subcommand("threshold", "keep in the store what counts as a step for a metric");
+  thr->add_option("--db", a.threshold.db, "sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE")
+      ->capture_default_str();
+  thr->add_option("--metric", a.threshold.threshold.metric, "the metrics (a regular expression)")->required();
+  thr->add_option("--device", a.threshold.threshold.device, "the devices (a regular expression)")
+      ->capture_default_str();
+  thr->add_option("--percent", a.threshold.threshold.percent, "a fixed step, in percent")
+      ->check(finite_in(1e-9, 1e9));
+  thr->add_option("--alpha", a.threshold.threshold.alpha, "the timing test's alpha")
+      ->check(finite_in(1e-12, 1.0));
+  thr->add_option("--min-effect", a.threshold.threshold.min_effect, "the smallest step, as a fraction (0.05)")
+      ->check(finite_in(0.0, 1e9));
+}
 CLI::App* add_store_command(CLI::App& app, FileArgs& a) {
   CLI::App* sto = app.add_subcommand("store", "put runs into a database: an SQLite file or PostgreSQL");
   sto->add_option("runs", a.runs, "run folders or results.json files")->required();
@@ -108,6 +141,9 @@ CLI::App* add_export_command(CLI::App& app, FileArgs& a) {
 int run_store_or_page_command(CLI::App& app, const FileArgs& a) {
   if (app.got_subcommand("report")) return report_command(a.report);
   if (app.got_subcommand("history")) return history_command(a.history);
+  if (app.got_subcommand("alerts")) return history_command(a.alerts, true);
+  if (app.got_subcommand("accept")) return accept_command(a.accept);
+  if (app.got_subcommand("threshold")) return threshold_command(a.threshold);
   if (app.got_subcommand("store")) return store_command(a.runs, a.db);
   if (app.got_subcommand("fetch")) return fetch_command(a.fetch_db, a.fetch_out, a.fetch_device_key);
   if (app.got_subcommand("export")) return export_command(a.export_run, a.export_format, a.export_out);
@@ -162,6 +198,7 @@ int main(int argc, char** argv) {
   FileArgs files;  // report, history, store, fetch and export, in functions of their own: main() stays short
   add_report_command(app, files);
   add_history_command(app, files);
+  add_alert_commands(app, files);
   add_store_command(app, files);
   add_export_command(app, files);
   CLI::App* key =

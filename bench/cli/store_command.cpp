@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <regex>
 #include <set>
 
 #include "bench/cli/commands.h"
@@ -53,6 +54,39 @@ std::string folder_name(const FetchedRun& run, std::set<std::string>& taken) {
   return name;
 }
 
+// A pattern history.py will search with Python's re: refused here when not even ECMAScript reads it (the two
+// agree on everything but a few extensions), so a typo is one line now, not a traceback later.
+void check_pattern(const std::string& option, const std::string& pattern) {
+  if (pattern.empty()) throw std::invalid_argument(option + ": an empty pattern");
+  try {
+    std::regex r(pattern);
+  } catch (const std::regex_error&) {
+    throw std::invalid_argument(option + ": '" + pattern + "' is not a regular expression");
+  }
+}
+
+// The store's accepted steps and thresholds beside the runs, in the formats history.py reads (--accepted,
+// --thresholds); not run folders, so whatever looks for runs in DIR passes them by.
+void write_policies(ResultsStore& store, const std::string& dir, FetchSummary& summary) {
+  nlohmann::json steps = nlohmann::json::array(), thresholds = nlohmann::json::array();
+  for (const AcceptedStep& a : store.accepted_steps())
+    steps.push_back(
+        {{"case", a.case_pattern}, {"metric", a.metric_pattern}, {"commit", a.commit}, {"reason", a.reason}});
+  for (const Threshold& t : store.thresholds()) {
+    nlohmann::json row = {{"device", t.device}, {"metric", t.metric}};
+    if (t.alpha) row["alpha"] = *t.alpha;
+    if (t.min_effect) row["min_effect"] = *t.min_effect;
+    if (t.percent) row["percent"] = *t.percent;
+    thresholds.push_back(row);
+  }
+  write_file_atomic((fs::path(dir) / "accepted_steps.json").string(),
+                    nlohmann::json{{"steps", steps}}.dump(1) + "\n");
+  write_file_atomic((fs::path(dir) / "thresholds.json").string(),
+                    nlohmann::json{{"thresholds", thresholds}}.dump(1) + "\n");
+  summary.accepted_steps = int(steps.size());
+  summary.thresholds = int(thresholds.size());
+}
+
 }  // namespace
 
 FetchSummary fetch_into(const std::string& db, const std::string& device_key, const std::string& dir) {
@@ -73,6 +107,7 @@ FetchSummary fetch_into(const std::string& db, const std::string& device_key, co
                       nlohmann::json(run.image_sha256).dump(1) + "\n");
     ++summary.runs;
   }
+  write_policies(store, dir, summary);
   return summary;
 }
 
@@ -93,6 +128,48 @@ int fetch_command(const std::string& db, const std::string& out, const std::stri
     return 0;
   } catch (const std::exception& e) {
     print_error("fetch: " + std::string(e.what()));
+    return 2;
+  }
+}
+
+int accept_command(const AcceptArgs& a) {
+  try {
+    check_pattern("--case", a.step.case_pattern);
+    check_pattern("--metric", a.step.metric_pattern);
+    if (a.step.commit.empty() || a.step.reason.empty())
+      throw std::invalid_argument("--commit and --reason must not be empty");
+    ResultsStore store(a.db);
+    store.accept(a.step);
+    std::cout << "accepted in " << redacted_store_url(a.db) << ": " << a.step.metric_pattern << " of "
+              << a.step.case_pattern << " at " << a.step.commit << " (" << a.step.reason << ")\n";
+    return 0;
+  } catch (const std::exception& e) {
+    print_error("accept: " + std::string(e.what()));
+    return 2;
+  }
+}
+
+int threshold_command(const ThresholdArgs& a) {
+  try {
+    const Threshold& t = a.threshold;
+    check_pattern("--device", t.device);
+    check_pattern("--metric", t.metric);
+    if (t.percent.has_value() == (t.alpha.has_value() || t.min_effect.has_value()))
+      throw std::invalid_argument("give --percent P, or --alpha A with --min-effect E, not both or neither");
+    if (!t.percent && !(t.alpha && t.min_effect))
+      throw std::invalid_argument("--alpha and --min-effect go together");
+    ResultsStore store(a.db);
+    store.set_threshold(t);
+    char rule[96];
+    if (t.percent)
+      std::snprintf(rule, sizeof rule, "a step of %g%% or more", *t.percent);
+    else
+      std::snprintf(rule, sizeof rule, "alpha %g, minimum effect %g", *t.alpha, *t.min_effect);
+    std::cout << "threshold in " << redacted_store_url(a.db) << " for " << t.metric << " on " << t.device
+              << ": " << rule << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    print_error("threshold: " + std::string(e.what()));
     return 2;
   }
 }

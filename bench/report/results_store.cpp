@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <regex>
 #include <set>
 
@@ -51,6 +52,13 @@ const std::vector<Migration> kMigrations = {
      {"CREATE TABLE documents (run_key TEXT PRIMARY KEY, body TEXT NOT NULL)",
       "CREATE TABLE images (run_key TEXT NOT NULL, case_id TEXT NOT NULL, role TEXT NOT NULL, path TEXT NOT "
       "NULL, sha256 TEXT NOT NULL, PRIMARY KEY (run_key, case_id, role))"}},
+    {"thresholds per device and metric, and the accepted steps, which history --db and alerts read",
+     {"CREATE TABLE thresholds (device TEXT NOT NULL, metric TEXT NOT NULL, alpha DOUBLE PRECISION, "
+      "min_effect "
+      "DOUBLE PRECISION, percent DOUBLE PRECISION, PRIMARY KEY (device, metric))",
+      "CREATE TABLE accepted_steps (case_pattern TEXT NOT NULL, metric_pattern TEXT NOT NULL, commit_sha "
+      "TEXT "
+      "NOT NULL, reason TEXT NOT NULL, PRIMARY KEY (case_pattern, metric_pattern, commit_sha))"}},
 };
 
 // sqlite:PATH (the file, its folder created), or postgresql://... / postgres://... (libpq's URI, as is).
@@ -379,6 +387,91 @@ std::vector<FetchedRun> ResultsStore::fetch(const std::string& device_key, int& 
     throw StoreError("cannot read " + url_ + ": " + what.substr(0, what.find('\n')));
   }
   return runs;
+}
+
+namespace {
+
+// Runs `body` in a transaction of its own (migrated first); one line naming the store on failure.
+template <typename Body>
+void in_transaction(soci::session& sql, bool sqlite, const std::string& url, const std::string& what,
+                    Body body) {
+  try {
+    begin_exclusive(sql, sqlite);
+    migrate(sql);
+    body();
+    sql << "COMMIT";
+  } catch (const std::exception& e) {
+    try {
+      sql << "ROLLBACK";
+    } catch (const std::exception&) {  // the connection may be gone; the server rolls back itself then
+    }
+    std::string message = e.what();
+    throw StoreError(what + " in " + url + ": " + message.substr(0, message.find('\n')));
+  }
+}
+
+std::optional<double> optional_double(const soci::row& row, size_t i) {
+  if (row.get_indicator(i) == soci::i_null) return std::nullopt;
+  return row.get<double>(i);
+}
+
+}  // namespace
+
+void ResultsStore::accept(const AcceptedStep& step) {
+  soci::session& sql = impl_->sql;
+  in_transaction(sql, impl_->sqlite, url_, "cannot accept the step", [&] {
+    sql << "INSERT INTO accepted_steps (case_pattern, metric_pattern, commit_sha, reason) VALUES (:c, :m, "
+           ":s, "
+           ":r) ON CONFLICT (case_pattern, metric_pattern, commit_sha) DO UPDATE SET reason = "
+           "excluded.reason",
+        soci::use(step.case_pattern), soci::use(step.metric_pattern), soci::use(step.commit),
+        soci::use(step.reason);
+  });
+}
+
+void ResultsStore::set_threshold(const Threshold& t) {
+  soci::session& sql = impl_->sql;
+  double alpha = t.alpha.value_or(0.0), min_effect = t.min_effect.value_or(0.0),
+         percent = t.percent.value_or(0.0);
+  soci::indicator a = t.alpha ? soci::i_ok : soci::i_null, m = t.min_effect ? soci::i_ok : soci::i_null,
+                  p = t.percent ? soci::i_ok : soci::i_null;
+  in_transaction(sql, impl_->sqlite, url_, "cannot set the threshold", [&] {
+    sql << "INSERT INTO thresholds (device, metric, alpha, min_effect, percent) VALUES (:d, :m, :a, :e, :p) "
+           "ON "
+           "CONFLICT (device, metric) DO UPDATE SET alpha = excluded.alpha, min_effect = "
+           "excluded.min_effect, "
+           "percent = excluded.percent",
+        soci::use(t.device), soci::use(t.metric), soci::use(alpha, a), soci::use(min_effect, m),
+        soci::use(percent, p);
+  });
+}
+
+std::vector<AcceptedStep> ResultsStore::accepted_steps() {
+  std::vector<AcceptedStep> out;
+  soci::session& sql = impl_->sql;
+  in_transaction(sql, impl_->sqlite, url_, "cannot read the accepted steps", [&] {
+    soci::rowset<soci::row> rows =
+        (sql.prepare << "SELECT case_pattern, metric_pattern, commit_sha, reason FROM "
+                        "accepted_steps ORDER BY commit_sha, case_pattern, metric_pattern");
+    for (const soci::row& r : rows)
+      out.push_back(
+          {r.get<std::string>(0), r.get<std::string>(1), r.get<std::string>(2), r.get<std::string>(3)});
+  });
+  return out;
+}
+
+std::vector<Threshold> ResultsStore::thresholds() {
+  std::vector<Threshold> out;
+  soci::session& sql = impl_->sql;
+  in_transaction(sql, impl_->sqlite, url_, "cannot read the thresholds", [&] {
+    soci::rowset<soci::row> rows =
+        (sql.prepare
+         << "SELECT device, metric, alpha, min_effect, percent FROM thresholds ORDER BY device, metric");
+    for (const soci::row& r : rows)
+      out.push_back({r.get<std::string>(0), r.get<std::string>(1), optional_double(r, 2),
+                     optional_double(r, 3), optional_double(r, 4)});
+  });
+  return out;
 }
 
 }  // namespace omnishadow::bench

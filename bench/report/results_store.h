@@ -6,6 +6,7 @@
 // of it; a run is keyed by a hash of its results.json, so storing it again changes nothing.
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,7 @@ class StoreError : public std::runtime_error {
 
 inline constexpr const char* kDefaultStoreUrl = "sqlite:results/omnishadow.db";
 // The newest schema version this binary writes (docs/store.md lists each migration).
-inline constexpr int kStoreSchemaVersion = 2;
+inline constexpr int kStoreSchemaVersion = 3;
 
 // What one store did: the run's key, and whether it was new (false: already stored, nothing written).
 struct StoredRun {
@@ -42,6 +43,19 @@ struct FetchedRun {
   std::map<std::string, std::string> image_sha256;  // image path (relative to the run folder) -> SHA-256
 };
 
+// A step someone judged meant (`omnishadow accept`): alerts on cases and metrics matching the patterns
+// (Python regular expressions, searched) at that commit stop, as results/accepted_steps.json's rows do.
+struct AcceptedStep {
+  std::string case_pattern, metric_pattern, commit, reason;
+};
+
+// What counts as a step for one metric pattern on one device pattern (`omnishadow threshold`): a significance
+// test's alpha and minimum effect (timings), or a fixed percentage (any metric: a smaller change is no step).
+struct Threshold {
+  std::string device, metric;
+  std::optional<double> alpha, min_effect, percent;
+};
+
 class ResultsStore {
  public:
   // Opens (creating an SQLite file, and migrating the schema). Throws StoreError with one line naming the URL
@@ -58,6 +72,12 @@ class ResultsStore {
   // Every run stored with its document, oldest commit first (runs of one commit by key); with `device_key`,
   // only the runs with a device of that key. `without_document`: runs stored under schema 1, which have none.
   std::vector<FetchedRun> fetch(const std::string& device_key, int& without_document);
+  // Each in a transaction of its own; accepting a step or setting a threshold again replaces its reason or
+  // values.
+  void accept(const AcceptedStep& step);
+  void set_threshold(const Threshold& threshold);
+  std::vector<AcceptedStep> accepted_steps();
+  std::vector<Threshold> thresholds();
   // Rows of a table (tests, `store` summary): runs, cases, measures.
   long long count(const std::string& table);
 

@@ -6,14 +6,19 @@ orders the runs by commit date (results.json's commit_date; else `git log` in --
 the median per commit where a commit ran more than once, and for every case and metric finds the steps:
   timings (frame time, per-pass wall and GPU time):  scripts/lib/changepoints.py (PELT + Mann-Whitney U + minimum step),
                                                      kept when the history without its newest commit has it too
-  work counters, misclassified %, cube-texel errors and images (SHA-256 of the lit frame, cube faces and shadow
-  factor PNGs the run wrote): exact; any change of value is a step
-Steps recorded in the accepted file (results/accepted_steps.json: case and metric patterns, commit, reason) stop
-alerting: a series is analysed from its latest accepted step on, and an alert placed within ACCEPT_WINDOW commits
-of an accepted step is silent, so only a new step raises a new alert.
-Writes OUT/history.json and OUT/history.md (regressions first); exit 1 when there is an alert.
+  statuses, work counters, misclassified %, cube-texel errors and images (SHA-256 of the lit frame, cube faces and
+  shadow factor PNGs the run wrote): exact; any change of value is a step
+Steps recorded in the accepted files (--accepted, repeatable; results/accepted_steps.json by default; the results
+store's with `omnishadow history --db`: case and metric patterns, commit, reason) stop alerting: a series is
+analysed from its latest accepted step on, and an alert placed within ACCEPT_WINDOW commits of an accepted step is
+silent, so only a new step raises a new alert. Thresholds (--thresholds; the store's with --db) replace the timing
+gate's alpha and minimum effect for the metrics and devices they match, or set a fixed percentage below which a
+change of any metric is no step.
+Writes OUT/history.json and OUT/history.md (regressions first), or with --alerts OUT/alerts.json and OUT/alerts.md
+(only the alerts, each with its commit range); exit 1 when there is an alert, 2 on bad input.
 
-Usage: scripts/analysis/history.py RUN_OR_FOLDER... [--out DIR] [--accepted FILE] [--repo DIR] [--device-key KEY]
+Usage: scripts/analysis/history.py RUN_OR_FOLDER... [--out DIR] [--accepted FILE]... [--thresholds FILE] [--alerts]
+                                   [--repo DIR] [--device-key KEY]
 """
 import argparse
 import hashlib
@@ -120,6 +125,7 @@ def metrics(case, run_dir="."):
         for name, value in case.get("counters", {}).get(p, {}).items():
             if isinstance(value, (int, float)) and not isinstance(value, bool):
                 yield f"{p}_{name}", value, True
+    yield "status", case.get("status"), True
     if "accuracy" in case:
         yield "misclassified_percent", case["accuracy"].get("misclassified_percent"), True
     if "cube_texels" in case:
@@ -163,6 +169,48 @@ def load_accepted(path):
     return steps
 
 
+def load_thresholds(path):
+    """Rows {"device": regex, "metric": regex, and "alpha" with "min_effect", or "percent"}; threshold_for picks
+    the row that applies to a metric."""
+    if not path:
+        return []
+    try:
+        with open(path) as f:
+            rows = json.load(f).get("thresholds")
+    except (OSError, ValueError, AttributeError) as e:
+        fail(f"--thresholds {path}: cannot read: {e}")
+    if not isinstance(rows, list):
+        fail(f"--thresholds {path}: /thresholds: a list is required")
+    for i, t in enumerate(rows):
+        for field in ("device", "metric"):
+            if not isinstance(t.get(field), str) or not t[field]:
+                fail(f"--thresholds {path}: /thresholds/{i}/{field}: a non-empty pattern is required")
+        if ("percent" in t) == ("alpha" in t or "min_effect" in t) or (
+                "percent" not in t and not ("alpha" in t and "min_effect" in t)):
+            fail(f"--thresholds {path}: /thresholds/{i}: give percent, or alpha with min_effect")
+    return rows
+
+
+def threshold_for(thresholds, key, metric):
+    """The row for this device key and metric: rows naming a device (not the catch-all ".*") first, then rows
+    naming a metric, then in the given order."""
+    ranked = sorted(thresholds, key=lambda t: (t["device"] == ".*", t["metric"] == ".*"))
+    return next((t for t in ranked if re.search(t["device"], key) and re.search(t["metric"], metric)), None)
+
+
+def relative_change(before, after):
+    if isinstance(before, str) or isinstance(after, str) or before is None or after is None:
+        return 1.0
+    return after / before - 1.0 if before else (0.0 if after == before else 1.0)
+
+
+def regressed(metric, before, after, change):
+    """A status that leaves ok, a changed image, or a figure that grew (times, work, error)."""
+    if metric == "status":
+        return before == "ok" and after != "ok"
+    return change > 0
+
+
 # An accepted step silences alerts placed within this many commits of it: the estimated position of a step moves
 # by a commit or two as runs arrive after it.
 ACCEPT_WINDOW = 3
@@ -200,11 +248,21 @@ def steps_after_accepted(series, accepted_at, find):
     return steps
 
 
-def timing_find(values, history):
-    return changepoints.timing_steps(values, history=history, **TIMING_GATE)
+def timing_find(values, history, gate=None):
+    return changepoints.timing_steps(values, history=history, **(gate or TIMING_GATE))
 
 
-def analyse(runs, accepted, repo, key=None):
+def timing_gate(threshold):
+    """The timing gate for one series: the default, its alpha and minimum effect from a threshold row, or with a
+    fixed percentage no test at all (any step of PELT's of at least that size)."""
+    if not threshold:
+        return TIMING_GATE
+    if "percent" in threshold:
+        return dict(TIMING_GATE, alpha=2.0, min_effect=threshold["percent"] / 100.0)
+    return dict(TIMING_GATE, alpha=threshold["alpha"], min_effect=threshold["min_effect"])
+
+
+def analyse(runs, accepted, repo, key=None, thresholds=()):
     docs = [load(r) for r in runs]
     keys = Counter(device_key(d) for d in docs)
     key = key or keys.most_common(1)[0][0]
@@ -232,20 +290,32 @@ def analyse(runs, accepted, repo, key=None):
         series = [by_commit[c][0] if exact[(case_id, metric)] else float(np.median(by_commit[c]))
                   for c in series_commits]
         accepted_at = accepted_indices(series_commits, case_id, metric, accepted)
+        threshold = threshold_for(thresholds, key, metric)
         if exact[(case_id, metric)]:
             steps = steps_after_accepted(series, accepted_at, changepoints.exact_steps)
+            if threshold and "percent" in threshold:  # a fixed percentage: smaller changes are no step
+                steps = [s for s in steps if abs(relative_change(s["before"], s["after"])) >= threshold["percent"] / 100]
         else:
-            steps = persistent(series, accepted_at, timing_find)
+            gate = timing_gate(threshold)
+            steps = persistent(series, accepted_at, lambda values, history: timing_find(values, history, gate))
         for s in steps:
             i = s["index"]
-            numeric = not isinstance(s["before"], str)
-            change = (s["after"] / s["before"] - 1.0 if s["before"] else 1.0) if numeric else 1.0
+            change = relative_change(s["before"], s["after"])
             alerts.append({"case": case_id, "metric": metric, "commit": series_commits[i],
+                           "previous_commit": series_commits[i - 1] if i > 0 else None,
                            "before": s["before"], "after": s["after"], "step": change, "exact": exact[(case_id, metric)],
-                           "confidence": s.get("confidence", 1.0), "regression": change > 0,
-                           "series": series, "commits": series_commits, "index": i})
+                           "confidence": s.get("confidence", 1.0),
+                           "regression": regressed(metric, s["before"], s["after"], change),
+                           "threshold": threshold, "series": series, "commits": series_commits, "index": i})
     alerts.sort(key=lambda a: (not a["regression"], -abs(a["step"])))
     return {"device_key": key, "runs": len(docs), "commits": commits, "alerts": alerts, "gate": TIMING_GATE}
+
+
+def value_cells(alert):
+    """Before, after and the step as the tables print them (a status or an image hash as is: "changed")."""
+    if isinstance(alert["before"], str) or isinstance(alert["after"], str):
+        return alert["before"], alert["after"], "changed"
+    return f"{alert['before']:.4g}", f"{alert['after']:.4g}", f"{100 * alert['step']:+.1f}%"
 
 
 def markdown(result):
@@ -256,13 +326,27 @@ def markdown(result):
         md += ["| case | metric | first commit after | before | after | step | confidence |", "|---|---|---|---|---|---|---|"]
         for a in result["alerts"]:
             confidence = "exact" if a["exact"] else f"{a['confidence']:.4f}"
-            before, after = (f"{a['before']:.4g}", f"{a['after']:.4g}") if not isinstance(a["before"], str) else (
-                a["before"], a["after"])
-            step = f"{100 * a['step']:+.1f}%" if not isinstance(a["before"], str) else "changed"
+            before, after, step = value_cells(a)
             md.append(f"| `{a['case']}` | {a['metric']} | {a['commit']} | {before} | {after} | {step} | {confidence} |")
         md.append("\nAccept a step (it stops alerting; a new step alerts again): add "
                   '`{"case": "<regex>", "metric": "<regex>", "commit": "<sha>", "reason": "..."}` to '
                   "results/accepted_steps.json.")
+    return "\n".join(md) + "\n"
+
+
+def alerts_markdown(result):
+    """The alerts alone, each with its commit range: what `omnishadow alerts` prints."""
+    md = [f"# Alerts: {result['device_key']}\n",
+          f"{len(result['alerts'])} not accepted, over {result['runs']} runs of {len(result['commits'])} commits "
+          f"({result['commits'][0]} .. {result['commits'][-1]}); regressions first.\n"]
+    if result["alerts"]:
+        md += ["| case | metric | commits | before | after | step | regression |", "|---|---|---|---|---|---|---|"]
+        for a in result["alerts"]:
+            before, after, step = value_cells(a)
+            md.append(f"| `{a['case']}` | {a['metric']} | {a['previous_commit']}..{a['commit']} | {before} | {after} | "
+                      f"{step} | {'yes' if a['regression'] else 'no'} |")
+        md.append("\nAccept a step (it stops alerting): `omnishadow accept --db URL --case REGEX --metric REGEX "
+                  "--commit SHA --reason WHY`.")
     return "\n".join(md) + "\n"
 
 
@@ -276,23 +360,30 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("runs", nargs="+")
     parser.add_argument("--out", default=".")
-    parser.add_argument("--accepted", default=os.path.join(ROOT, "results", "accepted_steps.json"),
-                        help="accepted steps (a file not there yet: nothing accepted)")
+    parser.add_argument("--accepted", action="append",
+                        help="accepted steps, repeatable (default results/accepted_steps.json; a file not there yet: "
+                             "nothing accepted)")
+    parser.add_argument("--thresholds", help="per device and metric: alpha and min_effect, or percent")
+    parser.add_argument("--alerts", action="store_true", help="write only the alerts: alerts.json, alerts.md")
     parser.add_argument("--repo", default=ROOT)
     parser.add_argument("--device-key")
     args = parser.parse_args()
-    accepted = load_accepted(args.accepted)
+    accepted = [s for path in args.accepted or [os.path.join(ROOT, "results", "accepted_steps.json")]
+                for s in load_accepted(path)]
     runs = find_runs(args.runs)
     if not runs:
         fail(f"no run (no results.json) in {', '.join(args.runs)}")
-    result = analyse(runs, accepted, args.repo, args.device_key)
+    result = analyse(runs, accepted, args.repo, args.device_key, load_thresholds(args.thresholds))
     try:
         os.makedirs(args.out, exist_ok=True)
     except OSError as e:
         fail(f"--out {args.out}: cannot create: {e.strerror}")
-    text = markdown(result)
-    write_atomic(os.path.join(args.out, "history.json"), json.dumps(result, indent=1))
-    write_atomic(os.path.join(args.out, "history.md"), text)
+    name = "alerts" if args.alerts else "history"
+    text = alerts_markdown(result) if args.alerts else markdown(result)
+    kept = [{k: v for k, v in a.items() if k not in ("series", "commits")} for a in result["alerts"]]
+    write_atomic(os.path.join(args.out, f"{name}.json"),
+                 json.dumps(dict(result, alerts=kept) if args.alerts else result, indent=1))
+    write_atomic(os.path.join(args.out, f"{name}.md"), text)
     print(text)
     sys.exit(1 if result["alerts"] else 0)
 
