@@ -329,6 +329,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"threshold --db mysql://x --metric m --percent 5", "not sqlite:PATH"},
         BadInput{"threshold --db sqlite:@OUT@/s.db --device '(' --metric m --percent 5", "--device: '('"},
         BadInput{"fetch --out @RUN@", "/a_run: exists and is not an empty folder"},
+        BadInput{"fetch --out @OUT@/f --commit", "--commit: 1 required"},
         BadInput{"fetch --db sqlite:@OUT@/s.db --out @OUT@/f --device-key", "--device-key: 1 required"},
         BadInput{"list --scenes-dir /nonexistent", "--scenes-dir /nonexistent: no such folder"},
         BadInput{"list --egl-platform wayland", "--egl-platform: wayland not in {surfaceless,device}"},

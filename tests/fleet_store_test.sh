@@ -2,6 +2,7 @@
 # scripts/ci/fleet_store.sh, the fan-in jobs' store step: without OMNISHADOW_STORE_URL it stores nothing and says
 # so (exit 0); on the default branch it stores the merged run; on another branch or in a merge request it stores
 # nothing unless FLEET_STORE_ALL=1; a store that fails is one line without the URL's password, and fails the job.
+# Then scripts/ci/fleet_compare.sh taking its baseline from the store (below).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${OMNISHADOW_BIN:-$here/build/release/omnishadow}"
@@ -9,7 +10,7 @@ export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" OMNISHADOW_BIN="$bin"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 "$bin" run --backend gl --scene room --cube 16 --frame 32x24 --technique six_pass --filter hard --frames 1 \
-  --warmup 0 --images none --no-accuracy --benchmark_repetitions=1 --out "$tmp/run" >"$tmp/run.log" 2>&1 ||
+  --warmup 0 --images all --benchmark_repetitions=1 --max-error 100 --out "$tmp/run" >"$tmp/run.log" 2>&1 ||
   { cat "$tmp/run.log"; exit 1; }
 store="$here/scripts/ci/fleet_store.sh"
 runs() { /usr/bin/python3 -c 'import sqlite3,sys; print(sqlite3.connect(sys.argv[1]).execute("SELECT COUNT(*) FROM runs").fetchone()[0])' "$tmp/db"; }
@@ -38,3 +39,41 @@ fi
 grep -q "fleet:\*\*\*@127.0.0.1:1" "$tmp/err" || fail "the failing store does not name the server: $(cat "$tmp/err")"
 ! grep -q s3cret "$tmp/out" "$tmp/err" || fail "the password was printed: $(cat "$tmp/err")"
 echo "fleet_store: not set, a branch, a merge request, the default branch, FLEET_STORE_ALL and a failing server as documented"
+
+# fleet_compare.sh with OMNISHADOW_STORE_URL: the baseline is the store's run of the newest commit on the merge-base's
+# first-parent line (a scratch repository: main at A and B, a branch at C; the run stored as A's). Images compare by
+# the hashes the store kept (the same pass, changed ones are named); a status regression against the stored run
+# fails the job; a store without a run of
+# this device there falls back to the git baseline (here none: said, exit 0); an unreadable store is exit 2.
+repo="$tmp/repo"
+mkdir -p "$repo/scripts/ci"
+cp "$here/scripts/ci/fleet_compare.sh" "$here/scripts/ci/fleet_matrix.args" "$repo/scripts/ci/"
+g() { git -C "$repo" -c user.name=t -c user.email=t@localhost "$@"; }
+g init -q -b main && g add -A && g commit -q -m A
+a="$(g rev-parse HEAD)"
+g commit -q --allow-empty -m B && g checkout -q -b feature && g commit -q --allow-empty -m C
+cp -r "$tmp/run" "$tmp/merged"
+/usr/bin/python3 -c 'import json,sys; p=sys.argv[1]+"/results.json"; d=json.load(open(p)); d["omnishadow"]["commit"]=sys.argv[2]; json.dump(d, open(p, "w"))' "$tmp/merged" "$a"
+"$bin" store "$tmp/merged" --db "sqlite:$tmp/fleet.db" >/dev/null
+compare() { OMNISHADOW_STORE_URL="$1" FLEET_TARGET_BRANCH=main bash "$repo/scripts/ci/fleet_compare.sh" "$2"; }
+cp -r "$tmp/run" "$tmp/same"
+out="$(compare "sqlite:$tmp/fleet.db" "$tmp/same")" || fail "the same run against the stored one failed: $out"
+grep -q "against the stored run of $a (OMNISHADOW_STORE_URL), merge-base" <<<"$out" || fail "not the stored baseline: $out"
+/usr/bin/python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["cases"]; sys.exit(not c or any(x["image_changes"] or x["work_changes"] for x in c))' \
+  "$tmp/same/compare/comparison.json" || fail "images against the stored hashes: $(cat "$tmp/same/compare/comparison.json")"
+"$bin" run --backend gl --scene room --cube 16 --frame 32x24 --technique six_pass --filter hard --frames 1 --warmup 0 \
+  --images all --benchmark_repetitions=1 --max-error 0.001 --lookup-perturb 0.5 --out "$tmp/worse" >/dev/null 2>&1 || true
+status=0
+compare "sqlite:$tmp/fleet.db" "$tmp/worse" >"$tmp/worse.log" 2>&1 || status=$?
+[ "$status" = 1 ] || fail "a status regression against the stored run: exit $status, not 1: $(cat "$tmp/worse.log")"
+grep -q "ok -> failed" "$tmp/worse/compare/summary.md" || fail "the regression is not named: $(cat "$tmp/worse/compare/summary.md")"
+grep -q "lit: changed (SHA-256 against the stored run's" "$tmp/worse/compare/summary.md" ||
+  fail "the changed images are not named: $(cat "$tmp/worse/compare/summary.md")"
+rm -rf "$tmp/same/compare"
+out="$(compare "sqlite:$tmp/empty.db" "$tmp/same" 2>&1)" || fail "a store without the device's run: $out"
+grep -q "no stored run of device key" <<<"$out" && grep -q "No baseline for this device key" "$tmp/same/compare/summary.md" ||
+  fail "no stored run: not the git baseline's path: $out"
+status=0
+compare "mysql://nowhere/x" "$tmp/same" >"$tmp/bad.log" 2>&1 || status=$?
+[ "$status" = 2 ] || fail "an unreadable store: exit $status, not 2: $(cat "$tmp/bad.log")"
+echo "fleet_compare: the stored run of the merge-base as baseline (images by hash), a status regression caught, the git path without one"

@@ -85,7 +85,7 @@ std::string fetch_for(const std::string& who, const std::string& db,
   try {
     fetched.emplace();
     const std::string runs = (fs::path(fetched->path()) / "runs").string();
-    const FetchSummary f = fetch_into(db, "", runs);
+    const FetchSummary f = fetch_into(db, {}, runs);
     if (f.without_document > 0)
       std::fprintf(stderr,
                    "omnishadow: %s --db: %d stored run(s) have no document (stored before schema 2): store "

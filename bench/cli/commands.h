@@ -70,9 +70,9 @@ int store_command(const std::vector<std::string>& runs, const std::string& db);
 // `export RUN --format bencher|github-action-benchmark [--out FILE]` (bench/report/export.h): to stdout, or
 // written atomically to FILE.
 int export_command(const std::string& run, const std::string& format, const std::string& out);
-// `fetch --db URL --out DIR [--device-key KEY]`: every stored run (with a device of that key) as a run folder
-// under DIR, as fetch_into writes them; DIR must be new or empty.
-int fetch_command(const std::string& db, const std::string& out, const std::string& device_key);
+// `fetch --db URL --out DIR [--device-key KEY] [--commit SHA]`: every stored run the filter lets through as a
+// run folder under DIR, as fetch_into writes them; DIR must be new or empty.
+int fetch_command(const std::string& db, const std::string& out, const FetchFilter& filter);
 // Each stored run as DIR/NAME/results.json (the document as stored) and DIR/NAME/image_hashes.json (image
 // path
 // -> SHA-256, which history.py reads where the image itself is absent). NAME is the stored run's folder name,
@@ -95,7 +95,7 @@ struct ThresholdArgs {
   Threshold threshold;
 };
 int threshold_command(const ThresholdArgs& args);
-FetchSummary fetch_into(const std::string& db, const std::string& device_key, const std::string& dir);
+FetchSummary fetch_into(const std::string& db, const FetchFilter& filter, const std::string& dir);
 
 // One line on stderr, "omnishadow: error: ...".
 void print_error(const std::string& message);

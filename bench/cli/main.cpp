@@ -64,7 +64,8 @@ struct FileArgs {
   ThresholdArgs threshold{kDefaultStoreUrl, {".*", "", {}, {}, {}}};
   std::vector<std::string> runs;
   std::string db = kDefaultStoreUrl;
-  std::string fetch_db = kDefaultStoreUrl, fetch_out, fetch_device_key;
+  std::string fetch_db = kDefaultStoreUrl, fetch_out;
+  FetchFilter fetch_filter;
   std::string export_run, export_format, export_out;
 };
 CLI::App* add_report_command(CLI::App& app, FileArgs& a) {
@@ -126,7 +127,9 @@ CLI::App* add_store_command(CLI::App& app, FileArgs& a) {
   fet->add_option("--db", a.fetch_db, "sqlite:PATH or postgresql://USER@HOST:PORT/DATABASE")
       ->capture_default_str();
   fet->add_option("--out", a.fetch_out, "a new (or empty) folder for the runs")->required();
-  fet->add_option("--device-key", a.fetch_device_key, "only runs with this device (omnishadow device-key)");
+  fet->add_option("--device-key", a.fetch_filter.device_key,
+                  "only runs with this device (omnishadow device-key)");
+  fet->add_option("--commit", a.fetch_filter.commit, "only runs of this commit (a prefix will do)");
   return sto;
 }
 CLI::App* add_export_command(CLI::App& app, FileArgs& a) {
@@ -145,7 +148,7 @@ int run_store_or_page_command(CLI::App& app, const FileArgs& a) {
   if (app.got_subcommand("accept")) return accept_command(a.accept);
   if (app.got_subcommand("threshold")) return threshold_command(a.threshold);
   if (app.got_subcommand("store")) return store_command(a.runs, a.db);
-  if (app.got_subcommand("fetch")) return fetch_command(a.fetch_db, a.fetch_out, a.fetch_device_key);
+  if (app.got_subcommand("fetch")) return fetch_command(a.fetch_db, a.fetch_out, a.fetch_filter);
   if (app.got_subcommand("export")) return export_command(a.export_run, a.export_format, a.export_out);
   return -1;
 }

@@ -89,10 +89,10 @@ void write_policies(ResultsStore& store, const std::string& dir, FetchSummary& s
 
 }  // namespace
 
-FetchSummary fetch_into(const std::string& db, const std::string& device_key, const std::string& dir) {
+FetchSummary fetch_into(const std::string& db, const FetchFilter& filter, const std::string& dir) {
   ResultsStore store(db);
   FetchSummary summary;
-  const std::vector<FetchedRun> runs = store.fetch(device_key, summary.without_document);
+  const std::vector<FetchedRun> runs = store.fetch(filter, summary.without_document);
   std::error_code made;
   fs::create_directories(dir, made);  // there even when empty: "fetched 0 runs into DIR" names a folder
   if (made) throw StoreError("cannot make " + dir + ": " + made.message());
@@ -111,16 +111,17 @@ FetchSummary fetch_into(const std::string& db, const std::string& device_key, co
   return summary;
 }
 
-int fetch_command(const std::string& db, const std::string& out, const std::string& device_key) {
+int fetch_command(const std::string& db, const std::string& out, const FetchFilter& filter) {
   std::error_code ec;
   if (fs::exists(out, ec) && !(fs::is_directory(out, ec) && fs::is_empty(out, ec))) {
     print_error("fetch --out " + out + ": exists and is not an empty folder (fetch writes a fresh one)");
     return 2;
   }
   try {
-    const FetchSummary f = fetch_into(db, device_key, out);
+    const FetchSummary f = fetch_into(db, filter, out);
     std::cout << "fetched " << f.runs << " runs from " << redacted_store_url(db)
-              << (device_key.empty() ? "" : " with device key " + device_key) << " into " << out << "\n";
+              << (filter.device_key.empty() ? "" : " with device key " + filter.device_key)
+              << (filter.commit.empty() ? "" : " of commit " + filter.commit) << " into " << out << "\n";
     if (f.without_document > 0)
       std::cout << f.without_document
                 << " stored run(s) have no document (stored before schema 2): store their folders again to "

@@ -12,6 +12,9 @@ std::string read_file(const std::string& path);                           // thr
 // Creates `dir` (and its parents) and proves it writable; throws std::runtime_error naming `what` (the option
 // or argument that gave it: "--out", "merge OUT") and the folder in one line.
 void create_writable_folder(const std::string& dir, const std::string& what);
+// 64 hex digits of the file's SHA-256 (what `sha256sum` prints), or "" when it cannot be read: the identity
+// of an image the results store keeps in place of its pixels.
+std::string sha256_hex_of_file(const std::string& path);
 
 // An exclusive advisory lock (flock) on `path`, created if absent, held until the object is destroyed or the
 // process ends (a killed run leaves no stale lock); the holder's pid is written into the file. A second

@@ -58,16 +58,38 @@ std::string file_digest(const std::string& path) {
   return std::to_string(h) + ":" + std::to_string(bytes.size());
 }
 
-// One image role of a case: identical bytes pass at once; otherwise decode, measure and draw a diff.
+// The SHA-256 of a run's image: of the file, or, for a run fetched from the results store (which keeps
+// hashes, not pixels), the hash beside its results.json (image_hashes.json); "" when neither is there.
+std::string image_sha256(const RunData& run, const std::string& relative) {
+  const std::string file = sha256_hex_of_file((fs::path(run.dir) / relative).string());
+  if (!file.empty()) return file;
+  std::error_code ec;
+  const fs::path stored = fs::path(run.dir) / "image_hashes.json";
+  if (!fs::is_regular_file(stored, ec)) return "";
+  const json hashes = json::parse(read_file(stored.string()), nullptr, false);
+  return hashes.is_object() && hashes.contains(relative) && hashes[relative].is_string()
+             ? hashes[relative].get<std::string>()
+             : "";
+}
+
+// One image role of a case: identical bytes pass at once; otherwise decode, measure and draw a diff. An image
+// only a hash stands for (a stored run) is compared by that hash.
 void compare_image(const RunData& base, const RunData& fresh, const json& bc, const json& nc,
                    const std::string& role, const fs::path& diff_dir, CaseComparison& out) {
   if (!bc.contains("images") || !nc.contains("images") || !bc["images"].contains(role) ||
       !nc["images"].contains(role))
     return;
-  std::string bp = (fs::path(base.dir) / bc["images"][role].get<std::string>()).string();
-  std::string np = (fs::path(fresh.dir) / nc["images"][role].get<std::string>()).string();
+  const std::string b_rel = bc["images"][role].get<std::string>(),
+                    n_rel = nc["images"][role].get<std::string>();
+  std::string bp = (fs::path(base.dir) / b_rel).string();
+  std::string np = (fs::path(fresh.dir) / n_rel).string();
   if (!fs::exists(bp) || !fs::exists(np)) {
-    out.image_changes.push_back(role + ": image missing (" + (fs::exists(bp) ? np : bp) + ")");
+    const std::string b_hash = image_sha256(base, b_rel), n_hash = image_sha256(fresh, n_rel);
+    if (b_hash.empty() || n_hash.empty())
+      out.image_changes.push_back(role + ": image missing (" + (b_hash.empty() ? bp : np) + ")");
+    else if (b_hash != n_hash)
+      out.image_changes.push_back(
+          role + ": changed (SHA-256 against the stored run's; the store keeps no pixels to diff)");
     return;
   }
   if (file_digest(bp) == file_digest(np)) return;

@@ -1,6 +1,5 @@
 #include "bench/report/results_store.h"
 
-#include <openssl/evp.h>
 #include <soci/postgresql/soci-postgresql.h>
 #include <soci/soci.h>
 #include <soci/sqlite3/soci-sqlite3.h>
@@ -14,6 +13,7 @@
 #include <regex>
 #include <set>
 
+#include "bench/io/file_io.h"
 #include "bench/report/compare.h"
 
 namespace omnishadow::bench {
@@ -194,27 +194,6 @@ Rows measures_of(const RunData& run) {
   return rows;
 }
 
-// 64 hex digits of the file's SHA-256 (what `sha256sum` prints), or "" when it cannot be read.
-std::string sha256_of_file(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return "";
-  EVP_MD_CTX* ctx = EVP_MD_CTX_new();
-  EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
-  char buf[1 << 16];
-  while (f.read(buf, sizeof buf) || f.gcount() > 0) EVP_DigestUpdate(ctx, buf, size_t(f.gcount()));
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int length = 0;
-  EVP_DigestFinal_ex(ctx, digest, &length);
-  EVP_MD_CTX_free(ctx);
-  std::string hex;
-  for (unsigned int i = 0; i < length; ++i) {
-    char two[3];
-    std::snprintf(two, sizeof two, "%02x", digest[i]);
-    hex += two;
-  }
-  return f.bad() ? "" : hex;
-}
-
 // The run's results.json whole, and the hash of every image it names that is there (--images none writes
 // none; a folder copied without its images keeps its document).
 void insert_document(soci::session& sql, const RunData& run, const std::string& key, StoredRun& out) {
@@ -226,7 +205,7 @@ void insert_document(soci::session& sql, const RunData& run, const std::string& 
     for (const auto& [role, relative] : (*c)["images"].items()) {
       if (!relative.is_string()) continue;
       const std::string hash =
-          sha256_of_file((std::filesystem::path(run.dir) / relative.get<std::string>()).string());
+          sha256_hex_of_file((std::filesystem::path(run.dir) / relative.get<std::string>()).string());
       if (hash.empty()) continue;
       ids.push_back(id), roles.push_back(role), paths.push_back(relative.get<std::string>());
       hashes.push_back(hash);
@@ -356,17 +335,20 @@ long long ResultsStore::count(const std::string& table) {
   return n;
 }
 
-std::vector<FetchedRun> ResultsStore::fetch(const std::string& device_key, int& without_document) {
+std::vector<FetchedRun> ResultsStore::fetch(const FetchFilter& filter, int& without_document) {
   schema_version();  // migrated first: a store made by an older binary reads as empty, not as an error
   soci::session& sql = impl_->sql;
   std::vector<FetchedRun> runs;
   try {
-    // Every run when no device key is asked for; the key is bound either way (one statement).
+    // Every run when no device key or commit is asked for; both are bound either way (one statement). A
+    // commit matches by prefix (substr and length mean the same in SQLite and PostgreSQL).
     soci::rowset<soci::row> rows =
         (sql.prepare << "SELECT r.run_key, r.file, r.commit_date, d.body FROM runs r JOIN documents d ON "
-                        "d.run_key = r.run_key WHERE :dk = '' OR EXISTS (SELECT 1 FROM devices v WHERE "
-                        "v.run_key = r.run_key AND v.device_key = :dk2) ORDER BY r.commit_date, r.run_key",
-         soci::use(device_key), soci::use(device_key));
+                        "d.run_key = r.run_key WHERE (:dk = '' OR EXISTS (SELECT 1 FROM devices v WHERE "
+                        "v.run_key = r.run_key AND v.device_key = :dk2)) AND (:c = '' OR "
+                        "substr(r.commit_sha, 1, length(:c2)) = :c3) ORDER BY r.commit_date, r.run_key",
+         soci::use(filter.device_key), soci::use(filter.device_key), soci::use(filter.commit),
+         soci::use(filter.commit), soci::use(filter.commit));
     for (const soci::row& row : rows)
       runs.push_back({row.get<std::string>(0),
                       row.get<std::string>(1),

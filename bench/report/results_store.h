@@ -43,6 +43,12 @@ struct FetchedRun {
   std::map<std::string, std::string> image_sha256;  // image path (relative to the run folder) -> SHA-256
 };
 
+// Which stored runs fetch gives back: those with a device of this key, of this commit (a prefix will do);
+// empty: any.
+struct FetchFilter {
+  std::string device_key, commit;
+};
+
 // A step someone judged meant (`omnishadow accept`): alerts on cases and metrics matching the patterns
 // (Python regular expressions, searched) at that commit stop, as results/accepted_steps.json's rows do.
 struct AcceptedStep {
@@ -69,9 +75,9 @@ class ResultsStore {
   // disk); nothing of the run is then stored.
   StoredRun store(const RunData& run);
   int schema_version();
-  // Every run stored with its document, oldest commit first (runs of one commit by key); with `device_key`,
-  // only the runs with a device of that key. `without_document`: runs stored under schema 1, which have none.
-  std::vector<FetchedRun> fetch(const std::string& device_key, int& without_document);
+  // Every run stored with its document that the filter lets through, oldest commit first (runs of one commit
+  // by key). `without_document`: runs stored under schema 1, which have none.
+  std::vector<FetchedRun> fetch(const FetchFilter& filter, int& without_document);
   // Each in a transaction of its own; accepting a step or setting a threshold again replaces its reason or
   // values.
   void accept(const AcceptedStep& step);

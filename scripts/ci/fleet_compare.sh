@@ -10,6 +10,10 @@
 #                        then main); none of them found is exit 2
 #   GITHUB_STEP_SUMMARY  set by GitHub Actions: the summary is appended to the job's page
 #   FLEET_GITLAB_TOKEN   with GitLab's CI_MERGE_REQUEST_IID: the summary is posted as a merge-request note
+#   OMNISHADOW_STORE_URL a results store (docs/store.md) the default branch's fleet stores into: the baseline is then
+#                        the stored run of this device key of the newest commit on the merge-base's first-parent line
+#                        (FLEET_STORE_DEPTH commits back, 20 by default), with the gate committed beside the git
+#                        baseline at the merge-base if there is one; none stored there: the git baseline, as without it
 set -euo pipefail
 run="$1"; base="${2:-}"; matrix_note=""
 here="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -29,6 +33,22 @@ publish() {
     fi
   fi
 }
+# The store's run of this device at the newest commit it holds from MERGE_BASE back along the first parents:
+# prints "FOLDER COMMIT"; 1 when there is none, 2 (said) when the store cannot be read.
+store_baseline() {
+  local commit found folder="$(mktemp -d)"
+  for commit in $(git -C "$here" rev-list --first-parent -n "${FLEET_STORE_DEPTH:-20}" "$1"); do
+    rm -rf "$folder/runs"
+    if ! "$bin" fetch --db "$OMNISHADOW_STORE_URL" --device-key "$key" --commit "$commit" --out "$folder/runs" >/dev/null; then
+      echo "fleet_compare: the store named by OMNISHADOW_STORE_URL cannot be read (its error above)" >&2
+      return 2
+    fi
+    found="$(find "$folder/runs" -mindepth 2 -maxdepth 2 -name results.json | sort | tail -n 1)"
+    if [ -n "$found" ]; then echo "$(dirname "$found") $commit"; return 0; fi
+  done
+  echo "fleet_compare: no stored run of device key '$key' in the ${FLEET_STORE_DEPTH:-20} commits before merge-base ${1:0:12}: the git baseline, if any" >&2
+  return 1
+}
 if [ -z "$base" ]; then
   requested="${CI_MERGE_REQUEST_TARGET_BRANCH_NAME:-${GITHUB_BASE_REF:-main}}"
   target=""
@@ -38,6 +58,18 @@ if [ -z "$base" ]; then
   done
   [ -n "$target" ] || { echo "fleet_compare: target branch '${FLEET_TARGET_BRANCH:-origin/$requested}' is not in this clone (fetch it, or set FLEET_TARGET_BRANCH)" >&2; exit 2; }
   merge_base="$(git -C "$here" merge-base HEAD "$target")" || { echo "fleet_compare: no merge-base of HEAD and $target" >&2; exit 2; }
+  if [ -n "${OMNISHADOW_STORE_URL:-}" ]; then
+    status=0
+    stored="$(store_baseline "$merge_base")" || status=$?
+    [ "$status" -ne 2 ] || exit 2
+  fi
+fi
+if [ -n "${stored:-}" ]; then
+  base="${stored% *}"
+  echo "fleet_compare: $run against the stored run of ${stored##* } (OMNISHADOW_STORE_URL), merge-base ${merge_base:0:12}"
+  git -C "$here" show "$merge_base:results/fleet_baselines/$key/gate.json" > "$base/gate.json" 2>/dev/null ||
+    rm -f "$base/gate.json"
+elif [ -z "$base" ]; then
   base="$(mktemp -d)/baseline"
   mkdir -p "$base"
   if ! git -C "$here" archive "$merge_base" "results/fleet_baselines/$key" 2>/dev/null | tar -x -C "$base" --strip-components=3 2>/dev/null; then
