@@ -11,7 +11,9 @@ Usage: store_test.py OMNISHADOW
 import glob
 import json
 import os
+import resource
 import shutil
+import signal
 import socket
 import sqlite3
 import subprocess
@@ -68,6 +70,40 @@ def check_store(db, runs, count):
     r = store(db, bad)
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "bad/results.json" in r.stderr, r.stderr
     assert count("runs") == len(runs)
+    # A results file of another format version: one line naming the file and the format, nothing stored.
+    older = os.path.join(os.path.dirname(runs[0]), "older")
+    os.makedirs(older, exist_ok=True)
+    doc["omnishadow"]["format"] = "omnishadow-results/0"
+    json.dump(doc, open(os.path.join(older, "results.json"), "w"))
+    r = store(db, older)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "older/results.json: /omnishadow/format is " \
+        '"omnishadow-results/0", not omnishadow-results/1' in r.stderr, r.stderr
+    assert count("runs") == len(runs)
+
+
+def check_full_disk(tmp, runs):
+    """A disk that fills during a store (the file size limit, RLIMIT_FSIZE, with SIGXFSZ ignored, as a full disk
+    answers a write: EFBIG): one line, exit 2, and the database as it was, the run not in it by half."""
+    path = os.path.join(tmp, "db", "full.db")
+    db = "sqlite:" + path
+    r = store(db, runs[0])
+    assert r.returncode == 0, r.stderr
+    with sqlite3.connect(path) as c:
+        before = [c.execute(f"SELECT COUNT(*) FROM {t}").fetchone()[0] for t in ("runs", "cases", "measures")]
+    limit = os.path.getsize(path) + 4096  # room for the journal's start, not for the run's rows
+
+    def limited():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    r = subprocess.run([BIN, "store", runs[1], "--db", db], capture_output=True, text=True, preexec_fn=limited)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "not stored in" in r.stderr, \
+        f"exit {r.returncode}: {r.stdout}{r.stderr}"
+    with sqlite3.connect(path) as c:
+        after = [c.execute(f"SELECT COUNT(*) FROM {t}").fetchone()[0] for t in ("runs", "cases", "measures")]
+        integrity = c.execute("PRAGMA integrity_check").fetchone()[0]
+    assert after == before and integrity == "ok", f"the full disk left {after} (was {before}), {integrity}"
+    print(f"sqlite: a disk full at {limit} bytes: {r.stderr.strip()}")
 
 
 def history_runs(tmp):
@@ -203,6 +239,7 @@ def sqlite_part(tmp, runs):
     assert count("runs") == len(runs) + 1
     print(f"sqlite: {count('runs')} runs, {count('cases')} cases, {count('measures')} measures")
     check_migration_from_schema_1(tmp, runs)
+    check_full_disk(tmp, runs)
     db = "sqlite:" + os.path.join(tmp, "db", "history.db")
     count = check_history(db, history_runs(tmp), tmp)
     check_alerts(db, tmp)
