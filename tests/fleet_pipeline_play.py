@@ -6,8 +6,13 @@ pipelines pass and say so on the page. Its merged GitLab run becomes the fleet b
 (scripts/ci/fleet_baseline.sh with a gate; commit B). Commit C (a branch) injects fragment work in every case (the
 scripted clock times it: 1 ms frames become 2 ms on any machine) and plants a bug that makes the geometry-shader case fail its checks: both merge-request pipelines build it, and their
 compare step fails (exit 1) with a summary naming the slowed case and the failed one; GitLab's merge-request note
-is posted (to a stand-in curl). Skips (ctest 77) with the reason where gitlab-ci-local cannot be installed from npm,
-or OpenGL is unavailable. Slow (four builds, ccache shares their compilations): not run under the sanitizers."""
+is posted (to a stand-in curl). A PostgreSQL server started for the play (tests/pg_server.py) is the results store
+(OMNISHADOW_STORE_URL) of the GitLab pipelines: A's merged run is stored, C's merge-request run is not, and C's
+comparison takes its baseline from the store (A's run, the newest stored on the merge-base's line) with the gate
+committed at B; GitHub's play at C has no store and reads B's git baseline. Where the server cannot start here the
+play goes on without a store and says why. Skips (ctest 77) with the reason where gitlab-ci-local cannot be
+installed from npm, or OpenGL is unavailable. Slow (four builds, ccache shares their compilations): not run under
+the sanitizers."""
 import glob
 import json
 import os
@@ -21,6 +26,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 try:
     import yaml
     from github_actions_player import Player
+    from pg_server import PostgresServer, Unavailable
 except ImportError as e:
     print(f"SKIP: needs python3-yaml (Debian package; scripts/setup.sh installs it): {e}")
     sys.exit(77)
@@ -167,16 +173,28 @@ def main():
         skip("OpenGL backend unavailable here: " + next(l for l in r.stdout.splitlines() if "gl: unavailable" in l))
     exe = gitlab_ci_local()
     work = tempfile.mkdtemp(prefix="fleet-pipeline-play-")
+    server = None
     try:
-        run_plays(exe, work)
+        try:
+            server = PostgresServer().__enter__()
+        except Unavailable as e:
+            print(f"fleet pipeline play: no results store (its PostgreSQL cannot start here: {e})")
+        run_plays(exe, work, server)
     finally:
+        if server:
+            server.__exit__(None, None, None)
         if os.environ.get("KEEP_PLAY"):
             print(f"kept {work}")
         else:
             shutil.rmtree(work, ignore_errors=True)
 
 
-def run_plays(exe, work):
+def stored_commits(server):
+    """The commits of the runs the store holds (none without a store)."""
+    return server.psql("SELECT commit_sha FROM runs ORDER BY commit_sha").split() if server else []
+
+
+def run_plays(exe, work, server):
     env = dict(os.environ, XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
     env.pop("OMNISHADOW_BIN", None)  # the pipelines use their own build jobs' binaries
     if shutil.which("ccache"):  # the four builds of two commits share compilations (absolute paths made relative)
@@ -192,10 +210,14 @@ def run_plays(exe, work):
     repo = scratch_repository(work)
     a = git(repo, "rev-parse", "HEAD")
 
-    # Commit A on main: no baseline yet. Both pipelines pass and say so where the engine shows it.
-    r, merged, summary = play_gitlab(exe, repo, env, ["CI_COMMIT_BRANCH=main", "CI_DEFAULT_BRANCH=main"])
+    store = [f"OMNISHADOW_STORE_URL={server.url()}"] if server else []
+
+    # Commit A on main: no baseline yet. Both pipelines pass and say so where the engine shows it; GitLab's merged
+    # run goes into the store.
+    r, merged, summary = play_gitlab(exe, repo, env, ["CI_COMMIT_BRANCH=main", "CI_DEFAULT_BRANCH=main"] + store)
     assert r.returncode == 0 and merged, f"GitLab pipeline at A failed:\n{r.stdout[-6000:]}"
     assert "No baseline for this device key" in summary, f"GitLab at A: no word on the missing baseline:\n{summary}"
+    assert stored_commits(server) == ([a[:12]] if server else []), f"A's merged run stored once: {stored_commits(server)}"
     gh = play_github(repo, a, os.path.join(work, "github-a"), "push", "", env)
     assert set(gh.results.values()) == {"success"}, f"GitHub play at A: {gh.results}\n" + "\n".join(gh.logs.values())[-6000:]
     assert "No baseline for this device key" in gh.summaries["merge"], gh.summaries
@@ -226,10 +248,15 @@ def run_plays(exe, work):
     r, merged, summary = play_gitlab(exe, repo, env, [
         "CI_PIPELINE_SOURCE=merge_request_event", "CI_MERGE_REQUEST_TARGET_BRANCH_NAME=main",
         "CI_MERGE_REQUEST_IID=7", "CI_COMMIT_BRANCH=slower-and-broken", "CI_DEFAULT_BRANCH=main",
-        "FLEET_GITLAB_TOKEN=play-token", "CI_API_V4_URL=http://gitlab.invalid/api/v4", "CI_PROJECT_ID=42"])
+        "FLEET_GITLAB_TOKEN=play-token", "CI_API_V4_URL=http://gitlab.invalid/api/v4", "CI_PROJECT_ID=42"] + store)
     assert r.returncode != 0, f"GitLab pipeline at C passed:\n{r.stdout[-6000:]}"
     assert re.search(rf"FAIL\s+merge:{DEVICE}", r.stdout) and re.search(rf"PASS\s+build:{DEVICE}", r.stdout), r.stdout[-4000:]
-    assert f"at merge-base {b[:12]}" in r.stdout, "GitLab at C: not compared with the baseline at the merge-base"
+    if server:
+        assert f"against the stored run of {a} (OMNISHADOW_STORE_URL), merge-base {b[:12]}" in r.stdout, \
+            "GitLab at C: not compared with A's stored run"
+        assert stored_commits(server) == [a[:12]], f"a merge request's run is not stored: {stored_commits(server)}"
+    else:
+        assert f"at merge-base {b[:12]}" in r.stdout, "GitLab at C: not compared with the baseline at the merge-base"
     check_regressions(merged, summary, "GitLab at C")
     with open(os.path.join(work, "curl.log")) as f:
         posted = f.read()
@@ -243,7 +270,7 @@ def run_plays(exe, work):
     check_regressions(os.path.join(work, "github-c", "jobs", "merge", "merged"), gh.summaries["merge"], "GitHub at C")
     print(f"fleet pipeline play: A {a[:8]} no baseline (both pass, said on the page); baseline B {b[:8]} for {key}; "
           f"C {c[:8]}: GitLab and GitHub fan-ins exit 1 naming {SLOWED} (slower) and {FAILED} (failed checks); "
-          "the merge-request note posted")
+          "the merge-request note posted" + ("; GitLab stored A's run and compared C with it" if server else ""))
 
 
 if __name__ == "__main__":

@@ -50,15 +50,17 @@ mkdir -p "$repo/scripts/ci"
 cp "$here/scripts/ci/fleet_compare.sh" "$here/scripts/ci/fleet_matrix.args" "$repo/scripts/ci/"
 g() { git -C "$repo" -c user.name=t -c user.email=t@localhost "$@"; }
 g init -q -b main && g add -A && g commit -q -m A
-a="$(g rev-parse HEAD)"
+a="$(g rev-parse HEAD)"; a12="${a:0:12}"   # a run records 12 digits of its commit; git gives fetch all 40
 g commit -q --allow-empty -m B && g checkout -q -b feature && g commit -q --allow-empty -m C
 cp -r "$tmp/run" "$tmp/merged"
-/usr/bin/python3 -c 'import json,sys; p=sys.argv[1]+"/results.json"; d=json.load(open(p)); d["omnishadow"]["commit"]=sys.argv[2]; json.dump(d, open(p, "w"))' "$tmp/merged" "$a"
+/usr/bin/python3 -c 'import json,sys; p=sys.argv[1]+"/results.json"; d=json.load(open(p)); d["omnishadow"]["commit"]=sys.argv[2]; json.dump(d, open(p, "w"))' "$tmp/merged" "$a12"
 "$bin" store "$tmp/merged" --db "sqlite:$tmp/fleet.db" >/dev/null
 compare() { OMNISHADOW_STORE_URL="$1" FLEET_TARGET_BRANCH=main bash "$repo/scripts/ci/fleet_compare.sh" "$2"; }
 cp -r "$tmp/run" "$tmp/same"
 out="$(compare "sqlite:$tmp/fleet.db" "$tmp/same")" || fail "the same run against the stored one failed: $out"
 grep -q "against the stored run of $a (OMNISHADOW_STORE_URL), merge-base" <<<"$out" || fail "not the stored baseline: $out"
+n="$("$bin" fetch --db "sqlite:$tmp/fleet.db" --commit abc --out "$tmp/f-short" | grep -o "fetched [0-9]*")"
+[ "$n" = "fetched 0" ] || fail "a commit of 3 digits matched a stored run: $n"
 /usr/bin/python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["cases"]; sys.exit(not c or any(x["image_changes"] or x["work_changes"] for x in c))' \
   "$tmp/same/compare/comparison.json" || fail "images against the stored hashes: $(cat "$tmp/same/compare/comparison.json")"
 "$bin" run --backend gl --scene room --cube 16 --frame 32x24 --technique six_pass --filter hard --frames 1 --warmup 0 \
@@ -76,4 +78,14 @@ grep -q "no stored run of device key" <<<"$out" && grep -q "No baseline for this
 status=0
 compare "mysql://nowhere/x" "$tmp/same" >"$tmp/bad.log" 2>&1 || status=$?
 [ "$status" = 2 ] || fail "an unreadable store: exit $status, not 2: $(cat "$tmp/bad.log")"
+# On the default branch the merge-base is the run's own commit, whose run was just stored: never its own baseline.
+b="$(g rev-parse main)"
+for name in merged-b same-b; do
+  cp -r "$tmp/run" "$tmp/$name"
+  /usr/bin/python3 -c 'import json,sys; p=sys.argv[1]+"/results.json"; d=json.load(open(p)); d["omnishadow"]["commit"]=sys.argv[2]; json.dump(d, open(p, "w"))' "$tmp/$name" "${b:0:12}"
+done
+"$bin" store "$tmp/merged-b" --db "sqlite:$tmp/fleet.db" >/dev/null
+g checkout -q main
+out="$(compare "sqlite:$tmp/fleet.db" "$tmp/same-b")" || fail "B's run against A's: $out"
+grep -q "against the stored run of $a " <<<"$out" || fail "B's run compared with its own stored run, not A's: $out"
 echo "fleet_compare: the stored run of the merge-base as baseline (images by hash), a status regression caught, the git path without one"

@@ -14,12 +14,13 @@ import os
 import resource
 import shutil
 import signal
-import socket
 import sqlite3
 import subprocess
 import sys
 import tempfile
-import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pg_server import PostgresServer, Unavailable  # noqa: E402
 
 BIN = sys.argv[1]
 
@@ -233,6 +234,9 @@ def sqlite_part(tmp, runs):
         raise AssertionError(f"the store ended while another writer held the database: {out}{err}")
     except subprocess.TimeoutExpired:
         pass
+    # A lock held longer than a store will wait (?timeout=1): one line naming the database, exit 2, nothing stored.
+    r = store(db + "?timeout=1", runs[0])
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "database is locked" in r.stderr, r.stderr
     holder.execute("ROLLBACK")
     out, err = waiting.communicate(timeout=120)
     assert waiting.returncode == 0, err
@@ -247,54 +251,27 @@ def sqlite_part(tmp, runs):
           "accepted steps")
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def postgresql_part(tmp, runs):
-    bins = sorted(glob.glob("/usr/lib/postgresql/*/bin/initdb"))
-    if not bins:
-        return "no PostgreSQL server binaries (Debian package postgresql; scripts/setup.sh installs it)"
-    bindir = os.path.dirname(bins[-1])
-    as_user = []
-    if os.geteuid() == 0:  # initdb and postgres refuse root: the package's own user runs them
-        if not shutil.which("runuser") or sh(["id", "postgres"]).returncode:
-            return "running as root without a postgres user to run the server as"
-        as_user = ["runuser", "-u", "postgres", "--"]
-    data = tempfile.mkdtemp(prefix="omnishadow-pg-")
-    os.chmod(data, 0o777)
-    port = free_port()
     try:
-        r = sh(as_user + [f"{bindir}/initdb", "-D", f"{data}/data", "-U", "omnishadow", "--auth", "trust"])
-        if r.returncode:
-            return "initdb failed here: " + (r.stderr.strip().splitlines() or ["?"])[-1]
-        r = sh(as_user + [f"{bindir}/pg_ctl", "-D", f"{data}/data", "-l", f"{data}/log", "-w", "-o",
-                          f"-p {port} -k {data} -c listen_addresses=''", "start"])
-        if r.returncode:
-            return "pg_ctl start failed: " + open(f"{data}/log").read()[-500:]
-        db = f"postgresql:///postgres?host={data}&port={port}&user=omnishadow"
+        server = PostgresServer().__enter__()
+    except Unavailable as e:
+        return str(e)
+    try:
+        db = server.url()
 
         def count(table):
-            r = sh([f"{bindir}/psql", "-h", data, "-p", str(port), "-U", "omnishadow", "-d", "postgres", "-tAc",
-                    f"SELECT COUNT(*) FROM {table}"])
-            assert r.returncode == 0, r.stderr
-            return int(r.stdout.strip())
+            return int(server.psql(f"SELECT COUNT(*) FROM {table}"))
 
         check_store(db, runs, count)
         print(f"postgresql: {count('runs')} runs, {count('cases')} cases, {count('measures')} measures")
-        r = sh([f"{bindir}/psql", "-h", data, "-p", str(port), "-U", "omnishadow", "-d", "postgres", "-c",
-                "CREATE DATABASE history"])
-        assert r.returncode == 0, r.stderr
-        history_db = db.replace("/postgres?", "/history?")
+        server.psql("CREATE DATABASE history")
+        history_db = server.url("history")
         alerts_count = check_history(history_db, os.path.join(tmp, "history"), tmp)
         check_alerts(history_db, tmp)
         print(f"postgresql: history and report from the store equal the folders' ({alerts_count} alerts); alerts, "
               "thresholds, accepted steps")
     finally:
-        sh(as_user + [f"{bindir}/pg_ctl", "-D", f"{data}/data", "-m", "immediate", "stop"])
-        shutil.rmtree(data, ignore_errors=True)
+        server.__exit__(None, None, None)
     return None
 
 

@@ -145,9 +145,10 @@ RunData parse_run(const std::string& text, const std::string& file, const std::s
   auto section = doc.is_object() ? doc.find("omnishadow") : doc.end();
   if (doc.is_object() && section != doc.end() && section->is_object() && section->contains("format") &&
       (*section)["format"] != "omnishadow-results/1")
-    throw CompareError(file + ": /omnishadow/format is " + (*section)["format"].dump() +
-                       ", not omnishadow-results/1, the format this binary reads (a run of another omnishadow "
-                       "version)");
+    throw CompareError(
+        file + ": /omnishadow/format is " + (*section)["format"].dump() +
+        ", not omnishadow-results/1, the format this binary reads (a run of another omnishadow "
+        "version)");
   if (!doc.is_object() || section == doc.end() || !section->is_object() || !section->contains("format"))
     throw CompareError(file +
                        ": not an omnishadow results file (no \"omnishadow\" section of format "

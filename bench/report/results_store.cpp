@@ -61,20 +61,28 @@ const std::vector<Migration> kMigrations = {
       "NOT NULL, reason TEXT NOT NULL, PRIMARY KEY (case_pattern, metric_pattern, commit_sha))"}},
 };
 
-// sqlite:PATH (the file, its folder created), or postgresql://... / postgres://... (libpq's URI, as is).
+// sqlite:PATH[?timeout=S] (the file, its folder created; how long a writer waits for another's lock, 60 s by
+// default), or postgresql://... / postgres://... (libpq's URI, as is).
 struct Target {
   bool sqlite = true;
   std::string connect;
 };
 Target parse_url(const std::string& url) {
   if (url.rfind("sqlite:", 0) == 0) {
-    const std::string path = url.substr(7);
+    std::string path = url.substr(7), timeout = "60";
+    if (const size_t q = path.rfind("?timeout="); q != std::string::npos) {
+      timeout = path.substr(q + 9);
+      path.resize(q);
+      if (timeout.empty() || timeout.size() > 6 ||
+          timeout.find_first_not_of("0123456789") != std::string::npos)
+        throw StoreError("--db " + url + ": timeout=" + timeout + " is not a whole number of seconds");
+    }
     if (path.empty()) throw StoreError("--db " + url + ": no file after sqlite:");
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     std::error_code ec;
     if (!parent.empty()) std::filesystem::create_directories(parent, ec);
     // timeout: a second writer (a fleet's shards stored at once) waits for the first's transaction.
-    return {true, "db=\"" + path + "\" timeout=60"};
+    return {true, "db=\"" + path + "\" timeout=" + timeout};
   }
   if (url.rfind("postgresql://", 0) == 0 || url.rfind("postgres://", 0) == 0) return {false, url};
   throw StoreError("--db " + redacted_store_url(url) +
@@ -341,14 +349,18 @@ std::vector<FetchedRun> ResultsStore::fetch(const FetchFilter& filter, int& with
   std::vector<FetchedRun> runs;
   try {
     // Every run when no device key or commit is asked for; both are bound either way (one statement). A
-    // commit matches by prefix (substr and length mean the same in SQLite and PostgreSQL).
+    // commit matches when one is a prefix of the other (runs record 12 digits; git gives 40), of 7 digits at
+    // least (substr and length mean the same in SQLite and PostgreSQL).
     soci::rowset<soci::row> rows =
-        (sql.prepare << "SELECT r.run_key, r.file, r.commit_date, d.body FROM runs r JOIN documents d ON "
-                        "d.run_key = r.run_key WHERE (:dk = '' OR EXISTS (SELECT 1 FROM devices v WHERE "
-                        "v.run_key = r.run_key AND v.device_key = :dk2)) AND (:c = '' OR "
-                        "substr(r.commit_sha, 1, length(:c2)) = :c3) ORDER BY r.commit_date, r.run_key",
+        (sql.prepare
+             << "SELECT r.run_key, r.file, r.commit_date, d.body FROM runs r JOIN documents d ON "
+                "d.run_key = r.run_key WHERE (:dk = '' OR EXISTS (SELECT 1 FROM devices v WHERE "
+                "v.run_key = r.run_key AND v.device_key = :dk2)) AND (:c = '' OR (length(r.commit_sha) >= 7 "
+                "AND length(:c2) >= 7 AND (substr(:c3, 1, length(r.commit_sha)) = r.commit_sha OR "
+                "substr(r.commit_sha, 1, length(:c4)) = :c5))) ORDER BY r.commit_date, r.run_key",
          soci::use(filter.device_key), soci::use(filter.device_key), soci::use(filter.commit),
-         soci::use(filter.commit), soci::use(filter.commit));
+         soci::use(filter.commit), soci::use(filter.commit), soci::use(filter.commit),
+         soci::use(filter.commit));
     for (const soci::row& row : rows)
       runs.push_back({row.get<std::string>(0),
                       row.get<std::string>(1),

@@ -33,11 +33,14 @@ publish() {
     fi
   fi
 }
-# The store's run of this device at the newest commit it holds from MERGE_BASE back along the first parents:
-# prints "FOLDER COMMIT"; 1 when there is none, 2 (said) when the store cannot be read.
+# The store's run of this device at the newest commit it holds from MERGE_BASE back along the first parents, not
+# of RUN's own commit (on the default branch the merge-base is that commit, and its run was just stored): prints
+# "FOLDER COMMIT"; 1 when there is none, 2 (said) when the store cannot be read.
 store_baseline() {
-  local commit found folder="$(mktemp -d)"
+  local commit found folder="$(mktemp -d)" own
+  own="$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["omnishadow"].get("commit", "")[:12])' "$run/results.json")"
   for commit in $(git -C "$here" rev-list --first-parent -n "${FLEET_STORE_DEPTH:-20}" "$1"); do
+    [ "${commit:0:12}" != "$own" ] || continue
     rm -rf "$folder/runs"
     if ! "$bin" fetch --db "$OMNISHADOW_STORE_URL" --device-key "$key" --commit "$commit" --out "$folder/runs" >/dev/null; then
       echo "fleet_compare: the store named by OMNISHADOW_STORE_URL cannot be read (its error above)" >&2
