@@ -220,7 +220,8 @@ def sqlite_part(tmp, runs):
         metrics = {m for (m,) in c.execute("SELECT DISTINCT metric FROM measures")}
     assert statuses and set(statuses.values()) <= {"ok", "failed_quality"}, statuses
     assert axes["scene"] == "room", axes
-    assert {"frame_ms", "frame_cpu_ms", "accuracy.misclassified_percent"} <= metrics, metrics
+    assert {"frame_ms", "frame_cpu_ms", "accuracy.misclassified_percent", "timing.frame_wall_ms.median",
+            "timing.shadow.cpu_wall_ms.p90", "device_state.clock_mhz"} <= metrics, metrics
     # A writer holding the database: the store waits for it (it has not ended, with an error or a run stored,
     # while the lock is held), then lands once the lock is let go. A slow machine only makes the wait shorter
     # than the test's patience; no outcome rests on the clock.

@@ -193,8 +193,20 @@ Rows measures_of(const RunData& run) {
   series(run.gpu_samples, "frame_gpu_ms");
   for (const auto& [id, c] : run.cases) {
     std::vector<std::pair<std::string, double>> leaves;
-    for (const char* section : {"accuracy", "counters", "staleness"})
+    // "timing": every statistic of the frame's and each pass's times (timing.shadow.gpu_ms.p90, ...).
+    for (const char* section : {"accuracy", "counters", "staleness", "timing"})
       if (c->contains(section)) numeric_leaves((*c)[section], section, leaves);
+    // The device's clock before and after each repetition, sample by sample (the repetition column counts
+    // samples here).
+    if (c->contains("device_state") && (*c)["device_state"].contains("samples") &&
+        (*c)["device_state"]["samples"].is_array()) {
+      int sample = 0;
+      for (const json& d : (*c)["device_state"]["samples"]) {
+        if (d.contains("clock_mhz") && d["clock_mhz"].is_number())
+          rows.add(id, "device_state.clock_mhz", sample, d["clock_mhz"].get<double>());
+        ++sample;
+      }
+    }
     if (c->contains("shadow_plan") && (*c)["shadow_plan"].contains("rendered"))
       numeric_leaves((*c)["shadow_plan"]["rendered"], "rendered", leaves);
     for (const auto& [metric, value] : leaves) rows.add(id, metric, -1, value);
