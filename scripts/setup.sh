@@ -17,6 +17,7 @@ packages=(
   libssl-dev                               # the results store: SHA-256 of each run's images (OpenSSL's libcrypto)
   postgresql                               # tests/store_test.py: a PostgreSQL server started in a temporary folder
   glslang-tools                            # tests: the GL-only shader variants (NV extensions) compile with glslang
+  gfxreconstruct                           # run --capture: Vulkan captures (GFXReconstruct's layer, gfxrecon-replay)
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
   python3-yaml                             # tests/workflows_test.py: the fleet workflow files parse
   chromium                                 # tests/report_test.sh: the HTML report rendered in a real browser

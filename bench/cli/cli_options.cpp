@@ -502,6 +502,12 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
        "its case recorded crashed")
       ->capture_default_str()
       ->check(finite_in(1.0, 86400.0));
+  r.add_option(
+       "--capture", run.capture,
+       "after the matrix, run the failed (or crashed, or all) cases again alone under a capture a driver "
+       "team can replay: GFXReconstruct on Vulkan (GL: unsupported, libepoxy #283)")
+      ->check(CLI::IsMember({"failed", "crashed", "all", "none"}))
+      ->capture_default_str();
   r.add_option("--inject-crash", run.harness.inject_crash,
                "tests of the isolation only: SIGSEGV in the cases whose id matches this regex (--inject-in)")
       ->check(regex_check("--inject-crash"));

@@ -17,6 +17,7 @@
 #include <set>
 
 #include "backends/vulkan/vk_context.h"
+#include "bench/cli/capture.h"
 #include "bench/cli/case_isolation.h"
 #include "bench/io/file_io.h"
 #include "bench/io/results_reader.h"
@@ -351,24 +352,8 @@ bool claim_out_dir(const std::string& dir, std::optional<FileLock>& lock) {
   return true;
 }
 
-}  // namespace
-
-int run_command(const RunCommand& cmd) {
-  RunOptions options = cmd.harness;
-  if (options.out_dir.empty()) options.out_dir = default_out_dir();
-  // Workers write under their supervisor's lock.
-  std::optional<FileLock> out_lock;
-  if (cmd.worker_skip < 0 && !claim_out_dir(options.out_dir, out_lock)) return 2;
-  if (cmd.isolate && cmd.worker_skip < 0) {  // this process supervises; workers run the matrix
-    IsolationSettings isolation{cmd.args, options.out_dir, cmd.case_timeout_s};
-    if (cmd.harness.out_dir.empty()) isolation.args.insert(isolation.args.end(), {"--out", options.out_dir});
-    try {
-      return supervise_run(isolation);
-    } catch (const std::exception& e) {
-      print_error(e.what());
-      return 1;
-    }
-  }
+// The matrix in this process: a run without isolation, or a worker's share of one.
+int run_matrix_here(const RunCommand& cmd, RunOptions options) {
   options.progress_fd = cmd.worker_progress_fd;
   if (cmd.worker_skip >= 0) report_fatal_signals();  // a driver's crash names its library in the log
   options.async_images = true;                       // drained at the end of the untimed part
@@ -431,6 +416,34 @@ int run_command(const RunCommand& cmd) {
     for (const CaseResult& r : run.results)
       if (fails_run(r.status)) return 1;
   return 0;
+}
+
+}  // namespace
+
+int run_command(const RunCommand& cmd) {
+  RunOptions options = cmd.harness;
+  if (options.out_dir.empty()) options.out_dir = default_out_dir();
+  // Workers write under their supervisor's lock.
+  std::optional<FileLock> out_lock;
+  if (cmd.worker_skip < 0 && !claim_out_dir(options.out_dir, out_lock)) return 2;
+  int code = 0;
+  if (cmd.isolate && cmd.worker_skip < 0) {  // this process supervises; workers run the matrix
+    IsolationSettings isolation{cmd.args, options.out_dir, cmd.case_timeout_s};
+    if (cmd.harness.out_dir.empty()) isolation.args.insert(isolation.args.end(), {"--out", options.out_dir});
+    try {
+      code = supervise_run(isolation);
+    } catch (const std::exception& e) {
+      print_error(e.what());
+      code = 1;
+    }
+  } else {
+    code = run_matrix_here(cmd, options);
+  }
+  // The whole run's results are written: the selected cases again, each under a capture
+  // (bench/cli/capture.h).
+  if (cmd.worker_skip < 0 && cmd.capture != "none" && (code == 0 || code == 1))
+    capture_cases({cmd.capture, cmd.args, options.out_dir, cmd.case_timeout_s});
+  return code;
 }
 
 std::string project_path(const std::string& relative) {

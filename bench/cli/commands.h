@@ -39,6 +39,7 @@ struct RunCommand {
   int worker_skip = -1;
   int worker_progress_fd = -1;
   std::string worker_results;
+  std::string capture = "none";  // --capture: failed, crashed, all or none (bench/cli/capture.h)
 };
 
 int run_command(const RunCommand& cmd);

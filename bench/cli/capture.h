@@ -1,0 +1,33 @@
+#pragma once
+// `run --capture failed|crashed|all|none`: after the matrix, each selected case is run again, alone (its id
+// as the run's --benchmark_filter, one repetition, no crash isolation), in a process of its own under the
+// API's capture tool, so that a driver team can replay it without this harness. Vulkan: GFXReconstruct's
+// capture layer (Debian's gfxreconstruct), replayed by `gfxrecon-replay`. GL: apitrace's EGL wrapper cannot
+// trace a program that resolves GL through libepoxy (libepoxy issue #283: it aborts on the missing
+// glXGetCurrentContext), so a GL case's capture is `unsupported` with that reason. Each capture is
+// OUT/captures/<case>.gfxr ('/' in the id as '_') beside the capture run's own folder (<case>.run) and output
+// (<case>.log); OUT/captures.json and results.json's
+// "captures" list every selected case with its tool, the tool's version, the file and its size, and the
+// command that replays it, or why there is none.
+#include <string>
+#include <vector>
+
+namespace omnishadow::bench {
+
+struct CaptureSettings {
+  std::string mode = "none";      // failed, crashed, all, none
+  std::vector<std::string> args;  // the run's arguments after the program name ("run", then the options)
+  std::string out_dir;            // the run's folder, holding its results.json
+  double timeout_s = 300.0;       // a capture run that takes longer is killed and said
+};
+
+// Captures the selected cases of OUT/results.json and records them there; one line per case on stdout. A
+// capture that fails is a line and an entry, never a lost result.
+void capture_cases(const CaptureSettings& settings);
+
+// The arguments of a capture run of case `id`: the run's own, less those that choose the folder, the cases,
+// the repetitions, the isolation and the captures, then those of the capture.
+std::vector<std::string> capture_run_args(const std::vector<std::string>& args, const std::string& id,
+                                          const std::string& out_dir);
+
+}  // namespace omnishadow::bench
