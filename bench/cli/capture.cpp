@@ -24,8 +24,8 @@ using nlohmann::json;
 
 constexpr const char* kLayer = "VK_LAYER_LUNARG_gfxreconstruct";
 constexpr const char* kGlReason =
-    "apitrace's EGL wrapper cannot trace libepoxy's GL loading (libepoxy issue #283: it aborts looking up "
-    "glXGetCurrentContext); no GL capture tool here";
+    "apitrace's EGL wrapper cannot trace libepoxy's GL loading (libepoxy looks up glXGetCurrentContext, "
+    "which the wrapper does not export, and aborts); no GL capture tool here";
 
 bool selected(const std::string& mode, const std::string& status) {
   if (mode == "all") return true;

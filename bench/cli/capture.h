@@ -3,9 +3,10 @@
 // as the run's --benchmark_filter, one repetition, no crash isolation), in a process of its own under the
 // API's capture tool, so that a driver team can replay it without this harness. Vulkan: GFXReconstruct's
 // capture layer (Debian's gfxreconstruct), replayed by `gfxrecon-replay`. GL: apitrace's EGL wrapper cannot
-// trace a program that resolves GL through libepoxy (libepoxy issue #283: it aborts on the missing
-// glXGetCurrentContext), so a GL case's capture is `unsupported` with that reason. Each capture is
-// OUT/captures/<case>.gfxr ('/' in the id as '_') beside the capture run's own folder (<case>.run) and output
+// trace a program that resolves GL through libepoxy (libepoxy looks up glXGetCurrentContext, which the
+// wrapper does not export, and aborts), so a GL case's capture is `unsupported` with that reason. Each
+// capture is OUT/captures/<case>.gfxr ('/' in the id as '_') beside the capture run's own folder (<case>.run)
+// and output
 // (<case>.log); OUT/captures.json and results.json's
 // "captures" list every selected case with its tool, the tool's version, the file and its size, and the
 // command that replays it, or why there is none.

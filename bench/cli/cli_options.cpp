@@ -505,7 +505,7 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
   r.add_option(
        "--capture", run.capture,
        "after the matrix, run the failed (or crashed, or all) cases again alone under a capture a driver "
-       "team can replay: GFXReconstruct on Vulkan (GL: unsupported, libepoxy #283)")
+       "team can replay: GFXReconstruct on Vulkan (GL: unsupported: apitrace cannot trace libepoxy)")
       ->check(CLI::IsMember({"failed", "crashed", "all", "none"}))
       ->capture_default_str();
   r.add_option("--inject-crash", run.harness.inject_crash,

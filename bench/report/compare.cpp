@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "bench/io/file_io.h"
@@ -58,23 +59,33 @@ std::string file_digest(const std::string& path) {
   return std::to_string(h) + ":" + std::to_string(bytes.size());
 }
 
-// The SHA-256 of a run's image: of the file, or, for a run fetched from the results store (which keeps
-// hashes, not pixels), the hash beside its results.json (image_hashes.json); "" when neither is there.
-std::string image_sha256(const RunData& run, const std::string& relative) {
-  const std::string file = sha256_hex_of_file((fs::path(run.dir) / relative).string());
-  if (!file.empty()) return file;
+// For a run fetched from the results store (which keeps hashes, not pixels): the SHA-256 of each image, by
+// its path, from image_hashes.json beside its results.json, read once per run; empty for any other run.
+using StoredHashes = std::map<std::string, std::string>;
+StoredHashes stored_image_hashes(const RunData& run) {
+  StoredHashes out;
   std::error_code ec;
   const fs::path stored = fs::path(run.dir) / "image_hashes.json";
-  if (!fs::is_regular_file(stored, ec)) return "";
+  if (!fs::is_regular_file(stored, ec)) return out;
   const json hashes = json::parse(read_file(stored.string()), nullptr, false);
-  return hashes.is_object() && hashes.contains(relative) && hashes[relative].is_string()
-             ? hashes[relative].get<std::string>()
-             : "";
+  if (hashes.is_object())
+    for (const auto& [path, hash] : hashes.items())
+      if (hash.is_string()) out[path] = hash.get<std::string>();
+  return out;
+}
+
+// The SHA-256 of a run's image: of the file, else the stored hash; "" when neither is there.
+std::string image_sha256(const RunData& run, const StoredHashes& stored, const std::string& relative) {
+  const std::string file = sha256_hex_of_file((fs::path(run.dir) / relative).string());
+  if (!file.empty()) return file;
+  const auto it = stored.find(relative);
+  return it == stored.end() ? "" : it->second;
 }
 
 // One image role of a case: identical bytes pass at once; otherwise decode, measure and draw a diff. An image
 // only a hash stands for (a stored run) is compared by that hash.
-void compare_image(const RunData& base, const RunData& fresh, const json& bc, const json& nc,
+void compare_image(const RunData& base, const RunData& fresh,
+                   const std::pair<StoredHashes, StoredHashes>& stored, const json& bc, const json& nc,
                    const std::string& role, const fs::path& diff_dir, CaseComparison& out) {
   if (!bc.contains("images") || !nc.contains("images") || !bc["images"].contains(role) ||
       !nc["images"].contains(role))
@@ -84,7 +95,8 @@ void compare_image(const RunData& base, const RunData& fresh, const json& bc, co
   std::string bp = (fs::path(base.dir) / b_rel).string();
   std::string np = (fs::path(fresh.dir) / n_rel).string();
   if (!fs::exists(bp) || !fs::exists(np)) {
-    const std::string b_hash = image_sha256(base, b_rel), n_hash = image_sha256(fresh, n_rel);
+    const std::string b_hash = image_sha256(base, stored.first, b_rel),
+                      n_hash = image_sha256(fresh, stored.second, n_rel);
     if (b_hash.empty() || n_hash.empty())
       out.image_changes.push_back(role + ": image missing (" + (b_hash.empty() ? bp : np) + ")");
     else if (b_hash != n_hash)
@@ -243,6 +255,7 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
   const fs::path out_dir =
       options.out_dir.empty() ? fs::path(fresh.dir) / "compare" : fs::path(options.out_dir);
   std::vector<double> p_values;
+  const std::pair<StoredHashes, StoredHashes> stored{stored_image_hashes(base), stored_image_hashes(fresh)};
   for (const auto& [id, bc] : base.cases) {
     auto it = fresh.cases.find(id);
     if (it == fresh.cases.end()) continue;
@@ -267,7 +280,7 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
     if (bc->contains("counters") && nc.contains("counters"))
       compare_counters((*bc)["counters"], nc["counters"], cc);
     for (const char* role : {"lit", "shadow_factor", "cube_faces"})
-      compare_image(base, fresh, *bc, nc, role, out_dir / "diffs" / id, cc);
+      compare_image(base, fresh, stored, *bc, nc, role, out_dir / "diffs" / id, cc);
     c.cases.push_back(cc);
   }
   for (const CaseComparison& cc : c.cases)

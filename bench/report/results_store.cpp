@@ -299,6 +299,25 @@ void insert_run(soci::session& sql, const RunData& run, const std::string& key, 
   out.measures = int(m.case_id.size());
 }
 
+// Runs `body` in a transaction of its own (migrated first). On any failure it is rolled back and the store
+// says one line: `what`, then the cause's first line.
+template <typename Body>
+void in_transaction(soci::session& sql, bool sqlite, const std::string& what, Body body) {
+  try {
+    begin_exclusive(sql, sqlite);
+    migrate(sql);
+    body();
+    sql << "COMMIT";
+  } catch (const std::exception& e) {
+    try {
+      sql << "ROLLBACK";
+    } catch (const std::exception&) {  // the connection may be gone; the server rolls back itself then
+    }
+    std::string message = e.what();
+    throw StoreError(what + ": " + message.substr(0, message.find('\n')));
+  }
+}
+
 }  // namespace
 
 StoredRun ResultsStore::store(const RunData& run) {
@@ -306,43 +325,29 @@ StoredRun ResultsStore::store(const RunData& run) {
   out.file = run.file;
   out.run_key = run_key_of(run.doc.dump());
   soci::session& sql = impl_->sql;
-  try {
-    begin_exclusive(sql, impl_->sqlite);
-    migrate(sql);
+  in_transaction(sql, impl_->sqlite, run.file + ": not stored in " + url_ + " (nothing of it written)", [&] {
     int present = 0;
     sql << "SELECT COUNT(*) FROM runs WHERE run_key = :k", soci::use(out.run_key), soci::into(present);
     if (present == 0) {
       insert_run(sql, run, out.run_key, out);
       insert_document(sql, run, out.run_key, out);
       out.added = true;
-    } else {
-      int documents = 0;  // a run stored under schema 1 gets its document and image hashes now
-      sql << "SELECT COUNT(*) FROM documents WHERE run_key = :k", soci::use(out.run_key),
-          soci::into(documents);
-      if (documents == 0) {
-        insert_document(sql, run, out.run_key, out);
-        out.completed = true;
-      }
+      return;
     }
-    sql << "COMMIT";
-  } catch (const std::exception& e) {
-    try {
-      sql << "ROLLBACK";
-    } catch (const std::exception&) {  // the connection may be gone; the server rolls back itself then
+    int documents = 0;  // a run stored under schema 1 gets its document and image hashes now
+    sql << "SELECT COUNT(*) FROM documents WHERE run_key = :k", soci::use(out.run_key), soci::into(documents);
+    if (documents == 0) {
+      insert_document(sql, run, out.run_key, out);
+      out.completed = true;
     }
-    std::string what = e.what();
-    what = what.substr(0, what.find('\n'));
-    throw StoreError(run.file + ": not stored in " + url_ + " (nothing of it written): " + what);
-  }
+  });
   return out;
 }
 
 int ResultsStore::schema_version() {
-  soci::session& sql = impl_->sql;
-  begin_exclusive(sql, impl_->sqlite);
-  migrate(sql);
-  const int v = current_version(sql);
-  sql << "COMMIT";
+  int v = 0;
+  in_transaction(impl_->sql, impl_->sqlite, "cannot migrate " + url_,
+                 [&] { v = current_version(impl_->sql); });
   return v;
 }
 
@@ -397,25 +402,6 @@ std::vector<FetchedRun> ResultsStore::fetch(const FetchFilter& filter, int& with
 
 namespace {
 
-// Runs `body` in a transaction of its own (migrated first); one line naming the store on failure.
-template <typename Body>
-void in_transaction(soci::session& sql, bool sqlite, const std::string& url, const std::string& what,
-                    Body body) {
-  try {
-    begin_exclusive(sql, sqlite);
-    migrate(sql);
-    body();
-    sql << "COMMIT";
-  } catch (const std::exception& e) {
-    try {
-      sql << "ROLLBACK";
-    } catch (const std::exception&) {  // the connection may be gone; the server rolls back itself then
-    }
-    std::string message = e.what();
-    throw StoreError(what + " in " + url + ": " + message.substr(0, message.find('\n')));
-  }
-}
-
 std::optional<double> optional_double(const soci::row& row, size_t i) {
   if (row.get_indicator(i) == soci::i_null) return std::nullopt;
   return row.get<double>(i);
@@ -425,7 +411,7 @@ std::optional<double> optional_double(const soci::row& row, size_t i) {
 
 void ResultsStore::accept(const AcceptedStep& step) {
   soci::session& sql = impl_->sql;
-  in_transaction(sql, impl_->sqlite, url_, "cannot accept the step", [&] {
+  in_transaction(sql, impl_->sqlite, "cannot accept the step in " + url_, [&] {
     sql << "INSERT INTO accepted_steps (case_pattern, metric_pattern, commit_sha, reason) VALUES (:c, :m, "
            ":s, "
            ":r) ON CONFLICT (case_pattern, metric_pattern, commit_sha) DO UPDATE SET reason = "
@@ -441,7 +427,7 @@ void ResultsStore::set_threshold(const Threshold& t) {
          percent = t.percent.value_or(0.0);
   soci::indicator a = t.alpha ? soci::i_ok : soci::i_null, m = t.min_effect ? soci::i_ok : soci::i_null,
                   p = t.percent ? soci::i_ok : soci::i_null;
-  in_transaction(sql, impl_->sqlite, url_, "cannot set the threshold", [&] {
+  in_transaction(sql, impl_->sqlite, "cannot set the threshold in " + url_, [&] {
     sql << "INSERT INTO thresholds (device, metric, alpha, min_effect, percent) VALUES (:d, :m, :a, :e, :p) "
            "ON "
            "CONFLICT (device, metric) DO UPDATE SET alpha = excluded.alpha, min_effect = "
@@ -455,7 +441,7 @@ void ResultsStore::set_threshold(const Threshold& t) {
 std::vector<AcceptedStep> ResultsStore::accepted_steps() {
   std::vector<AcceptedStep> out;
   soci::session& sql = impl_->sql;
-  in_transaction(sql, impl_->sqlite, url_, "cannot read the accepted steps", [&] {
+  in_transaction(sql, impl_->sqlite, "cannot read the accepted steps in " + url_, [&] {
     soci::rowset<soci::row> rows =
         (sql.prepare << "SELECT case_pattern, metric_pattern, commit_sha, reason FROM "
                         "accepted_steps ORDER BY commit_sha, case_pattern, metric_pattern");
@@ -469,7 +455,7 @@ std::vector<AcceptedStep> ResultsStore::accepted_steps() {
 std::vector<Threshold> ResultsStore::thresholds() {
   std::vector<Threshold> out;
   soci::session& sql = impl_->sql;
-  in_transaction(sql, impl_->sqlite, url_, "cannot read the thresholds", [&] {
+  in_transaction(sql, impl_->sqlite, "cannot read the thresholds in " + url_, [&] {
     soci::rowset<soci::row> rows =
         (sql.prepare
          << "SELECT device, metric, alpha, min_effect, percent FROM thresholds ORDER BY device, metric");

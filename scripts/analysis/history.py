@@ -21,6 +21,7 @@ Usage: scripts/analysis/history.py RUN_OR_FOLDER... [--out DIR] [--accepted FILE
                                    [--repo DIR] [--device-key KEY]
 """
 import argparse
+import functools
 import hashlib
 import json
 import os
@@ -105,12 +106,19 @@ def image_digest(run_dir, relative):
             return hashlib.sha256(f.read()).hexdigest()[:16]
     except OSError:
         pass
+    stored = stored_image_hashes(run_dir).get(relative)
+    return stored[:16] if isinstance(stored, str) else None
+
+
+@functools.lru_cache(maxsize=None)
+def stored_image_hashes(run_dir):
+    """A fetched run's image_hashes.json (path -> SHA-256), read once per run; {} for any other run."""
     try:
         with open(os.path.join(run_dir, "image_hashes.json")) as f:
-            stored = json.load(f).get(relative)
+            hashes = json.load(f)
     except (OSError, ValueError):
-        return None
-    return stored[:16] if isinstance(stored, str) else None
+        return {}
+    return hashes if isinstance(hashes, dict) else {}
 
 
 def metrics(case, run_dir="."):
