@@ -170,6 +170,11 @@ class Backend {
   virtual bool has_mesh_shading() const { return false; }
   virtual void upload_scene(
       const scene::Scene& scene) = 0;  // releases the case and the last scene's geometry
+  // The moving objects' vertex ranges of scene_->vertices (just posed) to the device, before the next frame's
+  // shadow pass reads them.
+  virtual void upload_moving_objects() = 0;
+  // What the scene refuses: mesh_shader on a scene with moving casters (its meshlets are built at load).
+  Support scene_support(const CaseConfig& c) const;
   // configure()'s work once the case is known to be new and supported: release the last case's objects,
   // create this one's, and set config_ (left empty when it throws).
   virtual void configure_case(const CaseConfig& config) = 0;
@@ -181,6 +186,7 @@ class Backend {
   // Renders the last check frame's lighting pass (check variant) again, reporting light `light`'s shadow
   // factor; the shadow maps are the check frame's.
   virtual void report_light(int light) = 0;
+  void pose(int frame);  // scene_ posed at `frame`, its moving objects uploaded
 
   DeviceInfo info_;
   std::optional<scene::Scene>

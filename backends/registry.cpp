@@ -24,13 +24,18 @@ void Backend::load(const scene::Scene& scene) {
   config_.reset();
   checked_ = false;
   check_is_last_ = false;
-  upload_scene(scene);
-  meshlets_.reset();
-  if (has_mesh_shading()) meshlets_ = gpu::build_meshlets(scene);  // needs the vertices released below
+  // The device's copy starts at rest, whatever frame the caller's scene is posed at, so that the first frame
+  // rendered poses and uploads its moving casters like every later one (a check of any frame covers it).
   scene_ = scene;
+  scene_->put_at_rest();
+  upload_scene(*scene_);
+  meshlets_.reset();
+  if (has_mesh_shading()) meshlets_ = gpu::build_meshlets(*scene_);  // needs the vertices released below
   scene_->focus_light = 0;
-  scene_->vertices.clear();  // only the device's copy is needed after upload
-  scene_->vertices.shrink_to_fit();
+  if (!scene_->has_moving_objects()) {  // only the device's copy is needed after upload
+    scene_->vertices.clear();
+    scene_->vertices.shrink_to_fit();
+  }
   all_objects_.clear();
   for (uint32_t i = 0; i < scene.objects.size(); ++i) all_objects_.push_back({i, 1, 0});
 }
@@ -45,8 +50,25 @@ void Backend::configure(const CaseConfig& c) {
   configure_case(c);
 }
 
+Support Backend::scene_support(const CaseConfig& c) const {
+  if (c.technique == Technique::mesh_shader && scene_ && scene_->has_moving_objects())
+    return {false,
+            "scene " + scene_->name +
+                " has moving casters, and mesh_shader's meshlets and their bounds are built once at load"};
+  return {};
+}
+
+// The scene's moving casters where `frame` has them, on the host and on the device, before anything of the
+// frame is planned or drawn: a renderer's per-frame vertex upload, part of the frame's shadow pass.
+void Backend::pose(int frame) {
+  if (scene_->posed_frame == frame || !scene_->has_moving_objects()) return;
+  scene_->pose(frame);
+  upload_moving_objects();
+}
+
 FrameTiming Backend::render(int frame, FrameKind kind) {
   if (!config_) throw std::logic_error("render() before configure()");
+  pose(frame);
   FrameTiming t = render_frame(frame, kind);
   if (kind == FrameKind::check) checked_ = true;
   check_is_last_ = kind == FrameKind::check;
@@ -57,6 +79,7 @@ FrameTiming Backend::render(int frame, FrameKind kind) {
 FrameCounters Backend::count_work(int frame) {
   if (!config_) throw std::logic_error("count_work() before configure()");
   check_is_last_ = false;
+  pose(frame);
   return count_frame_work(frame);
 }
 

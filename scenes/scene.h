@@ -19,24 +19,14 @@ class SceneError : public std::runtime_error {
 };
 
 struct Vertex {
-  glm::vec3 position;  // world space (instances are baked at load: the scene is static, only lights move)
+  glm::vec3 position;  // world space (instances are baked at load; a moving object's as posed: Scene::pose)
   glm::vec3 normal;    // world space, unit length, pointing to the side that is lit
   glm::vec3 color;     // linear RGB albedo
 };
 
-// One scene object after baking: a contiguous range of triangles in Scene::vertices.
-struct Object {
-  std::string name;
-  std::string kind;  // box, plane, sphere, obj, gltf
-  uint32_t first_vertex = 0;
-  uint32_t vertex_count = 0;
-  bool cull_back_faces = false;  // closed convex meshes seen from outside; false for rooms and quads
-  glm::vec3 bounds_min{0.0f};
-  glm::vec3 bounds_max{0.0f};
-};
-
 // Light position as a function of the frame: position = base + amplitude * sin(frequency * t + phase),
 // t = frame * seconds_per_frame. Seeds 000/001: base (0,0,0), amplitude (0,0,3), frequency 0.5, phase 0.
+// A moving object's offset from where the file put it is the same function with base 0.
 struct LightPath {
   glm::vec3 base{0.0f};
   glm::vec3 amplitude{0.0f};
@@ -48,6 +38,31 @@ struct LightPath {
 };
 // The tutorials' sway (seeds 000/001), and that of lights placed by rule or by --light.
 inline constexpr float kSeedLightFrequency = 0.5f;  // rad/s
+
+// One scene object after baking: a contiguous range of triangles in Scene::vertices.
+struct Object {
+  std::string name;
+  std::string kind;  // box, plane, sphere, obj, gltf
+  uint32_t first_vertex = 0;
+  uint32_t vertex_count = 0;
+  bool cull_back_faces = false;  // closed convex meshes seen from outside; false for rooms and quads
+  glm::vec3 bounds_min{0.0f};    // as posed (Scene::pose): where the scene's last posed frame put it
+  glm::vec3 bounds_max{0.0f};
+  // A moving caster: translated by motion.at(frame) (base 0) from where the file put it (rest_bounds_*), a
+  // function of the frame index like a light's path. A path without amplitude stands still.
+  LightPath motion;
+  glm::vec3 rest_bounds_min{0.0f};
+  glm::vec3 rest_bounds_max{0.0f};
+  bool moves() const { return motion.amplitude != glm::vec3(0.0f); }
+  glm::vec3 offset_at(int frame) const { return moves() ? motion.at(frame) : glm::vec3(0.0f); }
+  // Its bounds at `frame`, whatever frame the scene is posed at.
+  glm::vec3 bounds_min_at(int frame) const {
+    return moves() ? rest_bounds_min + offset_at(frame) : bounds_min;
+  }
+  glm::vec3 bounds_max_at(int frame) const {
+    return moves() ? rest_bounds_max + offset_at(frame) : bounds_max;
+  }
+};
 
 struct PointLight {
   LightPath path;
@@ -112,6 +127,17 @@ struct Scene {
   std::vector<MapLight> map_lights;  // in file order, at most kMaxMapLights
   Camera camera;
   uint64_t triangle_count() const { return vertices.size() / 3; }
+
+  // Moving casters (Object::motion). pose(frame) puts every moving object where frame `frame` has it: its
+  // vertices are its rest positions (kept on the first pose) plus the offset, computed afresh each time so
+  // that a frame's geometry never depends on the frames posed before it; its bounds likewise. Whatever
+  // renders or casts rays at a frame poses the scene at that frame first; a scene without moving objects
+  // ignores it.
+  bool has_moving_objects() const;
+  void pose(int frame);
+  void put_at_rest();                     // every moving object where the file put it (posed_frame -1)
+  int posed_frame = -1;                   // -1: at rest, as loaded
+  std::vector<glm::vec3> rest_positions;  // per vertex; filled on the first pose of a scene with movers
 };
 
 // Puts light `light` of `scene` in focus (Scene::light()) for the guard's lifetime.

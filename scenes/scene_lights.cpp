@@ -17,21 +17,24 @@ const PointLight& Scene::light() const {
 }
 
 namespace detail {
+
+LightPath parse_path_fields(const Node& p, LightPath path) {
+  p.expect_object({"amplitude", "frequency", "seconds_per_frame", "phase"});
+  if (p.has("amplitude")) path.amplitude = p.at("amplitude").vec3();
+  if (p.has("frequency")) path.frequency = static_cast<float>(p.at("frequency").number());
+  if (p.has("seconds_per_frame"))
+    path.seconds_per_frame = static_cast<float>(p.at("seconds_per_frame").number_in(0, 3600));
+  if (p.has("phase")) path.phase = static_cast<float>(p.at("phase").number_in(-1000, 1000));
+  return path;
+}
+
 namespace {
 
 LightPath parse_path(const Node& n, const glm::dvec3& origin) {
   LightPath path;
   path.base = glm::vec3(-origin);
   if (n.has("position")) path.base = n.at("position").position(origin);
-  if (n.has("path")) {
-    Node p = n.at("path");
-    p.expect_object({"amplitude", "frequency", "seconds_per_frame", "phase"});
-    if (p.has("amplitude")) path.amplitude = p.at("amplitude").vec3();
-    if (p.has("frequency")) path.frequency = static_cast<float>(p.at("frequency").number());
-    if (p.has("seconds_per_frame"))
-      path.seconds_per_frame = static_cast<float>(p.at("seconds_per_frame").number_in(0, 3600));
-    if (p.has("phase")) path.phase = static_cast<float>(p.at("phase").number_in(-1000, 1000));
-  }
+  if (n.has("path")) path = parse_path_fields(n.at("path"), path);
   return path;
 }
 

@@ -155,8 +155,8 @@ ObjectPlacement read_placement(const Node& n, const glm::dvec3& origin) {
 }
 
 void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_t index) {
-  n.expect_object(
-      {"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file", "array"});
+  n.expect_object({"name", "type", "translate", "rotate", "scale", "color", "inside", "segments", "file",
+                   "array", "path"});
   std::string type = n.at("type").string();
   const Shape shape = build_shape(n, type, scene_dir);
   if (!shape.note.empty()) scene.notes.push_back(shape.note);
@@ -167,6 +167,10 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
   const glm::mat4& rotation = placement.rotation;
   const glm::ivec3& count = placement.count;
   bool inside = n.has("inside") && n.at("inside").boolean();
+  // A moving caster: every instance of an array moves together, by the same offset.
+  const LightPath motion = n.has("path") ? detail::parse_path_fields(n.at("path"), LightPath{}) : LightPath{};
+  if (!finite(motion.amplitude) || !std::isfinite(motion.frequency))
+    n.at("path").fail("amplitude and frequency must be finite");
   if (static_cast<uint64_t>(count.x) * count.y * count.z * mesh.size() + scene.vertices.size() >
       kMaxSceneVertices)
     n.fail("object too large: more than " + std::to_string(kMaxSceneVertices) + " vertices in the scene");
@@ -208,6 +212,9 @@ void add_object(Scene& scene, const Node& n, const std::string& scene_dir, size_
           obj.bounds_max = glm::max(obj.bounds_max, v.position);
           scene.vertices.push_back(v);
         }
+        obj.motion = motion;
+        obj.rest_bounds_min = obj.bounds_min;
+        obj.rest_bounds_max = obj.bounds_max;
         scene.objects.push_back(obj);
       }
 }

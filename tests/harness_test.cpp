@@ -35,6 +35,7 @@ class ScriptedBackend : public Backend {
     return {};
   }
   void upload_scene(const scene::Scene&) override {}
+  void upload_moving_objects() override {}
   void configure_case(const CaseConfig& c) override {
     if (c.technique == Technique::geometry_shader && c.filter == Filter::pcf_grid64)
       throw std::runtime_error("scripted failure while configuring");

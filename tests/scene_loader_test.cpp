@@ -155,7 +155,14 @@ INSTANTIATE_TEST_SUITE_P(
             R"({"lights": [{"type": "spot", "direction": [0, -1, 0]}, {"type": "spot", "direction": [0, -1, 0]},
                  {"type": "spot", "direction": [0, -1, 0]}, {"type": "spot", "direction": [0, -1, 0]},
                  {"type": "directional", "direction": [0, -1, 0]}], "objects": [{"type": "box"}]})",
-            "/lights/4: at most 4 spot/directional lights"}),
+            "/lights/4: at most 4 spot/directional lights"},
+        // Moving casters: a path as a light's, without a position.
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "path": {"amplitude": [1, 0]}}]})",
+                 "/objects/0/path/amplitude: expected an array of 3 numbers"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "path": {"position": [1, 0, 0]}}]})",
+                 "/objects/0/path/position: unknown field"},
+        BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "path": {"frequency": "fast"}}]})",
+                 "/objects/0/path/frequency: expected a number"}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return "case" + std::to_string(info.index); });
 
 TEST(SceneLoader, LightsEachGetWhatTheyNeed) {
@@ -199,6 +206,41 @@ TEST(SceneLoader, ManyPointLightsKeepTheirOrderAndPaths) {
                             std::to_string(kMaxPointLights) + " point lights per scene")
                                .c_str());
   }
+}
+
+// The hall's rollers and carts: each array moves as one, by its path's offset from where the file put it, and
+// a pose depends on its frame alone (never on the frames posed before it), bounds included.
+TEST(SceneLoader, MovingCastersArePosedByTheFrameAlone) {
+  Scene hall = load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/hall.json");
+  ASSERT_TRUE(hall.has_moving_objects());
+  std::vector<size_t> moving;
+  for (size_t i = 0; i < hall.objects.size(); ++i)
+    if (hall.objects[i].moves()) moving.push_back(i);
+  ASSERT_EQ(moving.size(), 7u) << "four rollers and three carts";
+  const std::vector<Vertex> rest = hall.vertices;
+  const Object& roller = hall.objects[moving[0]];
+  EXPECT_EQ(roller.motion.amplitude, glm::vec3(6, 0, 0));
+  hall.pose(40);
+  const std::vector<Vertex> at40 = hall.vertices;
+  const glm::vec3 offset = roller.offset_at(40);
+  EXPECT_NE(offset, glm::vec3(0.0f));
+  EXPECT_EQ(at40[roller.first_vertex].position, rest[roller.first_vertex].position + offset);
+  EXPECT_EQ(roller.bounds_min, roller.rest_bounds_min + offset);
+  EXPECT_EQ(roller.bounds_min_at(7), roller.rest_bounds_min + roller.offset_at(7)) << "any frame, any pose";
+  for (size_t i = 0; i < hall.objects.size(); ++i)
+    if (!hall.objects[i].moves()) {
+      const Object& o = hall.objects[i];
+      EXPECT_EQ(at40[o.first_vertex].position, rest[o.first_vertex].position) << o.name << " stands still";
+    }
+  for (int frame : {3, 17, 40}) hall.pose(frame);
+  for (size_t v = 0; v < rest.size(); ++v)
+    ASSERT_EQ(hall.vertices[v].position, at40[v].position)
+        << "vertex " << v << ": frame 40 again, bit for bit";
+  hall.put_at_rest();
+  EXPECT_EQ(hall.posed_frame, -1);
+  for (size_t v = 0; v < rest.size(); ++v) ASSERT_EQ(hall.vertices[v].position, rest[v].position);
+  const Scene room = load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/room.json");
+  EXPECT_FALSE(room.has_moving_objects());
 }
 
 TEST(SceneLoader, MissingFileIsAnError) {

@@ -117,7 +117,7 @@ TEST(UpdateBudget, CheckPassesARoundRobinWithinItsBound) {
 TEST(UpdateBudget, CheckFailsAFaceNeverRefreshed) {
   const bench::CaseFindings r = checked(round_robin(20, [](int, Frames& held) { held[5] = 0; }));
   EXPECT_EQ(r.status, bench::Status::failed_check);
-  EXPECT_NE(r.reason.find("face -Z has shown its light's position of frame 0 for 6 frames"),
+  EXPECT_NE(r.reason.find("face -Z has shown its light and casters of frame 0 for 6 frames"),
             std::string::npos)
       << r.reason;
 }
@@ -134,6 +134,79 @@ TEST(UpdateBudget, CheckFailsAFrameOverBudgetAndAFaceReadEmpty) {
   EXPECT_NE(empty.reason.find("frame 2: light 0 face -Y is read but holds no light's depth"),
             std::string::npos)
       << empty.reason;
+}
+
+// A box of half-size 0.25 at (x, 2, 0), moving `amplitude` either way along z (0.5 rad/s): a caster one
+// face of a light at (0, 2, 0) sees.
+void add_box(scene::Scene& s, float x, float amplitude) {
+  scene::Object o;
+  o.first_vertex = uint32_t(s.vertices.size());
+  for (float dx : {-0.25f, 0.25f})
+    for (float dz : {-0.25f, 0.25f}) s.vertices.push_back({{x + dx, 2.0f, dz}, {0, 1, 0}, {1, 1, 1}});
+  s.vertices.resize(s.vertices.size() + 2, s.vertices.back());  // two triangles' worth of vertices
+  o.vertex_count = 6;
+  o.bounds_min = o.rest_bounds_min = {x - 0.25f, 1.75f, -0.25f};
+  o.bounds_max = o.rest_bounds_max = {x + 0.25f, 2.25f, 0.25f};
+  o.motion.amplitude = {0.0f, 0.0f, amplitude};
+  o.motion.frequency = 0.5f;
+  s.objects.push_back(o);
+}
+
+// Still lights, one moving box 2 units along -X of light 0 (beyond light 1's range): only light 0's -X face
+// goes stale, every frame, and the budget refreshes it; the other faces and light keep their first frame.
+TEST(UpdateBudget, AMovingCasterDirtiesTheFacesItReaches) {
+  scene::Scene s = lights_scene(2, 0);
+  for (scene::PointLight& l : s.point_lights) l.far_plane = 3.0f;
+  add_box(s, -2.0f, 0.5f);
+  const CaseConfig c = budget_case(Technique::six_pass, 2, 1);
+  const auto frames = plan_frames(s, c, 3);
+  for (int t = 1; t <= 3; ++t) {
+    EXPECT_EQ(frames[size_t(t)][0], (Frames{0, t, 0, 0, 0, 0})) << "frame " << t << ": -X alone, every frame";
+    EXPECT_EQ(frames[size_t(t)][1], (Frames{0, 0, 0, 0, 0, 0})) << "the box is beyond light 1's range";
+  }
+  EXPECT_EQ(cube::moved_caster_faces(s, glm::vec3(0, 2, 0), 0.1f, 3.0f, 0, 0), 0) << "no motion, no face";
+}
+
+TEST(UpdateBudget, AStaticCubeIsReusedOnlyWhileNoCasterInRangeMoves) {
+  scene::Scene s = lights_scene(1, 0);
+  s.point_lights[0].far_plane = 3.0f;
+  add_box(s, -2.0f, 0.5f);
+  CaseConfig c = budget_case(Technique::six_pass, 1, 0);
+  c.layout = Layout::cube;
+  c.optimizations.static_cache = true;
+  gpu::LightFramePlanner planner;
+  planner.reset(1);
+  for (int t = 0; t < 3; ++t) {
+    const gpu::LightFrames f = planner.prepare(s, t, c, cube::DepthRange::zero_to_one);
+    EXPECT_FALSE(f.lights[0].reuse_cube) << "frame " << t << ": the box moved within the light's range";
+    planner.rendered(f, c);
+  }
+  s.objects[0].motion.amplitude = glm::vec3(0.0f);  // standing still: the cube rendered once serves
+  EXPECT_TRUE(planner.prepare(s, 3, c, cube::DepthRange::zero_to_one).lights[0].reuse_cube);
+}
+
+// The check's own rule: a face a moving caster reaches and that the planner never refreshes fails it.
+TEST(UpdateBudget, CheckFailsAFaceAMovingCasterLeftStale) {
+  scene::Scene s = lights_scene(1, 0);
+  s.point_lights[0].far_plane = 3.0f;
+  add_box(s, -2.0f, 0.5f);
+  bench::CaseFindings r;
+  r.config = budget_case(Technique::six_pass, 1, 1);
+  std::vector<bench::SequenceFrame> frames;
+  for (int t = 0; t < 6; ++t) frames.push_back({t, {Frames{0, t, 0, 0, 0, 0}}, {cube::kAllFaces}, 0.0, 0});
+  check_update_budget(r, s, {0}, frames);
+  EXPECT_EQ(r.status, bench::Status::ok) << r.reason;
+  ASSERT_TRUE(r.staleness);
+  EXPECT_EQ(r.staleness->wait_bound, 0) << "one face can go stale, one refreshed a frame";
+  frames.clear();
+  for (int t = 0; t < 6; ++t) frames.push_back({t, {Frames{0, 0, 0, 0, 0, 0}}, {cube::kAllFaces}, 0.0, 0});
+  bench::CaseFindings never;
+  never.config = r.config;
+  check_update_budget(never, s, {0}, frames);
+  EXPECT_EQ(never.status, bench::Status::failed_check);
+  EXPECT_NE(never.reason.find("face -X has shown its light and casters of frame 0 for 1 frames"),
+            std::string::npos)
+      << never.reason;
 }
 
 }  // namespace

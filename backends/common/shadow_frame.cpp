@@ -14,10 +14,12 @@ ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, co
   ShadowFrame f;
   f.frame = frame;
   f.uniforms = make_frame_uniforms(scene, frame, config, range);
-  // Casters never move (scenes are baked at load), so the light's position and range decide the cube's
-  // content. Exact float equality: a light that moves by one ulp renders again.
-  f.reuse_cube =
-      config.optimizations.static_cache && cube_light_ && *cube_light_ == f.uniforms.light_position;
+  // The light's position and range decide the cube's content, and the moving casters within its reach.
+  // Exact float equality: a light that moves by one ulp renders again.
+  f.reuse_cube = config.optimizations.static_cache && cube_light_ &&
+                 *cube_light_ == f.uniforms.light_position &&
+                 !cube::moved_caster_faces(scene, glm::vec3(*cube_light_), scene.light().near_plane,
+                                           cube_light_->w, cube_frame_, frame);
   if (!f.reuse_cube) {
     f.plan = cube::plan_shadow_draws(scene, glm::vec3(f.uniforms.light_position), scene.light().near_plane,
                                      f.uniforms.light_position.w, config.optimizations.face_culling);
@@ -39,11 +41,17 @@ ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, co
   return f;
 }
 
-uint8_t ShadowFramePlanner::stale_faces(const glm::vec4& light, int frame) {
+uint8_t ShadowFramePlanner::stale_faces(const scene::Scene& scene, const glm::vec4& light, float near_plane,
+                                        int frame) {
   uint8_t stale = 0;
   for (int face = 0; face < cube::kFaceCount; ++face) {
     FaceContent& c = faces_[size_t(face)];
-    if (c.frame >= 0 && c.light == light) continue;  // exact: a light that moved by one ulp is stale
+    // Exact: a light that moved by one ulp is stale.
+    const bool holds =
+        c.frame >= 0 && c.light == light &&
+        !((cube::moved_caster_faces(scene, glm::vec3(light), near_plane, light.w, c.frame, frame) >> face) &
+          1u);
+    if (holds) continue;
     stale |= uint8_t(1u << face);
     if (c.stale_since < 0) c.stale_since = frame;
   }
@@ -65,10 +73,12 @@ void ShadowFramePlanner::rendered(const ShadowFrame& f, const CaseConfig& config
   }
   // A cube with faces left out by view culling is not whole: a later view may need them.
   if (config.optimizations.static_cache) {
-    if (f.view_faces == cube::kAllFaces)
+    if (f.view_faces == cube::kAllFaces) {
       cube_light_ = f.uniforms.light_position;
-    else
+      cube_frame_ = f.frame;
+    } else {
       cube_light_.reset();
+    }
   }
 }
 
@@ -82,7 +92,7 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
   // Every light in one pass renders every light or none: one that moved makes the others render again.
   const bool all_reuse =
       std::all_of(f.lights.begin(), f.lights.end(), [](const ShadowFrame& s) { return s.reuse_cube; });
-  if (config.update_budget_faces > 0) apply_update_budget(f, frame, config);
+  if (config.update_budget_faces > 0) apply_update_budget(f, scene, frame, config);
   for (size_t k = 0; k < planners_.size(); ++k) {
     if (config.light_grouping == LightGrouping::all_lights && !all_reuse && f.lights[k].reuse_cube) {
       scene::FocusLight focus(scene, static_cast<int>(k));
@@ -106,7 +116,8 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
 // budget lasts; the first that does not fit ends the frame's refreshes, so that no unit waits behind later
 // ones: a unit waits at most ceil(units that can be stale / units a frame) - 1 frames. A light never written
 // since configure renders whole, outside the budget (its map must hold defined values).
-void LightFramePlanner::apply_update_budget(LightFrames& f, int frame, const CaseConfig& config) {
+void LightFramePlanner::apply_update_budget(LightFrames& f, const scene::Scene& scene, int frame,
+                                            const CaseConfig& config) {
   struct Unit {
     int since, light, face, cost;  // face -1: the whole light
   };
@@ -117,7 +128,8 @@ void LightFramePlanner::apply_update_budget(LightFrames& f, int frame, const Cas
     ShadowFrame& s = f.lights[k];
     ShadowFramePlanner& p = planners_[k];
     if (s.skipped() || !p.written()) continue;  // out of view, or rendered whole this frame
-    const uint8_t stale = p.stale_faces(s.uniforms.light_position, frame) & s.view_faces;
+    const float near_plane = scene.point_lights.at(k).near_plane;
+    const uint8_t stale = p.stale_faces(scene, s.uniforms.light_position, near_plane, frame) & s.view_faces;
     int oldest = frame;
     for (int face = 0; face < cube::kFaceCount; ++face) {
       if (!((stale >> face) & 1u)) continue;

@@ -60,13 +60,15 @@ class ShadowFramePlanner {
   // by it.
   float cube_far() const { return cube_far_; }
   bool written() const { return written_; }
-  // The faces that do not hold `light` (xyz position, w far), each marked stale since `frame` the first time
-  // it is found so. Casters never move, so a face holding its light's position and range is up to date.
-  uint8_t stale_faces(const glm::vec4& light, int frame);
+  // The faces that do not hold `light` (xyz position, w far) as frame `frame` has it, each marked stale since
+  // `frame` the first time it is found so: a face rendered for another position or range of its light, or one
+  // a moving caster reached since (cube::moved_caster_faces; `scene` at any pose, near: the light's).
+  uint8_t stale_faces(const scene::Scene& scene, const glm::vec4& light, float near_plane, int frame);
   const std::array<FaceContent, 6>& faces() const { return faces_; }
 
  private:
   std::optional<glm::vec4> cube_light_;  // xyz position, w far: what the cached cube was rendered for
+  int cube_frame_ = -1;                  // and the frame whose casters it holds
   float cube_far_ = 0.0f;
   bool written_ = false;  // a pass has written the light's map since configure
   std::array<FaceContent, 6> faces_{};
@@ -104,7 +106,7 @@ class LightFramePlanner {
 
  private:
   // The update budget: which stale faces `f` refreshes (the oldest first), the others deferred.
-  void apply_update_budget(LightFrames& f, int frame, const CaseConfig& config);
+  void apply_update_budget(LightFrames& f, const scene::Scene& scene, int frame, const CaseConfig& config);
 
   std::vector<ShadowFramePlanner> planners_;
   std::optional<atlas::Plan> atlas_;

@@ -32,6 +32,17 @@ uint8_t box_face_mask(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3&
   return mask;
 }
 
+uint8_t moved_caster_faces(const scene::Scene& scene, const glm::vec3& light, float near_plane,
+                           float far_plane, int then, int now) {
+  uint8_t faces = 0;
+  for (const scene::Object& o : scene.objects) {
+    if (!o.moves() || o.offset_at(then) == o.offset_at(now)) continue;
+    faces |= box_face_mask(o.bounds_min_at(then), o.bounds_max_at(then), light, near_plane, far_plane);
+    faces |= box_face_mask(o.bounds_min_at(now), o.bounds_max_at(now), light, near_plane, far_plane);
+  }
+  return faces;
+}
+
 ShadowDrawPlan plan_shadow_draws(const scene::Scene& scene, const glm::vec3& light, float near_plane,
                                  float far_plane, bool cull) {
   ShadowDrawPlan plan;

@@ -23,6 +23,13 @@ inline constexpr uint8_t kAllFaces = 0x3f;
 uint8_t box_face_mask(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& light, float near_plane,
                       float far_plane);
 
+// The faces of a light at `light` (its near and far) whose content a moving caster changed between frames
+// `then` and `now`: each moving object whose offset differs between them, where its box at either frame may
+// reach the face (what the face held of it, and what it must hold now). The dirty rule of cached and budgeted
+// faces; a static scene has none.
+uint8_t moved_caster_faces(const scene::Scene& scene, const glm::vec3& light, float near_plane,
+                           float far_plane, int then, int now);
+
 struct ShadowDrawPlan {
   std::array<std::vector<uint32_t>, 6> face_objects;  // indices into Scene::objects, per face
   std::vector<uint8_t> object_faces;                  // per object, bit f = face f

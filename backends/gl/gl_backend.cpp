@@ -197,6 +197,7 @@ Support GlBackend::supports(const CaseConfig& c) const {
   if (feature == TechniqueFeature::layer_from_vertex && !has_layer_array_)
     return {false, "GL_ARB_shader_viewport_layer_array is not exposed by " + info_.renderer};
   if (Support s = common_support(c); !s.ok) return s;
+  if (Support s = scene_support(c); !s.ok) return s;
   if (feature == TechniqueFeature::multiview && !has_multiview_)
     return {false, "GL_OVR_multiview2 with 6 views is not exposed by " + info_.renderer};
   if (feature == TechniqueFeature::viewport_swizzle && !missing_swizzle_.empty() && !c.emulate_nv_swizzle)
@@ -260,8 +261,9 @@ void GlBackend::upload_scene(const scene::Scene& scene) {
   glDeleteVertexArrays(2, vaos);
 
   glCreateBuffers(1, &vertex_buffer_);
+  // Moving casters are rewritten every frame (upload_moving_objects); a static scene's buffer never changes.
   glNamedBufferStorage(vertex_buffer_, static_cast<GLsizeiptr>(scene.vertices.size() * sizeof(scene::Vertex)),
-                       scene.vertices.data(), 0);
+                       scene.vertices.data(), scene.has_moving_objects() ? GL_DYNAMIC_STORAGE_BIT : 0);
   if (glGetError() == GL_OUT_OF_MEMORY)
     throw std::runtime_error("GL_OUT_OF_MEMORY uploading scene " + scene.name);
 
@@ -281,6 +283,14 @@ void GlBackend::upload_scene(const scene::Scene& scene) {
   };
   shadow_vao_ = make_vao(false);
   lighting_vao_ = make_vao(true);
+}
+
+void GlBackend::upload_moving_objects() {
+  for (const scene::Object& o : scene_->objects)
+    if (o.moves())
+      glNamedBufferSubData(vertex_buffer_, GLintptr(o.first_vertex) * GLintptr(sizeof(scene::Vertex)),
+                           GLsizeiptr(o.vertex_count) * GLsizeiptr(sizeof(scene::Vertex)),
+                           &scene_->vertices[o.first_vertex]);
 }
 
 GLuint GlBackend::program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {

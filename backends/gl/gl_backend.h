@@ -41,6 +41,7 @@ class GlBackend final : public Backend {
   Support all_lights_support(const CaseConfig& c) const;  // LightGrouping::all_lights's limits
   bool has_mesh_shading() const override { return has_mesh_shader_; }
   void upload_scene(const scene::Scene& scene) override;
+  void upload_moving_objects() override;
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // each pass bracketed by glFinish
   FrameCounters count_frame_work(int frame) override;

@@ -249,6 +249,7 @@ VkBackend::~VkBackend() {
   summarizer_.reset();
   mesh_pass_.reset();
   destroy(*ctx_, vertex_buffer_);
+  destroy(*ctx_, moving_staging_);
   destroy(*ctx_, frame_uniforms_);
   destroy(*ctx_, point_lights_);
   vkFreeCommandBuffers(d, ctx_->command_pool(), 2, command_buffers_.data());
@@ -319,6 +320,7 @@ Support VkBackend::supports(const CaseConfig& c) const {
                        " clips each layer's other hemisphere: shaderClipDistance is not supported by " +
                        std::string(ctx_->properties().deviceName)};
   if (Support s = common_support(c); !s.ok) return s;
+  if (Support s = scene_support(c); !s.ok) return s;
   const std::string device = info_.renderer;
   switch (traits(c.technique).feature) {
     case TechniqueFeature::geometry_shader:
@@ -387,6 +389,39 @@ void VkBackend::upload_scene(const scene::Scene& scene) {
   // Also a storage buffer: mesh_shader's mesh stage reads the positions from it (shaders/mesh_common.glsl).
   vertex_buffer_ = upload_buffer(*ctx_, scene.vertices.data(), scene.vertices.size() * sizeof(scene::Vertex),
                                  VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  destroy(*ctx_, moving_staging_);
+  moving_regions_.clear();
+  moving_pending_ = false;
+  VkDeviceSize staged = 0;
+  for (const scene::Object& o : scene.objects)
+    if (o.moves()) {
+      const VkDeviceSize bytes = VkDeviceSize(o.vertex_count) * sizeof(scene::Vertex);
+      moving_regions_.push_back({staged, VkDeviceSize(o.first_vertex) * sizeof(scene::Vertex), bytes});
+      staged += bytes;
+    }
+  if (staged) moving_staging_ = create_buffer(*ctx_, staged, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+}
+
+// The previous frame has completed (every submission is waited on), so the staging buffer is free to rewrite.
+void VkBackend::upload_moving_objects() {
+  auto* staging = static_cast<uint8_t*>(moving_staging_.mapped);
+  for (const VkBufferCopy& r : moving_regions_)
+    std::memcpy(staging + r.srcOffset, &scene_->vertices[size_t(r.dstOffset / sizeof(scene::Vertex))],
+                size_t(r.size));
+  moving_pending_ = !moving_regions_.empty();
+}
+
+void VkBackend::record_moving_copy(VkCommandBuffer cb) {
+  if (!moving_pending_) return;
+  vkCmdCopyBuffer(cb, moving_staging_.buffer, vertex_buffer_.buffer, uint32_t(moving_regions_.size()),
+                  moving_regions_.data());
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_SHADER_READ_BIT;
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, 1,
+                       &barrier, 0, nullptr, 0, nullptr);
+  moving_pending_ = false;
 }
 
 void VkBackend::release_case() {
@@ -662,6 +697,7 @@ VkBackend::ShadowDrawStep VkBackend::shadow_draw_step(const CaseConfig& c) {
 void VkBackend::record_shadow(VkCommandBuffer cb, const gpu::LightFrames& frame, bool statistics,
                               uint64_t& draws, bool floor) {
   begin_pass(cb, 0, statistics);
+  record_moving_copy(cb);  // the frame's posed casters, before any pass of the frame draws them
   frame_offset_ = 0;
   if (!floor) record_maps(cb, draws);
   // Every light in one pass: its one render pass over every light's layers (the planner renders every light

@@ -38,6 +38,7 @@ class VkBackend final : public Backend {
  private:
   bool has_mesh_shading() const override { return ctx_->has_mesh_shader(); }
   void upload_scene(const scene::Scene& scene) override;
+  void upload_moving_objects() override;
   void configure_case(const CaseConfig& config) override;
   FrameTiming render_frame(int frame, FrameKind kind) override;  // one fence-waited submission per pass
   FrameCounters count_frame_work(int frame) override;
@@ -116,6 +117,12 @@ class VkBackend final : public Backend {
   std::array<VkCommandBuffer, 2> command_buffers_{};
 
   Buffer vertex_buffer_;
+  // Moving casters: their posed vertices, back to back (host-visible), copied into vertex_buffer_ at the
+  // start of the next shadow pass (moving_regions_), when moving_pending_.
+  Buffer moving_staging_;
+  std::vector<VkBufferCopy> moving_regions_;
+  bool moving_pending_ = false;
+  void record_moving_copy(VkCommandBuffer cb);
 
   ShadowTargets shadow_;
   gpu::LightFramePlanner planner_;

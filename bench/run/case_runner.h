@@ -49,6 +49,13 @@ class Harness {
   const scene::Scene& scene_of(const CaseConfig& c) {
     return scene(c.scene, c.remedies.rebase_origin, c.tessellation);
   }
+  // The case's scene posed at `frame` (its moving casters where that frame has them), as the truths and plans
+  // of that frame read it. The harness owns every loaded scene; posing changes nothing else of it.
+  scene::Scene& posed(const CaseConfig& c, int frame) {
+    auto& sc = const_cast<scene::Scene&>(scene_of(c));
+    sc.pose(frame);
+    return sc;
+  }
   // The point lights a case's checks read: light 0 and every stride-th (checked_lights), and where not every
   // light is checked, the one farthest from the camera for its range (at frame 0) too: the light that sizing
   // by screen coverage (--atlas-tiles by_distance) shrinks most, so that every layout's accuracy sees it
@@ -63,6 +70,7 @@ class Harness {
   std::vector<std::pair<std::string, std::string>> drain_writes();
 
  private:
+  int cold_frame(const CaseConfig& c);  // the index of a case's first frame after configure
   bool admit(CaseResult& result, Backend& b);
   // Also returns every light as planned at the check frame (view culling's check reads it).
   std::vector<PlannedLight> count_work(CaseResult& result, Backend& b, float light_far);

@@ -51,12 +51,13 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
   const std::vector<int> lights =
       options_.accuracy ? sequence_lights(lights_to_check(r.config), sc, r.config.light_count, frames)
                         : std::vector<int>{};
-  const reference::RayCaster& caster = truths_.caster(r.config, sc);
   TruthOptions point = options_.truth;
   point.light_radius = 0.0f;  // the misclassified figure reads the point light's visibility only
-  // A light's truth per position: the camera and casters stand still, so the world positions read back are
-  // the same every frame, and a light that stands still keeps its truth.
-  std::map<std::tuple<int, float, float, float>, Truth> truths;
+  // A light's truth per position: the camera stands still and, in a scene without moving casters, so does
+  // everything the world positions read back show, so a light that stands still keeps its truth. With moving
+  // casters every frame is its own (pose: the frame, else -1).
+  std::map<std::tuple<int, int, float, float, float>, Truth> truths;
+  const bool moving = sc.has_moving_objects();
   const CubeReadBack cube = traits(r.config.layout).geometry.map == TexelMap::cube_faces
                                 ? CubeReadBack::sampled
                                 : CubeReadBack::full;
@@ -65,7 +66,9 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
   for (int t = 0; t < frames; ++t) {
     b.render(t, FrameKind::check);
     SequenceFrame s{t, b.face_frames(), {}, 0.0, 0};
-    if (s.face_frames.empty()) return;  // the backend keeps no record of its faces
+    if (s.face_frames.empty()) break;  // the backend keeps no record of its faces
+    sc.pose(t);
+    const reference::RayCaster& caster = truths_.caster(r.config, sc);
     double wrong = 0.0;
     for (int k = 0; k < r.config.light_count; ++k) {
       scene::FocusLight focus(sc, k);
@@ -73,7 +76,7 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
       s.read_faces.push_back(read_faces(r, sc, t, at, k));
       if (!options_.accuracy || std::find(lights.begin(), lights.end(), k) == lights.end()) continue;
       const Images images = b.read_back(cube, k);
-      auto [it, cast] = truths.try_emplace({k, at.x, at.y, at.z});
+      auto [it, cast] = truths.try_emplace({k, moving ? t : -1, at.x, at.y, at.z});
       if (cast) it->second = compute_truth(caster, sc, t, images, point);
       const Accuracy a = measure_accuracy(it->second, images);
       wrong += a.misclassified_percent * double(a.pixels);
@@ -82,6 +85,8 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
     s.misclassified_percent = s.pixels ? wrong / double(s.pixels) : 0.0;
     sequence.push_back(std::move(s));
   }
+  sc.pose(options_.check_frame);  // as the case's other checks read it
+  if (sequence.empty()) return;
   check_update_budget(r, sc, lights, sequence);
 }
 

@@ -2,10 +2,12 @@
 // (functions of the frame index), independently of the planner's own bookkeeping of what is stale.
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
 #include "backends/common/cube_faces.h"
+#include "backends/common/shadow_plan.h"
 #include "bench/truth/case_checks.h"
 
 namespace omnishadow::bench {
@@ -18,31 +20,52 @@ bool moves_within(const scene::LightPath& path, int last_frame) {
 
 namespace {
 
+// Whether face `face` of point light `light`, rendered at frame `content`, still holds what frame `now` has:
+// its light where it was, and no moving caster that reached the face moved in between.
+bool holds(const scene::Scene& scene, int light, int face, int content, int now) {
+  const scene::PointLight& l = scene.point_lights.at(size_t(light));
+  const glm::vec3 held = l.path.at(content);
+  return l.path.at(now) == held &&
+         !((cube::moved_caster_faces(scene, held, l.near_plane, l.far_plane, content, now) >> face) & 1u);
+}
+
 // Frames a face has waited at sequence index `i`: those up to and including it that read the face (in view)
-// while it held an older position of its light, counted back from the first frame its light left the
-// position the face holds. 0 for a face that is up to date.
+// while it held an older frame's light or casters. 0 for a face that is up to date.
 int wait_of(const std::vector<SequenceFrame>& frames, size_t i, int light, int face,
-            const scene::LightPath& path) {
+            const scene::Scene& scene) {
   const int content = frames[i].face_frames[size_t(light)][size_t(face)];
-  const glm::vec3 held = path.at(content);
   int wait = 0;
   for (size_t j = 0; j <= i; ++j) {
     const SequenceFrame& s = frames[j];
-    if (s.frame <= content || path.at(s.frame) == held) continue;
+    if (s.frame <= content || holds(scene, light, face, content, s.frame)) continue;
     wait += (s.read_faces[size_t(light)] >> face) & 1u;
   }
   return wait;
+}
+
+// The faces of point light `light` that can go stale within frames 0..last_frame: every face where its light
+// moves (or where its range is fitted to bounds that moving casters change), else those a moving caster
+// reaches at some frame of them.
+uint8_t faces_that_can_go_stale(const CaseConfig& c, const scene::Scene& scene, int light, int last_frame) {
+  const scene::PointLight& l = scene.point_lights.at(size_t(light));
+  if (moves_within(l.path, last_frame)) return cube::kAllFaces;
+  if (c.optimizations.fit_range && scene.has_moving_objects()) return cube::kAllFaces;
+  uint8_t faces = 0;
+  for (int t = 1; t <= last_frame; ++t)
+    faces |= cube::moved_caster_faces(scene, l.path.at(0), l.near_plane, l.far_plane, 0, t);
+  return faces;
 }
 
 // ceil(units that can be stale / units refreshed a frame) - 1: the oldest-first order serves every unit that
 // went stale before a given one ahead of it, each once, so that one waits at most that many frames read.
 int wait_bound(const CaseConfig& c, const scene::Scene& scene, int last_frame) {
   if (c.update_budget_faces <= 0) return 0;
-  int moving = 0;
-  for (int k = 0; k < c.light_count && k < int(scene.point_lights.size()); ++k)
-    moving += moves_within(scene.point_lights[size_t(k)].path, last_frame);
   const bool single = refreshes_single_faces(c);
-  const int units = single ? moving * cube::kFaceCount : moving;
+  int units = 0;
+  for (int k = 0; k < c.light_count && k < int(scene.point_lights.size()); ++k) {
+    const uint8_t faces = faces_that_can_go_stale(c, scene, k, last_frame);
+    units += single ? std::popcount(faces) : int(faces != 0);
+  }
   const int per_frame = single ? c.update_budget_faces : c.update_budget_faces / cube::kFaceCount;
   return std::max(0, (units + per_frame - 1) / std::max(per_frame, 1) - 1);
 }
@@ -61,7 +84,6 @@ void check_update_budget(CaseFindings& r, const scene::Scene& scene, const std::
     const SequenceFrame& s = frames[i];
     StalenessFrame out{s.frame, 0, 0, 0, s.misclassified_percent, s.pixels};
     for (size_t k = 0; k < s.face_frames.size(); ++k) {
-      const scene::LightPath& path = scene.point_lights.at(k).path;
       for (int face = 0; face < cube::kFaceCount; ++face) {
         const int content = s.face_frames[k][size_t(face)];
         out.faces_rendered += content == s.frame;
@@ -72,12 +94,12 @@ void check_update_budget(CaseFindings& r, const scene::Scene& scene, const std::
                      cube::kFaceNames[size_t(face)] + " is read but holds no light's depth";
           continue;
         }
-        const int wait = wait_of(frames, i, int(k), face, path);
+        const int wait = wait_of(frames, i, int(k), face, scene);
         out.faces_stale += wait > 0;
         out.max_wait = std::max(out.max_wait, wait);
         if (wait > report.wait_bound && over_wait.empty())
           over_wait = "frame " + std::to_string(s.frame) + ": light " + std::to_string(k) + " face " +
-                      cube::kFaceNames[size_t(face)] + " has shown its light's position of frame " +
+                      cube::kFaceNames[size_t(face)] + " has shown its light and casters of frame " +
                       std::to_string(content) + " for " + std::to_string(wait) + " frames, above the " +
                       std::to_string(report.wait_bound) + " that refreshing the oldest first allows";
       }

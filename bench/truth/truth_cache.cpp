@@ -1,6 +1,7 @@
 #include "bench/truth/truth_cache.h"
 
 #include <cstdio>
+#include <stdexcept>
 
 #include "backends/common/layouts.h"
 
@@ -15,8 +16,25 @@ std::string scene_key(const CaseConfig& c) {
   return scene_key(c.scene, c.remedies.rebase_origin, c.tessellation);
 }
 
+namespace {
+
+// The key of what a truth of `scene` casts against: its moving casters' pose, where it has any.
+std::string posed_key(const CaseConfig& c, const scene::Scene& scene) {
+  return scene.has_moving_objects() ? scene_key(c) + "#f" + std::to_string(scene.posed_frame) : scene_key(c);
+}
+
+// A truth of frame `frame` needs the scene posed there: one cast against another pose would pass or fail the
+// renders for the wrong reason.
+void require_pose(const scene::Scene& scene, int frame) {
+  if (scene.has_moving_objects() && scene.posed_frame != frame)
+    throw std::logic_error("truth of frame " + std::to_string(frame) + " asked of scene " + scene.name +
+                           " posed at frame " + std::to_string(scene.posed_frame));
+}
+
+}  // namespace
+
 const reference::RayCaster& TruthCache::caster(const CaseConfig& c, const scene::Scene& scene) {
-  auto& caster = casters_[scene_key(c)];
+  auto& caster = casters_[posed_key(c, scene)];
   if (!caster) caster = std::make_unique<reference::RayCaster>(scene);
   return *caster;
 }
@@ -26,7 +44,7 @@ const CubeTruth& TruthCache::cube_truth(const CaseConfig& c, const scene::Scene&
                                         int cube_size) {
   char key[256];
   const TexelGeometry& geometry = traits(c.layout).geometry;
-  std::snprintf(key, sizeof key, "%s/%.9g,%.9g,%.9g/%.9g/%.9g/%d/%d/%d", scene_key(c).c_str(), light.x,
+  std::snprintf(key, sizeof key, "%s/%.9g,%.9g,%.9g/%.9g/%.9g/%d/%d/%d", posed_key(c, scene).c_str(), light.x,
                 light.y, light.z, near_plane, far_plane, cube_size, int(c.remedies.two_sided),
                 int(geometry.map));
   auto it = cube_truths_.find(key);
@@ -40,6 +58,7 @@ const CubeTruth& TruthCache::cube_truth(const CaseConfig& c, const scene::Scene&
 
 const MapTruth& TruthCache::map_truth(const CaseConfig& c, const scene::Scene& scene, int frame, int map_size,
                                       cube::DepthRange range) {
+  require_pose(scene, frame);
   const std::string key = scene_key(c) + "/" + std::to_string(frame) + "/" + std::to_string(map_size) + "/" +
                           std::to_string(int(range));
   auto it = map_truths_.find(key);
@@ -53,6 +72,7 @@ const MapTruth& TruthCache::map_truth(const CaseConfig& c, const scene::Scene& s
 // elsewhere.
 const Truth& TruthCache::truth(const CaseConfig& c, const scene::Scene& scene, int frame,
                                const Images& images, const TruthOptions& options) {
+  require_pose(scene, frame);
   // Per point light: a many-light case's checks put each light in the scene's focus in turn.
   const std::string shared = scene_key(c) + "/" + std::to_string(frame) + "/" + std::to_string(images.width) +
                              "x" + std::to_string(images.height) + "/L" + std::to_string(scene.focus_light);

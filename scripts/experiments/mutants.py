@@ -63,6 +63,11 @@ BUDGET = ["--scene", "hall", "--light-count", "16", "--layout", "atlas", "--atla
 # lights (geometry_shader), with the staleness sequence that holds what every face shows to the lamps' paths.
 UPDATE = ["--scene", "hall", "--light-count", "16", "--update-budget", "8", "--technique", "six_pass,geometry_shader",
           "--filter", "hard"]
+# Four of the hall's lamps at a frame far from the one the scene loads at, its rollers and carts moved there, with
+# and without the static cache (whose cold frame is then the next one: the check frame keeps what the dirty rule
+# lets it keep of a frame whose casters stood elsewhere).
+MOVING = ["--scene", "hall", "--light-count", "4", "--check-frame", "90", "--optimize", "none,cache",
+          "--technique", "six_pass,geometry_shader", "--filter", "hard"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -217,10 +222,18 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
              "if (uint64_t(plan.width) * uint64_t(plan.height) <= 2 * budget) return sizes;"),
      "the coverage allocation accepts an atlas of up to twice its --shadow-budget", BUDGET),
     ("stale_face_never_refreshed", "backends/common/shadow_frame.cpp",
-     replace("if (c.frame >= 0 && c.light == light) continue;",
-             "if ((c.frame >= 0 && c.light == light) || face == 5) continue;"),
+     replace("if (holds) continue;", "if (holds || face == 5) continue;"),
      "the update budget never finds a light's -Z face stale: after the first frame it keeps its first position",
      UPDATE),
+    ("moving_casters_not_uploaded_gl", "backends/gl/gl_backend.cpp",
+     replace("    if (o.moves())\n      glNamedBufferSubData", "    if (o.moves() && false)\n      glNamedBufferSubData"),
+     "GL never uploads the posed moving casters: the device draws them where the file put them", MOVING),
+    ("moving_casters_not_copied_vulkan", "backends/vulkan/vk_backend.cpp",
+     replace("  if (!moving_pending_) return;", "  if (moving_pending_ || !moving_pending_) return;"),
+     "Vulkan never copies the posed moving casters into the vertex buffer", MOVING),
+    ("dirty_rule_ignores_moving_casters", "backends/common/shadow_plan.cpp",
+     replace("    if (!o.moves() || o.offset_at(then) == o.offset_at(now)) continue;", "    continue;"),
+     "the dirty rule never sees a moving caster: a static cache keeps faces a roller or cart moved through", MOVING),
 ]
 
 

@@ -6,7 +6,10 @@ point of the floor is within reach of several lamps and their cubes overlap. The
 order of their grid index, so that the first K of them (`--light-count K`) spread along the whole hall for
 K = 1, 2, 4, ..., 64 rather than crowding one end. Every fourth lamp sways along the hall, out of step with the
 others (its own phase), so frames differ, and reaches 10 units only (lights of one case differ in range, as a
-renderer's do); the rest stand still. Usage: scripts/scenes/make_hall.py [OUT]
+renderer's do); the rest stand still. Casters move too: four rollers sweep 6 units either way along the hall
+and three carts 2 units across it, each group in step (their paths are functions of the frame index like a
+lamp's), so that the faces they reach must be rendered again while the rest of a still lamp's cube keeps.
+Usage: scripts/scenes/make_hall.py [OUT]
 """
 import json
 import sys
@@ -36,7 +39,8 @@ def hall():
     return {
         "format": "omnishadow-scene/1",
         "description": "Many shadowed point lights: 64 lamps (16 x 4, every fourth swaying) under the ceiling of "
-                       "a 64 x 8 x 12 hall of pillars, crates and balls; written by scripts/scenes/make_hall.py.",
+                       "a 64 x 8 x 12 hall of pillars, crates and balls, with rollers and carts moving; written "
+                       "by scripts/scenes/make_hall.py.",
         "camera": {"position": [-31, 4.5, 0], "target": [0, 1, 0], "fov_y_degrees": 50, "near": 0.1,
                    "far": 100, "size": [800, 600]},
         "lights": [lamp(k) for k in range(GRID_X * GRID_Z)],
@@ -50,6 +54,12 @@ def hall():
              "array": {"count": [16, 1, 1], "spacing": [4, 0, 0]}},
             {"name": "ball", "type": "sphere", "segments": [24, 12], "translate": [-26, 1.2, -1.8], "scale": 0.6,
              "color": [0.6, 0.7, 0.9], "array": {"count": [7, 1, 2], "spacing": [8, 0, 3.6]}},
+            {"name": "roller", "type": "sphere", "segments": [16, 8], "translate": [-24, 0.5, 4.8], "scale": 0.5,
+             "color": [0.9, 0.5, 0.3], "array": {"count": [4, 1, 1], "spacing": [16, 0, 0]},
+             "path": {"amplitude": [6, 0, 0], "frequency": 0.5, "seconds_per_frame": 0.0166666667, "phase": 0.3}},
+            {"name": "cart", "type": "box", "translate": [-20, 0.4, 0], "scale": [0.6, 0.4, 0.4],
+             "color": [0.5, 0.8, 0.5], "array": {"count": [3, 1, 1], "spacing": [20, 0, 0]},
+             "path": {"amplitude": [0, 0, 2], "frequency": 0.8, "seconds_per_frame": 0.0166666667, "phase": 1.1}},
         ],
     }
 
