@@ -242,6 +242,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "--staleness-frames: Value -1 not in range 0 to 10000"},
         BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},
         BadInput{"run --case-timeout-s nan --out @OUT@", "--case-timeout-s: 'nan' is not a finite number"},
+        BadInput{"run --capture-max-mb 0 --out @OUT@", "--capture-max-mb"},
         BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},
         BadInput{"run --inject-hang [ --out @OUT@", "--inject-hang: '[' is not a regular expression"},
         BadInput{"run --capture sometimes --out @OUT@",
@@ -1720,6 +1721,17 @@ TEST_F(CliRun, CaptureRunsTheFailedCasesAgainUnderACapture) {
         "gfxrecon-replay " + file.string() + " >" + (out / "replay.log").string() + " 2>&1";
     EXPECT_EQ(std::system(replay.c_str()), 0) << omnishadow::bench::read_file((out / "replay.log").string());
   }
+  // Bounded: a capture past --capture-max-mb is stopped and not kept, said in its entry.
+  const fs::path small = scratch("capture_cut");
+  ASSERT_EQ(run(args + small.string() + " --capture failed --capture-max-mb 0.001").exit_code, 0);
+  const auto cut = nlohmann::json::parse(omnishadow::bench::read_file((small / "captures.json").string()));
+  ASSERT_EQ(cut["captures"].size(), 2u);
+  const auto& vk = cut["captures"][1];
+  EXPECT_EQ(vk["status"], "cut") << vk.dump();
+  EXPECT_NE(vk["reason"].get<std::string>().find("grew past --capture-max-mb 0.001 MB"), std::string::npos)
+      << vk.dump();
+  EXPECT_FALSE(
+      fs::exists(small / "captures" / "vulkan_room_c16_f32x24_six_pass_hard_linear_depth_d32f.gfxr"));
   const fs::path plain = scratch("capture_none");
   ASSERT_EQ(run(args + plain.string()).exit_code, 0);
   EXPECT_FALSE(fs::exists(plain / "captures.json")) << "--capture none (the default) captures nothing";

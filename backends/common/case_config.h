@@ -131,7 +131,8 @@ struct Optimizations {
                            // face masks (instances only for faces the bounds touch). multiview: unsupported.
   bool fit_range = false;  // light far plane fitted to the scene bounds around the light (never beyond the
                            // scene's far): linear depth's step is far / 2^bits, so a tighter far is precision
-  bool static_cache = false;  // the cube is not re-rendered while the light stands still (casters are static)
+  bool static_cache =
+      false;  // the cube is not re-rendered while its light and the casters within reach stand still
   // A light whose range misses the camera's frustum gets no pass, a face no lookup of a visible point can
   // read is cleared only (backends/common/view_culling.h).
   bool view_culling = false;

@@ -76,9 +76,16 @@ std::string slug(const std::string& id) {
   return s;
 }
 
+std::string format_mb(double mb) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g MB", mb);
+  return text;
+}
+
 // Runs the capture; "" when it exited 0 or 1 (a case that fails its checks still renders), else why not.
+// `cut`: set when the file grew past max_mb and the run was killed for it.
 std::string run_capture(const std::vector<std::string>& args, const std::string& file, const std::string& log,
-                        double timeout_s) {
+                        double timeout_s, double max_mb, bool& cut) {
   std::fflush(stdout);
   std::fflush(stderr);
   const pid_t pid = fork();
@@ -103,7 +110,16 @@ std::string run_capture(const std::vector<std::string>& args, const std::string&
   if (pid < 0) return "cannot start the capture run";
   const auto start = std::chrono::steady_clock::now();
   int status = 0;
+  cut = false;
+  std::error_code ec;
   while (waitpid(pid, &status, WNOHANG) == 0) {
+    const uintmax_t bytes = fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
+    if (double(bytes) > max_mb * 1024.0 * 1024.0) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      cut = true;
+      return "the capture grew past --capture-max-mb " + format_mb(max_mb) + " and its run was stopped";
+    }
     if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeout_s) {
       kill(pid, SIGKILL);
       waitpid(pid, &status, 0);
@@ -111,6 +127,12 @@ std::string run_capture(const std::vector<std::string>& args, const std::string&
              " s (--case-timeout-s) and was killed";
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  // Finished between two looks at its size, and over the bound all the same.
+  const uintmax_t bytes = fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
+  if (double(bytes) > max_mb * 1024.0 * 1024.0) {
+    cut = true;
+    return "the capture grew past --capture-max-mb " + format_mb(max_mb);
   }
   if (WIFSIGNALED(status)) return "the capture run died by signal " + std::to_string(WTERMSIG(status));
   if (WEXITSTATUS(status) > 1) return "the capture run exited " + std::to_string(WEXITSTATUS(status));
@@ -135,10 +157,17 @@ json capture_one(const CaptureSettings& s, const std::string& id, const std::str
   std::error_code ec;
   fs::create_directories(dir, ec);
   const std::string log = (dir / (slug(id) + ".log")).string();
-  const std::string why =
-      run_capture(capture_run_args(s.args, id, run_dir.string()), file.string(), log, s.timeout_s);
+  bool cut = false;
+  const std::string why = run_capture(capture_run_args(s.args, id, run_dir.string()), file.string(), log,
+                                      s.timeout_s, s.max_mb, cut);
   const uintmax_t bytes = fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
   entry.update({{"tool", "gfxreconstruct"}, {"version", version}});
+  if (cut) {  // nothing over the bound is kept: an incomplete capture would not replay anyway
+    fs::remove(file, ec);
+    entry.update({{"status", "cut"},
+                  {"reason", why + ": not kept (" + format_mb(double(bytes) / 1048576.0) + " when cut)"}});
+    return entry;
+  }
   if (!why.empty() || bytes == 0) {
     entry.update({{"status", "failed"},
                   {"reason", (why.empty() ? "the capture layer wrote nothing" : why) +
@@ -156,8 +185,8 @@ json capture_one(const CaptureSettings& s, const std::string& id, const std::str
 
 std::vector<std::string> capture_run_args(const std::vector<std::string>& args, const std::string& id,
                                           const std::string& out_dir) {
-  static const std::vector<std::string> with_value = {"--out", "--capture", "--isolation", "--shard",
-                                                      "--case-timeout-s"};
+  static const std::vector<std::string> with_value = {"--out",   "--capture",        "--isolation",
+                                                      "--shard", "--case-timeout-s", "--capture-max-mb"};
   std::vector<std::string> out;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];

@@ -508,6 +508,12 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
        "team can replay: GFXReconstruct on Vulkan (GL: unsupported: apitrace cannot trace libepoxy)")
       ->check(CLI::IsMember({"failed", "crashed", "all", "none"}))
       ->capture_default_str();
+  r.add_option(
+       "--capture-max-mb", run.capture_max_mb,
+       "a capture file that grows past this many MB is cut: its run is stopped, the file removed and the "
+       "capture said `cut`")
+      ->capture_default_str()
+      ->check(finite_in(0.001, 1048576.0));
   r.add_option("--inject-crash", run.harness.inject_crash,
                "tests of the isolation only: SIGSEGV in the cases whose id matches this regex (--inject-in)")
       ->check(regex_check("--inject-crash"));
