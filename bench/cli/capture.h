@@ -20,7 +20,8 @@ struct CaptureSettings {
   std::vector<std::string> args;  // the run's arguments after the program name ("run", then the options)
   std::string out_dir;            // the run's folder, holding its results.json
   double timeout_s = 300.0;       // a capture run that takes longer is killed and said
-  double max_mb = 1024.0;  // --capture-max-mb: a capture file that grows past it is cut (its run killed) and said
+  double max_mb =
+      1024.0;  // --capture-max-mb: a capture file that grows past it is cut (its run killed) and said
 };
 
 // Captures the selected cases of OUT/results.json and records them there; one line per case on stdout. A
