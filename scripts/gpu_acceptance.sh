@@ -37,6 +37,8 @@
 #              GL and Vulkan, with --check and a 24-frame staleness sequence for every case: PASS when no check
 #              fails and the policy table's target holds (a policy at <= 1/4 of the texels of every light, every
 #              face, full size, for <= 0.5 points more misclassified pixels); cut at 5 minutes (POLICIES_BUDGET_S)
+#   capture    a failed case captured with --capture failed on both APIs and the Vulkan capture replayed by
+#              gfxrecon-replay on this driver: PASS when it replays (exit 0); GL says why it has none
 #   suite      ctest as scripts/test.sh runs it (labels extended and memory left out), cut at SUITE_BUDGET_S (300):
 #              PASS when none failed (the skipped listed); about 2 minutes on an H100 with 16 cores
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
@@ -107,6 +109,38 @@ step_exits() {
       --frames 2 --warmup 1 --no-accuracy --out "$out/exits/$order" >"$out/exits/$order.log" 2>&1
     exit_note $? "run --backend $order"
   done
+}
+
+# A case captured on the GPU and replayed there: room made to fail on purpose (--max-error 0.001) with --capture
+# failed, both APIs. PASS when the Vulkan case's capture is written and gfxrecon-replay replays it on this driver
+# (exit 0), the GL case saying why it has none. Needs GFXReconstruct (Debian's gfxreconstruct; on a machine
+# without a package registry carry its .deb beside the others: device.sh unpacks it under /opt/carried).
+step_capture() {
+  note "## capture"
+  [ -d /opt/carried/usr/bin ] && export PATH="/opt/carried/usr/bin:$PATH"
+  "$bin" run --backend gl,vulkan --scene room --cube 256 --technique six_pass --filter hard --frames 2 --warmup 0 \
+    --images none --benchmark_repetitions=1 --max-error 0.001 --capture failed --out "$out/capture/run" \
+    >"$out/capture/run.log" 2>&1
+  note "- run --capture failed: exit $? (every case fails --max-error 0.001 on purpose, a quality verdict)"
+  local listed file
+  listed=$(/usr/bin/python3 - "$out/capture/run" <<'PY' 2>&1
+import json, sys
+captures = json.load(open(sys.argv[1] + "/captures.json"))["captures"]
+for c in captures:
+    print(f"  - {c['case']}: {c['status']}: {c.get('file', c.get('reason', ''))[:240]}")
+    if c["case"].startswith("vulkan/") and c["status"] == "captured":
+        print("FILE " + sys.argv[1] + "/" + c["file"])
+PY
+)
+  grep -v '^FILE ' <<<"$listed" | tee -a "$summary"
+  file=$(sed -n 's/^FILE //p' <<<"$listed")
+  if [ -z "$file" ]; then
+    note "- FAIL: no Vulkan capture (see $out/capture/run.log)"; failed=1; return
+  fi
+  timeout 300 gfxrecon-replay "$file" >"$out/capture/replay.log" 2>&1
+  local code=$?
+  [ "$code" -eq 0 ] && note "- PASS: gfxrecon-replay replayed $(basename "$file") ($(stat -c %s "$file") bytes)" ||
+    { note "- FAIL: gfxrecon-replay exit $code (see $out/capture/replay.log)"; failed=1; }
 }
 
 step_multiview() {
@@ -452,7 +486,7 @@ step_precision() {
   fi
 }
 
-steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas policies suite"
+steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas policies suite capture"
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] ($steps)" >&2; exit 2; }
 for step in "$@"; do
   case " $steps " in
