@@ -159,6 +159,9 @@ class Backend {
   // API errors reported by the checking mode (GL KHR_debug, Vulkan validation) since the last call; empty
   // when the checking mode is off. Drained outside timed loops.
   virtual std::vector<std::string> drain_api_errors();
+  // Drops the API's error flags that a capture tool's own calls left behind (RenderDoc's EndFrameCapture
+  // reads a surfaceless GL context's default framebuffer): not the harness's errors. Only after such a call.
+  virtual void discard_tool_errors() {}
   // Per point light, the frame index whose light position each face's content was rendered for (-1: nothing,
   // or cleared) after the last frame: what the update budget left stale (gpu::FaceContent). Empty where the
   // backend keeps no such record.

@@ -38,7 +38,8 @@
 #              fails and the policy table's target holds (a policy at <= 1/4 of the texels of every light, every
 #              face, full size, for <= 0.5 points more misclassified pixels); cut at 5 minutes (POLICIES_BUDGET_S)
 #   capture    a failed case captured with --capture failed on both APIs and the Vulkan capture replayed by
-#              gfxrecon-replay on this driver: PASS when it replays (exit 0); GL says why it has none
+#              gfxrecon-replay on this driver: PASS when it replays (exit 0); the GL case's RenderDoc capture
+#              replayed by scripts/replay_renderdoc.py where RenderDoc's Python module is there (else said)
 #   suite      ctest as scripts/test.sh runs it (labels extended and memory left out), cut at SUITE_BUDGET_S (300):
 #              PASS when none failed (the skipped listed); about 2 minutes on an H100 with 16 cores
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
@@ -113,8 +114,10 @@ step_exits() {
 
 # A case captured on the GPU and replayed there: room made to fail on purpose (--max-error 0.001) with --capture
 # failed, both APIs. PASS when the Vulkan case's capture is written and gfxrecon-replay replays it on this driver
-# (exit 0), the GL case saying why it has none. Needs GFXReconstruct (Debian's gfxreconstruct; on a machine
-# without a package registry carry its .deb beside the others: device.sh unpacks it under /opt/carried).
+# (exit 0), and the GL case's RenderDoc capture, where there is one, replays too (scripts/replay_renderdoc.py;
+# said, not judged, where RenderDoc's Python module is missing). Needs GFXReconstruct (and RenderDoc for GL) from
+# Debian; on a machine without a package registry carry their .debs beside the others (device.sh unpacks them
+# under /opt/carried).
 step_capture() {
   note "## capture"
   [ -d /opt/carried/usr/bin ] && export PATH="/opt/carried/usr/bin:$PATH"
@@ -130,10 +133,23 @@ for c in captures:
     print(f"  - {c['case']}: {c['status']}: {c.get('file', c.get('reason', ''))[:240]}")
     if c["case"].startswith("vulkan/") and c["status"] == "captured":
         print("FILE " + sys.argv[1] + "/" + c["file"])
+    if c["case"].startswith("gl/") and c["status"] == "captured":
+        print("GLFILE " + sys.argv[1] + "/" + c["file"])
 PY
 )
-  grep -v '^FILE ' <<<"$listed" | tee -a "$summary"
+  grep -v -e '^FILE ' -e '^GLFILE ' <<<"$listed" | tee -a "$summary"
   file=$(sed -n 's/^FILE //p' <<<"$listed")
+  local gl_file
+  gl_file=$(sed -n 's/^GLFILE //p' <<<"$listed")
+  if [ -n "$gl_file" ]; then
+    if /usr/bin/python3 -c 'import renderdoc' 2>/dev/null; then
+      EGL_PLATFORM="${EGL_PLATFORM:-surfaceless}" timeout 300 /usr/bin/python3 "$here/scripts/replay_renderdoc.py" \
+        "$gl_file" --out "$out/capture/gl-replayed.png" >"$out/capture/gl-replay.log" 2>&1
+      exit_note $? "GL capture replayed by RenderDoc (scripts/replay_renderdoc.py, $out/capture/gl-replayed.png)"
+    else
+      note "- GL capture written, not replayed here: RenderDoc's Python module is missing (python3-renderdoc)"
+    fi
+  fi
   if [ -z "$file" ]; then
     note "- FAIL: no Vulkan capture (see $out/capture/run.log)"; failed=1; return
   fi

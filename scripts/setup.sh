@@ -18,6 +18,8 @@ packages=(
   postgresql                               # tests/store_test.py: a PostgreSQL server started in a temporary folder
   glslang-tools                            # tests: the GL-only shader variants (NV extensions) compile with glslang
   gfxreconstruct                           # run --capture: Vulkan captures (GFXReconstruct's layer, gfxrecon-replay)
+  renderdoccmd librenderdoc librenderdoc-dev python3-renderdoc  # run --capture: GL captures (RenderDoc), replayed headless
+  python3-pil                              # tests/capture_replay_test.py: the replayed image against the harness's
   python3 python3-scipy python3-matplotlib # scripts/ (compare.py, plots)
   python3-yaml                             # tests/workflows_test.py: the fleet workflow files parse
   chromium                                 # tests/report_test.sh: the HTML report rendered in a real browser

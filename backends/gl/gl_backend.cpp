@@ -285,6 +285,11 @@ void GlBackend::upload_scene(const scene::Scene& scene) {
   lighting_vao_ = make_vao(true);
 }
 
+void GlBackend::discard_tool_errors() {
+  for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
+  }
+}
+
 void GlBackend::upload_moving_objects() {
   for (const scene::Object& o : scene_->objects)
     if (o.moves())

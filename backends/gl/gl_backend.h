@@ -27,6 +27,7 @@ namespace omnishadow::gl {
 
 class GlBackend final : public Backend {
  public:
+  void discard_tool_errors() override;
   // gl_profile: auto (core, unless that context links no passthrough geometry shader where nv_swizzle's
   // extensions are exposed and a compatibility one does: gl_passthrough.h), core or compatibility.
   GlBackend(const std::string& egl_platform, int device_index, bool api_checks,

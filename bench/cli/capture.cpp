@@ -23,9 +23,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr const char* kLayer = "VK_LAYER_LUNARG_gfxreconstruct";
-constexpr const char* kGlReason =
-    "apitrace's EGL wrapper cannot trace libepoxy's GL loading (libepoxy looks up glXGetCurrentContext, "
-    "which the wrapper does not export, and aborts); no GL capture tool here";
 
 bool selected(const std::string& mode, const std::string& status) {
   if (mode == "all") return true;
@@ -47,16 +44,25 @@ bool layer_installed() {
 }
 
 // The tool's version as its replayer prints it ("0.9.18-unknown ..."), or "" when it is not installed.
-std::string gfxreconstruct_version() {
-  FILE* p = popen("gfxrecon-replay --version 2>/dev/null", "r");
+// The line after `marker` in what `command` prints ("" when it is not installed).
+std::string version_after(const char* command, const std::string& marker) {
+  FILE* p = popen(command, "r");
   if (!p) return "";
   std::string text;
   char buf[256];
   while (std::fgets(buf, sizeof buf, p)) text += buf;
   pclose(p);
-  const size_t at = text.find("GFXReconstruct Version ");
+  const size_t at = text.find(marker);
   if (at == std::string::npos) return "";
-  return text.substr(at + 23, text.find('\n', at) - at - 23);
+  const size_t from = at + marker.size();
+  return text.substr(from, text.find('\n', from) - from);
+}
+std::string gfxreconstruct_version() {
+  return version_after("gfxrecon-replay --version 2>/dev/null", "GFXReconstruct Version ");
+}
+std::string renderdoc_version() {
+  const std::string line = version_after("renderdoccmd version 2>/dev/null", "renderdoccmd x64 v");
+  return line.substr(0, line.find(' '));  // "1.24 built from ..."
 }
 
 // An extended regular expression matching exactly `id` (--benchmark_filter reads ERE).
@@ -82,10 +88,18 @@ std::string format_mb(double mb) {
   return text;
 }
 
+// How a case is captured: the program that runs the capture run (the harness itself, or a launcher in front
+// of it), the environment it adds, and where the capture lands.
+struct CaptureLaunch {
+  std::vector<std::string> argv;  // argv[0] run as is when it holds a '/', else found on PATH
+  std::vector<std::pair<std::string, std::string>> env;
+  std::string file;  // the capture the run writes (watched for --capture-max-mb)
+};
+
 // Runs the capture; "" when it exited 0 or 1 (a case that fails its checks still renders), else why not.
-// `cut`: set when the file grew past max_mb and the run was killed for it.
-std::string run_capture(const std::vector<std::string>& args, const std::string& file, const std::string& log,
-                        double timeout_s, double max_mb, bool& cut) {
+// `cut`: set when the file grew past max_mb (its run killed if still going).
+std::string run_capture(const CaptureLaunch& launch, const std::string& log, double timeout_s, double max_mb,
+                        bool& cut) {
   std::fflush(stdout);
   std::fflush(stderr);
   const pid_t pid = fork();
@@ -95,16 +109,12 @@ std::string run_capture(const std::vector<std::string>& args, const std::string&
       dup2(fileno(f), 1);
       dup2(fileno(f), 2);
     }
-    setenv("VK_INSTANCE_LAYERS", kLayer, 1);
-    setenv("GFXRECON_CAPTURE_FILE", file.c_str(), 1);
-    setenv("GFXRECON_CAPTURE_FILE_TIMESTAMP", "false", 1);
-    setenv("GFXRECON_LOG_LEVEL", "warning", 1);
-    std::vector<std::string> all = {"omnishadow"};
-    all.insert(all.end(), args.begin(), args.end());
+    for (const auto& [name, value] : launch.env) setenv(name.c_str(), value.c_str(), 1);
+    std::vector<std::string> all = launch.argv;
     std::vector<char*> argv;
     for (std::string& a : all) argv.push_back(a.data());
     argv.push_back(nullptr);
-    execv("/proc/self/exe", argv.data());
+    execvp(argv[0], argv.data());
     _exit(127);
   }
   if (pid < 0) return "cannot start the capture run";
@@ -112,9 +122,9 @@ std::string run_capture(const std::vector<std::string>& args, const std::string&
   int status = 0;
   cut = false;
   std::error_code ec;
+  const double max_bytes = max_mb * 1024.0 * 1024.0;
   while (waitpid(pid, &status, WNOHANG) == 0) {
-    const uintmax_t bytes = fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
-    if (double(bytes) > max_mb * 1024.0 * 1024.0) {
+    if (double(fs::exists(launch.file, ec) ? fs::file_size(launch.file, ec) : 0) > max_bytes) {
       kill(pid, SIGKILL);
       waitpid(pid, &status, 0);
       cut = true;
@@ -129,39 +139,65 @@ std::string run_capture(const std::vector<std::string>& args, const std::string&
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   // Finished between two looks at its size, and over the bound all the same.
-  const uintmax_t bytes = fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
-  if (double(bytes) > max_mb * 1024.0 * 1024.0) {
+  if (double(fs::exists(launch.file, ec) ? fs::file_size(launch.file, ec) : 0) > max_bytes) {
     cut = true;
     return "the capture grew past --capture-max-mb " + format_mb(max_mb);
   }
   if (WIFSIGNALED(status)) return "the capture run died by signal " + std::to_string(WTERMSIG(status));
+  if (WEXITSTATUS(status) == 127) return "the capture run could not start " + launch.argv[0];
   if (WEXITSTATUS(status) > 1) return "the capture run exited " + std::to_string(WEXITSTATUS(status));
   return "";
 }
 
-json capture_one(const CaptureSettings& s, const std::string& id, const std::string& version) {
+// The tools' versions, looked up once per run ("" where absent).
+struct ToolVersions {
+  std::string gfxreconstruct, renderdoc;
+};
+
+// Why a case's API has no capture tool here, or "".
+std::string missing_tool(bool gl, const ToolVersions& tools) {
+  if (gl && tools.renderdoc.empty())
+    return "RenderDoc is not installed (Debian packages renderdoccmd and librenderdoc): GL captures use its "
+           "in-application API around the check frame (apitrace's EGL wrapper cannot trace libepoxy's GL "
+           "loading)";
+  if (!gl && (tools.gfxreconstruct.empty() || !layer_installed()))
+    return "GFXReconstruct is not installed (Debian package gfxreconstruct): no capture layer";
+  return "";
+}
+
+json capture_one(const CaptureSettings& s, const std::string& id, const ToolVersions& tools) {
   json entry = {{"case", id}};
-  if (id.rfind("vulkan/", 0) != 0) {
-    entry.update({{"status", "unsupported"}, {"reason", kGlReason}});
-    return entry;
-  }
-  if (version.empty() || !layer_installed()) {
-    entry.update(
-        {{"status", "unsupported"},
-         {"reason", "GFXReconstruct is not installed (Debian package gfxreconstruct): no capture layer"}});
+  const bool gl = id.rfind("gl/", 0) == 0;
+  if (const std::string why = missing_tool(gl, tools); !why.empty()) {
+    entry.update({{"status", "unsupported"}, {"reason", why}});
     return entry;
   }
   const fs::path dir = fs::path(s.out_dir) / "captures";
-  const fs::path file = dir / (slug(id) + ".gfxr");
+  const fs::path file = dir / (slug(id) + (gl ? ".rdc" : ".gfxr"));
   const fs::path run_dir = dir / (slug(id) + ".run");
   std::error_code ec;
   fs::create_directories(dir, ec);
   const std::string log = (dir / (slug(id) + ".log")).string();
+  const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
+  CaptureLaunch launch;
+  if (gl) {  // RenderDoc names an in-application capture <template>_capture.rdc
+    launch.argv = {"renderdoccmd", "capture", "-w", "-c", (dir / slug(id)).string(), self};
+    launch.file = (dir / (slug(id) + "_capture.rdc")).string();
+  } else {
+    launch.argv = {self};
+    launch.env = {{"VK_INSTANCE_LAYERS", kLayer},
+                  {"GFXRECON_CAPTURE_FILE", file.string()},
+                  {"GFXRECON_CAPTURE_FILE_TIMESTAMP", "false"},
+                  {"GFXRECON_LOG_LEVEL", "warning"}};
+    launch.file = file.string();
+  }
+  for (const std::string& a : capture_run_args(s.args, id, run_dir.string())) launch.argv.push_back(a);
   bool cut = false;
-  const std::string why = run_capture(capture_run_args(s.args, id, run_dir.string()), file.string(), log,
-                                      s.timeout_s, s.max_mb, cut);
+  const std::string why = run_capture(launch, log, s.timeout_s, s.max_mb, cut);
+  if (launch.file != file.string() && fs::exists(launch.file, ec)) fs::rename(launch.file, file, ec);
   const uintmax_t bytes = fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
-  entry.update({{"tool", "gfxreconstruct"}, {"version", version}});
+  entry.update({{"tool", gl ? "renderdoc" : "gfxreconstruct"},
+                {"version", gl ? tools.renderdoc : tools.gfxreconstruct}});
   if (cut) {  // nothing over the bound is kept: an incomplete capture would not replay anyway
     fs::remove(file, ec);
     entry.update({{"status", "cut"},
@@ -170,14 +206,16 @@ json capture_one(const CaptureSettings& s, const std::string& id, const std::str
   }
   if (!why.empty() || bytes == 0) {
     entry.update({{"status", "failed"},
-                  {"reason", (why.empty() ? "the capture layer wrote nothing" : why) +
+                  {"reason", (why.empty() ? "the capture tool wrote nothing" : why) +
                                  " (its output: " + fs::relative(log, s.out_dir, ec).string() + ")"}});
     return entry;
   }
   entry.update({{"status", "captured"},
                 {"file", fs::relative(file, s.out_dir, ec).string()},
                 {"bytes", bytes},
-                {"replay", "gfxrecon-replay " + file.string()}});
+                {"replay", gl ? "EGL_PLATFORM=surfaceless python3 scripts/replay_renderdoc.py " +
+                                    file.string() + " --out replayed.png"
+                              : "gfxrecon-replay " + file.string()}});
   return entry;
 }
 
@@ -214,12 +252,12 @@ void capture_cases(const CaptureSettings& s) {
     print_error("--capture: " + results + " cannot be read: nothing captured");
     return;
   }
-  const std::string version = gfxreconstruct_version();
+  const ToolVersions tools{gfxreconstruct_version(), renderdoc_version()};
   json captures = json::array();
   for (const json& c : doc["omnishadow"]["cases"]) {
     const std::string id = c.value("id", ""), status = c.value("status", "");
     if (!selected(s.mode, status)) continue;
-    json entry = capture_one(s, id, version);
+    json entry = capture_one(s, id, tools);
     std::cout << "capture " << id << ": " << entry["status"].get<std::string>()
               << (entry.contains("file") ? " " + entry["file"].get<std::string>()
                                          : ": " + entry.value("reason", std::string()))

@@ -2,14 +2,16 @@
 // `run --capture failed|crashed|all|none`: after the matrix, each selected case is run again, alone (its id
 // as the run's --benchmark_filter, one repetition, no crash isolation), in a process of its own under the
 // API's capture tool, so that a driver team can replay it without this harness. Vulkan: GFXReconstruct's
-// capture layer (Debian's gfxreconstruct), replayed by `gfxrecon-replay`. GL: apitrace's EGL wrapper cannot
-// trace a program that resolves GL through libepoxy (libepoxy looks up glXGetCurrentContext, which the
-// wrapper does not export, and aborts), so a GL case's capture is `unsupported` with that reason. Each
-// capture is OUT/captures/<case>.gfxr ('/' in the id as '_') beside the capture run's own folder (<case>.run)
-// and output
-// (<case>.log); OUT/captures.json and results.json's
-// "captures" list every selected case with its tool, the tool's version, the file and its size, and the
-// command that replays it, or why there is none.
+// capture layer (Debian's gfxreconstruct), replayed by `gfxrecon-replay`: OUT/captures/<case>.gfxr. GL:
+// RenderDoc (Debian's renderdoccmd, librenderdoc): the capture run starts under `renderdoccmd capture` and
+// brackets its check frame with RenderDoc's in-application API (bench/run/renderdoc_frames.h), since the
+// harness never presents: OUT/captures/<case>.rdc, replayed headless by scripts/replay_renderdoc.py
+// (RenderDoc's Python module). apitrace cannot serve GL: its EGL wrapper answers libepoxy's dlopen of
+// libGL.so.1 with itself, which has no glXGetCurrentContext, and libepoxy aborts. Each capture run's folder
+// (<case>.run) and output
+// (<case>.log) lie beside its file ('/' in the id as '_'); OUT/captures.json and results.json's "captures"
+// list every selected case with its tool, the tool's version, the file and its size, and the command that
+// replays it, or why there is none. A capture past --capture-max-mb is stopped and not kept.
 #include <string>
 #include <vector>
 

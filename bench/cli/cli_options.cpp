@@ -505,7 +505,7 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
   r.add_option(
        "--capture", run.capture,
        "after the matrix, run the failed (or crashed, or all) cases again alone under a capture a driver "
-       "team can replay: GFXReconstruct on Vulkan (GL: unsupported: apitrace cannot trace libepoxy)")
+       "team can replay: GFXReconstruct on Vulkan, RenderDoc on GL (its check frame)")
       ->check(CLI::IsMember({"failed", "crashed", "all", "none"}))
       ->capture_default_str();
   r.add_option(

@@ -16,6 +16,7 @@
 #include "bench/io/image_io.h"
 #include "bench/run/case_progress.h"
 #include "bench/run/memory_budget.h"
+#include "bench/run/renderdoc_frames.h"
 #include "bench/run/scripted_clock.h"
 #include "bench/run/timing_stats.h"
 #include "bench/truth/truth_cache.h"
@@ -272,6 +273,14 @@ int Harness::cold_frame(const CaseConfig& c) {
   return options_.check_frame + (moved ? 1 : 0);
 }
 
+// A capture run under RenderDoc (run --capture, bench/cli/capture.h) captures this frame.
+void Harness::render_check_frame(const CaseConfig& c, Backend& b) {
+  inject_fault(options_, c.id(), false);
+  renderdoc::start_frame();
+  b.render(options_.check_frame, FrameKind::check);
+  if (renderdoc::end_frame()) b.discard_tool_errors();
+}
+
 void Harness::prepare(CaseResult& r) {
   // Where the untimed part's time goes, per step (results.json "untimed_ms", the summary's totals).
   auto step = [&r, this](const char* name, auto&& body) {
@@ -290,10 +299,7 @@ void Harness::prepare(CaseResult& r) {
     step("first_frame", [&] { r.first_frame = b.render(cold_frame(r.config), FrameKind::timed); });
     // The check frame renders every buffer the checks read, and the timed variant's colour beside them. With
     // static caching it is served from the cube the cold frame rendered, so the cache is what gets checked.
-    step("check_frame", [&] {
-      inject_fault(options_, r.config.id(), false);
-      b.render(options_.check_frame, FrameKind::check);
-    });
+    step("check_frame", [&] { render_check_frame(r.config, b); });
     Images images;
     step("read_back", [&] { images = read_light(b, r.config, 0); });
     r.cube_read_back = images.has_full_cube() ? "full" : "sampled";

@@ -71,6 +71,7 @@ class Harness {
 
  private:
   int cold_frame(const CaseConfig& c);  // the index of a case's first frame after configure
+  void render_check_frame(const CaseConfig& c, Backend& b);
   bool admit(CaseResult& result, Backend& b);
   // Also returns every light as planned at the check frame (view culling's check reads it).
   std::vector<PlannedLight> count_work(CaseResult& result, Backend& b, float light_far);

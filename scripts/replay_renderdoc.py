@@ -1,0 +1,76 @@
+#!/usr/bin/python3
+"""Replays a RenderDoc capture (`omnishadow run --capture`, a GL case's check frame: OUT/captures/<case>.rdc) with
+RenderDoc's own replay, headless, and writes the colour target of the frame's last draw as a PNG: the lit image as
+the replayed commands made it on this machine's driver, to hold to the harness's own (the timed variant's lighting
+pass comes last in a check frame, and equals the checked one bit for bit).
+
+Runs with Debian's python3-renderdoc (RenderDoc 1.24). RenderDoc replays a GL capture in a context it makes through
+EGL: on a machine without a display set EGL_PLATFORM=surfaceless (Mesa).
+
+Usage: EGL_PLATFORM=surfaceless scripts/replay_renderdoc.py CAPTURE.rdc --out IMAGE.png
+Exit: 0, 1 when the capture does not replay, 2 on bad input (one line).
+"""
+import argparse
+import os
+import sys
+
+
+def fail(message, code=2):
+    print(f"replay_renderdoc: error: {message}", file=sys.stderr)
+    sys.exit(code)
+
+
+def last_draw(actions):
+    """The last action that drew (depth-first, in submission order), or None."""
+    found = None
+    for a in actions:
+        below = last_draw(a.children)
+        if below is not None:
+            found = below
+        elif a.outputs and any(int(o) != 0 for o in a.outputs):
+            found = a
+    return found
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("capture")
+    parser.add_argument("--out", required=True, help="PNG of the last draw's first colour target")
+    args = parser.parse_args()
+    if not os.path.isfile(args.capture):
+        fail(f"{args.capture}: no such file")
+    try:
+        import renderdoc as rd
+    except ImportError:
+        fail("the renderdoc module is missing (Debian package python3-renderdoc)")
+    rd.InitialiseReplay(rd.GlobalEnvironment(), [])
+    cap = rd.OpenCaptureFile()
+    try:
+        result = cap.OpenFile(args.capture, "", None)
+        if result != rd.ResultCode.Succeeded:
+            fail(f"{args.capture}: not a capture RenderDoc opens: {result}")
+        result, controller = cap.OpenCapture(rd.ReplayOptions(), None)
+        if result != rd.ResultCode.Succeeded:
+            fail(f"{args.capture}: does not replay here: {result}", 1)
+        try:
+            action = last_draw(controller.GetRootActions())
+            if action is None:
+                fail(f"{args.capture}: no draw to read back", 1)
+            controller.SetFrameEvent(action.eventId, True)
+            save = rd.TextureSave()
+            save.resourceId = next(o for o in action.outputs if int(o) != 0)
+            save.destType = rd.FileType.PNG
+            save.alpha = rd.AlphaMapping.Preserve
+            result = controller.SaveTexture(save, args.out)
+            if result != rd.ResultCode.Succeeded:
+                fail(f"{args.capture}: the replayed image cannot be saved: {result}", 1)
+            print(f"{args.capture}: replayed to event {action.eventId}; its colour target in {args.out}")
+        finally:
+            controller.Shutdown()
+    finally:
+        cap.Shutdown()
+        rd.ShutdownReplay()
+
+
+if __name__ == "__main__":
+    main()
