@@ -41,6 +41,26 @@ uint8_t read_faces(const CaseResult& r, const scene::Scene& sc, int t, const glm
   return gpu::view_faces(sc, r.config, t, far_plane, face_size);
 }
 
+// Whether a moving caster moved between frames `then` and `now` within `range` of `light` (its box at either
+// frame). Visibility of a point within range cannot change otherwise: the segment from it to the light lies
+// within the range.
+bool caster_moved_within(const scene::Scene& sc, const glm::vec3& light, float range, int then, int now) {
+  for (const scene::Object& o : sc.objects) {
+    if (!o.moves() || o.offset_at(then) == o.offset_at(now)) continue;
+    for (int f : {then, now})
+      if (glm::distance(glm::clamp(light, o.bounds_min_at(f), o.bounds_max_at(f)), light) <= range) return true;
+  }
+  return false;
+}
+
+// A light's last truth of the sequence, and what it was cast for.
+struct LastCast {
+  int frame = -1;
+  glm::vec3 light{0.0f};
+  Truth truth;
+  std::vector<float> positions;
+};
+
 }  // namespace
 
 void Harness::measure_staleness(CaseResult& r, Backend& b) {
@@ -53,11 +73,10 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
                         : std::vector<int>{};
   TruthOptions point = options_.truth;
   point.light_radius = 0.0f;  // the misclassified figure reads the point light's visibility only
-  // A light's truth per position: the camera stands still and, in a scene without moving casters, so does
-  // everything the world positions read back show, so a light that stands still keeps its truth. With moving
-  // casters every frame is its own (pose: the frame, else -1).
-  std::map<std::tuple<int, int, float, float, float>, Truth> truths;
-  const bool moving = sc.has_moving_objects();
+  // Each light's truth takes from its last one every pixel that shows the same surface point, where neither the
+  // light nor a caster within its range moved in between (the camera stands still): a still lamp far from the
+  // moving casters is cast once, and one they pass recast only where the image changed.
+  std::map<int, LastCast> last;
   const CubeReadBack cube = traits(r.config.layout).geometry.map == TexelMap::cube_faces
                                 ? CubeReadBack::sampled
                                 : CubeReadBack::full;
@@ -76,9 +95,14 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
       s.read_faces.push_back(read_faces(r, sc, t, at, k));
       if (!options_.accuracy || std::find(lights.begin(), lights.end(), k) == lights.end()) continue;
       const Images images = b.read_back(cube, k);
-      auto [it, cast] = truths.try_emplace({k, moving ? t : -1, at.x, at.y, at.z});
-      if (cast) it->second = compute_truth(caster, sc, t, images, point);
-      const Accuracy a = measure_accuracy(it->second, images);
+      LastCast& before = last[k];
+      TruthPrior prior;
+      if (before.frame >= 0 && before.light == at &&
+          !caster_moved_within(sc, at, sc.light().far_plane, before.frame, t))
+        prior = {&before.truth, &before.positions};
+      Truth truth = compute_truth(caster, sc, t, images, point, prior);
+      const Accuracy a = measure_accuracy(truth, images);
+      before = {t, at, std::move(truth), images.world_position};
       wrong += a.misclassified_percent * double(a.pixels);
       s.pixels += a.pixels;
     }
