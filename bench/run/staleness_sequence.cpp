@@ -48,7 +48,8 @@ bool caster_moved_within(const scene::Scene& sc, const glm::vec3& light, float r
   for (const scene::Object& o : sc.objects) {
     if (!o.moves() || o.offset_at(then) == o.offset_at(now)) continue;
     for (int f : {then, now})
-      if (glm::distance(glm::clamp(light, o.bounds_min_at(f), o.bounds_max_at(f)), light) <= range) return true;
+      if (glm::distance(glm::clamp(light, o.bounds_min_at(f), o.bounds_max_at(f)), light) <= range)
+        return true;
   }
   return false;
 }
@@ -73,9 +74,9 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
                         : std::vector<int>{};
   TruthOptions point = options_.truth;
   point.light_radius = 0.0f;  // the misclassified figure reads the point light's visibility only
-  // Each light's truth takes from its last one every pixel that shows the same surface point, where neither the
-  // light nor a caster within its range moved in between (the camera stands still): a still lamp far from the
-  // moving casters is cast once, and one they pass recast only where the image changed.
+  // Each light's truth takes from its last one every pixel that shows the same surface point, where neither
+  // the light nor a caster within its range moved in between (the camera stands still): a still lamp far from
+  // the moving casters is cast once, and one they pass recast only where the image changed.
   std::map<int, LastCast> last;
   const CubeReadBack cube = traits(r.config.layout).geometry.map == TexelMap::cube_faces
                                 ? CubeReadBack::sampled
