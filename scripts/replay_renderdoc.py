@@ -4,6 +4,11 @@ RenderDoc's own replay, headless, and writes the colour target of the frame's la
 the replayed commands made it on this machine's driver, to hold to the harness's own (the timed variant's lighting
 pass comes last in a check frame, and equals the checked one bit for bit).
 
+The PNG reads top row first, as the harness's own PNGs do. RenderDoc writes a GL texture's rows top first (it turns
+GL's bottom-left origin over) but a Vulkan image's rows as they lie in memory, where the harness's lit frame has
+row 0 at the bottom on both APIs (GL's window convention, backends/backend.h): a Vulkan capture's image is turned
+over here (python3-pil), so that either API's replay compares with the harness's lit.png as it is.
+
 Runs with Debian's python3-renderdoc (RenderDoc 1.24). RenderDoc replays a GL capture in a context it makes through
 EGL: on a machine without a display set EGL_PLATFORM=surfaceless (Mesa).
 
@@ -64,6 +69,9 @@ def main():
             result = controller.SaveTexture(save, args.out)
             if result != rd.ResultCode.Succeeded:
                 fail(f"{args.capture}: the replayed image cannot be saved: {result}", 1)
+            if cap.DriverName() == "Vulkan":
+                from PIL import Image, ImageOps
+                ImageOps.flip(Image.open(args.out)).save(args.out)
             print(f"{args.capture}: replayed to event {action.eventId}; its colour target in {args.out}")
         finally:
             controller.Shutdown()

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Captures that reproduce (`run --capture`, bench/cli/capture.h): room captured on both APIs here; the GL capture
 replayed by RenderDoc's own replay (scripts/replay_renderdoc.py, headless) gives the harness's lit image bit for
-bit, as GL's invariance rule requires of the same commands on the same implementation; the Vulkan capture replays
-to the end in gfxrecon-replay (the harness never presents, so it has no frame to take a screenshot of); and a
+bit, as GL's invariance rule requires of the same commands on the same implementation (and Vulkan's, captured with
+--capture-tool renderdoc, the same, as Vulkan's invariance appendix does); the GFXReconstruct capture replays to
+the end in gfxrecon-replay (the harness never presents, so it has no frame to take a screenshot of); and a
 planted bug (a test-only lookup perturbation of half a texel) is replayed as the bug: the replayed image is the
 perturbed one, not the clean one. Usage: capture_replay_test.py OMNISHADOW_BINARY"""
 import glob
@@ -31,7 +32,7 @@ def capture(binary, out, backends, *extra):
     return done
 
 
-def replay_gl(capture_file, png):
+def replay_rdc(capture_file, png):
     env = dict(os.environ, EGL_PLATFORM="surfaceless", XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
     return subprocess.run(["/usr/bin/python3", REPLAY, capture_file, "--out", png], capture_output=True, text=True,
                           env=env)
@@ -62,7 +63,7 @@ def main():
             print(f"FAIL: captures not written (exit {done.returncode}): {done.stdout[-800:]} {done.stderr[-400:]}")
             sys.exit(1)
         replayed = os.path.join(tmp, "clean.png")
-        r = replay_gl(gl_capture, replayed)
+        r = replay_rdc(gl_capture, replayed)
         lit = harness_lit(clean, "gl")
         if r.returncode != 0 or not lit:
             problems.append(f"GL replay: exit {r.returncode} {r.stderr.strip()[-400:]}; harness image {lit}")
@@ -75,12 +76,25 @@ def main():
         if v.returncode != 0 or "Incomplete block" in v.stdout + v.stderr:
             problems.append(f"Vulkan replay: exit {v.returncode}: {(v.stdout + v.stderr).strip()[-300:]}")
 
+        # --capture-tool renderdoc on Vulkan: its check frame replayed by RenderDoc equals the harness's too.
+        rdv = os.path.join(tmp, "rdv")
+        done = capture(binary, rdv, "vulkan", "--capture-tool", "renderdoc")
+        rdv_capture = os.path.join(rdv, "captures", f"vulkan_{CASE}.rdc")
+        rdv_png = os.path.join(tmp, "rdv.png")
+        r = replay_rdc(rdv_capture, rdv_png) if os.path.exists(rdv_capture) else None
+        rdv_lit = harness_lit(rdv, "vulkan")
+        if r is None or r.returncode != 0 or not rdv_lit:
+            problems.append(f"Vulkan through RenderDoc: no capture or replay (exit {done.returncode}, "
+                            f"{r and r.stderr[-300:]})")
+        elif pixels(rdv_png) != pixels(rdv_lit):
+            problems.append("Vulkan through RenderDoc: the replayed image differs from the harness's")
+
         # The planted bug, captured and replayed: the replay shows it.
         bug = os.path.join(tmp, "bug")
         done = capture(binary, bug, "gl", "--lookup-perturb", "0.5")
         bug_capture = os.path.join(bug, "captures", f"gl_{CASE}.rdc")
         bug_png = os.path.join(tmp, "bug.png")
-        r = replay_gl(bug_capture, bug_png) if os.path.exists(bug_capture) else None
+        r = replay_rdc(bug_capture, bug_png) if os.path.exists(bug_capture) else None
         bug_lit = harness_lit(bug, "gl")
         if r is None or r.returncode != 0 or not bug_lit or not lit:
             problems.append(f"planted bug: no capture or replay (exit {done.returncode}, {r and r.stderr[-300:]})")

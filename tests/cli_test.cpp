@@ -243,6 +243,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},
         BadInput{"run --case-timeout-s nan --out @OUT@", "--case-timeout-s: 'nan' is not a finite number"},
         BadInput{"run --capture-max-mb 0 --out @OUT@", "--capture-max-mb"},
+        BadInput{"run --capture-tool apitrace --out @OUT@", "--capture-tool: apitrace not in"},
         BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},
         BadInput{"run --inject-hang [ --out @OUT@", "--inject-hang: '[' is not a regular expression"},
         BadInput{"run --capture sometimes --out @OUT@",
@@ -1727,6 +1728,15 @@ TEST_F(CliRun, CaptureRunsTheFailedCasesAgainUnderACapture) {
         "gfxrecon-replay " + file.string() + " >" + (out / "replay.log").string() + " 2>&1";
     EXPECT_EQ(std::system(replay.c_str()), 0) << omnishadow::bench::read_file((out / "replay.log").string());
   }
+  // GFXReconstruct named for a GL case: unsupported, with the tool that does capture GL.
+  const fs::path gfxr_gl = scratch("capture_gfxr_gl");
+  ASSERT_EQ(run(args + gfxr_gl.string() + " --capture failed --capture-tool gfxreconstruct").exit_code, 0);
+  const auto named =
+      nlohmann::json::parse(omnishadow::bench::read_file((gfxr_gl / "captures.json").string()));
+  EXPECT_EQ(named["captures"][0]["status"], "unsupported");
+  EXPECT_NE(named["captures"][0]["reason"].get<std::string>().find("GFXReconstruct captures Vulkan only"),
+            std::string::npos)
+      << named.dump();
   // Bounded: a capture past --capture-max-mb is stopped and not kept, said in its entry.
   const fs::path small = scratch("capture_cut");
   ASSERT_EQ(run(args + small.string() + " --capture failed --capture-max-mb 0.001").exit_code, 0);

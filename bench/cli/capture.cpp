@@ -154,13 +154,15 @@ struct ToolVersions {
   std::string gfxreconstruct, renderdoc;
 };
 
-// Why a case's API has no capture tool here, or "".
-std::string missing_tool(bool gl, const ToolVersions& tools) {
-  if (gl && tools.renderdoc.empty())
-    return "RenderDoc is not installed (Debian packages renderdoccmd and librenderdoc): GL captures use its "
-           "in-application API around the check frame (apitrace's EGL wrapper cannot trace libepoxy's GL "
-           "loading)";
-  if (!gl && (tools.gfxreconstruct.empty() || !layer_installed()))
+// Why `renderdoc` (else GFXReconstruct) cannot capture a case of this API here, or "".
+std::string missing_tool(bool renderdoc, bool gl, const ToolVersions& tools) {
+  if (renderdoc && tools.renderdoc.empty())
+    return "RenderDoc is not installed (Debian packages renderdoccmd and librenderdoc): it captures the "
+           "check "
+           "frame through its in-application API" +
+           std::string(gl ? " (apitrace's EGL wrapper cannot trace libepoxy's GL loading)" : "");
+  if (!renderdoc && gl) return "GFXReconstruct captures Vulkan only (--capture-tool renderdoc captures GL)";
+  if (!renderdoc && (tools.gfxreconstruct.empty() || !layer_installed()))
     return "GFXReconstruct is not installed (Debian package gfxreconstruct): no capture layer";
   return "";
 }
@@ -168,19 +170,20 @@ std::string missing_tool(bool gl, const ToolVersions& tools) {
 json capture_one(const CaptureSettings& s, const std::string& id, const ToolVersions& tools) {
   json entry = {{"case", id}};
   const bool gl = id.rfind("gl/", 0) == 0;
-  if (const std::string why = missing_tool(gl, tools); !why.empty()) {
+  const bool renderdoc = s.tool == "renderdoc" || (s.tool == "auto" && gl);
+  if (const std::string why = missing_tool(renderdoc, gl, tools); !why.empty()) {
     entry.update({{"status", "unsupported"}, {"reason", why}});
     return entry;
   }
   const fs::path dir = fs::path(s.out_dir) / "captures";
-  const fs::path file = dir / (slug(id) + (gl ? ".rdc" : ".gfxr"));
+  const fs::path file = dir / (slug(id) + (renderdoc ? ".rdc" : ".gfxr"));
   const fs::path run_dir = dir / (slug(id) + ".run");
   std::error_code ec;
   fs::create_directories(dir, ec);
   const std::string log = (dir / (slug(id) + ".log")).string();
   const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
   CaptureLaunch launch;
-  if (gl) {  // RenderDoc names an in-application capture <template>_capture.rdc
+  if (renderdoc) {  // RenderDoc names an in-application capture <template>_capture.rdc
     launch.argv = {"renderdoccmd", "capture", "-w", "-c", (dir / slug(id)).string(), self};
     launch.file = (dir / (slug(id) + "_capture.rdc")).string();
   } else {
@@ -223,8 +226,9 @@ json capture_one(const CaptureSettings& s, const std::string& id, const ToolVers
 
 std::vector<std::string> capture_run_args(const std::vector<std::string>& args, const std::string& id,
                                           const std::string& out_dir) {
-  static const std::vector<std::string> with_value = {"--out",   "--capture",        "--isolation",
-                                                      "--shard", "--case-timeout-s", "--capture-max-mb"};
+  static const std::vector<std::string> with_value = {
+      "--out",          "--capture", "--isolation", "--shard", "--case-timeout-s", "--capture-max-mb",
+      "--capture-tool", "--backend"};
   std::vector<std::string> out;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -239,8 +243,8 @@ std::vector<std::string> capture_run_args(const std::vector<std::string>& args, 
     }
     if (!drop) out.push_back(a);
   }
-  out.insert(out.end(), {"--benchmark_filter=" + exact_filter(id), "--benchmark_repetitions=1", "--isolation",
-                         "none", "--out", out_dir});
+  out.insert(out.end(), {"--backend", id.substr(0, id.find('/')), "--benchmark_filter=" + exact_filter(id),
+                         "--benchmark_repetitions=1", "--isolation", "none", "--out", out_dir});
   return out;
 }
 

@@ -18,7 +18,9 @@
 namespace omnishadow::bench {
 
 struct CaptureSettings {
-  std::string mode = "none";      // failed, crashed, all, none
+  std::string mode = "none";  // failed, crashed, all, none
+  std::string tool =
+      "auto";  // --capture-tool: auto (Vulkan GFXReconstruct, GL RenderDoc), gfxreconstruct, renderdoc
   std::vector<std::string> args;  // the run's arguments after the program name ("run", then the options)
   std::string out_dir;            // the run's folder, holding its results.json
   double timeout_s = 300.0;       // a capture run that takes longer is killed and said
@@ -31,7 +33,8 @@ struct CaptureSettings {
 void capture_cases(const CaptureSettings& settings);
 
 // The arguments of a capture run of case `id`: the run's own, less those that choose the folder, the cases,
-// the repetitions, the isolation and the captures, then those of the capture.
+// the repetitions, the isolation and the captures, then those of the capture; --backend narrowed to the
+// case's API, so that the capture holds that API alone.
 std::vector<std::string> capture_run_args(const std::vector<std::string>& args, const std::string& id,
                                           const std::string& out_dir);
 

@@ -509,6 +509,12 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
       ->check(CLI::IsMember({"failed", "crashed", "all", "none"}))
       ->capture_default_str();
   r.add_option(
+       "--capture-tool", run.capture_tool,
+       "auto: GFXReconstruct on Vulkan, RenderDoc on GL; renderdoc: RenderDoc on both (its check frame); "
+       "gfxreconstruct: Vulkan only")
+      ->check(CLI::IsMember({"auto", "gfxreconstruct", "renderdoc"}))
+      ->capture_default_str();
+  r.add_option(
        "--capture-max-mb", run.capture_max_mb,
        "a capture file that grows past this many MB is cut: its run is stopped, the file removed and the "
        "capture said `cut`")

@@ -442,7 +442,8 @@ int run_command(const RunCommand& cmd) {
   // The whole run's results are written: the selected cases again, each under a capture
   // (bench/cli/capture.h).
   if (cmd.worker_skip < 0 && cmd.capture != "none" && (code == 0 || code == 1))
-    capture_cases({cmd.capture, cmd.args, options.out_dir, cmd.case_timeout_s, cmd.capture_max_mb});
+    capture_cases(
+        {cmd.capture, cmd.capture_tool, cmd.args, options.out_dir, cmd.case_timeout_s, cmd.capture_max_mb});
   return code;
 }
 

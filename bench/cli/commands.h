@@ -39,8 +39,9 @@ struct RunCommand {
   int worker_skip = -1;
   int worker_progress_fd = -1;
   std::string worker_results;
-  std::string capture = "none";    // --capture: failed, crashed, all or none (bench/cli/capture.h)
-  double capture_max_mb = 1024.0;  // --capture-max-mb
+  std::string capture = "none";       // --capture: failed, crashed, all or none (bench/cli/capture.h)
+  double capture_max_mb = 1024.0;     // --capture-max-mb
+  std::string capture_tool = "auto";  // --capture-tool
 };
 
 int run_command(const RunCommand& cmd);
