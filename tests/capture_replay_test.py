@@ -7,6 +7,7 @@ the end in gfxrecon-replay (the harness never presents, so it has no frame to ta
 planted bug (a test-only lookup perturbation of half a texel) is replayed as the bug: the replayed image is the
 perturbed one, not the clean one. Usage: capture_replay_test.py OMNISHADOW_BINARY"""
 import glob
+import json
 import os
 import shutil
 import subprocess
@@ -24,11 +25,14 @@ def pixels(path):
 
 
 def capture(binary, out, backends, *extra):
+    """`run --capture all` into `out`, named relative to its parent (the run's working folder): a capture tool that
+    starts the capture run elsewhere would lose it."""
     env = dict(os.environ, XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
     done = subprocess.run([binary, "run", "--backend", backends, "--scene", "room", "--cube", "64", "--frame", "80x60",
                            "--technique", "six_pass", "--filter", "hard", "--frames", "1", "--warmup", "0",
-                           "--benchmark_repetitions=1", "--images", "all", "--capture", "all", "--out", out, *extra],
-                          capture_output=True, text=True, env=env)
+                           "--benchmark_repetitions=1", "--images", "all", "--capture", "all", "--out",
+                           os.path.basename(out), *extra],
+                          capture_output=True, text=True, env=env, cwd=os.path.dirname(out))
     return done
 
 
@@ -83,6 +87,9 @@ def main():
         rdv_png = os.path.join(tmp, "rdv.png")
         r = replay_rdc(rdv_capture, rdv_png) if os.path.exists(rdv_capture) else None
         rdv_lit = harness_lit(rdv, "vulkan")
+        listed = json.load(open(os.path.join(rdv, "captures.json")))["captures"] if done.returncode == 0 else []
+        if not listed or listed[0].get("tool") != "renderdoc" or "replay_renderdoc.py" not in listed[0].get("replay", ""):
+            problems.append(f"Vulkan through RenderDoc: captures.json must name RenderDoc and its replay: {listed}")
         if r is None or r.returncode != 0 or not rdv_lit:
             problems.append(f"Vulkan through RenderDoc: no capture or replay (exit {done.returncode}, "
                             f"{r and r.stderr[-300:]})")

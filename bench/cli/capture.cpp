@@ -184,7 +184,16 @@ json capture_one(const CaptureSettings& s, const std::string& id, const ToolVers
   const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
   CaptureLaunch launch;
   if (renderdoc) {  // RenderDoc names an in-application capture <template>_capture.rdc
-    launch.argv = {"renderdoccmd", "capture", "-w", "-c", (dir / slug(id)).string(), self};
+    // RenderDoc starts the program in the executable's folder unless told: the run's own working folder keeps
+    // every relative path of its arguments (--out, --scene files) meaning what it meant.
+    launch.argv = {"renderdoccmd",
+                   "capture",
+                   "-w",
+                   "-d",
+                   fs::current_path(ec).string(),
+                   "-c",
+                   fs::absolute(dir / slug(id), ec).string(),
+                   self};
     launch.file = (dir / (slug(id) + "_capture.rdc")).string();
   } else {
     launch.argv = {self};
@@ -199,8 +208,8 @@ json capture_one(const CaptureSettings& s, const std::string& id, const ToolVers
   const std::string why = run_capture(launch, log, s.timeout_s, s.max_mb, cut);
   if (launch.file != file.string() && fs::exists(launch.file, ec)) fs::rename(launch.file, file, ec);
   const uintmax_t bytes = fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
-  entry.update({{"tool", gl ? "renderdoc" : "gfxreconstruct"},
-                {"version", gl ? tools.renderdoc : tools.gfxreconstruct}});
+  entry.update({{"tool", renderdoc ? "renderdoc" : "gfxreconstruct"},
+                {"version", renderdoc ? tools.renderdoc : tools.gfxreconstruct}});
   if (cut) {  // nothing over the bound is kept: an incomplete capture would not replay anyway
     fs::remove(file, ec);
     entry.update({{"status", "cut"},
@@ -216,9 +225,9 @@ json capture_one(const CaptureSettings& s, const std::string& id, const ToolVers
   entry.update({{"status", "captured"},
                 {"file", fs::relative(file, s.out_dir, ec).string()},
                 {"bytes", bytes},
-                {"replay", gl ? "EGL_PLATFORM=surfaceless python3 scripts/replay_renderdoc.py " +
-                                    file.string() + " --out replayed.png"
-                              : "gfxrecon-replay " + file.string()}});
+                {"replay", renderdoc ? "EGL_PLATFORM=surfaceless python3 scripts/replay_renderdoc.py " +
+                                           file.string() + " --out replayed.png"
+                                     : "gfxrecon-replay " + file.string()}});
   return entry;
 }
 
