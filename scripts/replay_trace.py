@@ -7,9 +7,14 @@ B.json`), as Mesa's trace CI replays its traces on every commit.
 Each trace is replayed once untimed (the driver's shader caches warm), then --rounds times, each round timed from
 the replayer's start to its exit (wall time, and the replayer's CPU time): the harness never presents, so its
 captures have no frame boundaries, and a replay is the whole capture, device creation and pipeline builds included.
-Vulkan traces (.gfxr) replay with gfxrecon-replay (Debian's gfxreconstruct). A replay that fails (a non-zero exit,
-or an exit 0 that says the trace is cut short or broken) is an entry with error_occurred and the line that says
-why, and the others go on; the file is written atomically.
+Vulkan traces (.gfxr) replay with gfxrecon-replay (Debian's gfxreconstruct). RenderDoc captures (.rdc, GL or
+Vulkan: one frame, the check frame) replay with scripts/replay_renderdoc.py (python3-renderdoc) in one process: the
+capture is loaded once and its frame replayed --warmup + --rounds times, each round's wall and CPU time that of the
+frame's replay alone, and `gpu_time` (ms) beside them where the driver has RenderDoc's GPU duration counter; the
+replayed image's SHA-256 is in the context's `images`, so that a trace's image compares across drivers and commits
+as a checksum (scripts/ci/fleet_replay.sh does). A replay that fails (a non-zero exit, or an exit 0 that says the
+trace is cut short or broken) is an entry with error_occurred and the line that says why, and the others go on;
+the file is written atomically.
 
 Usage: scripts/replay_trace.py TRACE [TRACE...] --out FILE [--rounds N] [--warmup N]
 Exit: 0, 1 when a replay failed, 2 on bad input (one line naming the trace or option).
@@ -24,9 +29,13 @@ import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
-REPLAYERS = {".gfxr": ("gfxrecon-replay", "gfxreconstruct")}  # suffix: (replayer, Debian package)
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+RENDERDOC = os.path.join(ROOT, "scripts", "replay_renderdoc.py")
+REPLAYERS = {".gfxr": ("gfxrecon-replay", "gfxreconstruct"),  # suffix: (replayer, Debian package)
+             ".rdc": ("renderdoc", "python3-renderdoc")}
 
 
 def fail(message):
@@ -41,6 +50,10 @@ def replayer_for(trace):
     if not os.path.isfile(trace):
         fail(f"{trace}: no such file")
     tool, package = REPLAYERS[suffix]
+    if suffix == ".rdc":
+        if subprocess.run(["/usr/bin/python3", "-c", "import renderdoc, PIL"], capture_output=True).returncode:
+            fail(f"{trace}: RenderDoc's Python module or PIL is missing (Debian packages {package}, python3-pil)")
+        return RENDERDOC
     path = shutil.which(tool)
     if not path:
         fail(f"{trace}: {tool} not found (Debian package {package})")
@@ -48,6 +61,9 @@ def replayer_for(trace):
 
 
 def version_of(replayer):
+    if replayer == RENDERDOC:
+        return "RenderDoc " + subprocess.run(["/usr/bin/python3", "-c", "import renderdoc; print(renderdoc.GetVersionString())"],
+                                             capture_output=True, text=True).stdout.strip()
     out = subprocess.run([replayer, "--version"], capture_output=True, text=True).stdout
     line = next((l for l in out.splitlines() if "Version" in l), out.strip().splitlines()[0] if out.strip() else "")
     return line.strip()
@@ -71,6 +87,34 @@ def replay_once(replayer, trace):
     if done.returncode == 0 and broken:
         return wall, cpu, -1, broken[0]
     return wall, cpu, done.returncode, lines[-1] if lines else ""
+
+
+def replay_renderdoc(trace, warmup, rounds):
+    """(walls, cpus, gpus, image sha256, error or None): one replay process, the frame replayed warmup + rounds times."""
+    with tempfile.TemporaryDirectory() as tmp:
+        png, timings = os.path.join(tmp, "frame.png"), os.path.join(tmp, "timings.json")
+        env = dict(os.environ, EGL_PLATFORM="surfaceless", XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
+        done = subprocess.run(["/usr/bin/python3", RENDERDOC, trace, "--out", png, "--rounds", str(warmup + rounds),
+                               "--json", timings], capture_output=True, text=True, env=env)
+        if done.returncode != 0 or not os.path.exists(timings):
+            lines = (done.stdout + done.stderr).strip().splitlines()
+            return [], [], [], None, f"replay_renderdoc.py exited {done.returncode}: {lines[-1] if lines else ''}"
+        doc = json.load(open(timings))
+    return doc["wall_ms"][warmup:], doc["cpu_ms"][warmup:], doc["gpu_ms"][warmup:], doc["image_sha256"], None
+
+
+def replay_process(replayer, trace, warmup, rounds):
+    """The same for a replayer that replays the whole trace per process (gfxrecon-replay): no image."""
+    walls, cpus = [], []
+    for r in range(warmup + rounds):
+        wall, cpu, code, last = replay_once(replayer, trace)
+        if code != 0:
+            return [], [], [], None, f"{os.path.basename(replayer)} " + \
+                (f"exited {code}" if code > 0 else "exited 0") + f": {last}"
+        if r >= warmup:
+            walls.append(wall)
+            cpus.append(cpu)
+    return walls, cpus, [], None, None
 
 
 def entry(name, index, rounds, wall, cpu):
@@ -100,19 +144,12 @@ def main():
     if args.warmup < 0:
         fail(f"--warmup {args.warmup}: at least 0")
     replayers = [replayer_for(t) for t in args.traces]  # every trace checked before any replay
-    benchmarks, failed = [], 0
+    benchmarks, failed, images = [], 0, {}
     for index, (trace, replayer) in enumerate(zip(args.traces, replayers)):
         name = "replay/" + os.path.splitext(os.path.basename(trace))[0]
-        walls, cpus, error = [], [], None
-        for r in range(args.warmup + args.rounds):
-            wall, cpu, code, last = replay_once(replayer, trace)
-            if code != 0:
-                error = f"{os.path.basename(replayer)} " + (f"exited {code}" if code > 0 else "exited 0") + \
-                    f": {last}"
-                break
-            if r >= args.warmup:
-                walls.append(wall)
-                cpus.append(cpu)
+        measure = replay_renderdoc if replayer == RENDERDOC else \
+            lambda t, w, r, replayer=replayer: replay_process(replayer, t, w, r)
+        walls, cpus, gpus, image, error = measure(trace, args.warmup, args.rounds)
         if error:
             failed += 1
             e = entry(name, index, args.rounds, 0.0, 0.0)
@@ -120,14 +157,19 @@ def main():
             benchmarks.append(e)
             print(f"{name}: {error}")
             continue
-        benchmarks += [entry(name, index, args.rounds, w, c) for w, c in zip(walls, cpus)]
-        benchmarks += aggregates(name, index, args.rounds, walls, cpus)
-        print(f"{name}: median {statistics.median(walls):.1f} ms wall over {args.rounds} replays")
+        rounds = [entry(name, index, args.rounds, w, c) for w, c in zip(walls, cpus)]
+        for e, g in zip(rounds, gpus):
+            e["gpu_time"] = g  # a user counter (ms): the frame's GPU time, where the driver measures it
+        benchmarks += rounds + aggregates(name, index, args.rounds, walls, cpus)
+        if image:
+            images[name] = image
+        print(f"{name}: median {statistics.median(walls):.1f} ms wall over {args.rounds} replays" +
+              (f", {statistics.median(gpus):.3f} ms GPU" if gpus else "") + (f", image {image[:12]}" if image else ""))
     doc = {"context": {"date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
                        "host_name": platform.node(), "executable": "scripts/replay_trace.py",
                        "num_cpus": os.cpu_count(), "library_build_type": "release",
                        "replayers": sorted({version_of(r) for r in replayers}),
-                       "traces": [os.path.abspath(t) for t in args.traces]},
+                       "traces": [os.path.abspath(t) for t in args.traces], "images": images},
            "benchmarks": benchmarks}
     tmp = args.out + ".tmp"
     with open(tmp, "w") as f:

@@ -3,7 +3,7 @@
 # fleet's baseline for its device key: results/fleet_baselines/<key>/ with what compare reads, this commit's
 # scripts/ci/fleet_matrix.args (so fleet_compare.sh can say when the matrix changed since) and, with --gate, the
 # timing gate (metric, alpha, min_effect: scripts/experiments/sensitivity.py measures one; without a gate the
-# fleet's timing is reported, not failed). Commit the folder on the target branch. The CI matrix's baselines
+# fleet's timing is reported, not failed) and the merged run's replay.json (the traces' replays and images). Commit the folder on the target branch. The CI matrix's baselines
 # (results/baselines/) are a different matrix: scripts/ci/refresh_baselines.sh.
 # Usage: scripts/ci/fleet_baseline.sh MERGED_RUN [--gate GATE_JSON]
 set -euo pipefail
@@ -24,5 +24,7 @@ key="$("$bin" device-key "$run" | head -n 1)"
 dest="$here/results/fleet_baselines/$key"
 bash "$here/scripts/ci/store_baseline.sh" "$run" "$dest" >/dev/null
 cp "$here/scripts/ci/fleet_matrix.args" "$dest/fleet_matrix.args"
+# The traces' replays (scripts/ci/fleet_replay.sh), what replay_compare.py holds the next replays to.
+if [ -f "$run/replay.json" ]; then cp "$run/replay.json" "$dest/replay.json"; fi
 if [ -n "$gate" ]; then cp "$gate" "$dest/gate.json"; fi
 echo "fleet baseline for device key $key: results/fleet_baselines/$key ($(du -sh "$dest" | cut -f1))${gate:+, gate $gate}"

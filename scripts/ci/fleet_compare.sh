@@ -72,6 +72,8 @@ if [ -n "${stored:-}" ]; then
   echo "fleet_compare: $run against the stored run of ${stored##* } (OMNISHADOW_STORE_URL), merge-base ${merge_base:0:12}"
   git -C "$here" show "$merge_base:results/fleet_baselines/$key/gate.json" > "$base/gate.json" 2>/dev/null ||
     rm -f "$base/gate.json"
+  git -C "$here" show "$merge_base:results/fleet_baselines/$key/replay.json" > "$base/replay.json" 2>/dev/null ||
+    rm -f "$base/replay.json"
 elif [ -z "$base" ]; then
   base="$(mktemp -d)/baseline"
   mkdir -p "$base"
@@ -111,6 +113,15 @@ if [ -f "$base/gate.json" ] && [ -f "$run/compare/comparison.json" ]; then
     echo "fleet_compare: BLIND: $blind timed cases cannot be flagged at the gate's alpha whatever their change (too few repetitions); run more" | tee -a "$summary"
     [ "$status" -ne 0 ] || status=1
   fi
+fi
+# The traces' replays (scripts/ci/fleet_replay.sh) against the baseline's: a trace that fails now or whose image
+# changed fails the fan-in; a baseline without replays compares nothing and says so.
+if [ -f "$run/replay.json" ]; then
+  mkdir -p "$run/compare"
+  replay_status=0
+  /usr/bin/python3 "$here/scripts/ci/replay_compare.py" "$base/replay.json" "$run/replay.json" >>"$summary" || replay_status=$?
+  [ "$replay_status" -eq 0 ] || [ "$status" -gt 1 ] || status=$replay_status
+  [ "$replay_status" -eq 0 ] || echo "fleet_compare: the replayed traces regressed (the summary's Replayed traces)"
 fi
 [ -f "$summary" ] && publish "$summary"
 exit $status
