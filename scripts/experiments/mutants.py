@@ -8,11 +8,18 @@ the PCF kernels' size) the script applies the change to a scratch clone of this 
 default scenes with `--check` on GL and Vulkan, and records whether the run failed, which checks failed and their
 figures. Target: every mutant caught (a survivor is a hole in the checks to close, never a row to delete).
 
+With --replay-captures each mutant's build also runs one small case per API with `--check --capture failed
+--capture-tool renderdoc`, and the capture its failed check leaves is replayed without the harness
+(scripts/replay_renderdoc.py): the bug travels in the trace when the replayed image is the mutant's own, bit for
+bit, and differs from the unmutated build's image of the same case (a driver team would see the bug).
+
 Writes OUT/mutants.json and OUT/mutants.md; with --docs also docs/mutants.md.
 
 Usage: scripts/experiments/mutants.py [--backend gl,vulkan] [--only NAME[,NAME]] [--work DIR] [--out DIR] [--docs]
+                                      [--replay-captures]
 """
 import argparse
+import glob
 import json
 import os
 import re
@@ -71,6 +78,13 @@ MOVING = ["--scene", "hall", "--light-count", "4", "--check-frame", "90", "--opt
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
+
+
+# --replay-captures' case: small, checked, captured when a check fails (RenderDoc on both APIs: its replay reads the
+# frame back on either).
+CAPTURED = ["--scene", "room", "--cube", "64", "--frame", "80x60", "--technique", "six_pass", "--filter", "hard",
+            "--frames", "1", "--warmup", "0", "--benchmark_repetitions=1", "--images", "all", "--check"]
+REPLAY = os.path.join(ROOT, "scripts", "replay_renderdoc.py")
 
 
 def flip_up(face):
@@ -302,6 +316,69 @@ def run_matrix(work, out, name, backend, log, extra=()):
     return code, failures(results) if os.path.exists(results) else {}
 
 
+def pixels(png):
+    from PIL import Image
+    return list(Image.open(png).convert("RGBA").getdata())
+
+
+def lit_pixels(folder):
+    """The lit image a run folder holds (its one case's), as RGBA pixels, or None."""
+    found = sorted(glob.glob(os.path.join(folder, "images", "**", "lit.png"), recursive=True))
+    return pixels(found[0]) if found else None
+
+
+def run_case(work, run_dir, backend, log, *extra):
+    shutil.rmtree(run_dir, ignore_errors=True)
+    env = dict(os.environ, XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
+    with open(log, "a") as f:
+        return subprocess.run([os.path.join(work, "build", "release", "omnishadow"), "run", "--backend", backend,
+                               "--out", run_dir, *CAPTURED, *extra], cwd=work, env=env, stdout=f,
+                              stderr=subprocess.STDOUT).returncode
+
+
+def replay_capture(work, out, name, backend, log, clean):
+    """Captures the mutant's failing case and replays it: {captured, reproduces, differing (from clean), ...}."""
+    run_dir = os.path.join(out, f"{name}-capture-{backend}")
+    code = run_case(work, run_dir, backend, log, "--capture", "failed", "--capture-tool", "renderdoc")
+    listing = os.path.join(run_dir, "captures.json")
+    listed = json.load(open(listing))["captures"] if os.path.exists(listing) else []
+    got = {"exit_code": code, "captured": False, "reproduces": False, "differing": 0, "pixels": len(clean or [])}
+    if not listed or listed[0]["status"] != "captured":
+        got["reason"] = listed[0].get("reason", "") if listed else "the case passed its checks: nothing captured"
+        return got
+    rdc = os.path.join(run_dir, listed[0]["file"])
+    png = rdc + ".replayed.png"
+    env = dict(os.environ, EGL_PLATFORM="surfaceless", XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
+    with open(log, "a") as f:
+        replayed = subprocess.run(["/usr/bin/python3", REPLAY, rdc, "--out", png], env=env, stdout=f,
+                                  stderr=subprocess.STDOUT).returncode == 0
+    mine = pixels(png) if replayed else None
+    harness = lit_pixels(rdc[:-len(".rdc")] + ".run")  # the capture run's own folder, captures/<case>.run
+    got.update(captured=True, reproduces=mine is not None and mine == harness,
+               differing=sum(a != b for a, b in zip(mine or [], clean or [])))
+    return got
+
+
+def replay_lines(rows):
+    """The report's section on captures: per mutant and API, whether the replayed capture shows the bug."""
+    lines = ["\n## Captures of the mutants\n",
+             f"Each mutant's build ran `omnishadow run {' '.join(CAPTURED)} --capture failed --capture-tool "
+             "renderdoc`; the capture was replayed by scripts/replay_renderdoc.py. Replays the bug = the replayed "
+             "image is the mutant's harness image bit for bit and differs from the unmutated build's.\n",
+             "| mutant | API | captured | replay = mutant's image | pixels differing from unmutated | replays the bug |",
+             "|---|---|---|---|---|---|"]
+    for r in rows:
+        for b, g in r.get("replays", {}).items():
+            lines.append(f"| `{r['name']}` | {b} | {'yes' if g['captured'] else 'no: ' + g.get('reason', '')} | "
+                         f"{'yes' if g['reproduces'] else 'no'} | {g['differing']} of {g['pixels']} | "
+                         f"{'yes' if replays_bug(g) else '**no**'} |")
+    return lines
+
+
+def replays_bug(g):
+    return g["captured"] and g["reproduces"] and g["differing"] > 0
+
+
 def headline(checks):
     """'cube_texels (24 cases, 30.2%)': the checks that failed most cases, each with its largest headline figure."""
     if not checks:
@@ -326,6 +403,8 @@ def write_report(out, rows, backends, seconds, commit, docs):
         codes = ", ".join(f"{b} {v['exit_code']}" for b, v in r["runs"].items())
         checks = " / ".join(f"{b}: {headline(v['checks'])}" for b, v in r["runs"].items())
         md.append(f"| `{r['name']}` | {r['change']} | {'yes' if r['caught'] else '**no**'} | {codes} | {checks} |")
+    if any(r.get("replays") for r in rows):
+        md += replay_lines(rows)
     text = "\n".join(md) + "\n"
     with open(os.path.join(out, "mutants.md"), "w") as f:
         f.write(text)
@@ -344,6 +423,9 @@ def main():
     parser.add_argument("--work", default="/tmp/omnishadow-mutants", help="scratch clone (kept between runs)")
     parser.add_argument("--out", default=os.path.join(ROOT, "results", time.strftime("mutants-%Y%m%d-%H%M%S")))
     parser.add_argument("--docs", action="store_true", help="also write docs/mutants.md")
+    parser.add_argument("--replay-captures", action="store_true",
+                        help="capture each mutant's failing case with RenderDoc and replay it (needs renderdoccmd, "
+                        "librenderdoc, python3-renderdoc, python3-pil)")
     args = parser.parse_args()
     mutants = [m for m in MUTANTS if not args.only or m[0] in args.only.split(",")]
     if not mutants:
@@ -368,6 +450,11 @@ def main():
             if (b, extra) not in baselines:
                 label = "unmutated-" + b + ("-" + "-".join(extra[1:]).replace(",", "_") if extra else "")
                 baselines[(b, extra)] = run_matrix(args.work, args.out, label, b, log, extra)[1]
+    clean = {}
+    for b in args.backend.split(",") if args.replay_captures else []:
+        run_dir = os.path.join(args.out, f"capture-unmutated-{b}")
+        run_case(args.work, run_dir, b, log)
+        clean[b] = lit_pixels(run_dir)
     rows = []
     for name, path, mutate, change, *rest in mutants:
         extra = rest[0] if rest else []
@@ -383,15 +470,19 @@ def main():
                 base = baselines[(b, tuple(extra))]
                 code, found = run_matrix(args.work, args.out, f"{name}-{b}", b, log, extra)
                 runs[b] = {"exit_code": code, "checks": caught_by(found, base)}
+            replays = {b: replay_capture(args.work, args.out, name, b, log, clean[b]) for b in clean if built}
         finally:
             with open(target, "w") as f:
                 f.write(original)
         caught = built and all(r["exit_code"] == 1 and r["checks"] for r in runs.values())
         rows.append({"name": name, "file": path, "change": change, "built": built, "caught": caught, "runs": runs})
+        if clean:
+            rows[-1]["replays"] = replays
         print(f"{name}: {'caught' if caught else 'SURVIVED'} ({time.time() - started:.0f}s)", flush=True)
     build(args.work, log)  # leave the clone unmutated and built
     write_report(args.out, rows, args.backend, time.time() - started, commit, args.docs)
-    sys.exit(0 if all(r["caught"] for r in rows) else 1)
+    replayed = all(replays_bug(g) for r in rows for g in r.get("replays", {}).values())
+    sys.exit(0 if replayed and all(r["caught"] for r in rows) else 1)
 
 
 if __name__ == "__main__":
