@@ -39,7 +39,8 @@
 #              face, full size, for <= 0.5 points more misclassified pixels); cut at 5 minutes (POLICIES_BUDGET_S)
 #   capture    a failed case captured with --capture failed on both APIs and the Vulkan capture replayed by
 #              gfxrecon-replay on this driver: PASS when it replays (exit 0); the GL case's RenderDoc capture
-#              replayed by scripts/replay_renderdoc.py where RenderDoc's Python module is there (else said)
+#              replayed by scripts/replay_renderdoc.py where RenderDoc's Python module is there (else said): PASS
+#              when its image equals the capture run's lit image; both traces timed by scripts/replay_trace.py
 #   suite      ctest as scripts/test.sh runs it (labels extended and memory left out), cut at SUITE_BUDGET_S (300):
 #              PASS when none failed (the skipped listed); about 2 minutes on an H100 with 16 cores
 #   tutorial   scripts/experiments/tutorial_ab.py: the timed passes against the tutorial's own rendering at the same
@@ -122,7 +123,7 @@ step_capture() {
   note "## capture"
   [ -d /opt/carried/usr/bin ] && export PATH="/opt/carried/usr/bin:$PATH"
   "$bin" run --backend gl,vulkan --scene room --cube 256 --technique six_pass --filter hard --frames 2 --warmup 0 \
-    --images none --benchmark_repetitions=1 --max-error 0.001 --capture failed --out "$out/capture/run" \
+    --images all --benchmark_repetitions=1 --max-error 0.001 --capture failed --out "$out/capture/run" \
     >"$out/capture/run.log" 2>&1
   note "- run --capture failed: exit $? (every case fails --max-error 0.001 on purpose, a quality verdict)"
   local listed file
@@ -146,6 +147,18 @@ PY
       EGL_PLATFORM="${EGL_PLATFORM:-surfaceless}" timeout 300 /usr/bin/python3 "$here/scripts/replay_renderdoc.py" \
         "$gl_file" --out "$out/capture/gl-replayed.png" >"$out/capture/gl-replay.log" 2>&1
       exit_note $? "GL capture replayed by RenderDoc (scripts/replay_renderdoc.py, $out/capture/gl-replayed.png)"
+      # The replay holds to the capture run's own lit image (GL's invariance rule: same commands, same driver).
+      /usr/bin/python3 - "$out/capture/gl-replayed.png" "${gl_file%.rdc}.run" <<'PY' 2>&1 | tee -a "$summary"
+import glob, sys
+from PIL import Image
+lit = sorted(glob.glob(sys.argv[2] + "/images/**/lit.png", recursive=True))
+a = list(Image.open(sys.argv[1]).convert("RGBA").getdata()) if lit else []
+b = list(Image.open(lit[0]).convert("RGBA").getdata()) if lit else []
+same = sum(x == y for x, y in zip(a, b))
+print(f"- {'PASS' if b and same == len(a) == len(b) else 'FAIL'}: the GL replay equals the harness's lit image in "
+      f"{same} of {len(b)} pixels")
+PY
+      grep -q 'FAIL: the GL replay' "$summary" && failed=1
     else
       note "- GL capture written, not replayed here: RenderDoc's Python module is missing (python3-renderdoc)"
     fi
@@ -157,6 +170,12 @@ PY
   local code=$?
   [ "$code" -eq 0 ] && note "- PASS: gfxrecon-replay replayed $(basename "$file") ($(stat -c %s "$file") bytes)" ||
     { note "- FAIL: gfxrecon-replay exit $code (see $out/capture/replay.log)"; failed=1; }
+  # Both traces as benchmarks on this driver (RenderDoc's GPU duration counter where the driver has it).
+  local traces=("$file")
+  [ -z "$gl_file" ] || ! /usr/bin/python3 -c 'import renderdoc' 2>/dev/null || traces+=("$gl_file")
+  EGL_PLATFORM="${EGL_PLATFORM:-surfaceless}" timeout 240 /usr/bin/python3 "$here/scripts/replay_trace.py" \
+    "${traces[@]}" --rounds 3 --out "$out/capture/replay.json" 2>&1 | sed 's/^/  - /' | tee -a "$summary"
+  exit_note "${PIPESTATUS[0]}" "scripts/replay_trace.py on the captures ($out/capture/replay.json)"
 }
 
 step_multiview() {
