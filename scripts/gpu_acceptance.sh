@@ -28,7 +28,8 @@
 #              cube 256, with --check: PASS when no check fails (quality is a figure: --max-error 100); the
 #              many-light table (scripts/analysis/many_lights_table.py); the run is cut at 7 minutes (LIGHTS_BUDGET_S)
 #   atlas      layout atlas on the GPU: hall at 4, 16 and 64 lights, atlas (tiles uniform and by distance) beside
-#              cube_array, six_pass, geometry_shader and vs_layer (faces routed by viewport), pcf_disk20, cube 256,
+#              cube_array, six_pass, geometry_shader, vs_layer and nv_swizzle (faces routed by viewport; nv_swizzle
+#              natively where the NV extensions are, else unsupported), pcf_disk20, cube 256,
 #              GL and Vulkan, with --check: PASS when no check fails; the many-light table; cut at 4 minutes
 #              (ATLAS_BUDGET_S)
 #   policies   what each frame needs with many lights: hall at 16 and 64 lights seen from mid-hall, culling to the
@@ -451,7 +452,7 @@ step_lights() {
 
 step_atlas() {
   many_lights_run atlas ATLAS_BUDGET_S 240 --light-count 4,16,64 --layout atlas,cube_array \
-    --atlas-tiles uniform,by_distance --technique six_pass,geometry_shader,vs_layer --filter pcf_disk20
+    --atlas-tiles uniform,by_distance --technique six_pass,geometry_shader,vs_layer,nv_swizzle --filter pcf_disk20
 }
 
 # Every policy with a staleness sequence of 24 frames (the same frames and lights for all, so that their errors

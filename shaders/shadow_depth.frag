@@ -25,6 +25,13 @@ void main() {
 #if defined(ALL_LIGHTS) && !defined(STORAGE_HARDWARE_DEPTH)
   g_light = shadow_light;
 #endif
+#if defined(FAR_BY_FRAGMENT)
+  // nv_swizzle's reversed depth has no far plane (backends/common/viewport_swizzle.h): the fragments beyond the
+  // one the face projection clips at (clip w, the distance along the face's axis, past far) are dropped here, so
+  // that a light whose range ends inside the scene stores nothing there, as six_pass does. gl_FragCoord.w is
+  // 1 / clip w.
+  if (gl_FragCoord.w * light_far() < 1.0) discard;
+#endif
 #if defined(STORAGE_R32F_DISTANCE)
   out_distance = length(world_position - light_position());
 #elif defined(STORAGE_LINEAR_DEPTH)

@@ -2,11 +2,12 @@
 // nv_swizzle's geometry stage: a passthrough GS (NV_geometry_shader_passthrough) forwards each triangle untouched and
 // only names the viewports that get it (NV_viewport_array2's gl_ViewportMask). Viewport f's swizzle turns the vertex
 // stage's (p - light, near) into face f's clip coordinates (backends/common/viewport_swizzle.h), and the
-// viewport-relative gl_Layer puts viewport f's copy in layer f.
+// viewport-relative gl_Layer puts viewport f's copy in layer f. LAYOUT_ATLAS: viewport f is face f's tile of one
+// layer, so the mask alone routes each copy and no layer is written.
 //
 // EMULATE_SWIZZLE (test only, CaseConfig::emulate_nv_swizzle): the same mask, but an ordinary GS emits the triangle
 // into each face in it with that face's swizzle applied here (the C++ table, packed into SWIZZLES_01/_23/_45) and
-// gl_Layer = face, so a device without the NV extensions runs everything else nv_swizzle does.
+// gl_Layer = face (the atlas: gl_ViewportIndex = face), so a device without the NV extensions runs everything else nv_swizzle does.
 #if !defined(EMULATE_SWIZZLE)
 #extension GL_NV_geometry_shader_passthrough : require
 #extension GL_NV_viewport_array2 : require
@@ -28,7 +29,9 @@ layout(passthrough) in gl_PerVertex { vec4 gl_Position; } gl_in[];
 #if !defined(DEPTH_ONLY)  // storage hardware_depth is refused for nv_swizzle; kept for symmetry with shadow_depth.geom
 layout(passthrough, location = 0) in vec3 world_position[];
 #endif
+#if !defined(LAYOUT_ATLAS)
 layout(viewport_relative) out int gl_Layer;
+#endif
 #endif
 
 #if defined(EMULATE_SWIZZLE)
@@ -68,7 +71,11 @@ void main() {
   for (int f = 0; f < 6; ++f) {
     if ((mask & (1 << f)) == 0) continue;
     for (int i = 0; i < 3; ++i) {
+#if defined(LAYOUT_ATLAS)
+      gl_ViewportIndex = f;  // face f's tile (per vertex: outputs are undefined after EmitVertex)
+#else
       gl_Layer = f;  // per vertex: outputs are undefined after EmitVertex
+#endif
 #if !defined(DEPTH_ONLY)
       world_position = world_position_in[i];
 #endif
@@ -79,6 +86,8 @@ void main() {
   }
 #else
   gl_ViewportMask[0] = mask;
+#if !defined(LAYOUT_ATLAS)
   gl_Layer = 0;
+#endif
 #endif
 }

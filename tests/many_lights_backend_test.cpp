@@ -138,7 +138,7 @@ void expect_within_far_bound(const Images& got, const Images& want, const std::s
 // The single-pass techniques render every light's cube as six_pass does, light by light, and so do vs_layer
 // and the geometry shader with every light in one pass (an instance per light and face; invocations routing
 // each triangle to the faces of every light it reaches); in an atlas, where a single pass routes each
-// face to its tile by viewport, within the bound above.
+// face to its tile by viewport, within the bound above, as nv_swizzle is in either layout.
 TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
   backend_->load(hall_);
   // Sixteen lamps' records left in the light list first: a one pass that reads past the case's four lights
@@ -161,15 +161,20 @@ TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
     int compared = 0;
     CaseConfig one_pass = lamps(Technique::vs_layer), one_gs_pass = lamps(Technique::geometry_shader);
     one_pass.light_grouping = one_gs_pass.light_grouping = LightGrouping::all_lights;
+    // nv_swizzle through its emulation (Mesa lacks the NV extensions), where the NV extensions are not there
+    // to run it natively: its clip coordinates are the swizzled (p - light, near), not the face matrix's
+    // product, so it is held to the bound in either layout.
+    CaseConfig swizzle = lamps(Technique::nv_swizzle);
+    swizzle.emulate_nv_swizzle = !backend_->supports(swizzle).ok;
     for (const CaseConfig& c :
          {lamps(Technique::geometry_shader), lamps(Technique::geometry_shader_instanced),
-          lamps(Technique::vs_layer), one_pass, one_gs_pass}) {
+          lamps(Technique::vs_layer), one_pass, one_gs_pass, swizzle}) {
       if (!backend_->supports(c).ok) continue;
       backend_->configure(c);
       backend_->render(3, FrameKind::check);
       for (int k = 0; k < 4; ++k) {
         const Images got = backend_->read_back(CubeReadBack::full, k);
-        if (layout == Layout::atlas) {  // the bound bench/truth/image_checks.cpp gives it, and why
+        if (layout == Layout::atlas || c.technique == Technique::nv_swizzle) {  // image_checks.cpp's bound
           expect_within_far_bound(got, expected[size_t(k)], c.id() + ", light " + std::to_string(k));
           continue;
         }
@@ -180,12 +185,37 @@ TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
       ++compared;
     }
     EXPECT_GT(compared, 0) << "no single-pass technique on " << GetParam() << " in " << to_string(layout);
+    EXPECT_TRUE(backend_->supports(swizzle).ok) << "nv_swizzle (native or emulated) in " << to_string(layout)
+                                                << ": " << backend_->supports(swizzle).reason;
     if (layout == Layout::cube_array) {
       EXPECT_EQ(backend_->supports(one_pass).ok, backend_->supports(lamps(Technique::vs_layer)).ok)
           << "every light in one pass wherever vs_layer renders: " << backend_->supports(one_pass).reason;
       EXPECT_EQ(backend_->supports(one_gs_pass).ok, backend_->supports(lamps(Technique::geometry_shader)).ok)
           << "and wherever the geometry shader renders: " << backend_->supports(one_gs_pass).reason;
     }
+  }
+}
+
+// nv_swizzle's reversed depth has no far plane (viewport_swizzle.h): with r32f_distance, a lamp whose range
+// ends inside the hall would store the walls beyond it where six_pass's far plane clips them (62 units in a
+// lamp's +X face whose far is 12), unless the fragment stage drops them. Held to six_pass within the bound,
+// in both layouts that route faces by layer and by viewport.
+TEST_P(ManyLightsTest, NvSwizzleStoresNothingBeyondARangeThatEndsInsideTheScene) {
+  backend_->load(hall_);
+  for (Layout layout : {Layout::cube_array, Layout::atlas}) {
+    const CaseConfig six = hall_case(4, layout, Technique::six_pass, Filter::hard, Storage::r32f_distance);
+    CaseConfig swizzle = hall_case(4, layout, Technique::nv_swizzle, Filter::hard, Storage::r32f_distance);
+    swizzle.emulate_nv_swizzle = !backend_->supports(swizzle).ok;
+    ASSERT_TRUE(backend_->supports(swizzle).ok) << backend_->supports(swizzle).reason;
+    std::vector<Images> want;
+    backend_->configure(six);
+    backend_->render(3, FrameKind::check);
+    for (int k = 0; k < 4; ++k) want.push_back(backend_->read_back(CubeReadBack::full, k));
+    backend_->configure(swizzle);
+    backend_->render(3, FrameKind::check);
+    for (int k = 0; k < 4; ++k)
+      expect_within_far_bound(backend_->read_back(CubeReadBack::full, k), want[size_t(k)],
+                              swizzle.id() + ", light " + std::to_string(k));
   }
 }
 

@@ -157,12 +157,14 @@ Support moments_tuning_support(Filter filter, const MomentsTuning& t) {
 Support atlas_support(const CaseConfig& c) {
   if (c.layout == Layout::atlas) {
     const std::string technique(to_string(c.technique));
-    if (c.technique != Technique::six_pass && c.technique != Technique::geometry_shader &&
-        c.technique != Technique::geometry_shader_instanced && c.technique != Technique::vs_layer)
-      return {false,
-              "atlas routes each face to its tile by viewport (one layer): six_pass, geometry_shader, "
-              "geometry_shader_instanced and vs_layer do; " +
-                  technique + " routes by layer or view"};
+    if (c.technique == Technique::multiview || c.technique == Technique::mesh_shader)
+      return {
+          false,
+          "atlas routes each face to its tile by viewport (one layer): six_pass, geometry_shader, "
+          "geometry_shader_instanced, vs_layer and nv_swizzle do; " +
+              technique +
+              (c.technique == Technique::multiview ? " routes by view (multiview has one viewport for all)"
+                                                   : " routes each primitive by layer here")};
     if (c.light_grouping == LightGrouping::all_lights)
       return {false, "every light in one pass into an atlas needs 6 viewports a light (16 on most devices)"};
     if (c.shadow_budget_texels && c.atlas_tiles != AtlasTiles::by_coverage)

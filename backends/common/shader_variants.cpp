@@ -34,6 +34,8 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c) {
     if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
     if (c.optimizations.view_culling && culls_faces_to_view(c)) d.push_back("VIEW_FACES");
     if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
+    if (faces_by_viewport(c.layout))
+      d.emplace_back(traits(c.layout).lighting_define);  // the mask alone routes
     if (c.emulate_nv_swizzle) {
       d.push_back("EMULATE_SWIZZLE");
       for (int k = 0; k < 3; ++k)
@@ -81,6 +83,7 @@ std::vector<std::string> shadow_mesh_defines(const CaseConfig& c) {
 
 std::vector<std::string> shadow_fragment_defines(const CaseConfig& c) {
   std::vector<std::string> d{storage_define(c.storage)};
+  if (reversed_depth_test(c)) d.push_back("FAR_BY_FRAGMENT");  // nv_swizzle's depth has no far plane
   if (traits(c.layout).geometry.map != TexelMap::cube_faces) d.emplace_back(traits(c.layout).lighting_define);
   if (c.light_grouping == LightGrouping::all_lights) d.push_back("ALL_LIGHTS");
   return d;
@@ -198,6 +201,8 @@ std::vector<std::string> spirv_variant_keys() {
           c.optimizations = culling;
           if (layout.geometry.map == TexelMap::cube_faces && !faces_by_viewport(layout.layout)) continue;
           if (!common_support(c).ok) continue;
+          insert_shadow_keys(keys, c);
+          c.emulate_nv_swizzle = t.technique == Technique::nv_swizzle;  // and its emulation's
           insert_shadow_keys(keys, c);
         }
   c = CaseConfig{};

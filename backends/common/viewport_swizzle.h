@@ -10,7 +10,8 @@
 // reproduces them bit for bit. Clip z cannot be a x + b of an axis chosen per face; it is the constant near
 // plane instead, so window depth is near / (axis distance): reversed and without a far plane. The near plane
 // clips exactly where the projection's does (z <= w is axis >= near). Storages that write their own depth
-// (distance / far) are unaffected; r32f_distance tests GREATER (reversed_depth_test, techniques.h);
+// (distance / far) are unaffected; r32f_distance tests GREATER (reversed_depth_test, techniques.h) and its
+// fragment stage drops what lies past far along the face's axis (FAR_BY_FRAGMENT, shaders/shadow_depth.frag);
 // hardware_depth, which stores the projective depth itself, is unsupported.
 
 #include <array>

@@ -114,11 +114,11 @@ GLuint build_program(const std::vector<ShaderStage>& stages, const std::vector<s
 ProgramSource shadow_program_source(const CaseConfig& c, int subpixel_bits) {
   ProgramSource out;
   const bool mesh = traits(c.technique).stages == ShadowStages::task_mesh;
-  for (const auto& list :
-       {mesh ? gpu::shadow_mesh_defines(c) : gpu::shadow_vertex_defines(c), gpu::shadow_geometry_defines(c)})
+  // One program, one define list: every stage's defines (the fragment stage's name the storage), each once.
+  for (const auto& list : {mesh ? gpu::shadow_mesh_defines(c) : gpu::shadow_vertex_defines(c),
+                           gpu::shadow_geometry_defines(c), gpu::shadow_fragment_defines(c)})
     for (const std::string& d : list)
       if (std::find(out.defines.begin(), out.defines.end(), d) == out.defines.end()) out.defines.push_back(d);
-  out.defines.push_back(gpu::storage_define(c.storage));
   if (c.raster_perturb_steps != 0.0f) {
     char perturb[64];
     std::snprintf(perturb, sizeof perturb, "RASTER_PERTURB_NDC=%.9g",

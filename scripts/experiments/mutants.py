@@ -75,6 +75,10 @@ UPDATE = ["--scene", "hall", "--light-count", "16", "--update-budget", "8", "--t
 # lets it keep of a frame whose casters stood elsewhere).
 MOVING = ["--scene", "hall", "--light-count", "4", "--check-frame", "90", "--optimize", "none,cache",
           "--technique", "six_pass,geometry_shader", "--filter", "hard"]
+# nv_swizzle with r32f_distance (its reversed depth, no far plane) where four of the hall's lamps' ranges end inside
+# the hall, in a cube array and in an atlas (faces routed by viewport).
+SWIZZLE_RANGE = ["--scene", "hall", "--light-count", "4", "--layout", "cube_array,atlas", "--technique",
+                 "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "r32f_distance", "--filter", "hard"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -205,6 +209,12 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("swizzle_depth_not_reversed", "backends/common/techniques.cpp",
      replace("return c.technique == Technique::nv_swizzle && !traits(c.storage).fragment_depth;", "return false;"),
      "nv_swizzle's r32f_distance keeps fragments by LESS against 1: its reversed depth keeps the farthest", SWIZZLE),
+    ("swizzle_far_kept", "shaders/shadow_depth.frag",
+     replace("  if (gl_FragCoord.w * light_far() < 1.0) discard;", ""),
+     "nv_swizzle's r32f_distance stores what lies past far (its depth has no far plane)", SWIZZLE_RANGE),
+    ("swizzle_atlas_by_layer", "shaders/shadow_swizzle.geom",
+     replace("      gl_ViewportIndex = f;  // face f's tile", "      gl_Layer = f;  // face f's tile"),
+     "nv_swizzle's (emulated) copies go to layer f of an atlas that has one, not to face f's tile", SWIZZLE_RANGE),
     ("range_ignored", "shaders/lighting.frag",
      replace("float light_shadow = in_range ? looked_up : 0.0;", "float light_shadow = looked_up;"),
      "a point light's range ignored: beyond its far the shadow factor is what the filter reads there", RANGE),
