@@ -6,7 +6,8 @@ pipelines pass and say so on the page. Its merged GitLab run becomes the fleet b
 (scripts/ci/fleet_baseline.sh with a gate; commit B). Commit C (a branch) injects fragment work in every case (the
 scripted clock times it: 1 ms frames become 2 ms on any machine) and plants a bug that makes the geometry-shader case fail its checks: both merge-request pipelines build it, and their
 compare step fails (exit 1) with a summary naming the slowed case and the failed one; GitLab's merge-request note
-is posted (to a stand-in curl). A PostgreSQL server started for the play (tests/pg_server.py) is the results store
+is posted (to a stand-in curl). A RenderDoc trace in results/traces/ is replayed by the first shard and kept in
+the baseline at B; C captures it again with a planted bug, and both fan-ins name its changed image. A PostgreSQL server started for the play (tests/pg_server.py) is the results store
 (OMNISHADOW_STORE_URL) of the GitLab pipelines: A's merged run is stored, C's merge-request run is not, and C's
 comparison takes its baseline from the store (A's run, the newest stored on the merge-base's line) with the gate
 committed at B; GitHub's play at C has no store and reads B's git baseline. Where the server cannot start here the
@@ -64,6 +65,7 @@ hard
 """
 SLOWED, FAILED = "gl/room/c64/f160x120/six_pass/hard", "gl/room/c64/f160x120/geometry_shader/hard"
 GATE = {"metric": "cpu", "alpha": 0.01, "min_effect": 0.1}
+TRACE = os.path.join("results", "traces", "room.rdc")  # the play's fleet trace; commit C re-captures it with a bug
 
 
 def skip(reason):
@@ -108,6 +110,17 @@ def edit(repo, path, old, new):
         f.write(text.replace(old, new))
 
 
+def capture_trace(work, name, *extra):
+    """A RenderDoc capture of a small GL case (the play's fleet trace), or None where RenderDoc is missing here."""
+    out = os.path.join(work, name)
+    env = dict(os.environ, XDG_RUNTIME_DIR=os.environ.get("XDG_RUNTIME_DIR", "/tmp"))
+    sh([BIN, "run", "--backend", "gl", "--scene", "room", "--cube", "32", "--frame", "64x48", "--technique",
+        "six_pass", "--filter", "hard", "--frames", "1", "--warmup", "0", "--benchmark_repetitions=1", "--images",
+        "none", "--capture", "all", "--out", out, *extra], ROOT, env)
+    found = glob.glob(os.path.join(out, "captures", "*.rdc"))
+    return found[0] if found else None
+
+
 def scratch_repository(work):
     """Commit A: this work tree (tracked and unignored files) with the play's small fleet matrix, on main."""
     repo = os.path.join(work, "repo")
@@ -118,6 +131,14 @@ def scratch_repository(work):
             shutil.copy2(os.path.join(ROOT, f), os.path.join(repo, f))
     with open(os.path.join(repo, "scripts", "ci", "fleet_matrix.args"), "w") as f:
         f.write(PLAY_MATRIX)
+    # A trace kept as a case of the fleet (results/traces/): its replays and image go into the baseline at B.
+    trace = capture_trace(work, "trace-a")
+    assert trace or not shutil.which("renderdoccmd"), "RenderDoc is installed here but captured no trace"
+    if trace:
+        os.makedirs(os.path.join(repo, "results", "traces"), exist_ok=True)
+        shutil.copy2(trace, os.path.join(repo, TRACE))
+    else:
+        print("fleet pipeline play: no trace replayed (RenderDoc's capture failed or is missing here)")
     git(repo, "init", "-q", "-b", "main")
     with open(os.path.join(repo, ".git", "info", "exclude"), "a") as f:
         f.write(".gitlab-ci-local/\n")
@@ -165,6 +186,13 @@ def check_regressions(merged, summary, where):
     assert (slowed[0]["base_ms"], slowed[0]["new_ms"]) == (1.0, 2.0), \
         f"{where}: not the scripted clock's 1 ms against 2 ms (CPU ms per frame): {slowed[0]}"
     assert any(line.startswith(FAILED + "/") for line in comparison["status_regressions"]), comparison
+
+
+def check_trace(summary, bugged, where):
+    """The re-captured trace's replayed image differs from the baseline's: a regression the summary names."""
+    if bugged:
+        assert re.search(r"`replay/room` [^\n]*\*\*image changed\*\*", summary), \
+            f"{where}: the changed trace image is not named:\n{summary}"
 
 
 def main():
@@ -231,7 +259,8 @@ def run_plays(exe, work, server):
     assert r.returncode == 0, f"fleet_baseline.sh: {r.stdout}"
     key = re.search(r"device key (\S+):", r.stdout).group(1)
     stored = os.path.join(repo, "results", "fleet_baselines", key)
-    for name in ("results.json", "gate.json", "fleet_matrix.args"):
+    traces = os.path.exists(os.path.join(repo, TRACE))
+    for name in ("results.json", "gate.json", "fleet_matrix.args") + (("replay.json",) if traces else ()):
         assert os.path.exists(os.path.join(stored, name)), f"the fleet baseline lacks {name}"
     assert glob.glob(os.path.join(stored, "images", "**", "lit.png"), recursive=True), "the fleet baseline has no images"
     git(repo, "add", "-A")
@@ -243,6 +272,9 @@ def run_plays(exe, work, server):
     git(repo, "checkout", "-q", "-b", "slower-and-broken")
     edit(repo, "bench/run/matrix.h", "std::vector<int> injected_work{0};", "std::vector<int> injected_work{100};")
     edit(repo, "shaders/shadow_depth.geom", "gl_Layer = face;  // per vertex", "gl_Layer = face == 4 ? 5 : face;  // per vertex")
+    bugged = capture_trace(work, "trace-c", "--lookup-perturb", "0.5") if traces else None
+    if bugged:  # the trace captured again where a planted bug shows: its replayed image changes
+        shutil.copy2(bugged, os.path.join(repo, TRACE))
     git(repo, "commit", "-q", "-am", "C: slower, and the geometry shader's layers wrong")
     c = git(repo, "rev-parse", "HEAD")
     r, merged, summary = play_gitlab(exe, repo, env, [
@@ -258,6 +290,7 @@ def run_plays(exe, work, server):
     else:
         assert f"at merge-base {b[:12]}" in r.stdout, "GitLab at C: not compared with the baseline at the merge-base"
     check_regressions(merged, summary, "GitLab at C")
+    check_trace(summary, bugged, "GitLab at C")
     with open(os.path.join(work, "curl.log")) as f:
         posted = f.read()
     assert "merge_requests/7/notes" in posted and SLOWED in posted, f"no merge-request note posted:\n{posted[-2000:]}"
@@ -268,9 +301,11 @@ def run_plays(exe, work, server):
     assert "fleet_compare.sh merged\n" in gh.logs["merge"] and "(exit 1)" in gh.logs["merge"], \
         "GitHub at C: the compare step did not exit 1 (a regression), as opposed to 2 (an input error)"
     check_regressions(os.path.join(work, "github-c", "jobs", "merge", "merged"), gh.summaries["merge"], "GitHub at C")
+    check_trace(gh.summaries["merge"], bugged, "GitHub at C")
     print(f"fleet pipeline play: A {a[:8]} no baseline (both pass, said on the page); baseline B {b[:8]} for {key}; "
           f"C {c[:8]}: GitLab and GitHub fan-ins exit 1 naming {SLOWED} (slower) and {FAILED} (failed checks); "
-          "the merge-request note posted" + ("; GitLab stored A's run and compared C with it" if server else ""))
+          "the merge-request note posted" + ("; GitLab stored A's run and compared C with it" if server else "") +
+          ("; both named the re-captured trace's changed image" if bugged else "; no trace (RenderDoc missing)"))
 
 
 if __name__ == "__main__":
