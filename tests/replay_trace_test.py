@@ -179,7 +179,8 @@ def main():
 
         for args, expected in ((["/nonexistent.gfxr"], "/nonexistent.gfxr: no such file"),
                                ([trace.replace(".gfxr", ".trace")], "unknown trace format '.trace'"),
-                               ([trace, "--rounds", "0"], "--rounds 0: at least 1")):
+                               ([trace, "--rounds", "0"], "--rounds 0: at least 1"),
+                               ([trace, "--memory-translation", "bogus"], "--memory-translation bogus: not one of")):
             done = script(*args, "--out", os.path.join(tmp, "x.json"))
             lines = done.stderr.strip().splitlines()
             if done.returncode != 2 or len(lines) != 1 or expected not in lines[0]:
