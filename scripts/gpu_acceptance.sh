@@ -123,6 +123,9 @@ step_exits() {
 # under /opt/carried).
 step_capture() {
   note "## capture"
+  # Carried packages (device.sh unpacks them under /opt/carried and points VK_LAYER_PATH at their layer folder,
+  # where GFXReconstruct's manifest lies): the tools on PATH. renderdoccmd finds librenderdoc through its own
+  # RPATH ($ORIGIN/../lib) and injects it into the capture run, whose in-application API finds it loaded.
   [ -d /opt/carried/usr/bin ] && export PATH="/opt/carried/usr/bin:$PATH"
   "$bin" run --backend gl,vulkan --scene room --cube 256 --technique six_pass --filter hard --frames 2 --warmup 0 \
     --images all --benchmark_repetitions=1 --max-error 0.001 --capture failed --out "$out/capture/run" \

@@ -1754,6 +1754,31 @@ TEST_F(CliRun, CaptureRunsTheFailedCasesAgainUnderACapture) {
   EXPECT_FALSE(fs::exists(plain / "captures"));
 }
 
+// The capture layer is found where the loader finds it: in any folder of VK_LAYER_PATH, colon-separated (a
+// carried install names its own folder; docs/gpu.md), and, when that is set, in none of the system's.
+TEST_F(CliRun, CaptureLayerIsFoundWhereTheVulkanLoaderLooks) {
+  std::string why;
+  if (!vulkan_available(why)) GTEST_SKIP() << why;
+  if (!fs::exists("/usr/share/vulkan/explicit_layer.d/VkLayer_gfxreconstruct.json"))
+    GTEST_SKIP()
+        << "GFXReconstruct is not installed (Debian package gfxreconstruct; scripts/setup.sh installs it)";
+  const std::string vulkan_case =
+      "run --backend vulkan --scene room --cube 16 --frame 32x24 --technique six_pass --filter hard --frames "
+      "1 "
+      "--warmup 0 --images none --benchmark_repetitions=1 --max-error 0.001 --capture failed --out ";
+  for (const auto& [layer_path, status] :
+       {std::pair<std::string, std::string>{"/nonexistent:/usr/share/vulkan/explicit_layer.d", "captured"},
+        {"/nonexistent", "unsupported"}}) {
+    const fs::path dir = scratch("capture_layer_path_" + status);
+    setenv("VK_LAYER_PATH", layer_path.c_str(), 1);
+    const Outcome found = run(vulkan_case + dir.string());
+    unsetenv("VK_LAYER_PATH");
+    ASSERT_EQ(found.exit_code, 0) << found.err;
+    const auto listed = nlohmann::json::parse(omnishadow::bench::read_file((dir / "captures.json").string()));
+    EXPECT_EQ(listed["captures"][0]["status"], status) << layer_path << ": " << listed.dump();
+  }
+}
+
 // A folder a run is writing (its lock held: here by this test, as a run that has not yet written results.json
 // would hold it) is refused at once, with and without isolation; once the lock is let go the run goes ahead.
 TEST_F(CliRun, ASecondRunIntoTheSameOutIsRefusedWhileTheFirstHoldsIt) {

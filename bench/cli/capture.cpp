@@ -31,16 +31,36 @@ bool selected(const std::string& mode, const std::string& status) {
   return false;
 }
 
-// Where the Vulkan loader finds explicit layers (VK_LAYER_PATH first, then the system's folders).
-bool layer_installed() {
+}  // namespace
+
+// Where the Vulkan loader finds explicit layers: every folder of VK_LAYER_PATH (colon-separated; it replaces
+// the system's folders), else VK_ADD_LAYER_PATH's before the system's.
+bool gfxreconstruct_layer_in(const char* layer_path, const char* add_layer_path) {
   std::vector<std::string> dirs;
-  if (const char* p = std::getenv("VK_LAYER_PATH")) dirs.push_back(p);
-  dirs.insert(dirs.end(), {"/usr/share/vulkan/explicit_layer.d", "/usr/local/share/vulkan/explicit_layer.d",
-                           "/etc/vulkan/explicit_layer.d"});
+  auto split = [&dirs](const char* list) {
+    std::string rest = list ? list : "";
+    for (size_t at; !rest.empty(); rest = at == std::string::npos ? "" : rest.substr(at + 1)) {
+      at = rest.find(':');
+      if (at != 0) dirs.push_back(rest.substr(0, at));
+    }
+  };
+  if (layer_path && *layer_path) {
+    split(layer_path);
+  } else {
+    split(add_layer_path);
+    dirs.insert(dirs.end(), {"/usr/share/vulkan/explicit_layer.d", "/usr/local/share/vulkan/explicit_layer.d",
+                             "/etc/vulkan/explicit_layer.d"});
+  }
   std::error_code ec;
   for (const std::string& d : dirs)
     if (fs::exists(fs::path(d) / "VkLayer_gfxreconstruct.json", ec)) return true;
   return false;
+}
+
+namespace {
+
+bool layer_installed() {
+  return gfxreconstruct_layer_in(std::getenv("VK_LAYER_PATH"), std::getenv("VK_ADD_LAYER_PATH"));
 }
 
 // The tool's version as its replayer prints it ("0.9.18-unknown ..."), or "" when it is not installed.

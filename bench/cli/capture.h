@@ -38,4 +38,9 @@ void capture_cases(const CaptureSettings& settings);
 std::vector<std::string> capture_run_args(const std::vector<std::string>& args, const std::string& id,
                                           const std::string& out_dir);
 
+// Whether the Vulkan loader finds GFXReconstruct's capture layer, given VK_LAYER_PATH and VK_ADD_LAYER_PATH
+// (either may be null): a folder of the first, colon-separated, which replaces the system's folders, else one
+// of the second's or of the system's.
+bool gfxreconstruct_layer_in(const char* layer_path, const char* add_layer_path);
+
 }  // namespace omnishadow::bench
