@@ -23,7 +23,8 @@
 #   layouts    the equal-memory layout table (scripts/analysis/layout_table.py) on the GPU: cube, face_array, tetrahedral, room
 #              and heavy, cubes 512 and 1024, GL and Vulkan, with --check; and dual_paraboloid beside the cube at
 #              tessellations 1, 4 and 16 on room and mixed
-#   lights     many point lights: hall at 1, 4, 16 and 64 lights in cube_array and face_array, grouped per face
+#   lights     many point lights: hall at 1, 4, 16 and 64 lights in cube_array, face_array and cube (a cube and a
+#              sampler per light, at most 16), grouped per face
 #              (six_pass), per light (geometry_shader, vs_layer, multiview where the GPU has them) and every light in
 #              one pass (vs_layer --light-grouping all_lights), GL and Vulkan,
 #              cube 256, with --check: PASS when no check fails (quality is a figure: --max-error 100); the
@@ -457,7 +458,7 @@ many_lights_run() {
 }
 
 step_lights() {
-  many_lights_run lights LIGHTS_BUDGET_S 420 --light-count 1,4,16,64 --layout cube_array,face_array \
+  many_lights_run lights LIGHTS_BUDGET_S 420 --light-count 1,4,16,64 --layout cube_array,face_array,cube \
     --technique six_pass,geometry_shader,vs_layer,multiview --light-grouping per_light,all_lights \
     --filter hard,pcf_disk20
 }

@@ -128,6 +128,23 @@ layout(binding = 2) uniform samplerCubeArrayShadow shadow_map;  // LINEAR + comp
 layout(binding = 2) uniform samplerCubeArray shadow_map;        // NEAREST, no compare; LINEAR for moments
 #endif
 vec4 shadow_coord(vec3 dir) { return vec4(perturb_lookup(dir, shadow_face_size()), float(g_light)); }
+#elif defined(LIGHT_CUBES)
+// Layout cube with several lights: a cube and a sampler per light (backends/common/layouts.h, kLightCubes), light k
+// read through element k. An array of samplers takes only a dynamically uniform index (GLSL 4.50, 4.1.7; SPIR-V
+// without descriptor indexing): g_light is, in the loop over every light (clustered lists are refused). Vulkan:
+// binding 2's kLightCubes descriptors; GL: units 16 onwards (gpu::kLightCubesGlUnit), clear of map_shadows' 3.
+#if defined(VULKAN)
+#define LIGHT_CUBES_BINDING 2
+#else
+#define LIGHT_CUBES_BINDING 16
+#endif
+#if defined(FILTER_HW_COMPARE2X2)
+layout(binding = LIGHT_CUBES_BINDING) uniform samplerCubeShadow shadow_cubes[16];
+#else
+layout(binding = LIGHT_CUBES_BINDING) uniform samplerCube shadow_cubes[16];
+#endif
+#define shadow_map shadow_cubes[g_light]
+vec3 shadow_coord(vec3 dir) { return perturb_lookup(dir, shadow_face_size()); }
 #else
 #if defined(FILTER_HW_COMPARE2X2)
 layout(binding = 2) uniform samplerCubeShadow shadow_map;  // LINEAR + compare: 2x2 bilinear PCF in hardware

@@ -356,10 +356,11 @@ TEST(Matrix, EachLayoutHasItsLightingVariants) {
   EXPECT_EQ(gpu::variant_key("lighting.frag", gpu::lighting_defines(c, gpu::LightingVariant::timed)),
             "lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD");
   const std::vector<std::string> keys = gpu::spirv_variant_keys();
-  size_t cube = 0, face_array = 0, paraboloid = 0, tetrahedral = 0, cube_array = 0, atlas = 0;
+  size_t cube = 0, face_array = 0, paraboloid = 0, tetrahedral = 0, cube_array = 0, atlas = 0, cubes = 0;
   for (const std::string& k : keys) {
     if (k.rfind("lighting.frag:", 0) != 0) continue;
-    (k.find("LAYOUT_FACE_ARRAY") != std::string::npos        ? face_array
+    (k.find("LIGHT_CUBES") != std::string::npos              ? cubes
+     : k.find("LAYOUT_FACE_ARRAY") != std::string::npos      ? face_array
      : k.find("LAYOUT_DUAL_PARABOLOID") != std::string::npos ? paraboloid
      : k.find("LAYOUT_TETRAHEDRAL") != std::string::npos     ? tetrahedral
      : k.find("LAYOUT_CUBE_ARRAY") != std::string::npos      ? cube_array
@@ -369,6 +370,12 @@ TEST(Matrix, EachLayoutHasItsLightingVariants) {
   EXPECT_GT(cube, 0u);
   EXPECT_EQ(face_array, cube);
   EXPECT_EQ(cube_array, cube) << "a cube-map array reads every storage and filter a cube does";
+  // A cube per light (layout cube, several lights): what common_support admits of the cube's (not a compare
+  // filter on stored distances, which the single cube's list keeps), and at least the default.
+  EXPECT_GT(cubes, 0u);
+  EXPECT_LE(cubes, cube);
+  EXPECT_EQ(
+      std::count(keys.begin(), keys.end(), "lighting.frag:STORAGE_LINEAR_DEPTH,FILTER_HARD,LIGHT_CUBES"), 1);
   // dual_paraboloid and tetrahedral: only what common_support admits (stored distances; no moments filters)
   EXPECT_GT(paraboloid, 0u);
   EXPECT_LT(paraboloid, cube);

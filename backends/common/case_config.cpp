@@ -237,6 +237,8 @@ bool refreshes_single_faces(const CaseConfig& c) {
          traits(c.filter).prefilter != Prefilter::separable_blur;
 }
 
+bool light_cubes(const CaseConfig& c) { return c.layout == Layout::cube && c.light_count > 1; }
+
 Support common_support(const CaseConfig& c) {
   if (traits(c.layout).geometry.map != TexelMap::cube_faces) {
     const std::string name(to_string(c.layout));
@@ -274,11 +276,18 @@ Support common_support(const CaseConfig& c) {
   if (c.light_count < 1) return {false, "the light count must be at least 1"};
   if (Support s = all_lights_support(c); !s.ok) return s;
 
-  if (c.light_count > 1 && c.layout == Layout::cube)
-    return {false,
-            std::to_string(c.light_count) +
-                " point lights in layout cube (one cube per light, each its own sampler) are not built "
-                "yet; --layout cube_array holds every light's cube in one texture"};
+  if (c.light_count > kLightCubes && c.layout == Layout::cube)
+    return {false, std::to_string(c.light_count) +
+                       " point lights in layout cube (one cube, one sampler per light): " +
+                       std::to_string(kLightCubes) +
+                       " at most (a fragment stage samples 16 textures at the least every device allows); "
+                       "--layout cube_array holds every light's cube in one texture"};
+  if (light_cubes(c) && c.optimizations.light_clusters)
+    return {
+        false,
+        "clustered light lists pick a pixel's lights per pixel, and an array of samplers takes only an index "
+        "every invocation shares (dynamically uniform): layout cube with several lights loops over every "
+        "light; --layout cube_array takes any index"};
   if (c.technique == Technique::nv_swizzle && c.storage == Storage::hardware_depth)
     return {false,
             "nv_swizzle's clip z is the near plane (a swizzle cannot scale it per face), so the rasteriser's "

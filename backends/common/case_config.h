@@ -205,6 +205,8 @@ std::string to_string(const Optimizations& o);  // the same spellings; "none" wh
 struct CaseConfig;
 // Rules that hold on every backend (a compare sampler needs depth storage; sizes must be positive).
 Support common_support(const CaseConfig& config);
+// Layout cube with several point lights: one samplerCube per light (layouts.h, kLightCubes).
+bool light_cubes(const CaseConfig& config);
 // Whether the case's layers (the layout's layers per light times the light count) fit a device's array
 // textures of at most `max_layers` layers (`limit`: the API's name for it).
 Support layer_count_support(const CaseConfig& config, int max_layers, const std::string& limit);

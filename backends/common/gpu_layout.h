@@ -59,6 +59,10 @@ inline constexpr int kFrameUniformsBinding = 0;
 inline constexpr int kPassUniformsBinding = 1;
 inline constexpr int kShadowMapBinding = 2;
 inline constexpr int kMapShadowsBinding = 3;  // sampler2DArray: one layer per spot/directional light
+// Layout cube with several point lights (kLightCubes, layouts.h): one samplerCube per light, an array at
+// binding kShadowMapBinding on Vulkan (its descriptorCount) and at units kLightCubesGlUnit.. on GL, clear of
+// the others.
+inline constexpr int kLightCubesGlUnit = 16;
 // mesh_shader's storage buffers (shaders/mesh_common.glsl; GL: shader storage binding points).
 inline constexpr int kMeshletsBinding = 4;
 inline constexpr int kMeshletSpheresBinding = 5;

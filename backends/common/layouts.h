@@ -149,6 +149,12 @@ static_assert(every_layout_has_its_row(), "kLayouts lists the layouts in enum or
 // Whether the shadow pass routes a face by its viewport (a tile of one layer) rather than by its layer.
 constexpr bool faces_by_viewport(Layout l) { return traits(l).lookup == LayoutLookup::shader_atlas; }
 
+// Layout cube with several point lights: one cube, and one samplerCube, per light, the lighting pass's array
+// of them indexed by the light (dynamically uniform: the loop over every light). The fragment stage then
+// samples kLightCubes + 1 textures; GL (GL_MAX_TEXTURE_IMAGE_UNITS) and Vulkan
+// (maxPerStageDescriptorSamplers) guarantee 16, so a device at that minimum refuses it with the reason.
+inline constexpr int kLightCubes = 16;
+
 // A layer's edge in texels for `--cube N` (TexelGeometry::layer_size_for_cube): a cube face N, a paraboloid
 // layer round(N sqrt 3), a tetrahedron's face round(N sqrt 1.5).
 inline int layer_size(Layout layout, int cube_size) {

@@ -127,6 +127,7 @@ std::vector<std::string> moments_blur_defines(ColourFormat format) {
 std::vector<std::string> lighting_defines(const CaseConfig& c, LightingVariant variant) {
   std::vector<std::string> d{storage_define(c.storage), filter_define(c.filter)};
   if (!traits(c.layout).lighting_define.empty()) d.emplace_back(traits(c.layout).lighting_define);
+  if (light_cubes(c)) d.push_back("LIGHT_CUBES");  // a samplerCube per light (layouts.h, kLightCubes)
   if (c.remedies.bias == BiasMode::zero) d.push_back("BIAS_ZERO");
   if (c.remedies.bias == BiasMode::slope) d.push_back("BIAS_SLOPE");
   if (c.remedies.normal_offset) d.push_back("NORMAL_OFFSET");
@@ -227,6 +228,10 @@ std::vector<std::string> spirv_variant_keys() {
                   layout.geometry.map != TexelMap::cube_faces || faces_by_viewport(layout.layout);
               if (own_rules && !common_support(c).ok) continue;
               keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
+              if (layout.layout != Layout::cube) continue;
+              c.light_count = 2;  // and with a cube per light
+              if (common_support(c).ok) keys.insert(variant_key("lighting.frag", lighting_defines(c, v)));
+              c.light_count = 1;
             }
     }
   return {keys.begin(), keys.end()};

@@ -111,6 +111,8 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
   glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &max_vertex_storage_blocks_);
   glGetIntegerv(GL_MAX_GEOMETRY_SHADER_STORAGE_BLOCKS, &max_geometry_storage_blocks_);
   glGetIntegerv(GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS, &max_fragment_storage_blocks_);
+  glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &max_fragment_textures_);
+  glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &max_combined_textures_);
   glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &max_storage_bindings_);
   glGetIntegerv(GL_MAX_FRAMEBUFFER_LAYERS, &max_framebuffer_layers_);
   GLint max_texture = 0, max_renderbuffer = 0;
@@ -224,6 +226,13 @@ Support GlBackend::supports(const CaseConfig& c) const {
                 std::to_string(gpu::kLightClustersBinding) + ": GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS " +
                 std::to_string(max_fragment_storage_blocks_) + ", GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS " +
                 std::to_string(max_storage_bindings_) + " on " + info_.renderer};
+  if (light_cubes(c) && (max_fragment_textures_ <= kLightCubes ||
+                         max_combined_textures_ < gpu::kLightCubesGlUnit + kLightCubes))
+    return {false, "layout cube with several lights samples " + std::to_string(kLightCubes + 1) +
+                       " textures in the fragment stage (a cube per light and the spot maps) from unit " +
+                       std::to_string(gpu::kLightCubesGlUnit) + ": GL_MAX_TEXTURE_IMAGE_UNITS " +
+                       std::to_string(max_fragment_textures_) + ", GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS " +
+                       std::to_string(max_combined_textures_) + " on " + info_.renderer};
   if (c.layout == Layout::atlas)
     if (std::string why = atlas::too_large(scene_ ? atlas::plan_for(c, *scene_) : atlas::uniform_plan(c),
                                            std::stoi(info_.extra.at("max_2d_size")), "GL_MAX_TEXTURE_SIZE");
@@ -358,7 +367,8 @@ void GlBackend::configure_case(const CaseConfig& c) {
       {layer_size(c.layout, c.cube_size), c.storage, c.depth_format, traits(c.technique).multiview,
        traits(c.layout).geometry.layers, c.light_count,
        traits(c.layout).lookup == LayoutLookup::hardware_cube_array,
-       c.layout == Layout::atlas ? std::optional(atlas::plan_for(c, *scene_)) : std::nullopt});
+       c.layout == Layout::atlas ? std::optional(atlas::plan_for(c, *scene_)) : std::nullopt,
+       light_cubes(c)});
   // One uniform block per light (the shadow pass binds light k's), and the lighting pass's light list.
   frame_stride_ = (GLsizeiptr(sizeof(gpu::FrameUniforms)) + uniform_alignment_ - 1) / uniform_alignment_ *
                   uniform_alignment_;
@@ -676,10 +686,18 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
   const bool by_direction =
       lookup == LayoutLookup::hardware_cube || lookup == LayoutLookup::hardware_cube_array;
   glBindTextureUnit(gpu::kShadowMapBinding, by_direction ? shadow_.sampled : shadow_.sampled_layers);
-  const FilterSampler sampler = traits(config_->filter).sampler;
-  glBindSampler(gpu::kShadowMapBinding, sampler == FilterSampler::linear_compare   ? compare_sampler_
-                                        : sampler == FilterSampler::linear_moments ? linear_sampler_
-                                                                                   : nearest_sampler_);
+  const FilterSampler filter_sampler = traits(config_->filter).sampler;
+  const GLuint sampler = filter_sampler == FilterSampler::linear_compare   ? compare_sampler_
+                         : filter_sampler == FilterSampler::linear_moments ? linear_sampler_
+                                                                           : nearest_sampler_;
+  glBindSampler(gpu::kShadowMapBinding, sampler);
+  // Layout cube with several lights: light k's cube at unit 16 + k; the array's other elements (never read)
+  // light 0's, so that every sampler the program declares has a complete texture.
+  for (int k = 0; k < kLightCubes && !shadow_.light_cubes.empty(); ++k) {
+    const size_t light = size_t(k) < shadow_.light_cubes.size() ? size_t(k) : 0;
+    glBindTextureUnit(GLuint(gpu::kLightCubesGlUnit + k), shadow_.light_cubes[light]);
+    glBindSampler(GLuint(gpu::kLightCubesGlUnit + k), sampler);
+  }
   glBindTextureUnit(gpu::kMapShadowsBinding, maps_.depth);
   glBindSampler(gpu::kMapShadowsBinding, nearest_sampler_);
   draw_list(all_objects_, stats, false, draw_vertices);

@@ -123,6 +123,7 @@ class GlBackend final : public Backend {
   GLuint clusters_ssbo_ = 0;
   gpu::LightClusterBuilder clusters_;
   GLint max_fragment_storage_blocks_ = 0, max_storage_bindings_ = 0;
+  GLint max_fragment_textures_ = 0, max_combined_textures_ = 0;  // layout cube's sampler per light
   GLuint pass_ubo_ = 0;  // 64 PassUniforms {face k, mask k}, each at a multiple of uniform_alignment_
   GLuint nearest_sampler_ = 0;
   GLuint compare_sampler_ = 0;

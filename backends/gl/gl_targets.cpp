@@ -270,6 +270,15 @@ ShadowTargets create_shadow_targets(const ShadowShape& shape) {
     glTextureStorage3D(t.blur_layers, 1, colour_internal, size, size, count);
   }
   t.sampled_layers = traits(storage).moments != MomentKind::none ? t.colour_layers : t.stored_layers;
+  const bool moments = traits(storage).moments != MomentKind::none;
+  for (int k = 0; shape.light_cubes && k < t.lights; ++k) {  // views, not copies: the texels the pass wrote
+    GLuint cube = 0;
+    glGenTextures(1, &cube);  // a view needs a name never bound
+    glTextureView(cube, GL_TEXTURE_CUBE_MAP, moments ? t.colour_array : t.stored_array,
+                  moments ? colour_internal : stored_format, 0, 1, GLuint(k * layers), 6);
+    cube_parameters(cube);
+    t.light_cubes.push_back(cube);
+  }
   check_allocation("the shadow maps");
   create_shadow_framebuffers(t, arrays, shape, depth_internal, has_colour ? colour_internal : GL_NONE);
   return t;
@@ -281,6 +290,7 @@ void destroy(ShadowTargets& t) {
     glDeleteFramebuffers(1, &t.all_lights_fbo);
   glDeleteFramebuffers(static_cast<GLsizei>(t.layered_fbos.size()), t.layered_fbos.data());
   glDeleteTextures(static_cast<GLsizei>(t.views.size()), t.views.data());
+  glDeleteTextures(static_cast<GLsizei>(t.light_cubes.size()), t.light_cubes.data());
   // Views first (multiview's layers are the arrays themselves); zero names are ignored.
   if (t.stored_layers != t.stored_array) glDeleteTextures(1, &t.stored_layers);
   if (t.colour_layers != t.colour_array) glDeleteTextures(1, &t.colour_layers);

@@ -51,6 +51,9 @@ struct ShadowTargets {
   // Layout atlas: every light's faces are tiles of layer 0 of depth_array (and colour_array), rendered
   // through layered_fbos[0] with a viewport per face (backends/common/atlas.h); face_fbos stay empty.
   std::optional<atlas::Plan> atlas;
+  // Layout cube with several lights: light k's six layers of what the lighting pass samples, as a cube map
+  // (a texture view, GL 4.3), each bound to a unit of its own; empty otherwise.
+  std::vector<GLuint> light_cubes;
 };
 
 // What create_shadow_targets() builds: one map of `layers` layers of size^2 per light.
@@ -63,6 +66,7 @@ struct ShadowShape {
   int lights = 1;
   bool cube_array = false;           // sampled as a cube-map array (layout cube_array)
   std::optional<atlas::Plan> atlas;  // layout atlas: one layer of the plan's size holds every light's faces
+  bool light_cubes = false;          // layout cube with several lights: a cube view per light (light_cubes)
 };
 
 // Spot/directional lights: a 2D depth-array texture, one layer and one framebuffer per light. At least one

@@ -131,10 +131,15 @@ void VkBackend::create_layouts() {
   VkDescriptorSetLayoutBinding shadow_bindings[2] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1, geometry_stages, nullptr},
       {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, geometry_stages, nullptr}};
+  const VkPhysicalDeviceLimits& limits = ctx_->properties().limits;
+  shadow_map_descriptors_ = limits.maxPerStageDescriptorSamplers > uint32_t(kLightCubes) &&
+                                    limits.maxDescriptorSetSamplers > uint32_t(kLightCubes)
+                                ? uint32_t(kLightCubes)
+                                : 1u;
   VkDescriptorSetLayoutBinding bindings[5] = {
       {gpu::kFrameUniformsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, geometry_stages, nullptr},
-      {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
-       nullptr},
+      {gpu::kShadowMapBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow_map_descriptors_,
+       VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {gpu::kMapShadowsBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
        nullptr},
       {gpu::kPointLightsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
@@ -168,7 +173,7 @@ void VkBackend::create_descriptor_sets() {
   VkDevice d = ctx_->device();
   VkDescriptorPoolSize sizes[4] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
                                    {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1},
-                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
+                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, shadow_map_descriptors_ + 1},
                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool_info.maxSets = 2;
@@ -347,6 +352,12 @@ Support VkBackend::supports(const CaseConfig& c) const {
       break;
   }
   if (Support s = atlas_support(c); !s.ok) return s;
+  if (light_cubes(c) && shadow_map_descriptors_ < uint32_t(kLightCubes))
+    return {false, "layout cube with several lights samples " + std::to_string(kLightCubes + 1) +
+                       " textures in the fragment stage (a cube per light and the spot maps): "
+                       "maxPerStageDescriptorSamplers " +
+                       std::to_string(ctx_->properties().limits.maxPerStageDescriptorSamplers) + " on " +
+                       device};
   if (c.layout == Layout::cube_array && !ctx_->has_image_cube_array())
     return {false, "imageCubeArray feature not supported by " + device + " (layout cube_array)"};
   if (Support s = layer_count_support(c, static_cast<int>(ctx_->properties().limits.maxImageArrayLayers),
@@ -562,13 +573,19 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
 void VkBackend::write_lighting_descriptors(const CaseConfig& c) {
   // Written before any command buffer binds the set: lavapipe crashes on a bound, never-written sampler.
   const FilterSampler sampler = traits(c.filter).sampler;
-  VkDescriptorImageInfo image{sampler == FilterSampler::linear_compare   ? compare_sampler_
-                              : sampler == FilterSampler::linear_moments ? linear_sampler_
-                                                                         : nearest_sampler_,
-                              shadow_.sampled_view,
-                              traits(c.storage).moments != MomentKind::none
-                                  ? VK_IMAGE_LAYOUT_GENERAL
-                                  : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  const VkDescriptorImageInfo image{sampler == FilterSampler::linear_compare   ? compare_sampler_
+                                    : sampler == FilterSampler::linear_moments ? linear_sampler_
+                                                                               : nearest_sampler_,
+                                    shadow_.sampled_view,
+                                    traits(c.storage).moments != MomentKind::none
+                                        ? VK_IMAGE_LAYOUT_GENERAL
+                                        : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  // Every descriptor of binding 2 written (lavapipe crashes on a bound, never-written one): layout cube with
+  // several lights, light k's cube in element k and light 0's in those past the last light (never read); any
+  // other layout, its one view in element 0 and the same in the rest.
+  std::vector<VkDescriptorImageInfo> images(shadow_map_descriptors_, image);
+  for (size_t k = 0; k < images.size() && !shadow_.light_cube_views.empty(); ++k)
+    images[k].imageView = shadow_.light_cube_views[k < shadow_.light_cube_views.size() ? k : 0];
   VkDescriptorImageInfo map_image{nearest_sampler_, maps_.sampled_view,
                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   VkDescriptorBufferInfo clusters{light_clusters_.buffer, 0, VK_WHOLE_SIZE};
@@ -578,9 +595,10 @@ void VkBackend::write_lighting_descriptors(const CaseConfig& c) {
   writes[0].dstSet = writes[1].dstSet = lighting_set_;
   writes[0].dstBinding = gpu::kShadowMapBinding;
   writes[1].dstBinding = gpu::kMapShadowsBinding;
-  writes[0].descriptorCount = writes[1].descriptorCount = 1;
+  writes[0].descriptorCount = shadow_map_descriptors_;
+  writes[1].descriptorCount = 1;
   writes[0].descriptorType = writes[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  writes[0].pImageInfo = &image;
+  writes[0].pImageInfo = images.data();
   writes[1].pImageInfo = &map_image;
   writes[2].dstSet = lighting_set_;
   writes[2].dstBinding = gpu::kLightClustersBinding;

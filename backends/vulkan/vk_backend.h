@@ -89,8 +89,11 @@ class VkBackend final : public Backend {
   std::unique_ptr<ShaderModules> modules_;
   std::unique_ptr<CubeSummarizer> summarizer_;
 
-  VkDescriptorSetLayout shadow_set_layout_ = VK_NULL_HANDLE;     // binding 0: frame uniforms
-  VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;   // + binding 2: the shadow cube, 3: 2D maps
+  VkDescriptorSetLayout shadow_set_layout_ = VK_NULL_HANDLE;    // binding 0: frame uniforms
+  VkDescriptorSetLayout lighting_set_layout_ = VK_NULL_HANDLE;  // + binding 2: the shadow cube, 3: 2D maps
+  // Binding 2's descriptors: kLightCubes where the device samples that many and one more in the fragment
+  // stage (layout cube's sampler per light), else 1 (that layout with several lights is then refused).
+  uint32_t shadow_map_descriptors_ = 1;
   VkShaderStageFlags push_stages_ = VK_SHADER_STAGE_VERTEX_BIT;  // the stages that read PassUniforms
   VkPipelineLayout shadow_layout_ = VK_NULL_HANDLE;              // + push constant: face (six_pass)
   VkPipelineLayout lighting_layout_ = VK_NULL_HANDLE;

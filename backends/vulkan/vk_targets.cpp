@@ -192,11 +192,16 @@ ShadowTargets create_shadow_targets(VkContext& ctx, const CaseConfig& c, const s
       t.blur = create_image(ctx, colour, width, height, all_layers, false, VK_IMAGE_USAGE_STORAGE_BIT);
     // Layouts other than the cube sample their layers as a 2D array (the shader picks the layer).
     const LayoutLookup lookup = traits(c.layout).lookup;
-    t.sampled_view = create_view(ctx, moments ? t.color : t.stored(),
-                                 lookup == LayoutLookup::hardware_cube         ? VK_IMAGE_VIEW_TYPE_CUBE
-                                 : lookup == LayoutLookup::hardware_cube_array ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY
-                                                                               : VK_IMAGE_VIEW_TYPE_2D_ARRAY,
-                                 0, all_layers);
+    const bool cube_per_light = light_cubes(c);
+    t.sampled_view =
+        create_view(ctx, moments ? t.color : t.stored(),
+                    lookup == LayoutLookup::hardware_cube && !cube_per_light ? VK_IMAGE_VIEW_TYPE_CUBE
+                    : lookup == LayoutLookup::hardware_cube_array            ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY
+                                                                             : VK_IMAGE_VIEW_TYPE_2D_ARRAY,
+                    0, all_layers);
+    for (uint32_t k = 0; cube_per_light && k < t.lights; ++k)
+      t.light_cube_views.push_back(
+          create_view(ctx, moments ? t.color : t.stored(), VK_IMAGE_VIEW_TYPE_CUBE, k * layers, layers));
 
     // The moments stay in GENERAL: the blur reads and writes them as storage images, the lighting pass
     // samples them.
@@ -236,6 +241,7 @@ void destroy(VkContext& ctx, ShadowTargets& t) {
   for (VkFramebuffer fb : t.framebuffers) vkDestroyFramebuffer(ctx.device(), fb, nullptr);
   if (t.all_lights_framebuffer) vkDestroyFramebuffer(ctx.device(), t.all_lights_framebuffer, nullptr);
   for (VkImageView v : t.attachment_views) vkDestroyImageView(ctx.device(), v, nullptr);
+  for (VkImageView v : t.light_cube_views) vkDestroyImageView(ctx.device(), v, nullptr);
   if (t.sampled_view) vkDestroyImageView(ctx.device(), t.sampled_view, nullptr);
   if (t.render_pass) vkDestroyRenderPass(ctx.device(), t.render_pass, nullptr);
   destroy(ctx, t.blur);

@@ -26,6 +26,9 @@ struct ShadowTargets {
   VkImageView sampled_view = VK_NULL_HANDLE;  // CUBE (CUBE_ARRAY for cube_array, 2D_ARRAY for the other
                                               // layouts) view of what the lighting pass samples (the
                                               // moments for VSM)
+  // Layout cube with several lights: light k's six layers of what the lighting pass samples as a CUBE view,
+  // one descriptor each (sampled_view is then a 2D_ARRAY view of them all); empty otherwise.
+  std::vector<VkImageView> light_cube_views;
   std::vector<VkImageView> attachment_views;  // owned; referenced by the framebuffers
   VkRenderPass render_pass = VK_NULL_HANDLE;  // multiview pass for Technique::multiview
   // six_pass: one per light and face (layer), light-major; otherwise one per light over its layers. Light k's

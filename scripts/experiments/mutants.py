@@ -75,6 +75,8 @@ UPDATE = ["--scene", "hall", "--light-count", "16", "--update-budget", "8", "--t
 # lets it keep of a frame whose casters stood elsewhere).
 MOVING = ["--scene", "hall", "--light-count", "4", "--check-frame", "90", "--optimize", "none,cache",
           "--technique", "six_pass,geometry_shader", "--filter", "hard"]
+# Four of the hall's lamps, each its own cube and sampler (layout cube with several lights).
+CUBES = ["--scene", "hall", "--light-count", "4", "--layout", "cube", "--filter", "hard,pcf_disk20"]
 # nv_swizzle with r32f_distance (its reversed depth, no far plane) where four of the hall's lamps' ranges end inside
 # the hall, in a cube array and in an atlas (faces routed by viewport).
 SWIZZLE_RANGE = ["--scene", "hall", "--light-count", "4", "--layout", "cube_array,atlas", "--technique",
@@ -209,6 +211,9 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("swizzle_depth_not_reversed", "backends/common/techniques.cpp",
      replace("return c.technique == Technique::nv_swizzle && !traits(c.storage).fragment_depth;", "return false;"),
      "nv_swizzle's r32f_distance keeps fragments by LESS against 1: its reversed depth keeps the farthest", SWIZZLE),
+    ("light_cubes_shifted", "shaders/shadow_filters.glsl",
+     replace("#define shadow_map shadow_cubes[g_light]", "#define shadow_map shadow_cubes[(g_light + 1) % 4]"),
+     "layout cube with several lights: light k's lookups read light k + 1's cube (its own sampler's neighbour)", CUBES),
     ("swizzle_far_kept", "shaders/shadow_depth.frag",
      replace("  if (gl_FragCoord.w * light_far() < 1.0) discard;", ""),
      "nv_swizzle's r32f_distance stores what lies past far (its depth has no far plane)", SWIZZLE_RANGE),
