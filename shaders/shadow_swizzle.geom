@@ -7,7 +7,8 @@
 //
 // EMULATE_SWIZZLE (test only, CaseConfig::emulate_nv_swizzle): the same mask, but an ordinary GS emits the triangle
 // into each face in it with that face's swizzle applied here (the C++ table, packed into SWIZZLES_01/_23/_45) and
-// gl_Layer = face (the atlas: gl_ViewportIndex = face), so a device without the NV extensions runs everything else nv_swizzle does.
+// gl_Layer = face (the atlas: gl_ViewportIndex = face), so a device without the NV extensions runs everything else
+// nv_swizzle does.
 #if !defined(EMULATE_SWIZZLE)
 #extension GL_NV_geometry_shader_passthrough : require
 #extension GL_NV_viewport_array2 : require

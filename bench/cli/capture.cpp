@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <thread>
 
 #include "bench/cli/commands.h"
@@ -38,11 +39,9 @@ bool selected(const std::string& mode, const std::string& status) {
 bool gfxreconstruct_layer_in(const char* layer_path, const char* add_layer_path) {
   std::vector<std::string> dirs;
   auto split = [&dirs](const char* list) {
-    std::string rest = list ? list : "";
-    for (size_t at; !rest.empty(); rest = at == std::string::npos ? "" : rest.substr(at + 1)) {
-      at = rest.find(':');
-      if (at != 0) dirs.push_back(rest.substr(0, at));
-    }
+    std::istringstream folders(list ? list : "");
+    for (std::string folder; std::getline(folders, folder, ':');)
+      if (!folder.empty()) dirs.push_back(folder);
   };
   if (layer_path && *layer_path) {
     split(layer_path);
