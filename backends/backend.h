@@ -168,16 +168,16 @@ class Backend {
   virtual std::vector<std::array<int, 6>> face_frames() const { return {}; }
 
  protected:
-  // Whether this device runs technique mesh_shader: load() then builds the scene's meshlets before it lets
-  // the scene's vertices go (they live on the device after upload), for the mesh pass of a later case.
+  // Whether this device runs technique mesh_shader, or its test-only emulation (--emulate-mesh-shader):
+  // load() then builds the scene's meshlets before it lets the scene's vertices go (they live on the device
+  // after upload), for the mesh pass of a later case.
   virtual bool has_mesh_shading() const { return false; }
+  virtual bool emulates_mesh_shading() const { return false; }
   virtual void upload_scene(
       const scene::Scene& scene) = 0;  // releases the case and the last scene's geometry
   // The moving objects' vertex ranges of scene_->vertices (just posed) to the device, before the next frame's
   // shadow pass reads them.
   virtual void upload_moving_objects() = 0;
-  // What the scene refuses: mesh_shader on a scene with moving casters (its meshlets are built at load).
-  Support scene_support(const CaseConfig& c) const;
   // configure()'s work once the case is known to be new and supported: release the last case's objects,
   // create this one's, and set config_ (left empty when it throws).
   virtual void configure_case(const CaseConfig& config) = 0;
@@ -194,7 +194,7 @@ class Backend {
   DeviceInfo info_;
   std::optional<scene::Scene>
       scene_;  // set by load(): objects, light path, camera (vertices live on the device)
-  std::optional<gpu::MeshletData> meshlets_;  // set by load() where has_mesh_shading()
+  std::optional<gpu::MeshletData> meshlets_;  // set by load() where mesh shading runs or is emulated
   std::vector<ObjectDraw> all_objects_;       // every object once: the lighting pass's and the 2D maps' draws
   std::optional<CaseConfig> config_;          // the current case
   bool checked_ = false;                 // a check frame was rendered since configure (read_back needs one)

@@ -30,7 +30,8 @@ void Backend::load(const scene::Scene& scene) {
   scene_->put_at_rest();
   upload_scene(*scene_);
   meshlets_.reset();
-  if (has_mesh_shading()) meshlets_ = gpu::build_meshlets(*scene_);  // needs the vertices released below
+  if (has_mesh_shading() || emulates_mesh_shading())
+    meshlets_ = gpu::build_meshlets(*scene_);  // needs the vertices released below
   scene_->focus_light = 0;
   if (!scene_->has_moving_objects()) {  // only the device's copy is needed after upload
     scene_->vertices.clear();
@@ -48,14 +49,6 @@ void Backend::configure(const CaseConfig& c) {
   checked_ = false;
   check_is_last_ = false;
   configure_case(c);
-}
-
-Support Backend::scene_support(const CaseConfig& c) const {
-  if (c.technique == Technique::mesh_shader && scene_ && scene_->has_moving_objects())
-    return {false,
-            "scene " + scene_->name +
-                " has moving casters, and mesh_shader's meshlets and their bounds are built once at load"};
-  return {};
 }
 
 // The scene's moving casters where `frame` has them, on the host and on the device, before anything of the

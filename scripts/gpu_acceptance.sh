@@ -25,8 +25,9 @@
 #              tessellations 1, 4 and 16 on room and mixed
 #   lights     many point lights: hall at 1, 4, 16 and 64 lights in cube_array, face_array and cube (a cube and a
 #              sampler per light, at most 16), grouped per face
-#              (six_pass), per light (geometry_shader, vs_layer, multiview where the GPU has them) and every light in
-#              one pass (vs_layer --light-grouping all_lights), GL and Vulkan,
+#              (six_pass), per light (geometry_shader, vs_layer, multiview, mesh_shader where the GPU has them) and
+#              every light in one pass (vs_layer, geometry_shader, mesh_shader --light-grouping all_lights), GL and
+#              Vulkan,
 #              cube 256, with --check: PASS when no check fails (quality is a figure: --max-error 100); the
 #              many-light table (scripts/analysis/many_lights_table.py); the run is cut at 7 minutes (LIGHTS_BUDGET_S)
 #   atlas      layout atlas on the GPU: hall at 4, 16 and 64 lights, atlas (tiles uniform and by distance) beside
@@ -459,7 +460,7 @@ many_lights_run() {
 
 step_lights() {
   many_lights_run lights LIGHTS_BUDGET_S 420 --light-count 1,4,16,64 --layout cube_array,face_array,cube \
-    --technique six_pass,geometry_shader,vs_layer,multiview --light-grouping per_light,all_lights \
+    --technique six_pass,geometry_shader,vs_layer,multiview,mesh_shader --light-grouping per_light,all_lights \
     --filter hard,pcf_disk20
 }
 

@@ -6,8 +6,13 @@
 #include "common.glsl"
 #include "moments.glsl"
 
-#if !defined(STORAGE_HARDWARE_DEPTH) && defined(TECHNIQUE_MESH_SHADER)
-layout(location = 0) in MeshVertex { vec3 world_position; };  // the mesh stage's per-vertex block
+#if !defined(STORAGE_HARDWARE_DEPTH) && defined(TECHNIQUE_MESH_SHADER) && !defined(EMULATE_MESH_SHADER)
+layout(location = 0) in MeshVertex {  // the mesh stage's per-vertex block
+  vec3 world_position;
+#if defined(ALL_LIGHTS)
+  flat int shadow_light;
+#endif
+};
 #elif !defined(STORAGE_HARDWARE_DEPTH)
 layout(location = 0) in vec3 world_position;
 #if defined(ALL_LIGHTS)

@@ -197,6 +197,41 @@ TEST_P(ManyLightsTest, SinglePassTechniquesReproduceSixPassForEveryLight) {
   }
 }
 
+// mesh_shader, native where the device has mesh shading and through its emulation elsewhere (the task stage
+// as a compute shader, the mesh stage as a vertex shader: the same task body and functions), per light with
+// and without its meshlet culling and every light in one pass (a task workgroup per meshlet group and light,
+// culled per light and face): bit for bit six_pass's, light by light, in both layouts that hold several
+// lights' cubes. At frame 12 the hall's rollers and carts have left where load() built their meshlet spheres:
+// culling by the spheres at rest drops faces the casters now reach.
+TEST_P(ManyLightsTest, MeshShaderRoutesEveryLightWhereTheCastersAreNow) {
+  backend_->load(hall_);
+  constexpr int kFrame = 12;
+  for (Layout layout : {Layout::cube_array, Layout::cube}) {
+    const CaseConfig reference = hall_case(4, layout, Technique::six_pass, Filter::hard);
+    backend_->configure(reference);
+    backend_->render(kFrame, FrameKind::check);
+    std::vector<Images> expected;
+    for (int k = 0; k < 4; ++k) expected.push_back(backend_->read_back(CubeReadBack::full, k));
+    CaseConfig per_light = hall_case(4, layout, Technique::mesh_shader, Filter::hard);
+    per_light.emulate_mesh_shader = !backend_->supports(per_light).ok;
+    CaseConfig culled = per_light, one_pass = per_light;
+    culled.optimizations.face_culling = true;
+    one_pass.light_grouping = LightGrouping::all_lights;
+    for (const CaseConfig& c : {per_light, culled, one_pass}) {
+      ASSERT_TRUE(backend_->supports(c).ok) << c.id() << ": " << backend_->supports(c).reason;
+      backend_->configure(c);
+      backend_->render(kFrame, FrameKind::check);
+      for (int k = 0; k < 4; ++k) {
+        const Images got = backend_->read_back(CubeReadBack::full, k);
+        for (size_t f = 0; f < 6; ++f)
+          EXPECT_EQ(got.cube_distance[f], expected[size_t(k)].cube_distance[f])
+              << c.id() << ", light " << k << ", face " << f;
+        EXPECT_EQ(got.shadow_factor, expected[size_t(k)].shadow_factor) << c.id() << ", light " << k;
+      }
+    }
+  }
+}
+
 // nv_swizzle's reversed depth has no far plane (viewport_swizzle.h): with r32f_distance, a lamp whose range
 // ends inside the hall would store the walls beyond it where six_pass's far plane clips them (62 units in a
 // lamp's +X face whose far is 12), unless the fragment stage drops them. Held to six_pass within the bound,

@@ -178,17 +178,23 @@ Support atlas_support(const CaseConfig& c) {
   return {};
 }
 
-// Every light in one pass: vs_layer's instances or the geometry shader's invocations.
+// Every light in one pass: vs_layer's instances, the geometry shader's invocations or mesh_shader's task
+// workgroups (one per meshlet group and light).
 Support all_lights_support(const CaseConfig& c) {
   if (c.light_grouping == LightGrouping::all_lights) {
-    if (c.technique != Technique::vs_layer && c.technique != Technique::geometry_shader)
-      return {false,
-              "every light in one pass is built for vs_layer (an instance per light and face) and "
-              "geometry_shader (32 invocations, each routing a triangle to two lights' faces); " +
-                  std::string(to_string(c.technique)) + " renders per light"};
-    if (c.technique == Technique::geometry_shader && traits(c.layout).geometry.map != TexelMap::cube_faces)
-      return {false, "every light in one geometry shader pass routes each light's six cube faces; " +
-                         std::string(to_string(c.layout)) + " has layers of its own"};
+    const bool routes_faces =
+        c.technique == Technique::geometry_shader || c.technique == Technique::mesh_shader;
+    if (c.technique != Technique::vs_layer && !routes_faces)
+      return {
+          false,
+          "every light in one pass is built for vs_layer (an instance per light and face), "
+          "geometry_shader (32 invocations, each routing a triangle to two lights' faces) and mesh_shader "
+          "(a task workgroup per meshlet group and light); " +
+              std::string(to_string(c.technique)) + " renders per light"};
+    if (routes_faces && traits(c.layout).geometry.map != TexelMap::cube_faces)
+      return {false, "every light in one " + std::string(to_string(c.technique)) +
+                         " pass routes each light's six cube faces; " + std::string(to_string(c.layout)) +
+                         " has layers of its own"};
     if (c.technique == Technique::geometry_shader && c.light_count > kAllLightsGeometryMaxLights)
       return {false, "every light in one geometry shader pass reaches " +
                          std::to_string(kAllLightsGeometryMaxLights) +
@@ -197,9 +203,9 @@ Support all_lights_support(const CaseConfig& c) {
     if (c.optimizations.face_culling)
       return {
           false,
-          c.technique == Technique::geometry_shader
-              ? "face culling with every light in one pass: the geometry shader culls per light and face "
-                "already"
+          routes_faces
+              ? "face culling with every light in one pass: " + std::string(to_string(c.technique)) +
+                    " culls per light and face already"
               : "face culling with every light in one pass: the per-object masks cover one light's faces"};
     if (c.moments.world_units)
       return {false,
@@ -340,7 +346,9 @@ std::string CaseConfig::id() const {
     id += "/" + words;
     std::replace(id.end() - static_cast<std::ptrdiff_t>(words.size()), id.end(), '+', '/');
   }
-  if (emulate_nv_swizzle && technique == Technique::nv_swizzle) id += "/emulated";
+  if ((emulate_nv_swizzle && technique == Technique::nv_swizzle) ||
+      (emulate_mesh_shader && technique == Technique::mesh_shader))
+    id += "/emulated";
   if (!experiment.empty()) id += "/" + experiment;
   return id;
 }

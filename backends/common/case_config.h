@@ -277,6 +277,14 @@ struct CaseConfig {
   // reversed depth test and clear, the checks; so CPU drivers prove all of it but the passthrough GS and the
   // swizzle state. Off in every real run; ids end in /emulated.
   bool emulate_nv_swizzle = false;
+  // Test only (--emulate-mesh-shader): mesh_shader without mesh shading, on any device that writes gl_Layer
+  // from the vertex stage. The task stage runs as a compute shader (shaders/shadow_mesh_task.comp) whose
+  // workgroups write their entries and an indirect draw each; the mesh stage runs as a vertex shader
+  // (shadow_mesh_emulation.vert), an instance per mesh workgroup. Both run mesh_common.glsl's functions and
+  // the task body the native stage runs (mesh_task.glsl), so CPU drivers prove the meshlets, the routing per
+  // light and face, the culling and the layers; not the extension's own stages. Off in every real run; ids
+  // end in /emulated.
+  bool emulate_mesh_shader = false;
 
   // gl/room/c1024/f800x600/six_pass/pcf_disk20/linear_depth/d32f: unique per case, stable across runs,
   // usable in --benchmark_filter regexes and as a folder path for the case's images. Optimisations that are

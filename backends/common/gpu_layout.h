@@ -72,6 +72,10 @@ inline constexpr int kSceneVerticesBinding = 8;  // the scene's vertex buffer re
 inline constexpr int kPointLightsBinding = 9;    // the lighting pass's PointLightRecord list (storage buffer)
 inline constexpr int kLightClustersBinding = 10;  // its per-cluster light lists (gpu::build_light_clusters)
 inline constexpr int kFirstMeshBinding = kMeshletsBinding, kMeshBindingCount = 5;
+// mesh_shader's test-only emulation (shaders/shadow_mesh_task.comp, shadow_mesh_emulation.vert): the task
+// workgroups' entries and their indirect draws (gl_mesh_pass.h, vk_mesh_pass.h).
+inline constexpr int kEmulatedTaskEntriesBinding = 11;
+inline constexpr int kEmulatedTaskDrawsBinding = 12;
 
 // Vertex attributes: location 0 position, 1 normal, 2 colour; interleaved scene::Vertex.
 inline constexpr size_t kVertexStride = sizeof(scene::Vertex);

@@ -94,4 +94,21 @@ MeshletData build_meshlets(const scene::Scene& scene) {
   return out;
 }
 
+std::vector<MeshletRange> update_moving_spheres(const scene::Scene& posed, MeshletData& data) {
+  std::vector<MeshletRange> out;
+  for (size_t o = 0; o < posed.objects.size() && o < data.objects.size(); ++o) {
+    if (!posed.objects[o].moves()) continue;
+    const MeshletRange range{data.objects[o].first_task * kMeshletsPerTask,
+                             data.objects[o].task_count * kMeshletsPerTask};
+    for (uint32_t m = range.first; m < range.first + range.count; ++m) {
+      const Meshlet& meshlet = data.meshlets[m];
+      if (meshlet.triangle_count > 0)
+        data.spheres[m] =
+            enclosing_sphere(posed, &data.vertices[meshlet.vertex_offset], meshlet.vertex_count);
+    }
+    if (range.count > 0) out.push_back(range);
+  }
+  return out;
+}
+
 }  // namespace omnishadow::gpu

@@ -50,4 +50,14 @@ struct MeshletData {
 
 MeshletData build_meshlets(const scene::Scene& scene);
 
+// A range of meshlets, [first, first + count).
+struct MeshletRange {
+  uint32_t first;
+  uint32_t count;
+};
+// The moving casters' meshlet spheres recomputed from the scene's vertices as posed now (the same rule as
+// build_meshlets': the task stage's culling stays conservative at every frame); returns the ranges rewritten,
+// one per moving object, for the backends to upload.
+std::vector<MeshletRange> update_moving_spheres(const scene::Scene& posed, MeshletData& data);
+
 }  // namespace omnishadow::gpu

@@ -78,7 +78,14 @@ std::vector<std::string> shadow_mesh_defines(const CaseConfig& c) {
   std::vector<std::string> d{std::string(t.vertex_define)};
   if (c.optimizations.face_culling) d.push_back("FACE_CULLING");
   if (depth_only(c.storage)) d.push_back("DEPTH_ONLY");
+  if (c.light_grouping == LightGrouping::all_lights) d.push_back("ALL_LIGHTS");
+  if (c.emulate_mesh_shader) d.push_back("EMULATE_MESH_SHADER");  // and the fragment stage's input with it
   return d;
+}
+
+MeshStageFiles shadow_mesh_files(const CaseConfig& c) {
+  if (c.emulate_mesh_shader) return {"shadow_mesh_task.comp", "shadow_mesh_emulation.vert"};
+  return {"shadow_mesh.task", "shadow_mesh.mesh"};
 }
 
 std::vector<std::string> shadow_fragment_defines(const CaseConfig& c) {
@@ -151,8 +158,9 @@ std::vector<Optimizations> culling_sets() {
 
 void insert_shadow_keys(std::set<std::string>& keys, const CaseConfig& c) {
   if (traits(c.technique).stages == ShadowStages::task_mesh) {
-    keys.insert(variant_key("shadow_mesh.task", shadow_mesh_defines(c)));
-    keys.insert(variant_key("shadow_mesh.mesh", shadow_mesh_defines(c)));
+    const MeshStageFiles files = shadow_mesh_files(c);
+    keys.insert(variant_key(files.task, shadow_mesh_defines(c)));
+    keys.insert(variant_key(files.mesh, shadow_mesh_defines(c)));
   } else {
     keys.insert(variant_key("shadow_depth.vert", shadow_vertex_defines(c)));
   }
@@ -174,16 +182,22 @@ std::vector<std::string> spirv_variant_keys() {
         c.technique = t.technique;
         c.storage = storage;
         c.optimizations = culling;
-        insert_shadow_keys(keys, c);
-        c.light_grouping = LightGrouping::all_lights;  // every light in one pass, where it is built
-        for (Filter f : all_values<Filter>()) {        // with a filter that reads the storage
-          c.filter = f;
-          if (!common_support(c).ok) continue;
+        // mesh_shader twice: native, and its test-only emulation (a compute and a vertex shader)
+        for (bool emulated : {false, true}) {
+          if (emulated && t.technique != Technique::mesh_shader) continue;
+          c.emulate_mesh_shader = emulated;
           insert_shadow_keys(keys, c);
-          break;
+          c.light_grouping = LightGrouping::all_lights;  // every light in one pass, where it is built
+          for (Filter f : all_values<Filter>()) {        // with a filter that reads the storage
+            c.filter = f;
+            if (!common_support(c).ok) continue;
+            insert_shadow_keys(keys, c);
+            break;
+          }
+          c.filter = Filter::hard;
+          c.light_grouping = LightGrouping::per_light;
         }
-        c.filter = Filter::hard;
-        c.light_grouping = LightGrouping::per_light;
+        c.emulate_mesh_shader = false;
         c.emulate_nv_swizzle =
             t.technique == Technique::nv_swizzle;  // its test-only emulation (an ordinary GS)
         insert_shadow_keys(keys, c);

@@ -21,8 +21,15 @@ std::vector<std::string> shadow_geometry_defines(const CaseConfig& c);
 // empty.
 std::string shadow_geometry_file(const CaseConfig& c);
 // mesh_shader's task and mesh stages (shadow_mesh.task, shadow_mesh.mesh): one list for both; empty for the
-// other techniques. FACE_CULLING makes the task stage cull meshlets per face.
+// other techniques. FACE_CULLING makes the task stage cull meshlets per face; ALL_LIGHTS makes it route every
+// light (a task workgroup per meshlet group and light, culled per light and face).
 std::vector<std::string> shadow_mesh_defines(const CaseConfig& c);
+// The files of mesh_shader's two stages: the native task and mesh stages, or their test-only emulation
+// (--emulate-mesh-shader): the task stage as a compute shader, the mesh stage as a vertex shader.
+struct MeshStageFiles {
+  std::string task, mesh;
+};
+MeshStageFiles shadow_mesh_files(const CaseConfig& c);
 // "shadow_depth.geom:TECHNIQUE_GEOMETRY_SHADER,FACE_CULLING": the key a variant is embedded under.
 std::string variant_key(const std::string& file, const std::vector<std::string>& defines);
 std::string storage_define(Storage s);

@@ -46,10 +46,15 @@ ShadowPassDraws shadow_pass_draws(const CaseConfig& config, const cube::ShadowDr
 
 ShadowDraw shadow_draw(const CaseConfig& c) {
   const TechniqueTraits& t = traits(c.technique);
-  if (t.stages == ShadowStages::task_mesh) return ShadowDraw::mesh_tasks;
+  if (t.stages == ShadowStages::task_mesh)
+    return c.emulate_mesh_shader ? ShadowDraw::emulated_mesh_tasks : ShadowDraw::mesh_tasks;
   if (t.feature == TechniqueFeature::viewport_swizzle && !c.emulate_nv_swizzle)
     return ShadowDraw::swizzled_viewports;
   return ShadowDraw::vertex_draws;
+}
+
+uint32_t mesh_lights(const CaseConfig& c) {
+  return c.light_grouping == LightGrouping::all_lights ? uint32_t(c.light_count) : 1u;
 }
 
 bool reversed_depth_test(const CaseConfig& c) {

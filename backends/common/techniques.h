@@ -40,9 +40,11 @@ enum class ShadowStages {
 // the pass and its draw per object), chosen when a case is configured; the pass loop they share knows none of
 // them.
 enum class ShadowDraw {
-  vertex_draws,        // one draw per object from the vertex buffer, instanced as the row says
-  swizzled_viewports,  // vertex draws into six viewports whose NV swizzles route each to its face
-  mesh_tasks,          // task/mesh dispatches over each object's meshlets
+  vertex_draws,         // one draw per object from the vertex buffer, instanced as the row says
+  swizzled_viewports,   // vertex draws into six viewports whose NV swizzles route each to its face
+  mesh_tasks,           // task/mesh dispatches over each object's meshlets
+  emulated_mesh_tasks,  // --emulate-mesh-shader: a compute dispatch of the task stage, then each object's
+                        // task workgroups as indirect draws of the mesh stage's vertex-shader emulation
 };
 
 // How --optimize cull reduces the shadow pass's work for the technique.
@@ -110,6 +112,10 @@ bool reversed_depth_test(const CaseConfig& c);
 // The configured technique's draw step: from its stages and feature (an emulated nv_swizzle draws vertices:
 // its GS applies the swizzles).
 ShadowDraw shadow_draw(const CaseConfig& c);
+// mesh_shader's lights per draw: its task workgroups are one per task group and light
+// (shaders/mesh_common.glsl), so every light in one pass multiplies an object's workgroups by the case's
+// lights; 1 per light.
+uint32_t mesh_lights(const CaseConfig& c);
 
 // One object draw of the shadow pass. face_mask != 0: the draw's uniforms carry that mask (per_object_masks),
 // and `instances` is its popcount.

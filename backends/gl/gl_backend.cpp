@@ -199,7 +199,6 @@ Support GlBackend::supports(const CaseConfig& c) const {
   if (feature == TechniqueFeature::layer_from_vertex && !has_layer_array_)
     return {false, "GL_ARB_shader_viewport_layer_array is not exposed by " + info_.renderer};
   if (Support s = common_support(c); !s.ok) return s;
-  if (Support s = scene_support(c); !s.ok) return s;
   if (feature == TechniqueFeature::multiview && !has_multiview_)
     return {false, "GL_OVR_multiview2 with 6 views is not exposed by " + info_.renderer};
   if (feature == TechniqueFeature::viewport_swizzle && !missing_swizzle_.empty() && !c.emulate_nv_swizzle)
@@ -209,8 +208,10 @@ Support GlBackend::supports(const CaseConfig& c) const {
                        " context links no passthrough geometry shader (GL_NV_viewport_swizzle's "
                        "nv_swizzle needs one; --gl-profile auto tries a compatibility context): " +
                        passthrough_refusal_};
-  if (feature == TechniqueFeature::mesh_shader && !has_mesh_shader_)
+  if (feature == TechniqueFeature::mesh_shader && !c.emulate_mesh_shader && !has_mesh_shader_)
     return {false, "GL_NV_mesh_shader is not exposed by " + info_.renderer};
+  if (feature == TechniqueFeature::mesh_shader && c.emulate_mesh_shader)
+    if (std::string why = mesh_emulation_refusal(); !why.empty()) return {false, why};
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
@@ -243,6 +244,21 @@ Support GlBackend::supports(const CaseConfig& c) const {
     return {false, std::string(to_string(c.layout)) + " layers of " + std::to_string(layer) +
                        " texels for cube " + std::to_string(c.cube_size) + " exceed " +
                        std::to_string(info_.max_cube_size)};
+  return {};
+}
+
+// The emulated mesh stage is a vertex shader that writes gl_Layer and reads six storage buffers: the
+// meshlets, their vertices and triangles, the scene's vertices, the task entries and the light list.
+std::string GlBackend::mesh_emulation_refusal() const {
+  if (!has_layer_array_)
+    return "mesh_shader's emulation writes gl_Layer from the vertex stage: "
+           "GL_ARB_shader_viewport_layer_array "
+           "is not exposed by " +
+           info_.renderer;
+  if (max_vertex_storage_blocks_ < 6)
+    return "mesh_shader's emulation reads 6 storage buffers in the vertex stage: "
+           "GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS is " +
+           std::to_string(max_vertex_storage_blocks_) + " on " + info_.renderer;
   return {};
 }
 
@@ -305,6 +321,7 @@ void GlBackend::upload_moving_objects() {
       glNamedBufferSubData(vertex_buffer_, GLintptr(o.first_vertex) * GLintptr(sizeof(scene::Vertex)),
                            GLsizeiptr(o.vertex_count) * GLsizeiptr(sizeof(scene::Vertex)),
                            &scene_->vertices[o.first_vertex]);
+  if (mesh_pass_) mesh_pass_->update_spheres(*scene_);
 }
 
 GLuint GlBackend::program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {
@@ -345,7 +362,12 @@ void GlBackend::configure_case(const CaseConfig& c) {
   if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_) {
     if (!meshlets_) throw std::logic_error("mesh_shader configured on a device without mesh shading");
     mesh_pass_ = std::make_unique<GlMeshPass>(*meshlets_, vertex_buffer_);  // once per scene: outlives cases
+    mesh_pass_->update_spheres(*scene_);  // the moving casters where the scene is posed now
   }
+  mesh_task_program_ = 0;
+  if (shadow_draw(c) == ShadowDraw::emulated_mesh_tasks)
+    mesh_task_program_ =
+        program({{GL_COMPUTE_SHADER, gpu::shadow_mesh_files(c).task}}, gpu::shadow_mesh_defines(c));
   shadow_draw_ = shadow_draw_step(c);
   for (gpu::LightingVariant v : {gpu::LightingVariant::timed, gpu::LightingVariant::check}) {
     std::vector<std::string> defines = gpu::lighting_defines(c, v);
@@ -455,11 +477,21 @@ GlBackend::ShadowDrawStep GlBackend::shadow_draw_step(const CaseConfig& c) {
       break;
     case ShadowDraw::swizzled_viewports:  // viewports 0-5 the cube's size, each with its face's swizzle
       return {[this](bool before) { set_face_swizzles(before); }, draw_vertices};
-    case ShadowDraw::mesh_tasks:  // each object's meshlets (gl_mesh_pass.h)
+    case ShadowDraw::mesh_tasks:  // each object's meshlets (gl_mesh_pass.h), for one light or all of them
       return {[this](bool before) {
                 if (before) mesh_pass_->bind();
               },
-              [this](const ObjectDraw& d, const scene::Object&) { mesh_pass_->draw(d); }};
+              [this, lights = mesh_lights(c)](const ObjectDraw& d, const scene::Object&) {
+                mesh_pass_->draw(d, lights);
+              }};
+    case ShadowDraw::emulated_mesh_tasks:  // the same workgroups, emulated (emulate_mesh_tasks dispatched
+                                           // them)
+      return {[this](bool before) {
+                if (before) mesh_pass_->bind();
+              },
+              [this, lights = mesh_lights(c)](const ObjectDraw& d, const scene::Object&) {
+                mesh_pass_->draw_emulated(d, lights);
+              }};
   }
   return {[](bool) {}, draw_vertices};
 }
@@ -526,9 +558,16 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::LightFrames& frame) {
 // Every light in one pass: one clear of every light's layers, each object drawn once with an instance per
 // light and face, the lights' view-projections from the light list (the frame was marked by
 // gpu::LightFramePlanner::group_reuse: every light rendered, or none).
+void GlBackend::emulate_mesh_tasks() {
+  if (!mesh_task_program_) return;
+  mesh_pass_->emulate_tasks(mesh_task_program_, mesh_lights(*config_));
+  glUseProgram(shadow_program_);
+}
+
 void GlBackend::all_lights_shadow_pass(const gpu::LightFrames& frame, DrawStats& stats) {
   if (frame.lights[0].skipped()) return;
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPointLightsBinding, lights_ssbo_);
+  emulate_mesh_tasks();
   begin_shadow_target(shadow_.all_lights_fbo, frame.lights[0].uniforms.light_position.w);
   bind_pass_uniforms(0);
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.lights[0].plan, scene_->objects.size());
@@ -538,6 +577,7 @@ void GlBackend::all_lights_shadow_pass(const gpu::LightFrames& frame, DrawStats&
 void GlBackend::light_shadow_pass(int light, const gpu::ShadowFrame& frame, DrawStats& stats) {
   if (shadow_.atlas) return atlas_light_pass(light, frame, stats);
   bind_frame_uniforms(light);
+  emulate_mesh_tasks();
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());
   for (int p = 0; p < passes.count; ++p) {
     if (passes.count == cube::kFaceCount && !frame.face_pass(p)) continue;  // view culling: no pass

@@ -41,6 +41,7 @@ class GlBackend final : public Backend {
   void create_shared_objects();
   Support all_lights_support(const CaseConfig& c) const;  // LightGrouping::all_lights's limits
   bool has_mesh_shading() const override { return has_mesh_shader_; }
+  bool emulates_mesh_shading() const override { return mesh_emulation_refusal().empty(); }
   void upload_scene(const scene::Scene& scene) override;
   void upload_moving_objects() override;
   void configure_case(const CaseConfig& config) override;
@@ -88,6 +89,10 @@ class GlBackend final : public Backend {
     DrawObject draw;
   };
   ShadowDrawStep shadow_draw_step(const CaseConfig& c);
+  // Why this context cannot run mesh_shader's emulation (empty: it can).
+  std::string mesh_emulation_refusal() const;
+  // The emulated task stage's dispatch before a pass's draws (mesh_shader emulated; else nothing).
+  void emulate_mesh_tasks();
   // nv_swizzle: viewports 0-5 take face f's swizzle (viewport_swizzle.h), or all go back to the identity.
   void set_face_swizzles(bool on);
   void release_case();
@@ -135,6 +140,7 @@ class GlBackend final : public Backend {
   MapTargets maps_{};
   GLuint map_program_ = 0;
   GLuint shadow_program_ = 0;
+  GLuint mesh_task_program_ = 0;               // --emulate-mesh-shader: the task stage as a compute shader
   std::array<GLuint, 2> lighting_programs_{};  // by gpu::LightingVariant
   GLuint floor_program_ = 0;                   // lighting.vert + floor.frag
   GLuint summary_program_ = 0;                 // cube_summary.comp

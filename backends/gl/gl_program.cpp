@@ -125,7 +125,9 @@ ProgramSource shadow_program_source(const CaseConfig& c, int subpixel_bits) {
                   gpu::raster_perturb_ndc(c, subpixel_bits));
     out.defines.push_back(perturb);
   }
-  if (mesh) {
+  if (mesh && c.emulate_mesh_shader) {  // the task stage's compute program is the backend's own
+    out.stages = {{GL_VERTEX_SHADER, gpu::shadow_mesh_files(c).mesh}};
+  } else if (mesh) {
     out.stages = {{GL_TASK_SHADER_NV, "shadow_mesh.task"}, {GL_MESH_SHADER_NV, "shadow_mesh.mesh"}};
   } else {
     out.stages = {{GL_VERTEX_SHADER, "shadow_depth.vert"}};

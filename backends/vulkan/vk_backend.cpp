@@ -319,13 +319,30 @@ Support VkBackend::atlas_support(const CaseConfig& c) const {
   return {};
 }
 
+// mesh_shader's set gives every one of its stages 8 storage buffers: the meshlets (4), the light list and the
+// emulation's two (vk_mesh_pass.h).
+constexpr uint32_t kMeshStorageBuffers = 8;
+
+// The emulated mesh stage is a vertex shader that writes gl_Layer (vs_layer's feature).
+std::string VkBackend::mesh_emulation_refusal() const {
+  if (!ctx_->has_layer_output())
+    return "mesh_shader's emulation writes gl_Layer from the vertex stage: shaderOutputLayer (Vulkan 1.2) is "
+           "not supported by " +
+           info_.renderer;
+  if (ctx_->properties().limits.maxPerStageDescriptorStorageBuffers < kMeshStorageBuffers)
+    return "mesh_shader's emulation gives its stages " + std::to_string(kMeshStorageBuffers) +
+           " storage buffers: maxPerStageDescriptorStorageBuffers " +
+           std::to_string(ctx_->properties().limits.maxPerStageDescriptorStorageBuffers) + " on " +
+           info_.renderer;
+  return {};
+}
+
 Support VkBackend::supports(const CaseConfig& c) const {
   if (traits(c.layout).geometry.clips_to_hemisphere && !ctx_->has_clip_distance())
     return {false, std::string(to_string(c.layout)) +
                        " clips each layer's other hemisphere: shaderClipDistance is not supported by " +
                        std::string(ctx_->properties().deviceName)};
   if (Support s = common_support(c); !s.ok) return s;
-  if (Support s = scene_support(c); !s.ok) return s;
   const std::string device = info_.renderer;
   switch (traits(c.technique).feature) {
     case TechniqueFeature::geometry_shader:
@@ -345,8 +362,16 @@ Support VkBackend::supports(const CaseConfig& c) const {
         return {false, ctx_->missing_for_swizzle() + " not supported by " + device};
       break;
     case TechniqueFeature::mesh_shader:
-      if (!ctx_->has_mesh_shader())
+      if (c.emulate_mesh_shader) {
+        if (std::string why = mesh_emulation_refusal(); !why.empty()) return {false, why};
+      } else if (!ctx_->has_mesh_shader()) {
         return {false, "VK_EXT_mesh_shader (taskShader, meshShader) not supported by " + device};
+      } else if (ctx_->properties().limits.maxPerStageDescriptorStorageBuffers < kMeshStorageBuffers) {
+        return {false, "mesh_shader's stages see " + std::to_string(kMeshStorageBuffers) +
+                           " storage buffers: maxPerStageDescriptorStorageBuffers " +
+                           std::to_string(ctx_->properties().limits.maxPerStageDescriptorStorageBuffers) +
+                           " on " + device};
+      }
       break;
     case TechniqueFeature::none:
       break;
@@ -420,6 +445,7 @@ void VkBackend::upload_moving_objects() {
     std::memcpy(staging + r.srcOffset, &scene_->vertices[size_t(r.dstOffset / sizeof(scene::Vertex))],
                 size_t(r.size));
   moving_pending_ = !moving_regions_.empty();
+  if (mesh_pass_) mesh_pass_->update_spheres(*scene_);  // host-visible: the submission makes them visible
 }
 
 void VkBackend::record_moving_copy(VkCommandBuffer cb) {
@@ -429,9 +455,11 @@ void VkBackend::record_moving_copy(VkCommandBuffer cb) {
   VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   barrier.dstAccessMask = VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_SHADER_READ_BIT;
-  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, 1,
-                       &barrier, 0, nullptr, 0, nullptr);
+  // mesh_shader's mesh stage reads the positions as a storage buffer (shaders/mesh_common.glsl).
+  const VkPipelineStageFlags readers =
+      VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+      (ctx_->has_mesh_shader() ? VkPipelineStageFlags(VK_PIPELINE_STAGE_MESH_SHADER_BIT_EXT) : 0u);
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, readers, 0, 1, &barrier, 0, nullptr, 0, nullptr);
   moving_pending_ = false;
 }
 
@@ -451,6 +479,8 @@ void VkBackend::release_case() {
   lighting_pipelines_ = {};
   map_pipelines_ = {};
   blur_.reset();
+  if (mesh_task_pipeline_) vkDestroyPipeline(d, mesh_task_pipeline_, nullptr);
+  mesh_task_pipeline_ = VK_NULL_HANDLE;
   destroy(*ctx_, maps_);
   destroy(*ctx_, shadow_);
   destroy(*ctx_, light_clusters_);
@@ -473,8 +503,14 @@ void VkBackend::configure_case(const CaseConfig& c) {
                                std::max(map_layers, 1u), c.depth_format);
     if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_) {
       if (!meshlets_) throw std::logic_error("mesh_shader configured on a device without mesh shading");
-      mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, *meshlets_, vertex_buffer_, frame_uniforms_);
+      mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, *meshlets_, vertex_buffer_, frame_uniforms_,
+                                                point_lights_);
+      mesh_pass_->update_spheres(*scene_);  // the moving casters where the scene is posed now
     }
+    if (shadow_draw(c) == ShadowDraw::emulated_mesh_tasks)
+      mesh_task_pipeline_ = mesh_pass_->create_task_emulation(
+          *modules_, gpu::variant_key(gpu::shadow_mesh_files(c).task, gpu::shadow_mesh_defines(c)),
+          mesh_lights(c));
     shadow_draw_ = shadow_draw_step(c);
     create_pipelines(c);
     if (traits(c.filter).prefilter == Prefilter::separable_blur)
@@ -512,8 +548,11 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
 
   PipelineDesc shadow;
   // SPIR-V keys are "<file>:<defines joined by ','>", the names CMakeLists.txt compiled them under.
-  const bool mesh = shadow_draw(c) == ShadowDraw::mesh_tasks;
-  if (mesh) {
+  const bool mesh = traits(c.technique).stages == ShadowStages::task_mesh;
+  if (mesh && c.emulate_mesh_shader) {  // the task stage's compute pipeline: configure_case's
+    shadow.stages.push_back({VK_SHADER_STAGE_VERTEX_BIT,
+                             gpu::variant_key(gpu::shadow_mesh_files(c).mesh, gpu::shadow_mesh_defines(c))});
+  } else if (mesh) {
     shadow.stages.push_back(
         {VK_SHADER_STAGE_TASK_BIT_EXT, gpu::variant_key("shadow_mesh.task", gpu::shadow_mesh_defines(c))});
     shadow.stages.push_back(
@@ -538,6 +577,8 @@ void VkBackend::create_pipelines(const CaseConfig& c) {
   shadow.render_pass = shadow_.render_pass;
   shadow.color_attachments = traits(c.storage).colour_channels > 0 ? 1 : 0;
   shadow.position_only = true;
+  // mesh_shader's emulated vertex stage reads the meshlets' buffers, no attribute
+  shadow.vertex_input = shadow_draw(c) != ShadowDraw::emulated_mesh_tasks;
   shadow.vertex_constants = map.vertex_constants;
   const gpu::LightingConstants constants = gpu::lighting_constants(c, *scene_);
   for (int cull = 0; cull < 2; ++cull) {
@@ -700,10 +741,20 @@ VkBackend::ShadowDrawStep VkBackend::shadow_draw_step(const CaseConfig& c) {
       break;
     case ShadowDraw::swizzled_viewports:
       return {cube::kFaceCount, vertex_draws};
-    case ShadowDraw::mesh_tasks:  // each object's meshlets (vk_mesh_pass.h)
-      return {1, [this](VkCommandBuffer cb, size_t, const std::vector<ObjectDraw>& list, uint64_t& draws,
-                        bool floor) {
-                if (!floor) mesh_pass_->draw_list(cb, shadow_pipelines_, list, draws, frame_offset_);
+    case ShadowDraw::mesh_tasks:  // each object's meshlets (vk_mesh_pass.h), for one light or all of them
+      return {1,
+              [this, lights = mesh_lights(c)](VkCommandBuffer cb, size_t, const std::vector<ObjectDraw>& list,
+                                              uint64_t& draws, bool floor) {
+                if (!floor)
+                  mesh_pass_->draw_list(cb, shadow_pipelines_, list, draws, frame_offset_, lights, false);
+              }};
+    case ShadowDraw::emulated_mesh_tasks:  // the same workgroups, emulated (record_light_shadow dispatched
+                                           // them)
+      return {1,
+              [this, lights = mesh_lights(c)](VkCommandBuffer cb, size_t, const std::vector<ObjectDraw>& list,
+                                              uint64_t& draws, bool floor) {
+                if (!floor)
+                  mesh_pass_->draw_list(cb, shadow_pipelines_, list, draws, frame_offset_, lights, true);
               }};
   }
   // Layout atlas: a single pass's faces go to viewports 0-5, one per tile (gl_ViewportIndex).
@@ -759,6 +810,8 @@ void VkBackend::record_light_shadow(VkCommandBuffer cb, uint32_t light, const gp
   rp.clearValueCount = colour_first ? 2 : 1;
   rp.pClearValues = colour_first ? clears : clears + 1;
   if (shadow_.atlas) return record_atlas_light(cb, light, frame, rp, draws, floor);
+  if (mesh_task_pipeline_ && !floor)  // the emulated task stage, before the render pass its draws are in
+    mesh_pass_->record_emulated_tasks(cb, mesh_task_pipeline_, frame_offset_, mesh_lights(*config_));
   VkViewport viewport{0, 0, float(shadow_.size), float(shadow_.size), 0.0f, 1.0f};
   VkRect2D scissor{{0, 0}, {shadow_.size, shadow_.size}};
   const ShadowPassDraws passes = shadow_pass_draws(*config_, frame.plan, scene_->objects.size());

@@ -37,6 +37,9 @@ class VkBackend final : public Backend {
 
  private:
   bool has_mesh_shading() const override { return ctx_->has_mesh_shader(); }
+  bool emulates_mesh_shading() const override { return mesh_emulation_refusal().empty(); }
+  // Why this device cannot run mesh_shader's emulation (empty: it can).
+  std::string mesh_emulation_refusal() const;
   void upload_scene(const scene::Scene& scene) override;
   void upload_moving_objects() override;
   void configure_case(const CaseConfig& config) override;
@@ -138,8 +141,9 @@ class VkBackend final : public Backend {
   std::array<VkPipeline, 2> floor_pipelines_{};                    // the lighting floor, [back-face culling]
   std::unique_ptr<MomentsBlur> blur_;  // a moments filter's prefilter, recorded into the shadow pass
   std::unique_ptr<VkMeshPass>
-      mesh_pass_;               // mesh_shader: the scene's meshlets, from its first mesh_shader case
-  ShadowDrawStep shadow_draw_;  // the configured case's
+      mesh_pass_;  // mesh_shader: the scene's meshlets, from its first mesh_shader case
+  VkPipeline mesh_task_pipeline_ = VK_NULL_HANDLE;  // --emulate-mesh-shader: the task stage as compute
+  ShadowDrawStep shadow_draw_;                      // the configured case's
 };
 
 }  // namespace omnishadow::vk

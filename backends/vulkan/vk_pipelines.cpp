@@ -80,9 +80,9 @@ VkPipeline create_pipeline(VkContext& ctx, ShaderModules& modules, const Pipelin
       {2, 0, VK_FORMAT_R32G32B32_SFLOAT, static_cast<uint32_t>(gpu::kColorOffset)}};
   VkPipelineVertexInputStateCreateInfo vertex_input{
       VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vertex_input.vertexBindingDescriptionCount = 1;
+  vertex_input.vertexBindingDescriptionCount = desc.vertex_input ? 1 : 0;
   vertex_input.pVertexBindingDescriptions = &binding;
-  vertex_input.vertexAttributeDescriptionCount = desc.position_only ? 1 : 3;
+  vertex_input.vertexAttributeDescriptionCount = !desc.vertex_input ? 0 : desc.position_only ? 1 : 3;
   vertex_input.pVertexAttributeDescriptions = attributes;
   VkPipelineInputAssemblyStateCreateInfo assembly{
       VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};

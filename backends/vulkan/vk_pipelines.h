@@ -29,6 +29,7 @@ struct PipelineDesc {
   VkRenderPass render_pass = VK_NULL_HANDLE;
   uint32_t color_attachments = 0;
   bool position_only = false;  // the shadow pass reads location 0 only
+  bool vertex_input = true;    // false: the vertex stage pulls what it reads (mesh_shader's emulation)
   VkCullModeFlags cull = VK_CULL_MODE_NONE;
   // The fragment stage's specialisation constants: value k for constant_id k (4 bytes each; a bool is a
   // VkBool32).

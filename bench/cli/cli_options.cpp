@@ -585,6 +585,11 @@ static void add_experiment_options(CLI::App& r, RunCommand& run) {
              "tests only: nv_swizzle without its NV extensions (an ordinary GS applies each face's swizzle): "
              "proves its "
              "vertex stage, viewport mask, culling and reversed depth on any device; ids end in /emulated");
+  r.add_flag(
+      "--emulate-mesh-shader", run.matrix.emulate_mesh_shader,
+      "tests only: mesh_shader without mesh shading (its task stage as a compute shader, its mesh stage "
+      "as a vertex shader writing gl_Layer): proves its meshlets, routing, culling and layers on any "
+      "device with vs_layer's feature; ids end in /emulated");
   r.add_option(
        "--lookup-perturb", run.matrix.lookup_perturb_texels,
        "tests of the checks only: move every cube lookup of the lighting pass by TEXELS along each of the "

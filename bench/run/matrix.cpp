@@ -156,6 +156,7 @@ std::vector<CaseConfig> expand(const MatrixSpec& spec, const std::map<std::strin
       base.raster_perturb_steps = spec.raster_perturb_steps;
       base.lookup_perturb_texels = spec.lookup_perturb_texels;
       base.emulate_nv_swizzle = spec.emulate_nv_swizzle;
+      base.emulate_mesh_shader = spec.emulate_mesh_shader;
       std::vector<CaseConfig> more = scene_cases(spec, base, facts->second);
       cases.insert(cases.end(), more.begin(), more.end());
     }

@@ -58,6 +58,7 @@ struct MatrixSpec {
   float raster_perturb_steps = 0.0f;   // --raster-perturb 1 (test only: CaseConfig::raster_perturb_steps)
   float lookup_perturb_texels = 0.0f;  // --lookup-perturb 0.05 (test only: CaseConfig::lookup_perturb_texels)
   bool emulate_nv_swizzle = false;     // --emulate-nv-swizzle (test only: CaseConfig::emulate_nv_swizzle)
+  bool emulate_mesh_shader = false;    // --emulate-mesh-shader (test only: CaseConfig::emulate_mesh_shader)
   // --technique not given: techniques a backend cannot do at all are left out of its cases (said once on
   // stderr) rather than reported unsupported case by case; a technique asked for by name is always reported.
   bool techniques_given = false;

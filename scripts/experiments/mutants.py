@@ -81,6 +81,11 @@ CUBES = ["--scene", "hall", "--light-count", "4", "--layout", "cube", "--filter"
 # the hall, in a cube array and in an atlas (faces routed by viewport).
 SWIZZLE_RANGE = ["--scene", "hall", "--light-count", "4", "--layout", "cube_array,atlas", "--technique",
                  "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "r32f_distance", "--filter", "hard"]
+# mesh_shader through its test-only emulation (Mesa lacks mesh shading) on four of the hall's lamps at a frame where
+# the casters have moved: per light, culled, and every light in one pass.
+MESH = ["--scene", "hall", "--light-count", "4", "--check-frame", "12", "--layout", "cube_array", "--technique",
+        "six_pass,mesh_shader", "--emulate-mesh-shader", "--light-grouping", "per_light,all_lights",
+        "--optimize", "none,cull", "--filter", "hard"]
 # nv_swizzle through its test-only emulation (an ordinary GS applies the swizzles): Mesa lacks the NV extensions.
 SWIZZLE = ["--technique", "six_pass,nv_swizzle", "--emulate-nv-swizzle", "--storage", "linear_depth,r32f_distance",
            "--optimize", "none,cull", "--filter", "hard"]
@@ -257,6 +262,17 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("moving_casters_never_uploaded", "backends/registry.cpp",
      replace("  scene_->pose(frame);\n  upload_moving_objects();", "  scene_->pose(frame);"),
      "the posed moving casters never reach the device: both APIs draw them where the file put them", MOVING),
+    ("mesh_spheres_at_rest", "backends/common/meshlets.cpp",
+     replace("    if (!posed.objects[o].moves()) continue;", "    continue;"),
+     "mesh_shader culls by the moving casters' meshlet spheres where load() built them, not where they are now",
+     MESH),
+    ("mesh_one_pass_layers_of_first_light", "shaders/mesh_common.glsl",
+     replace("int meshlet_layer(uint light, int face) { return 6 * int(light) + face; }",
+             "int meshlet_layer(uint light, int face) { return face; }"),
+     "mesh_shader's one pass renders each light's faces into the first light's layers", MESH),
+    ("mesh_task_culls_by_first_light", "shaders/mesh_common.glsl",
+     replace("  return point_lights[light].position_far.xyz;", "  return point_lights[0].position_far.xyz;"),
+     "mesh_shader's one pass culls every light's meshlets against the first light's frustums", MESH),
     ("dirty_rule_ignores_moving_casters", "backends/common/shadow_plan.cpp",
      replace("    if (!o.moves() || o.offset_at(then) == o.offset_at(now)) continue;", "    continue;"),
      "the dirty rule never sees a moving caster: a static cache keeps faces a roller or cart moved through", MOVING),
