@@ -242,9 +242,15 @@ bool RayCaster::blocked(const glm::vec3& from, const glm::vec3& to, float end_ep
 }
 
 Hit RayCaster::closest(const glm::vec3& origin_f, const glm::vec3& direction, double max_distance) const {
+  return closest_kept(origin_f, direction, max_distance, {});
+}
+
+Hit RayCaster::closest_kept(const glm::vec3& origin_f, const glm::vec3& direction, double max_distance,
+                            const std::function<bool(uint32_t triangle)>& keep) const {
   const glm::dvec3 origin(origin_f), dir(direction);
   Hit best;
   traverse(origin, dir, max_distance, [&](uint32_t t, double limit) {
+    if (keep && !keep(t)) return limit;
     const Triangle& tri = triangles_[t];
     double u = 0, v = 0;
     double d = intersect(origin, dir, tri.a, tri.e1, tri.e2, &u, &v);

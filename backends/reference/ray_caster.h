@@ -6,6 +6,7 @@
 // triangles) to a few seconds.
 
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <vector>
 
@@ -38,6 +39,11 @@ class RayCaster {
   // The nearest hit along `direction` (unit) within (0, max_distance); of hits at one distance (an edge or
   // vertex that triangles share), the lowest triangle index, whatever order the hierarchy visits them in.
   Hit closest(const glm::vec3& origin, const glm::vec3& direction, double max_distance) const;
+  // The same among the triangles `keep` accepts; the others let the ray through (a culled face). One search,
+  // not a walk from hit to hit: a kept face at the distance of a dropped one (the two faces of a box's edge)
+  // is still found.
+  Hit closest_kept(const glm::vec3& origin, const glm::vec3& direction, double max_distance,
+                   const std::function<bool(uint32_t triangle)>& keep) const;
 
   // Shading data of a hit: the interpolated vertex normal (unit, the scene's lit side) and the albedo.
   glm::vec3 normal_at(const Hit& hit) const;

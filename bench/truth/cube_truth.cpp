@@ -23,24 +23,27 @@ std::vector<uint8_t> culled_triangles(const scene::Scene& scene, CulledFaces clo
   return culled;
 }
 
+reference::Hit first_kept(const reference::RayCaster& caster, const scene::Scene& scene,
+                          const std::vector<uint8_t>& culled, const glm::vec3& origin, const glm::vec3& unit,
+                          double length) {
+  // One search among the kept triangles: stepping past a culled hit would skip a kept face at the same
+  // distance (a box's silhouette edge, where its culled side meets its lit side: a lamp's ray along a
+  // pillar's corner read "nothing" where the rasteriser drew the pillar).
+  return caster.closest_kept(origin, unit, length, [&](uint32_t tri) {
+    if (culled[tri] == uint8_t(CulledFaces::none)) return true;
+    const glm::vec3 a = scene.vertices[3 * size_t(tri)].position,
+                    b = scene.vertices[3 * size_t(tri) + 1].position,
+                    c = scene.vertices[3 * size_t(tri) + 2].position;
+    const bool front = glm::dot(glm::cross(b - a, c - a), unit) < 0.0f;  // counter-clockwise towards the ray
+    return front != (culled[tri] == uint8_t(CulledFaces::front));
+  });
+}
+
 double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& scene,
                       const std::vector<uint8_t>& culled, glm::vec3 origin, const glm::vec3& unit,
                       double length) {
-  double travelled = 0.0;
-  for (int guard = 0; guard < 64; ++guard) {
-    reference::Hit hit = caster.closest(origin, unit, length - travelled);
-    if (!hit.hit) return -1.0;
-    const size_t tri = hit.triangle;
-    if (culled[tri] == uint8_t(CulledFaces::none)) return travelled + hit.distance;
-    const glm::vec3 a = scene.vertices[3 * tri].position, b = scene.vertices[3 * tri + 1].position,
-                    c = scene.vertices[3 * tri + 2].position;
-    const bool front = glm::dot(glm::cross(b - a, c - a), unit) < 0.0f;  // counter-clockwise towards the ray
-    if (front != (culled[tri] == uint8_t(CulledFaces::front))) return travelled + hit.distance;  // kept
-    const double step = hit.distance + 1e-4;  // past the culled face
-    travelled += step;
-    origin += unit * float(step);
-  }
-  return -1.0;
+  const reference::Hit hit = first_kept(caster, scene, culled, origin, unit, length);
+  return hit.hit ? hit.distance : -1.0;
 }
 
 CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Scene& scene,
@@ -53,20 +56,39 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
   t.size = cube_size;
   t.stride = cube_sample_stride(cube_size);
   t.far_plane = far_plane;
-  t.cast = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size,
-            ray_at = geometry.point_ray](int face, double s, double tt) {
+  // The first kept surface along layer `face`'s ray through (s, t), and where the ray starts.
+  auto layer_hit = [caster = &caster, scene = &scene, culled, light, near_plane, far_plane, cube_size,
+                    ray_at = geometry.point_ray](int face, double s, double tt) {
     const std::optional<LayerRay> ray = ray_at(face, s, tt, cube_size);
-    if (!ray) return -1.0;
+    if (!ray) return std::pair{-1.0, reference::Hit{}};
     // The layer clips at near and far (axis distances for a perspective face, radial for a paraboloid). A
     // surface lying exactly on the near plane is kept by the rasteriser (the room's cube face at x = -1 with
     // the light at the origin and near 1), so the ray starts a hair before it.
     const glm::vec3 unit(ray->unit);
     const double start = double(near_plane) * ray->depth_to_distance * (1.0 - 1e-5),
                  end = double(far_plane) * ray->depth_to_distance;
-    const double hit =
-        first_kept_hit(*caster, *scene, *culled, light + unit * float(start), unit, end - start);
-    return hit >= 0.0 ? start + hit : -1.0;
+    return std::pair{start,
+                     first_kept(*caster, *scene, *culled, light + unit * float(start), unit, end - start)};
   };
+  t.cast = [layer_hit](int face, double s, double tt) {
+    const auto [start, hit] = layer_hit(face, s, tt);
+    return hit.hit ? start + hit.distance : -1.0;
+  };
+  if (geometry.map != TexelMap::paraboloid)
+    t.plane_at = [layer_hit, scene = &scene, light, cube_size, ray_at = geometry.point_ray](
+                     int face, double s, double tt, double cs, double ct) {
+      const reference::Hit hit = layer_hit(face, s, tt).second;
+      const std::optional<LayerRay> centre = ray_at(face, cs, ct, cube_size);
+      if (!hit.hit || !centre) return -1.0;
+      const glm::dvec3 a(scene->vertices[3 * size_t(hit.triangle)].position),
+          b(scene->vertices[3 * size_t(hit.triangle) + 1].position),
+          c(scene->vertices[3 * size_t(hit.triangle) + 2].position);
+      const glm::dvec3 normal = glm::cross(b - a, c - a);
+      const double towards = glm::dot(centre->unit, normal);
+      if (std::fabs(towards) <= 1e-9 * glm::length(normal)) return -1.0;  // the ray runs along the plane
+      const double d = glm::dot(a - glm::dvec3(light), normal) / towards;
+      return d > 0.0 ? d : -1.0;
+    };
   const int n = cube_size / t.stride;
   auto face_truth = [&](int face) {
     std::vector<float> out(size_t(n) * size_t(n), -1.0f);
@@ -119,6 +141,22 @@ static bool stored_surface(Storage storage, double got, double far_plane) {
       break;
   }
   return got != far_plane;
+}
+
+// What the storage reports for a point (cs, ct) of the reach square around the centre (s, t): its distance
+// for the storages that compute one per fragment; hardware_depth stores the point's axis depth and the
+// read-back scales it by the centre's direction (cube::projective_depth_to_distance), so the same scaling
+// (`scale`: the centre's depth-to-distance over the point's) applies here. Also the point's surface extended
+// along the centre's own ray (its plane there): every storage reads that back unscaled.
+static TexelSample reach_sample(const CubeTruth& truth, Storage storage, double far_plane, int f, double cs,
+                                double ct, double s, double t, double scale) {
+  const bool clamps_at_far = traits(storage).checked == DistanceEncoding::linear_depth;
+  double d = truth.cast(f, cs, ct);
+  if (clamps_at_far && d >= far_plane) d = -1.0;
+  if (d >= 0.0 && traits(storage).checked == DistanceEncoding::projective_depth) d *= scale;
+  double plane = d >= 0.0 && truth.plane_at ? truth.plane_at(f, cs, ct, s, t) : -1.0;
+  if (clamps_at_far && plane >= far_plane) plane = -1.0;
+  return TexelSample{d >= 0.0, d, plane};
 }
 
 CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
@@ -174,15 +212,9 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
           if (want >= far_plane && !(got_surface && agree(got, want))) want = -1.0;
         }
         if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
-        // What the storage reports for a point of the reach square: its distance for the storages that
-        // compute one per fragment; hardware_depth stores the point's axis depth and the read-back scales it
-        // by the centre's direction (cube::projective_depth_to_distance), so the same scaling applies here.
         auto cast = [&](double cs, double ct) {
-          double d = truth.cast(f, cs, ct);
-          if (clamps_at_far && d >= far_plane) d = -1.0;
-          if (d >= 0.0 && traits(storage).checked == DistanceEncoding::projective_depth)
-            d *= len / depth_to_distance(f, cs, ct);
-          return TexelSample{d >= 0.0, d};
+          return reach_sample(truth, storage, far_plane, f, cs, ct, s + 0.5, t + 0.5,
+                              len / depth_to_distance(f, cs, ct));
         };
         const TexelVerdict v = judge_texel({got_surface, got}, {want >= 0.0, want}, agree, [&] {
           return reach_corners(s + 0.5, t + 0.5, r.reach_texels, cast);

@@ -31,7 +31,11 @@ enum class CulledFaces : uint8_t { none, back, front };
 // Per triangle (scene order, as the ray caster holds them): what the pass culls of it.
 std::vector<uint8_t> culled_triangles(const scene::Scene& scene, CulledFaces closed_objects);
 // The first surface the rasteriser keeps along `unit` from `origin` within `length` (counter-clockwise is
-// front, as in both APIs here): culled faces are passed through. -1 when none.
+// front, as in both APIs here): culled faces are passed through. -1 when none; first_kept's hit names the
+// triangle.
+reference::Hit first_kept(const reference::RayCaster& caster, const scene::Scene& scene,
+                          const std::vector<uint8_t>& culled, const glm::vec3& origin, const glm::vec3& unit,
+                          double length);
 double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& scene,
                       const std::vector<uint8_t>& culled, glm::vec3 origin, const glm::vec3& unit,
                       double length);
@@ -51,6 +55,12 @@ struct CubeTruth {
   // 0.5), -1 where nothing is met: the checks cast off-centre rays through it. Holds the caster and scene by
   // pointer: a truth lives no longer than the harness's caches of both.
   std::function<double(int face, double s, double t)> cast;
+  // Where the plane of the surface the ray through (s, t) meets crosses the ray through (cs, ct): the
+  // distance a fragment at (cs, ct) interpolates when its triangle's coverage reached it from (s, t), outside
+  // the triangle by a sub-texel step (attributes extrapolate the triangle's plane). -1 where (s, t) meets
+  // nothing, the ray misses the plane, or the layer is no perspective projection (a paraboloid's triangles
+  // are not planes in its warp).
+  std::function<double(int face, double s, double t, double cs, double ct)> plane_at;
 };
 // Closed objects (Object::cull_back_faces) are drawn with back faces culled unless `two_sided`, so a ray that
 // meets one of their back faces (a caster cut by the near plane) goes on, as the rasteriser's does. Every

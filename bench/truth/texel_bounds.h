@@ -44,6 +44,9 @@ inline double raster_reach_texels(int subpixel_bits) {
 struct TexelSample {
   bool surface = false;
   double value = 0.0;
+  // A corner's surface extended to the centre's ray (its plane there; -1: none): what a fragment at the
+  // centre interpolates when the triangle's coverage reaches the centre from this corner's side.
+  double centre_plane = -1.0;
 };
 
 // One wrong texel, for the report: which, what it held, what the centre's ray says, and how far (in texels)
@@ -73,6 +76,7 @@ TexelVerdict judge_texel(const TexelSample& got, const TexelSample& centre, Agre
       continue;
     }
     lo = std::min(lo, c.value), hi = std::max(hi, c.value);
+    if (c.centre_plane >= 0.0) lo = std::min(lo, c.centre_plane), hi = std::max(hi, c.centre_plane);
   }
   if (!got.surface && any_nothing) return TexelVerdict::ok;
   if (got.surface && lo <= hi) {
