@@ -104,5 +104,23 @@ TEST(Meshlets, AReflectedTriangleIsNotTheSameTriangle) {
   EXPECT_NE(canonical(a, b, c), canonical(a, c, b));
 }
 
+// A size the device cannot launch is refused with the limit's name and value, never launched: natively per
+// object (the largest object's task workgroups, times the lights of one pass), emulated for the whole scene.
+TEST(Meshlets, LaunchesBeyondTheDevicesLimitsAreRefusedByName) {
+  MeshletData m;
+  m.meshlets.resize(size_t(5) * kMeshletsPerTask);
+  m.objects = {{0, 2}, {2, 3}};  // task groups 0-1 and 2-4
+  EXPECT_EQ(mesh_launch_refusal(m, 1, false, 3, "L", 5, "D"), "");
+  EXPECT_EQ(
+      mesh_launch_refusal(m, 4, false, 11, "L", 5, "D"),
+      "mesh_shader launches an object's 12 task workgroups (meshlet groups x 4 lights) at once, above L 11");
+  EXPECT_EQ(mesh_launch_refusal(m, 4, false, 12, "L", 5, "D"), "");
+  EXPECT_EQ(mesh_launch_refusal(m, 1, true, 0, "L", 5, "D"), "");
+  EXPECT_EQ(mesh_launch_refusal(m, 2, true, 0, "L", 9, "D"),
+            "mesh_shader's emulation dispatches the scene's 10 task workgroups (meshlet groups x 2 lights) "
+            "at once, "
+            "above D 9");
+}
+
 }  // namespace
 }  // namespace omnishadow::gpu

@@ -94,6 +94,25 @@ MeshletData build_meshlets(const scene::Scene& scene) {
   return out;
 }
 
+std::string mesh_launch_refusal(const MeshletData& data, uint32_t lights, bool emulated,
+                                uint64_t launch_limit, const std::string& launch_name,
+                                uint64_t dispatch_limit, const std::string& dispatch_name) {
+  const std::string per = lights > 1 ? " (meshlet groups x " + std::to_string(lights) + " lights)" : "";
+  if (emulated) {
+    const uint64_t all = uint64_t(data.meshlets.size() / kMeshletsPerTask) * lights;
+    if (all > dispatch_limit)
+      return "mesh_shader's emulation dispatches the scene's " + std::to_string(all) + " task workgroups" +
+             per + " at once, above " + dispatch_name + " " + std::to_string(dispatch_limit);
+    return {};
+  }
+  uint64_t most = 0;
+  for (const ObjectMeshlets& o : data.objects) most = std::max(most, uint64_t(o.task_count) * lights);
+  if (most > launch_limit)
+    return "mesh_shader launches an object's " + std::to_string(most) + " task workgroups" + per +
+           " at once, above " + launch_name + " " + std::to_string(launch_limit);
+  return {};
+}
+
 std::vector<MeshletRange> update_moving_spheres(const scene::Scene& posed, MeshletData& data) {
   std::vector<MeshletRange> out;
   for (size_t o = 0; o < posed.objects.size() && o < data.objects.size(); ++o) {

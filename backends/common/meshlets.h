@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <string>
 #include <vector>
 
 #include "scenes/scene.h"
@@ -49,6 +50,15 @@ struct MeshletData {
 };
 
 MeshletData build_meshlets(const scene::Scene& scene);
+
+// What a device's launch limits refuse of mesh_shader over these meshlets, with `lights` task workgroups per
+// meshlet group (every light in one pass; 1 per light): natively, each object's workgroups in one launch
+// (launch_limit, named launch_name: GL_MAX_DRAW_MESH_TASKS_COUNT_NV, maxTaskWorkGroupCount[0]); emulated,
+// every workgroup of the scene in one compute dispatch (dispatch_limit, dispatch_name). Empty: nothing
+// refused.
+std::string mesh_launch_refusal(const MeshletData& data, uint32_t lights, bool emulated,
+                                uint64_t launch_limit, const std::string& launch_name,
+                                uint64_t dispatch_limit, const std::string& dispatch_name);
 
 // A range of meshlets, [first, first + count).
 struct MeshletRange {

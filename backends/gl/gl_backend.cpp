@@ -129,6 +129,8 @@ GlBackend::GlBackend(const std::string& egl_platform, int device_index, bool api
     if (!epoxy_has_gl_extension(ext))
       missing_swizzle_ += (missing_swizzle_.empty() ? "" : ", ") + std::string(ext);
   has_mesh_shader_ = epoxy_has_gl_extension("GL_NV_mesh_shader");
+  if (has_mesh_shader_) glGetIntegerv(GL_MAX_DRAW_MESH_TASKS_COUNT_NV, &max_mesh_launch_);
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &max_compute_groups_);
   info_.extra["nv_swizzle extensions"] = missing_swizzle_.empty() ? "yes" : "missing " + missing_swizzle_;
   info_.extra["GL_NV_mesh_shader"] = has_mesh_shader_ ? "yes" : "no";
   info_.extra["GL_ARB_shader_viewport_layer_array"] = has_layer_array_ ? "yes" : "no";
@@ -212,6 +214,13 @@ Support GlBackend::supports(const CaseConfig& c) const {
     return {false, "GL_NV_mesh_shader is not exposed by " + info_.renderer};
   if (feature == TechniqueFeature::mesh_shader && c.emulate_mesh_shader)
     if (std::string why = mesh_emulation_refusal(); !why.empty()) return {false, why};
+  if (feature == TechniqueFeature::mesh_shader && meshlets_)
+    if (std::string why =
+            gpu::mesh_launch_refusal(*meshlets_, mesh_lights(c), c.emulate_mesh_shader,
+                                     uint64_t(max_mesh_launch_), "GL_MAX_DRAW_MESH_TASKS_COUNT_NV",
+                                     uint64_t(max_compute_groups_), "GL_MAX_COMPUTE_WORK_GROUP_COUNT[0]");
+        !why.empty())
+      return {false, why};
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};

@@ -117,6 +117,8 @@ class GlBackend final : public Backend {
   GLint max_vertex_storage_blocks_ = 0;
   GLint max_geometry_storage_blocks_ = 0;  // every light in one pass with the geometry shader reads the list
   GLint max_framebuffer_layers_ = 0;
+  GLint max_mesh_launch_ = 0;     // GL_MAX_DRAW_MESH_TASKS_COUNT_NV: task workgroups a draw launches
+  GLint max_compute_groups_ = 0;  // GL_MAX_COMPUTE_WORK_GROUP_COUNT[0]: the emulated task stage's dispatch
 
   GLuint vertex_buffer_ = 0;
   GLuint shadow_vao_ = 0;    // position only

@@ -319,9 +319,28 @@ Support VkBackend::atlas_support(const CaseConfig& c) const {
   return {};
 }
 
-// mesh_shader's set gives every one of its stages 8 storage buffers: the meshlets (4), the light list and the
-// emulation's two (vk_mesh_pass.h).
+// mesh_shader's set gives every one of its stages 8 storage buffers: the meshlets' four, the scene's
+// vertices, the light list and the emulation's two (vk_mesh_pass.h).
 constexpr uint32_t kMeshStorageBuffers = 8;
+
+// mesh_shader natively (VK_EXT_mesh_shader and its set's storage buffers) or emulated, and the scene's task
+// workgroups within one launch (native) or one compute dispatch (emulated).
+std::string VkBackend::mesh_refusal(const CaseConfig& c) const {
+  const uint32_t buffers = ctx_->properties().limits.maxPerStageDescriptorStorageBuffers;
+  if (c.emulate_mesh_shader) {
+    if (std::string why = mesh_emulation_refusal(); !why.empty()) return why;
+  } else if (!ctx_->has_mesh_shader()) {
+    return "VK_EXT_mesh_shader (taskShader, meshShader) not supported by " + info_.renderer;
+  } else if (buffers < kMeshStorageBuffers) {
+    return "mesh_shader's stages see " + std::to_string(kMeshStorageBuffers) +
+           " storage buffers: maxPerStageDescriptorStorageBuffers " + std::to_string(buffers) + " on " +
+           info_.renderer;
+  }
+  if (!meshlets_) return {};
+  return gpu::mesh_launch_refusal(
+      *meshlets_, mesh_lights(c), c.emulate_mesh_shader, ctx_->max_mesh_launch(), "maxTaskWorkGroupCount[0]",
+      ctx_->properties().limits.maxComputeWorkGroupCount[0], "maxComputeWorkGroupCount[0]");
+}
 
 // The emulated mesh stage is a vertex shader that writes gl_Layer (vs_layer's feature).
 std::string VkBackend::mesh_emulation_refusal() const {
@@ -362,16 +381,7 @@ Support VkBackend::supports(const CaseConfig& c) const {
         return {false, ctx_->missing_for_swizzle() + " not supported by " + device};
       break;
     case TechniqueFeature::mesh_shader:
-      if (c.emulate_mesh_shader) {
-        if (std::string why = mesh_emulation_refusal(); !why.empty()) return {false, why};
-      } else if (!ctx_->has_mesh_shader()) {
-        return {false, "VK_EXT_mesh_shader (taskShader, meshShader) not supported by " + device};
-      } else if (ctx_->properties().limits.maxPerStageDescriptorStorageBuffers < kMeshStorageBuffers) {
-        return {false, "mesh_shader's stages see " + std::to_string(kMeshStorageBuffers) +
-                           " storage buffers: maxPerStageDescriptorStorageBuffers " +
-                           std::to_string(ctx_->properties().limits.maxPerStageDescriptorStorageBuffers) +
-                           " on " + device};
-      }
+      if (std::string why = mesh_refusal(c); !why.empty()) return {false, why};
       break;
     case TechniqueFeature::none:
       break;

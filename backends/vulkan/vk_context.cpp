@@ -267,6 +267,11 @@ void VkContext::read_properties() {
     vkGetPhysicalDeviceFeatures2(physical_, &query);
     mesh_shader_ = mesh.taskShader && mesh.meshShader;
     if (mesh_shader_) extensions_.push_back(VK_EXT_MESH_SHADER_EXTENSION_NAME);
+    VkPhysicalDeviceMeshShaderPropertiesEXT limits{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_PROPERTIES_EXT};
+    VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &limits};
+    vkGetPhysicalDeviceProperties2(physical_, &properties);
+    max_mesh_launch_ = std::min(limits.maxTaskWorkGroupCount[0], limits.maxTaskWorkGroupTotalCount);
   }
 }
 

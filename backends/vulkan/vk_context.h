@@ -60,6 +60,9 @@ class VkContext {
   const std::string& missing_for_swizzle() const { return missing_for_swizzle_; }
   // mesh_shader: VK_EXT_mesh_shader with its taskShader and meshShader features (enabled when present).
   bool has_mesh_shader() const { return mesh_shader_; }
+  // The task workgroups one vkCmdDrawMeshTasksEXT(x, 1, 1) launches: maxTaskWorkGroupCount[0] within
+  // maxTaskWorkGroupTotalCount (0 without mesh shading).
+  uint32_t max_mesh_launch() const { return max_mesh_launch_; }
   bool validation() const { return validation_; }
 
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
@@ -111,6 +114,7 @@ class VkContext {
   bool multi_viewport_ = false;
   std::string missing_for_swizzle_;
   bool mesh_shader_ = false;
+  uint32_t max_mesh_launch_ = 0;
   std::vector<const char*> extensions_;  // the device extensions enabled
   bool validation_ = false;
   std::vector<std::string> messages_;
