@@ -260,9 +260,8 @@ Support GlBackend::supports(const CaseConfig& c) const {
 // meshlets, their vertices and triangles, the scene's vertices, the task entries and the light list.
 std::string GlBackend::mesh_emulation_refusal() const {
   if (!has_layer_array_)
-    return "mesh_shader's emulation writes gl_Layer from the vertex stage: "
-           "GL_ARB_shader_viewport_layer_array "
-           "is not exposed by " +
+    return "mesh_shader's emulation writes gl_Layer from the vertex stage: no "
+           "GL_ARB_shader_viewport_layer_array on " +
            info_.renderer;
   if (max_vertex_storage_blocks_ < 6)
     return "mesh_shader's emulation reads 6 storage buffers in the vertex stage: "
@@ -493,8 +492,7 @@ GlBackend::ShadowDrawStep GlBackend::shadow_draw_step(const CaseConfig& c) {
               [this, lights = mesh_lights(c)](const ObjectDraw& d, const scene::Object&) {
                 mesh_pass_->draw(d, lights);
               }};
-    case ShadowDraw::emulated_mesh_tasks:  // the same workgroups, emulated (emulate_mesh_tasks dispatched
-                                           // them)
+    case ShadowDraw::emulated_mesh_tasks:  // the same, emulated (emulate_mesh_tasks dispatched them)
       return {[this](bool before) {
                 if (before) mesh_pass_->bind();
               },
@@ -564,15 +562,17 @@ GlBackend::DrawStats GlBackend::shadow_pass(const gpu::LightFrames& frame) {
   return stats;
 }
 
-// Every light in one pass: one clear of every light's layers, each object drawn once with an instance per
-// light and face, the lights' view-projections from the light list (the frame was marked by
-// gpu::LightFramePlanner::group_reuse: every light rendered, or none).
+// mesh_shader's emulation: the task stage's dispatch for the pass about to draw (its frame uniforms and light
+// list bound), then the shadow program again.
 void GlBackend::emulate_mesh_tasks() {
   if (!mesh_task_program_) return;
   mesh_pass_->emulate_tasks(mesh_task_program_, mesh_lights(*config_));
   glUseProgram(shadow_program_);
 }
 
+// Every light in one pass: one clear of every light's layers, each object drawn once with an instance per
+// light and face, the lights' view-projections from the light list (the frame was marked by
+// gpu::LightFramePlanner::group_reuse: every light rendered, or none).
 void GlBackend::all_lights_shadow_pass(const gpu::LightFrames& frame, DrawStats& stats) {
   if (frame.lights[0].skipped()) return;
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gpu::kPointLightsBinding, lights_ssbo_);
