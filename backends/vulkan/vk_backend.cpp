@@ -758,8 +758,7 @@ VkBackend::ShadowDrawStep VkBackend::shadow_draw_step(const CaseConfig& c) {
                 if (!floor)
                   mesh_pass_->draw_list(cb, shadow_pipelines_, list, draws, frame_offset_, lights, false);
               }};
-    case ShadowDraw::emulated_mesh_tasks:  // the same workgroups, emulated (record_light_shadow dispatched
-                                           // them)
+    case ShadowDraw::emulated_mesh_tasks:  // the same, emulated (record_light_shadow dispatched them)
       return {1,
               [this, lights = mesh_lights(c)](VkCommandBuffer cb, size_t, const std::vector<ObjectDraw>& list,
                                               uint64_t& draws, bool floor) {
