@@ -210,17 +210,8 @@ Support GlBackend::supports(const CaseConfig& c) const {
                        " context links no passthrough geometry shader (GL_NV_viewport_swizzle's "
                        "nv_swizzle needs one; --gl-profile auto tries a compatibility context): " +
                        passthrough_refusal_};
-  if (feature == TechniqueFeature::mesh_shader && !c.emulate_mesh_shader && !has_mesh_shader_)
-    return {false, "GL_NV_mesh_shader is not exposed by " + info_.renderer};
-  if (feature == TechniqueFeature::mesh_shader && c.emulate_mesh_shader)
-    if (std::string why = mesh_emulation_refusal(); !why.empty()) return {false, why};
-  if (feature == TechniqueFeature::mesh_shader && meshlets_)
-    if (std::string why =
-            gpu::mesh_launch_refusal(*meshlets_, mesh_lights(c), c.emulate_mesh_shader,
-                                     uint64_t(max_mesh_launch_), "GL_MAX_DRAW_MESH_TASKS_COUNT_NV",
-                                     uint64_t(max_compute_groups_), "GL_MAX_COMPUTE_WORK_GROUP_COUNT[0]");
-        !why.empty())
-      return {false, why};
+  if (feature == TechniqueFeature::mesh_shader)
+    if (std::string why = mesh_refusal(c); !why.empty()) return {false, why};
   if (c.cube_size < 1 || c.cube_size > info_.max_cube_size)
     return {false, "cube size " + std::to_string(c.cube_size) + " outside 1.." +
                        std::to_string(info_.max_cube_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)"};
@@ -254,6 +245,19 @@ Support GlBackend::supports(const CaseConfig& c) const {
                        " texels for cube " + std::to_string(c.cube_size) + " exceed " +
                        std::to_string(info_.max_cube_size)};
   return {};
+}
+
+// mesh_shader natively (GL_NV_mesh_shader) or emulated, and the scene's task workgroups within one launch
+// (native) or one compute dispatch (emulated).
+std::string GlBackend::mesh_refusal(const CaseConfig& c) const {
+  if (!c.emulate_mesh_shader && !has_mesh_shader_)
+    return "GL_NV_mesh_shader is not exposed by " + info_.renderer;
+  if (c.emulate_mesh_shader)
+    if (std::string why = mesh_emulation_refusal(); !why.empty()) return why;
+  if (!meshlets_) return {};
+  return gpu::mesh_launch_refusal(*meshlets_, mesh_lights(c), c.emulate_mesh_shader,
+                                  uint64_t(max_mesh_launch_), "GL_MAX_DRAW_MESH_TASKS_COUNT_NV",
+                                  uint64_t(max_compute_groups_), "GL_MAX_COMPUTE_WORK_GROUP_COUNT[0]");
 }
 
 // The emulated mesh stage is a vertex shader that writes gl_Layer and reads six storage buffers: the
@@ -329,7 +333,8 @@ void GlBackend::upload_moving_objects() {
       glNamedBufferSubData(vertex_buffer_, GLintptr(o.first_vertex) * GLintptr(sizeof(scene::Vertex)),
                            GLsizeiptr(o.vertex_count) * GLsizeiptr(sizeof(scene::Vertex)),
                            &scene_->vertices[o.first_vertex]);
-  if (mesh_pass_) mesh_pass_->update_spheres(*scene_);
+  if (mesh_pass_ && config_ && traits(config_->technique).stages == ShadowStages::task_mesh)
+    mesh_pass_->update_spheres(*scene_);
 }
 
 GLuint GlBackend::program(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines) {
@@ -367,10 +372,13 @@ void GlBackend::configure_case(const CaseConfig& c) {
                   gpu::raster_perturb_ndc(c, info_.subpixel_bits));
     map_defines.push_back(perturb);
   }
-  if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_) {
+  if (traits(c.technique).stages == ShadowStages::task_mesh) {
     if (!meshlets_) throw std::logic_error("mesh_shader configured on a device without mesh shading");
-    mesh_pass_ = std::make_unique<GlMeshPass>(*meshlets_, vertex_buffer_);  // once per scene: outlives cases
-    mesh_pass_->update_spheres(*scene_);  // the moving casters where the scene is posed now
+    if (!mesh_pass_)
+      mesh_pass_ =
+          std::make_unique<GlMeshPass>(*meshlets_, vertex_buffer_);  // once per scene: outlives cases
+    // The moving casters where the scene is posed now: other techniques' frames posed it without them.
+    mesh_pass_->update_spheres(*scene_);
   }
   mesh_task_program_ = 0;
   if (shadow_draw(c) == ShadowDraw::emulated_mesh_tasks)

@@ -91,6 +91,7 @@ class GlBackend final : public Backend {
   ShadowDrawStep shadow_draw_step(const CaseConfig& c);
   // Why this context cannot run mesh_shader's emulation (empty: it can).
   std::string mesh_emulation_refusal() const;
+  std::string mesh_refusal(const CaseConfig& c) const;  // native or emulated, and the launch limits
   // The emulated task stage's dispatch before a pass's draws (mesh_shader emulated; else nothing).
   void emulate_mesh_tasks();
   // nv_swizzle: viewports 0-5 take face f's swizzle (viewport_swizzle.h), or all go back to the identity.

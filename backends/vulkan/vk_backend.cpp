@@ -326,15 +326,12 @@ constexpr uint32_t kMeshStorageBuffers = 8;
 // mesh_shader natively (VK_EXT_mesh_shader and its set's storage buffers) or emulated, and the scene's task
 // workgroups within one launch (native) or one compute dispatch (emulated).
 std::string VkBackend::mesh_refusal(const CaseConfig& c) const {
-  const uint32_t buffers = ctx_->properties().limits.maxPerStageDescriptorStorageBuffers;
   if (c.emulate_mesh_shader) {
     if (std::string why = mesh_emulation_refusal(); !why.empty()) return why;
   } else if (!ctx_->has_mesh_shader()) {
     return "VK_EXT_mesh_shader (taskShader, meshShader) not supported by " + info_.renderer;
-  } else if (buffers < kMeshStorageBuffers) {
-    return "mesh_shader's stages see " + std::to_string(kMeshStorageBuffers) +
-           " storage buffers: maxPerStageDescriptorStorageBuffers " + std::to_string(buffers) + " on " +
-           info_.renderer;
+  } else if (std::string why = mesh_storage_refusal(); !why.empty()) {
+    return why;
   }
   if (!meshlets_) return {};
   return gpu::mesh_launch_refusal(
@@ -348,12 +345,16 @@ std::string VkBackend::mesh_emulation_refusal() const {
     return "mesh_shader's emulation writes gl_Layer from the vertex stage: shaderOutputLayer (Vulkan 1.2) is "
            "not supported by " +
            info_.renderer;
-  if (ctx_->properties().limits.maxPerStageDescriptorStorageBuffers < kMeshStorageBuffers)
-    return "mesh_shader's emulation gives its stages " + std::to_string(kMeshStorageBuffers) +
-           " storage buffers: maxPerStageDescriptorStorageBuffers " +
-           std::to_string(ctx_->properties().limits.maxPerStageDescriptorStorageBuffers) + " on " +
-           info_.renderer;
-  return {};
+  return mesh_storage_refusal();
+}
+
+// The set both forms bind (vk_mesh_pass.h) within the device's storage buffers per stage.
+std::string VkBackend::mesh_storage_refusal() const {
+  const uint32_t buffers = ctx_->properties().limits.maxPerStageDescriptorStorageBuffers;
+  if (buffers >= kMeshStorageBuffers) return {};
+  return "mesh_shader's stages see " + std::to_string(kMeshStorageBuffers) +
+         " storage buffers: maxPerStageDescriptorStorageBuffers " + std::to_string(buffers) + " on " +
+         info_.renderer;
 }
 
 Support VkBackend::supports(const CaseConfig& c) const {
@@ -455,7 +456,10 @@ void VkBackend::upload_moving_objects() {
     std::memcpy(staging + r.srcOffset, &scene_->vertices[size_t(r.dstOffset / sizeof(scene::Vertex))],
                 size_t(r.size));
   moving_pending_ = !moving_regions_.empty();
-  if (mesh_pass_) mesh_pass_->update_spheres(*scene_);  // host-visible: the submission makes them visible
+  // Only for a mesh_shader case (configure_case brings them up to date for the next one). Host-visible: the
+  // submission makes them visible.
+  if (mesh_pass_ && config_ && traits(config_->technique).stages == ShadowStages::task_mesh)
+    mesh_pass_->update_spheres(*scene_);
 }
 
 void VkBackend::record_moving_copy(VkCommandBuffer cb) {
@@ -511,11 +515,13 @@ void VkBackend::configure_case(const CaseConfig& c) {
     const uint32_t map_layers = static_cast<uint32_t>(scene_->map_lights.size());
     maps_ = create_map_targets(*ctx_, map_layers ? static_cast<uint32_t>(c.cube_size) : 1u,
                                std::max(map_layers, 1u), c.depth_format);
-    if (traits(c.technique).stages == ShadowStages::task_mesh && !mesh_pass_) {
+    if (traits(c.technique).stages == ShadowStages::task_mesh) {
       if (!meshlets_) throw std::logic_error("mesh_shader configured on a device without mesh shading");
-      mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, *meshlets_, vertex_buffer_, frame_uniforms_,
-                                                point_lights_);
-      mesh_pass_->update_spheres(*scene_);  // the moving casters where the scene is posed now
+      if (!mesh_pass_)
+        mesh_pass_ = std::make_unique<VkMeshPass>(*ctx_, *scene_, *meshlets_, vertex_buffer_, frame_uniforms_,
+                                                  point_lights_);
+      // The moving casters where the scene is posed now: other techniques' frames posed it without them.
+      mesh_pass_->update_spheres(*scene_);
     }
     if (shadow_draw(c) == ShadowDraw::emulated_mesh_tasks)
       mesh_task_pipeline_ = mesh_pass_->create_task_emulation(

@@ -41,6 +41,7 @@ class VkBackend final : public Backend {
   // Why this device cannot run mesh_shader's emulation (empty: it can).
   std::string mesh_emulation_refusal() const;
   std::string mesh_refusal(const CaseConfig& c) const;
+  std::string mesh_storage_refusal() const;
   void upload_scene(const scene::Scene& scene) override;
   void upload_moving_objects() override;
   void configure_case(const CaseConfig& config) override;
