@@ -3,6 +3,7 @@
 // so each backend implements it natively and the harness never sees API objects.
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -61,6 +62,22 @@ struct FrameTiming {
   // on the machine disturbs far less than wall time does. Negative when not measured.
   double process_cpu_ms = -1.0;
 };
+
+// A frame's host timestamps as both backends take them (steady clock): [0] before the shadow pass's uniforms,
+// [1] once it is submitted, [2] once it completed, [3] once the lighting pass is submitted, [4] once it
+// completed; with each pass's GPU time (negative where the device has no timer).
+using HostClock = std::chrono::steady_clock;
+inline FrameTiming frame_timing(const std::array<HostClock::time_point, 5>& t, double shadow_gpu_ms,
+                                double lighting_gpu_ms) {
+  auto ms = [](HostClock::time_point a, HostClock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
+  FrameTiming f;
+  f.shadow = {ms(t[0], t[1]), ms(t[0], t[2]), shadow_gpu_ms};
+  f.lighting = {ms(t[2], t[3]), ms(t[2], t[4]), lighting_gpu_ms};
+  f.frame_wall_ms = ms(t[0], t[4]);
+  return f;
+}
 
 // A timed frame renders what a renderer would for the case: the shadow pass, then the lighting pass in its
 // timed variant (one colour target, a shader specialised for the case: gpu::LightingVariant). A check frame

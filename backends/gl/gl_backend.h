@@ -1,6 +1,9 @@
 #pragma once
 // OpenGL 4.5 core backend over headless EGL. Every technique is native GL: six_pass renders each face into a
 // prebuilt per-face framebuffer; the single-pass techniques render once into a layered framebuffer.
+// The class is defined over gl_backend.cpp (context, scene, case set-up), gl_support.cpp (what the context
+// refuses and why), gl_passes.cpp (a frame's passes, timing and counters) and gl_readback.cpp (the checks'
+// reads).
 
 #include <epoxy/gl.h>
 

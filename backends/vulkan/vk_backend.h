@@ -2,6 +2,9 @@
 // Vulkan backend, headless. Every technique is native Vulkan: six_pass renders the six 2D views of one
 // cube-compatible image; geometry_shader / geometry_shader_instanced / vs_layer render once into a 6-layer
 // framebuffer; multiview renders once with a 6-view mask.
+// The class is defined over vk_backend.cpp (device objects, scene), vk_support.cpp (what the device refuses
+// and why), vk_case_setup.cpp (a case's pipelines and descriptors), vk_frame.cpp (a frame's command buffers,
+// timing and counters) and vk_readback.cpp (the checks' reads).
 
 #include <vulkan/vulkan.h>
 
