@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Every option that takes a value has a row in the bad-input table (tests/cli_test.cpp's CliBadInput): a bad
+"""Every option that takes a value has a row in the bad-input table (tests/cli_bad_input_test.cpp's CliBadInput): a bad
 value of it is shown to be one line naming the option and exit 2. The CLI's own help is the source of the
 options (`omnishadow SUBCOMMAND --help`, as options_documented_test.py reads it): an option whose help shows a
 value type (TEXT, INT, FLOAT, UINT, ...) must appear in some row of its subcommand; flags take no value. Each

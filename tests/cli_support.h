@@ -1,0 +1,40 @@
+#pragma once
+// The CLI tests' shared means: the omnishadow binary run with arguments (its exit code, stdout and stderr), a
+// scratch folder per test, whether each backend is up here, and the fixture that skips (naming why) where GL
+// is not.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace omnishadow::cli_test {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+// A fresh folder under this process's scratch root (removed first).
+fs::path scratch(const std::string& name);
+// OMNISHADOW_BINARY with `args` through the shell; its outputs read back whole.
+Outcome run(const std::string& args);
+// Whether `omnishadow list` brought the backend up; `why` is list's reason where it did not (a list that
+// fails is a test failure, never a reason to skip).
+bool gl_available(std::string& why);
+bool vulkan_available(std::string& why);
+// Everything on stderr but the progress lines: what a user reads when the run refuses to start.
+std::string error_lines(const std::string& err);
+
+class CliRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string why;
+    if (!gl_available(why)) GTEST_SKIP() << why;
+  }
+};
+
+}  // namespace omnishadow::cli_test
