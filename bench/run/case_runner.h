@@ -1,7 +1,8 @@
 #pragma once
 // Runs the untimed part of every case: configure, render the check frame, read back, count work, hand the
 // images to the checks (bench/truth/case_checks.h) with the references they are held to, and write the
-// images. Timing is gbench_glue's job.
+// images. Timing is gbench_glue's job. Defined over case_runner.cpp (backends, admission, the check frame,
+// work counted) and case_check_steps.cpp (the checks each light is held to, images written).
 
 #include <functional>
 #include <map>
