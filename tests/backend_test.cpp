@@ -11,25 +11,23 @@
 
 #include <algorithm>
 #include <cfloat>
-#include <cstdio>
 #include <map>
 #include <memory>
-#include <optional>
 
 #include "backends/common/cube_summary.h"
 #include "backends/common/techniques.h"
 #include "backends/reference/ray_caster.h"
-#include "bench/run/case_runner.h"
 #include "bench/truth/accuracy.h"
+#include "bench/truth/case_checks.h"
 #include "bench/truth/cube_truth.h"
 #include "bench/truth/lookup_check.h"
 #include "tests/backend_availability.h"
+#include "tests/backend_fixture.h"
 #include "tests/optimization_checks.h"
 
 namespace omnishadow {
 namespace {
 
-const std::string kScenes = OMNISHADOW_TEST_SCENES_DIR;
 // The filter a case of storage `s` uses in tests that sweep storages: the moments filter that reads it, else
 // `lookup`.
 Filter reading_filter(Storage s, Filter lookup) {
@@ -43,77 +41,6 @@ Filter reading_filter(Storage s, Filter lookup) {
 // another storage than its own or a lookup filter with moments (every driver), and on llvmpipe's GL multiview
 // (no GL_OVR_multiview2; lavapipe advertises Vulkan multiview).
 const std::map<std::string, int> kCpuDriverCheckedCases = {{"gl", 216}, {"vulkan", 255}};
-
-// Vulkan always runs with the validation layer (its messages fail the test); GL without its debug context,
-// whose KHR_debug capture has its own test below.
-std::map<std::string, std::string> options_for(const std::string& name) {
-  if (name == "vulkan") return {{"api_checks", "1"}};
-  return {};
-}
-
-class BackendTest : public ::testing::TestWithParam<std::string> {
- protected:
-  struct Shared {
-    std::unique_ptr<Backend> backend;
-    std::unique_ptr<scene::Scene> room;
-    std::string skip_reason;
-  };
-  // One backend per API for the whole suite: bringing one up costs more than most tests. Released in
-  // TearDownTestSuite, before main returns: a Vulkan device destroyed by a static destructor would outlive
-  // the loader and its layers (a crash at exit).
-  static std::map<std::string, Shared>& all() {
-    static std::map<std::string, Shared> backends;
-    return backends;
-  }
-  static Shared& shared(const std::string& name) {
-    Shared& s = all()[name];
-    if (!s.backend && s.skip_reason.empty()) {
-      try {
-        s.backend = create_backend(name, options_for(name));
-      } catch (const std::exception& e) {
-        s.skip_reason = "backend " + name + " cannot be brought up on this machine: " + e.what();
-        return s;
-      }
-      // Past bring-up nothing skips: a scene that does not load is a failure of the test (SetUp's exception).
-      s.room = std::make_unique<scene::Scene>(scene::load_scene_file(kScenes + "/room.json"));
-      s.backend->load(*s.room);
-    }
-    return s;
-  }
-  static void TearDownTestSuite() { all().clear(); }
-
-  void SetUp() override {
-    Shared& s = shared(GetParam());
-    if (!s.backend) OMNISHADOW_SKIP_UNAVAILABLE(GetParam(), s.skip_reason);
-    backend_ = s.backend.get();
-    room_ = s.room.get();
-    backend_->load(*room_);  // a test may leave another scene loaded
-  }
-  void TearDown() override {
-    if (!backend_) return;
-    std::vector<std::string> messages = backend_->drain_api_errors();
-    EXPECT_TRUE(messages.empty()) << messages.size() << " API message(s), first: " << messages.front();
-  }
-
-  CaseConfig room_case(Technique t, Filter f = Filter::hard, int cube = 512,
-                       Storage s = Storage::linear_depth) const {
-    return testing::room_case(GetParam(), t, f, cube, s);
-  }
-  Images render(const CaseConfig& c, int frame = 0) {
-    backend_->configure(c);
-    backend_->render(frame, FrameKind::check);
-    return backend_->read_back();
-  }
-  bench::Truth point_truth(const Images& img, int frame) const {
-    reference::RayCaster caster(*room_);
-    bench::TruthOptions point_only;
-    point_only.light_radius = 0.0f;
-    return bench::compute_truth(caster, *room_, frame, img, point_only);
-  }
-
-  Backend* backend_ = nullptr;
-  const scene::Scene* room_ = nullptr;
-};
 
 // The work-avoiding switches (tests/optimization_checks.h).
 TEST_P(BackendTest, FaceCullingChangesNoValueAndCutsWork) {
@@ -265,127 +192,6 @@ TEST_P(BackendTest, ALightsRangeEndsWhereItsFarPlaneDoes) {
   EXPECT_FALSE(bench::check_lookups(unbounded, in).ok());
 }
 
-// The texel bound from the rasterisation rules (bench/truth/texel_bounds.h), both sides. A conformant GPU
-// snaps vertices differently from llvmpipe/lavapipe (an H100 failed 0.175% of room's texels at cube 64 under
-// a centre-only bound); --raster-perturb moves every vertex by up to one sub-pixel step to play such a device
-// here. The perturbed cube passes the device's bound and fails a bound without sub-pixel reach (the old one),
-// and planted bugs still fail with the reach.
-TEST_P(BackendTest, PerturbedRasterPassesTheSubPixelBoundOnly) {
-  const int bits = backend_->device().subpixel_bits;
-  ASSERT_GE(bits, 4) << "both APIs require at least 4 sub-pixel bits";
-  reference::RayCaster caster(*room_);
-  const glm::vec3 light = room_->light().path.at(0);
-  for (Technique t : {Technique::six_pass, Technique::geometry_shader}) {
-    CaseConfig c = room_case(t, Filter::hard, 64);
-    c.raster_perturb_steps = 1.0f;
-    Images img = render(c, 0);
-    bench::CubeTruth truth =
-        bench::compute_cube_truth(caster, *room_, light, room_->light().near_plane, img.light_far, 64, false);
-    bench::CubeTexelReport ok = bench::check_cube_texels(truth, img, Storage::linear_depth, DepthFormat::d32f,
-                                                         room_->light().near_plane, bits);
-    EXPECT_LE(ok.bad_percent(), bench::kCubeTexelLimitPercent) << to_string(t) << ": " << bench::describe(ok);
-    bench::CubeTexelReport centre_only = bench::check_cube_texels(
-        truth, img, Storage::linear_depth, DepthFormat::d32f, room_->light().near_plane, 60);
-    EXPECT_GT(centre_only.bad_percent(), bench::kCubeTexelLimitPercent)
-        << to_string(t) << ": the perturbation no longer moves silhouettes: " << bench::describe(centre_only);
-    std::printf("%s: sub-pixel bound %.3g%% wrong, centre-only %.3g%% (%s)\n",
-                std::string(to_string(t)).c_str(), ok.bad_percent(), centre_only.bad_percent(),
-                bench::describe(centre_only).c_str());
-    ASSERT_FALSE(centre_only.worst.empty());
-    EXPECT_GE(centre_only.worst.front().edge_texels, 0.0)
-        << "a texel the perturbation flipped lies at a depth edge";
-    Images swapped = img;
-    std::swap(swapped.cube_distance[0], swapped.cube_distance[1]);  // +X and -X
-    EXPECT_GT(bench::check_cube_texels(truth, swapped, Storage::linear_depth, DepthFormat::d32f,
-                                       room_->light().near_plane, bits)
-                  .bad_percent(),
-              5.0);
-  }
-}
-
-// The lookup check's bound (bench/truth/lookup_check.h), both sides: lookups moved by 0.8 of the sampler's
-// sub-texel step (the device's subTexelPrecisionBits; 4 assumed for GL) along both face axes, as a coarser
-// sampler may read, pass on both layouts; moved by half a texel, or replayed against a cube whose +Y and -Y
-// faces are swapped (what a face_array lookup that reads the wrong layer sees), they fail.
-TEST_P(BackendTest, PerturbedLookupsPassTheSubTexelBoundOnly) {
-  const int bits = backend_->device().subtexel_bits;
-  ASSERT_GE(bits, 4) << "Vulkan requires at least 4 sub-texel bits";
-  bench::LookupInputs in;
-  in.light = glm::dvec3(room_->light().path.at(0));
-  in.camera = glm::dvec3(room_->camera.position);
-  in.subtexel_bits = bits;
-  for (Layout layout : {Layout::cube, Layout::face_array})
-    for (Filter f : {Filter::hard, Filter::pcf_disk20}) {
-      CaseConfig c = room_case(Technique::six_pass, f, 256);
-      c.layout = layout;
-      in.filter = f;
-      const std::string what = std::string(to_string(layout)) + "/" + std::string(to_string(f));
-      c.lookup_perturb_texels = 0.8f * std::ldexp(1.0f, -bits);
-      Images within = render(c, 0);
-      in.far_plane = within.light_far;
-      bench::LookupReport ok = bench::check_lookups(within, in);
-      EXPECT_TRUE(ok.ok()) << what << ": " << bench::describe(ok);
-      EXPECT_GT(ok.pixels, 100000u) << what;
-      c.lookup_perturb_texels = 0.5f;
-      bench::LookupReport half = bench::check_lookups(render(c, 0), in);
-      EXPECT_GT(half.outside, 0u) << what << ": half a texel off went unseen";
-      c.lookup_perturb_texels = 0.0f;
-      Images swapped = render(c, 0);
-      std::swap(swapped.cube_distance[2], swapped.cube_distance[3]);
-      EXPECT_GT(bench::check_lookups(swapped, in).outside, 0u) << what << ": +Y and -Y swapped went unseen";
-    }
-}
-
-// timed_lit's tolerance (bench/run/case_runner.h kTimedLitMaxPercent), both sides: a compiler's float
-// contraction (0.1% of values one level off) passes; a timed variant that renders another filter, no bias or
-// another light count fails.
-TEST_P(BackendTest, TimedLitToleranceAllowsRoundingFlipsOnly) {
-  CaseConfig c = room_case(Technique::six_pass, Filter::pcf_disk20, 256);
-  Images img = render(c, 30);
-  auto agrees = [&](const std::vector<uint8_t>& timed, const std::vector<uint8_t>& checked) {
-    return bench::timed_variant_check(timed, checked).passed;
-  };
-  EXPECT_TRUE(agrees(img.timed_lit_rgba8, img.lit_rgba8));
-  std::vector<uint8_t> contracted = img.lit_rgba8;
-  for (size_t i = 0; i < contracted.size(); i += 1000)
-    contracted[i] = contracted[i] == 255 ? 254 : contracted[i] + 1;
-  EXPECT_TRUE(agrees(contracted, img.lit_rgba8)) << "0.1% of values one level off is within the guarantee";
-  std::vector<uint8_t> two_levels = img.lit_rgba8;
-  two_levels[two_levels.size() / 2] = two_levels[two_levels.size() / 2] < 128
-                                          ? two_levels[two_levels.size() / 2] + 2
-                                          : two_levels[two_levels.size() / 2] - 2;
-  EXPECT_FALSE(agrees(two_levels, img.lit_rgba8)) << "a value two levels off is no rounding flip";
-  CaseConfig hard = c;
-  hard.filter = Filter::hard;
-  EXPECT_FALSE(agrees(render(hard, 30).lit_rgba8, img.lit_rgba8)) << "another filter";
-  CaseConfig no_bias = c;
-  no_bias.remedies.bias = BiasMode::zero;
-  EXPECT_FALSE(agrees(render(no_bias, 30).lit_rgba8, img.lit_rgba8)) << "no bias";
-  scene::Scene mixed = scene::load_scene_file(kScenes + "/mixed.json");
-  backend_->load(mixed);
-  CaseConfig m = testing::optimization_case(GetParam(), "mixed", Technique::six_pass);
-  Images all = testing::render_frame(*backend_, m, 30);
-  mixed.map_lights.pop_back();
-  backend_->load(mixed);
-  EXPECT_FALSE(agrees(testing::render_frame(*backend_, m, 30).lit_rgba8, all.lit_rgba8)) << "one light fewer";
-}
-
-// Error falls as the cube grows: each size's misclassification is at most the previous one's plus a noise
-// band of 5% + 0.005 points, and 2048 is at least 3x better than 128. Frame 90 puts the light off-centre.
-TEST_P(BackendTest, ErrorFallsAsTheCubeGrows) {
-  std::optional<bench::Truth> truth;
-  std::vector<double> errors;
-  for (int size : {128, 256, 512, 1024, 2048}) {
-    Images img = render(room_case(Technique::six_pass, Filter::hard, size), 90);
-    if (!truth) truth = point_truth(img, 90);
-    errors.push_back(bench::measure_accuracy(*truth, img).misclassified_percent);
-  }
-  for (size_t i = 1; i < errors.size(); ++i)
-    EXPECT_LE(errors[i], errors[i - 1] * 1.05 + 0.005)
-        << "cube " << (128 << i) << ": " << errors[i] << "% vs " << errors[i - 1] << "%";
-  EXPECT_LT(errors.back() * 3.0, errors.front());
-}
-
 // Every single-pass technique the backend supports, every storage: the same cube, shadow and lit frame as
 // six_pass. Exactly: every pair of the table's non-multiview single-pass techniques and storages is compared
 // or refused with a reason; the Mesa CPU drivers refuse only nv_swizzle and mesh_shader (their NV/EXT
@@ -484,134 +290,6 @@ TEST_P(BackendTest, CubeSummaryIsTheFullCubesHashAndGrid) {
                     a.cube_distance[f][size_t((y * stride + stride / 2) * 256 + x * stride + stride / 2)])
               << to_string(storage) << " face " << f;
   }
-}
-
-TEST_P(BackendTest, BothStoragesSeeTheSameShadows) {
-  Images linear = render(room_case(Technique::six_pass, Filter::hard, 512, Storage::linear_depth), 90);
-  Images r32f = render(room_case(Technique::six_pass, Filter::hard, 512, Storage::r32f_distance), 90);
-  size_t differing = 0;
-  for (size_t i = 0; i < linear.shadow_factor.size(); ++i)
-    differing += linear.shadow_factor[i] != r32f.shadow_factor[i];
-  EXPECT_LT(differing, linear.shadow_factor.size() / 500)
-      << "storages disagree on " << differing << " pixels";
-  // Texels nothing was drawn to: none in a closed room, so both hold finite distances everywhere.
-  for (const auto& face : r32f.cube_distance)
-    EXPECT_LT(*std::max_element(face.begin(), face.end()), room_->light().far_plane);
-}
-
-TEST_P(BackendTest, SoftFiltersGiveFractionsBetweenZeroAndOne) {
-  for (Filter f : {Filter::pcf_grid64, Filter::pcf_disk20, Filter::hw_compare2x2, Filter::pcss, Filter::vsm,
-                   Filter::esm, Filter::evsm2, Filter::evsm4, Filter::msm}) {
-    CaseConfig c = room_case(Technique::six_pass, f, 512, storage_for(f, Storage::linear_depth));
-    if (Support s = backend_->supports(c); !s.ok) {
-      std::cout << c.id() << " unsupported: " << s.reason << "\n";
-      continue;
-    }
-    Images img = render(c);
-    auto [lo, hi] = std::minmax_element(img.shadow_factor.begin(), img.shadow_factor.end());
-    EXPECT_GE(*lo, 0.0f) << to_string(f);
-    EXPECT_LE(*hi, 1.0f) << to_string(f);
-    size_t partial = std::count_if(img.shadow_factor.begin(), img.shadow_factor.end(),
-                                   [](float v) { return v > 0.0f && v < 1.0f; });
-    EXPECT_GT(partial, 100u) << to_string(f) << " has no penumbra";
-  }
-}
-
-// PCSS sizes its kernel by the penumbra, R (receiver - blocker) / blocker: a slab near the light (blocker 1.4
-// from it, receiver 7.1: 0.4 world units of penumbra) casts a far wider soft edge than one near the floor
-// (4.1 and 5.2: 0.025), while the disk PCF's kernel follows the viewer's distance only. Counted: floor pixels
-// strictly between lit and shadowed under each slab's shadow (x < -1: the high slab's, x > 0: the low one's).
-TEST_P(BackendTest, PcssPenumbraWidensWithTheBlockersDistance) {
-  const scene::Scene slabs = scene::load_scene_text(R"({
-      "camera": {"position": [-2, 20, 0], "target": [-2, 0, 0], "up": [0, 0, -1]},
-      "light": {"position": [0, 5, 0], "far": 50},
-      "objects": [{"type": "plane", "scale": [10, 1, 10]},
-                  {"type": "box", "translate": [-1, 4, 0], "scale": [0.5, 0.05, 0.5]},
-                  {"type": "box", "translate": [1, 1, 0], "scale": [0.5, 0.05, 0.5]}]})",
-                                                    "slabs.json");
-  backend_->load(slabs);
-  auto soft_pixels = [&](Filter f) {
-    CaseConfig c = room_case(Technique::six_pass, f, 1024);
-    c.scene = "slabs";
-    Images img = render(c);
-    std::array<int, 2> count{0, 0};  // high slab's shadow, low slab's
-    for (size_t i = 0; i < img.shadow_factor.size(); ++i) {
-      const float* p = &img.world_position[4 * i];
-      const float v = img.shadow_factor[i];
-      if (p[3] != 1.0f || std::fabs(p[1]) > 1e-3f || v <= 0.0f || v >= 1.0f) continue;
-      if (p[0] < -1.0f) ++count[0];
-      if (p[0] > 0.0f) ++count[1];
-    }
-    return count;
-  };
-  const std::array<int, 2> pcss = soft_pixels(Filter::pcss), disk = soft_pixels(Filter::pcf_disk20);
-  std::cout << "soft pixels under the high / low slab: pcss " << pcss[0] << " / " << pcss[1]
-            << ", pcf_disk20 " << disk[0] << " / " << disk[1] << "\n";
-  EXPECT_GT(pcss[0], 1000) << "the high slab's shadow has a wide penumbra";
-  EXPECT_GT(pcss[0], 8 * std::max(pcss[1], 1)) << "high " << pcss[0] << ", low " << pcss[1];
-  EXPECT_LT(disk[0], 8 * std::max(disk[1], 1))
-      << "the disk PCF does not tell the slabs apart: high " << disk[0] << ", low " << disk[1];
-}
-
-// Every moments filter on the device: the moments it blurred and sampled are the blur of the moments of the
-// depths it stored, within each step's rounding (bench/truth/moments_check.h), at 32 and 16 bits, over every
-// face and seam.
-TEST_P(BackendTest, StoredMomentsAreTheBlurOfTheStoredDepthsMoments) {
-  int checked = 0;
-  for (Filter f : all_values<Filter>()) {
-    if (!traits(f).own_storage) continue;
-    for (DepthFormat d : {DepthFormat::d32f, DepthFormat::d16}) {
-      CaseConfig c = room_case(Technique::six_pass, f, 128, *traits(f).own_storage);
-      c.depth_format = d;
-      if (Support s = backend_->supports(c); !s.ok) {
-        std::cout << c.id() << " unsupported: " << s.reason << "\n";
-        continue;
-      }
-      const Images img = render(c, 7);
-      const int channels = traits(c.storage).colour_channels;
-      ASSERT_EQ(img.moment_channels, channels);
-      const bench::MomentsReport r = bench::check_moments(img, c.storage, d);
-      EXPECT_TRUE(r.ok()) << c.id() << ": " << bench::describe(r);
-      EXPECT_EQ(r.values, 6u * 128u * 128u * unsigned(channels));
-      ++checked;
-    }
-  }
-  if (backend_->device().shares_host_memory) {
-    EXPECT_EQ(checked, 10) << "llvmpipe and lavapipe run every moments filter at both precisions";
-  }
-}
-
-// The extremes suite's tunings on the device: the moments check follows them (an exponent at 0.99 of the
-// overflow limit with the far plane fitted, so z reaches 1 and e^(-2cz) is subnormal; VSM in world units),
-// and bleed reduction only darkens: 1 - clamp((p - a) / (1 - a), 0, 1) >= 1 - p for every lit bound p, and
-// somewhere in the room's penumbrae strictly.
-TEST_P(BackendTest, MomentsTuningsKeepTheCheckAndBleedReductionOnlyDarkens) {
-  struct Tuned {
-    Filter filter;
-    const char* tuning;
-    bool fit;
-  };
-  for (const Tuned& t : {Tuned{Filter::evsm4, "exp0.99", true}, Tuned{Filter::esm, "exp0.99", true},
-                         Tuned{Filter::vsm, "world", false}}) {
-    CaseConfig c = room_case(Technique::six_pass, t.filter, 64, *traits(t.filter).own_storage);
-    c.moments = parse_moments_tuning(t.tuning);
-    c.optimizations.fit_range = t.fit;
-    if (Support s = backend_->supports(c); !s.ok) GTEST_SKIP() << c.id() << " unsupported: " << s.reason;
-    const Images img = render(c, 3);
-    const bench::MomentsReport r = bench::check_moments(img, c.storage, c.depth_format, c.moments);
-    EXPECT_TRUE(r.ok()) << c.id() << ": " << bench::describe(r);
-  }
-  CaseConfig plain = room_case(Technique::six_pass, Filter::vsm, 128, Storage::vsm_moments);
-  CaseConfig reduced = plain;
-  reduced.moments = parse_moments_tuning("lbr0.5");
-  const Images a = render(plain, 3), b = render(reduced, 3);
-  ASSERT_EQ(a.shadow_factor.size(), b.shadow_factor.size());
-  size_t darker = 0;
-  for (size_t i = 0; i < a.shadow_factor.size(); ++i) {
-    ASSERT_GE(b.shadow_factor[i], a.shadow_factor[i] - 1e-6f) << "pixel " << i;
-    darker += b.shadow_factor[i] > a.shadow_factor[i] + 0.01f;
-  }
-  EXPECT_GT(darker, 0u) << "the room's penumbrae have lit bounds below 0.5";
 }
 
 TEST_P(BackendTest, TimingRecordHasEveryField) {
