@@ -118,9 +118,9 @@ void add_light_axes(CLI::App& r, MatrixSpec& m) {
       [](const std::string& s) { return parse_enum<LightGrouping>(s); }, named,
       "comma list: " + valid_values<LightGrouping>() +
           " (how the point lights' shadow passes are grouped: each light in its own passes, or every "
-          "light in one pass, vs_layer's instance per light and face or the geometry shader's invocations "
-          "per light; ids end in /all_lights for the "
-          "second)");
+          "light in one pass, vs_layer's instance per light and face, the geometry shader's invocations "
+          "per light or mesh_shader's task workgroups per meshlet group and light; ids end in /all_lights "
+          "for the second)");
   list_option(
       r, "--atlas-tiles", m.atlas_tiles, [](const std::string& s) { return parse_enum<AtlasTiles>(s); },
       named,
