@@ -18,6 +18,9 @@ set -euo pipefail
 run="$1"; base="${2:-}"; matrix_note=""
 here="$(cd "$(dirname "$0")/../.." && pwd)"
 bin="${OMNISHADOW_BIN:-$here/build/release/omnishadow}"
+# The baselines fetched or unpacked for this call (the comparison itself is written under RUN/compare).
+scratch="$(mktemp -d)"
+trap 'rm -rf "$scratch"' EXIT
 key="$("$bin" device-key "$run" | head -n 1)"
 # Appends a markdown file to the job's page (GitHub) and posts it as a merge-request note (GitLab).
 publish() {
@@ -37,7 +40,8 @@ publish() {
 # of RUN's own commit (on the default branch the merge-base is that commit, and its run was just stored): prints
 # "FOLDER COMMIT"; 1 when there is none, 2 (said) when the store cannot be read.
 store_baseline() {
-  local commit found folder="$(mktemp -d)" own
+  local commit found folder="$scratch/store" own
+  mkdir -p "$folder"
   own="$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["omnishadow"].get("commit", "")[:12])' "$run/results.json")"
   for commit in $(git -C "$here" rev-list --first-parent -n "${FLEET_STORE_DEPTH:-20}" "$1"); do
     [ "${commit:0:12}" != "$own" ] || continue
@@ -75,7 +79,7 @@ if [ -n "${stored:-}" ]; then
   git -C "$here" show "$merge_base:results/fleet_baselines/$key/replay.json" > "$base/replay.json" 2>/dev/null ||
     rm -f "$base/replay.json"
 elif [ -z "$base" ]; then
-  base="$(mktemp -d)/baseline"
+  base="$scratch/baseline"
   mkdir -p "$base"
   if ! git -C "$here" archive "$merge_base" "results/fleet_baselines/$key" 2>/dev/null | tar -x -C "$base" --strip-components=3 2>/dev/null; then
     mkdir -p "$run/compare"
