@@ -77,6 +77,41 @@ TEST(GlProfiles, ACompatibilityContextRendersTheCoreContextsImages) {
   EXPECT_THROW(create_backend("gl", {{"gl_profile", "es"}}), std::runtime_error);
 }
 
+// Each backend owns an EGL context, and GL calls go to the thread's current one: a backend brought up while
+// another lives (it makes its own current) or torn down (it leaves none current) must not leave the first one
+// rendering into the wrong context or into none (libepoxy aborts the process then). Each backend makes its
+// own context current at every entry: the first one's images are the same before, beside and after the other.
+TEST(GlContexts, ABackendRendersTheSameBesideAndAfterAnother) {
+  std::string why;
+  auto first = gl_or_skip_reason({}, why);
+  if (!first) OMNISHADOW_SKIP_UNAVAILABLE("gl", why);
+  const scene::Scene room = scene::load_scene_file(kScenes + "/room.json");
+  CaseConfig c;
+  c.backend = "gl";
+  c.scene = "room";
+  c.technique = Technique::six_pass;
+  c.cube_size = 32;
+  auto render = [&](Backend& b) {
+    b.configure(c);
+    b.render(3, FrameKind::check);
+    return b.read_back();
+  };
+  first->load(room);
+  const Images alone = render(*first);
+  auto second = gl_or_skip_reason({}, why);
+  ASSERT_TRUE(second) << why;
+  second->load(room);
+  const Images beside = render(*first);
+  const Images others = render(*second);
+  second.reset();
+  const Images after = render(*first);
+  EXPECT_FALSE(alone.lit_rgba8.empty());
+  for (const Images* img : {&beside, &others, &after}) {
+    EXPECT_EQ(img->lit_rgba8, alone.lit_rgba8);
+    for (size_t f = 0; f < 6; ++f) EXPECT_EQ(img->cube_distance[f], alone.cube_distance[f]);
+  }
+}
+
 TEST(GlPlatforms, DevicePlatformOrAClearError) {
   try {
     auto backend = create_backend("gl", {{"egl_platform", "device"}, {"gl_device", "0"}});

@@ -1,6 +1,8 @@
 #include "backends/gl/egl_context.h"
 
 #include <cstdio>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -44,14 +46,44 @@ EGLDisplay open_display(const std::string& platform, int device_index) {
   throw std::runtime_error("unknown --egl-platform '" + platform + "' (valid: surfaceless, device)");
 }
 
+// EGL keeps one initialisation per display, not a count: eglInitialize on an initialised display does
+// nothing, and eglTerminate ends every context on it (EGL 1.5, 3.2). Every context of a platform shares its
+// display, so a backend torn down while another lives must leave the display initialised: it is terminated
+// with its last context.
+std::mutex display_mutex;
+std::map<EGLDisplay, int> display_users;
+
+void initialize_display(EGLDisplay display) {
+  std::lock_guard<std::mutex> lock(display_mutex);
+  EGLint major = 0, minor = 0;
+  if (!eglInitialize(display, &major, &minor)) egl_fail("eglInitialize");
+  ++display_users[display];
+}
+
+void release_display(EGLDisplay display) {
+  std::lock_guard<std::mutex> lock(display_mutex);
+  if (--display_users[display] > 0) return;
+  display_users.erase(display);
+  eglTerminate(display);
+}
+
 }  // namespace
 
 EglContext::EglContext(const std::string& platform, int device_index, bool debug, GlProfile profile)
     : platform_(platform) {
   display_ = open_display(platform, device_index);
   if (display_ == EGL_NO_DISPLAY) egl_fail("eglGetPlatformDisplayEXT");
-  EGLint major = 0, minor = 0;
-  if (!eglInitialize(display_, &major, &minor)) egl_fail("eglInitialize");
+  initialize_display(display_);
+  try {
+    create_context(debug, profile);
+  } catch (...) {
+    if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
+    release_display(display_);
+    throw;
+  }
+}
+
+void EglContext::create_context(bool debug, GlProfile profile) {
   if (!eglBindAPI(EGL_OPENGL_API)) egl_fail("eglBindAPI(EGL_OPENGL_API)");
   if (!epoxy_has_egl_extension(display_, "EGL_KHR_surfaceless_context"))
     throw std::runtime_error("EGL_KHR_surfaceless_context is not available on this display");
@@ -81,11 +113,12 @@ EglContext::EglContext(const std::string& platform, int device_index, bool debug
 }
 
 EglContext::~EglContext() {
-  if (display_ != EGL_NO_DISPLAY) {
+  if (display_ == EGL_NO_DISPLAY) return;
+  // Released only where it is current: another backend's context may be the current one.
+  if (eglGetCurrentContext() == context_)
     eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
-    eglTerminate(display_);
-  }
+  if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
+  release_display(display_);
 }
 
 bool EglContext::make_current() const {

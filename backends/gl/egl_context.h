@@ -31,6 +31,7 @@ class EglContext {
   bool make_current() const;
 
  private:
+  void create_context(bool debug, GlProfile profile);  // on the initialised display_, made current
   std::string platform_;
   EGLDisplay display_ = EGL_NO_DISPLAY;
   EGLContext context_ = EGL_NO_CONTEXT;
