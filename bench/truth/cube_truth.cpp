@@ -74,20 +74,30 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
     const auto [start, hit] = layer_hit(face, s, tt);
     return hit.hit ? start + hit.distance : -1.0;
   };
+  // The plane of the surface a hit lies on, where it crosses the layer's ray through (cs, ct); -1 where it
+  // does not (see plane_at).
+  auto plane_through = [scene = &scene, light, cube_size, ray_at = geometry.point_ray,
+                        planar = geometry.map != TexelMap::paraboloid](const reference::Hit& hit, int face,
+                                                                       double cs, double ct) {
+    if (!planar || !hit.hit) return -1.0;
+    const std::optional<LayerRay> centre = ray_at(face, cs, ct, cube_size);
+    if (!centre) return -1.0;
+    const glm::dvec3 a(scene->vertices[3 * size_t(hit.triangle)].position),
+        b(scene->vertices[3 * size_t(hit.triangle) + 1].position),
+        c(scene->vertices[3 * size_t(hit.triangle) + 2].position);
+    const glm::dvec3 normal = glm::cross(b - a, c - a);
+    const double towards = glm::dot(centre->unit, normal);
+    if (std::fabs(towards) <= 1e-9 * glm::length(normal)) return -1.0;  // the ray runs along the plane
+    const double d = glm::dot(a - glm::dvec3(light), normal) / towards;
+    return d > 0.0 ? d : -1.0;
+  };
+  t.cast_with_plane = [layer_hit, plane_through](int face, double s, double tt, double cs, double ct) {
+    const auto [start, hit] = layer_hit(face, s, tt);
+    return std::pair{hit.hit ? start + hit.distance : -1.0, plane_through(hit, face, cs, ct)};
+  };
   if (geometry.map != TexelMap::paraboloid)
-    t.plane_at = [layer_hit, scene = &scene, light, cube_size, ray_at = geometry.point_ray](
-                     int face, double s, double tt, double cs, double ct) {
-      const reference::Hit hit = layer_hit(face, s, tt).second;
-      const std::optional<LayerRay> centre = ray_at(face, cs, ct, cube_size);
-      if (!hit.hit || !centre) return -1.0;
-      const glm::dvec3 a(scene->vertices[3 * size_t(hit.triangle)].position),
-          b(scene->vertices[3 * size_t(hit.triangle) + 1].position),
-          c(scene->vertices[3 * size_t(hit.triangle) + 2].position);
-      const glm::dvec3 normal = glm::cross(b - a, c - a);
-      const double towards = glm::dot(centre->unit, normal);
-      if (std::fabs(towards) <= 1e-9 * glm::length(normal)) return -1.0;  // the ray runs along the plane
-      const double d = glm::dot(a - glm::dvec3(light), normal) / towards;
-      return d > 0.0 ? d : -1.0;
+    t.plane_at = [layer_hit, plane_through](int face, double s, double tt, double cs, double ct) {
+      return plane_through(layer_hit(face, s, tt).second, face, cs, ct);
     };
   const int n = cube_size / t.stride;
   auto face_truth = [&](int face) {
@@ -151,10 +161,12 @@ static bool stored_surface(Storage storage, double got, double far_plane) {
 static TexelSample reach_sample(const CubeTruth& truth, Storage storage, double far_plane, int f, double cs,
                                 double ct, double s, double t, double scale) {
   const bool clamps_at_far = traits(storage).checked == DistanceEncoding::linear_depth;
-  double d = truth.cast(f, cs, ct);
+  // One ray for both: the corner's distance and its surface's plane along the centre's ray.
+  auto [d, plane] =
+      truth.cast_with_plane ? truth.cast_with_plane(f, cs, ct, s, t) : std::pair{truth.cast(f, cs, ct), -1.0};
   if (clamps_at_far && d >= far_plane) d = -1.0;
   if (d >= 0.0 && traits(storage).checked == DistanceEncoding::projective_depth) d *= scale;
-  double plane = d >= 0.0 && truth.plane_at ? truth.plane_at(f, cs, ct, s, t) : -1.0;
+  if (d < 0.0) plane = -1.0;
   if (clamps_at_far && plane >= far_plane) plane = -1.0;
   return TexelSample{d >= 0.0, d, plane};
 }

@@ -12,6 +12,7 @@
 #include <functional>
 #include <glm/glm.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "backends/backend.h"
@@ -61,6 +62,10 @@ struct CubeTruth {
   // nothing, the ray misses the plane, or the layer is no perspective projection (a paraboloid's triangles
   // are not planes in its warp).
   std::function<double(int face, double s, double t, double cs, double ct)> plane_at;
+  // cast(face, s, t) and plane_at(face, s, t, cs, ct) from one ray (plane -1 where plane_at is not given):
+  // the reach checks need both at every corner.
+  std::function<std::pair<double, double>(int face, double s, double t, double cs, double ct)>
+      cast_with_plane;
 };
 // Closed objects (Object::cull_back_faces) are drawn with back faces culled unless `two_sided`, so a ray that
 // meets one of their back faces (a caster cut by the near plane) goes on, as the rasteriser's does. Every
