@@ -185,6 +185,10 @@ class Backend {
   virtual std::vector<std::array<int, 6>> face_frames() const { return {}; }
 
  protected:
+  // The API's per-thread state made this backend's before each public call reaches it: GL calls go to the
+  // thread's current context, and another backend in the process may have made its own current or left none.
+  // Nothing to do for an API without such state (Vulkan).
+  virtual void make_current() {}
   // Whether this device runs technique mesh_shader, or its test-only emulation (--emulate-mesh-shader):
   // load() then builds the scene's meshlets before it lets the scene's vertices go (they live on the device
   // after upload), for the mesh pass of a later case.

@@ -21,6 +21,7 @@ std::string option(const std::map<std::string, std::string>& options, const std:
 std::vector<std::string> backend_names() { return {"gl", "vulkan"}; }
 
 void Backend::load(const scene::Scene& scene) {
+  make_current();
   config_.reset();
   checked_ = false;
   check_is_last_ = false;
@@ -44,6 +45,7 @@ void Backend::load(const scene::Scene& scene) {
 void Backend::configure(const CaseConfig& c) {
   if (!scene_) throw std::logic_error("configure() before load()");
   if (config_ && *config_ == c) return;
+  make_current();
   Support s = supports(c);
   if (!s.ok) throw std::runtime_error("unsupported: " + s.reason);
   checked_ = false;
@@ -61,6 +63,7 @@ void Backend::pose(int frame) {
 
 FrameTiming Backend::render(int frame, FrameKind kind) {
   if (!config_) throw std::logic_error("render() before configure()");
+  make_current();
   pose(frame);
   FrameTiming t = render_frame(frame, kind);
   if (kind == FrameKind::check) checked_ = true;
@@ -71,6 +74,7 @@ FrameTiming Backend::render(int frame, FrameKind kind) {
 
 FrameCounters Backend::count_work(int frame) {
   if (!config_) throw std::logic_error("count_work() before configure()");
+  make_current();
   check_is_last_ = false;
   pose(frame);
   return count_frame_work(frame);
@@ -82,6 +86,7 @@ Images Backend::read_back(CubeReadBack cube, int light) {
   if (light < 0 || light >= config_->light_count)
     throw std::logic_error("read_back() of light " + std::to_string(light) + " of a case with " +
                            std::to_string(config_->light_count));
+  make_current();
   if (light != reported_light_) {
     if (!check_is_last_)
       throw std::logic_error("read_back() of another light after a frame other than the check frame");

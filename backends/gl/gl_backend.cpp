@@ -181,7 +181,6 @@ GlBackend::~GlBackend() {
 }
 
 void GlBackend::upload_scene(const scene::Scene& scene) {
-  use_context();
   release_case();
   mesh_pass_.reset();
   glDeleteBuffers(1, &vertex_buffer_);
@@ -213,10 +212,10 @@ void GlBackend::upload_scene(const scene::Scene& scene) {
   lighting_vao_ = make_vao(true);
 }
 
-// Every entry point makes this backend's context current first: GL calls go to the thread's current context,
-// and another backend brought up on this thread made its own current, one torn down left none (libepoxy
-// aborts on a call without one). A check of the current context, cheap enough for every frame.
-void GlBackend::use_context() const {
+// GL calls go to the thread's current context: another backend brought up on this thread made its own
+// current, one torn down left none (libepoxy aborts on a call without one). A check of the current context,
+// cheap enough for every frame.
+void GlBackend::make_current() {
   if (!context_->make_current())
     throw std::runtime_error(
         "eglMakeCurrent failed: the OpenGL backend's context cannot be made current on "
@@ -224,13 +223,12 @@ void GlBackend::use_context() const {
 }
 
 void GlBackend::discard_tool_errors() {
-  use_context();
+  make_current();
   for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
   }
 }
 
 void GlBackend::upload_moving_objects() {
-  use_context();
   for (const scene::Object& o : scene_->objects)
     if (o.moves())
       glNamedBufferSubData(vertex_buffer_, GLintptr(o.first_vertex) * GLintptr(sizeof(scene::Vertex)),
@@ -264,7 +262,6 @@ void GlBackend::release_case() {
 }
 
 void GlBackend::configure_case(const CaseConfig& c) {
-  use_context();
   release_case();
 
   const ProgramSource shadow_source = shadow_program_source(c, info_.subpixel_bits);

@@ -41,7 +41,7 @@ class GlBackend final : public Backend {
   std::vector<std::array<int, 6>> face_frames() const override { return planner_.face_frames(); }
 
  private:
-  void use_context() const;  // this backend's EGL context current on the calling thread, or throws
+  void make_current() override;  // this backend's EGL context current on the calling thread, or throws
   void create_shared_objects();
   Support all_lights_support(const CaseConfig& c) const;  // LightGrouping::all_lights's limits
   bool has_mesh_shading() const override { return has_mesh_shader_; }

@@ -338,7 +338,6 @@ GlBackend::DrawStats GlBackend::lighting_pass(gpu::LightingVariant variant, GLui
 }
 
 FrameTiming GlBackend::render_frame(int frame, FrameKind kind) {
-  use_context();
   const auto variant = kind == FrameKind::check ? gpu::LightingVariant::check : gpu::LightingVariant::timed;
   const GLuint program = kind == FrameKind::floor ? floor_program_ : lighting_programs_[size_t(variant)];
   // Each pass is bracketed by glFinish so that its wall time is its own. On llvmpipe the vertex and geometry
@@ -374,7 +373,6 @@ FrameTiming GlBackend::render_frame(int frame, FrameKind kind) {
 }
 
 FrameCounters GlBackend::count_frame_work(int frame) {
-  use_context();
   FrameCounters c;
   gpu::LightFrames plan = update_frame_uniforms(frame);
   if (queries_->has_statistics()) queries_->begin_statistics(kShadowPass);

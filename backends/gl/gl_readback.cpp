@@ -12,7 +12,6 @@
 namespace omnishadow::gl {
 
 void GlBackend::report_light(int light) {
-  use_context();
   const float reported = static_cast<float>(light);  // lights_info.z of light 0's block, which lighting binds
   glNamedBufferSubData(frame_ubo_, offsetof(gpu::FrameUniforms, lights_info) + 2 * sizeof(float),
                        sizeof reported, &reported);
@@ -53,7 +52,6 @@ void GlBackend::read_atlas_faces(int light, float near_plane, float far_plane, I
 }
 
 Images GlBackend::read_back_images(CubeReadBack cube_read_back, int light) {
-  use_context();
   const LightingTargets& timed = lighting_[size_t(gpu::LightingVariant::timed)];
   const LightingTargets& check = lighting_[size_t(gpu::LightingVariant::check)];
   Images img;
