@@ -286,10 +286,27 @@ def sh(cmd, cwd, log):
         return subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT).returncode
 
 
+SELF_CHECK = "omnishadow self-check failed: "  # how a build-time check of the conventions refuses a build
+
+
 def build(work, log):
     if sh(["cmake", "--preset", "release"], work, log):
         return False
     return sh(["cmake", "--build", "--preset", "release", "--target", "omnishadow", "-j2"], work, log) == 0
+
+
+def build_mutant(work, log):
+    """('built', ''), ('refused', the self-check's line) when one of the project's own build-time checks refused
+    the mutant (caught before any run), or ('failed', '') when it did not compile (a broken mutant, not caught)."""
+    start = os.path.getsize(log) if os.path.exists(log) else 0
+    if build(work, log):
+        return "built", ""
+    with open(log, errors="replace") as f:
+        f.seek(start)
+        for line in f:
+            if SELF_CHECK in line:
+                return "refused", line.split(SELF_CHECK, 1)[1].strip()
+    return "failed", ""
 
 
 # The figure a check's row shows: the share of what it compared that was wrong.
@@ -426,13 +443,16 @@ def write_report(out, rows, backends, seconds, commit, docs):
           "one change to the shadow pipeline, built in a scratch clone and run with `omnishadow run --backend "
           f"{backends} {' '.join(MATRIX)}` (the default scenes; no unit test, no committed baseline). The unmutated "
           "build runs the same matrix first: a check counts only for the cases it fails with the mutant and passes "
-          "without (lavapipe's multiview cases fail either way). Caught = every API has such a case (and exits 1); "
-          "the checks column lists them with their largest figure (cube texels wrong, pixels misclassified, or "
+          "without (lavapipe's multiview cases fail either way). Caught = every API has such a case (and exits 1), "
+          "or one of the project's build-time self-checks refused the mutant before any run; the checks column lists them with their largest figure (cube texels wrong, pixels misclassified, or "
           "values differing, in %).\n",
           "| mutant | change | caught | exit codes | failed checks (cases, largest figure) |", "|---|---|---|---|---|"]
     for r in rows:
         codes = ", ".join(f"{b} {v['exit_code']}" for b, v in r["runs"].items())
         checks = " / ".join(f"{b}: {headline(v['checks'])}" for b, v in r["runs"].items())
+        if r["build"] != "built":  # never ran: refused by a build-time self-check, or did not compile
+            codes = "build refused" if r["build"] == "refused" else "build failed"
+            checks = f"self-check: {r['refused_by']}" if r["build"] == "refused" else "did not compile"
         md.append(f"| `{r['name']}` | {r['change']} | {'yes' if r['caught'] else '**no**'} | {codes} | {checks} |")
     if any(r.get("replays") for r in rows):
         md += replay_lines(rows)
@@ -495,7 +515,8 @@ def main():
         try:
             with open(target, "w") as f:
                 f.write(mutate(original))
-            built = build(args.work, log)
+            outcome, refusal = build_mutant(args.work, log)
+            built = outcome == "built"
             runs = {}
             for b in args.backend.split(",") if built else []:
                 base = baselines[(b, tuple(extra))]
@@ -505,11 +526,16 @@ def main():
         finally:
             with open(target, "w") as f:
                 f.write(original)
-        caught = built and all(r["exit_code"] == 1 and r["checks"] for r in runs.values())
-        rows.append({"name": name, "file": path, "change": change, "built": built, "caught": caught, "runs": runs})
-        if clean:
+        caught = outcome == "refused" or (built and all(r["exit_code"] == 1 and r["checks"] for r in runs.values()))
+        rows.append({"name": name, "file": path, "change": change, "build": outcome, "built": built,
+                     "caught": caught, "runs": runs})
+        if refusal:
+            rows[-1]["refused_by"] = refusal
+        if clean and built:
             rows[-1]["replays"] = replays
-        print(f"{name}: {'caught' if caught else 'SURVIVED'} ({time.time() - started:.0f}s)", flush=True)
+        verdict = {"refused": "caught at build", "failed": "SURVIVED (did not compile: fix the mutant)"}
+        print(f"{name}: {verdict.get(outcome, 'caught' if caught else 'SURVIVED')} "
+              f"({time.time() - started:.0f}s)", flush=True)
     build(args.work, log)  # leave the clone unmutated and built
     write_report(args.out, rows, args.backend, time.time() - started, commit, args.docs)
     replayed = all(replays_bug(g) for r in rows for g in r.get("replays", {}).values())
