@@ -27,6 +27,7 @@
 #include "bench/run/case_runner.h"
 #include "bench/run/gbench_glue.h"
 #include "bench/run/memory_budget.h"
+#include "bench/run/system_info.h"
 
 namespace omnishadow::bench {
 namespace {
@@ -276,7 +277,7 @@ bool init_benchmark(const RunCommand& cmd, const RunInfo& info, std::vector<std:
     benchmark::AddCustomContext(name + "_version", d.version);
     benchmark::AddCustomContext(name + "_platform", d.platform);
   }
-  benchmark::AddCustomContext("omnishadow_commit", OMNISHADOW_COMMIT);
+  benchmark::AddCustomContext("omnishadow_commit", build_commit());
   const char* threads = std::getenv("LP_NUM_THREADS");
   benchmark::AddCustomContext("LP_NUM_THREADS", threads ? threads : "unset");
   return true;

@@ -25,9 +25,6 @@ std::string cpu_model() {
 
 }  // namespace
 
-std::string build_commit() { return OMNISHADOW_COMMIT; }
-std::string build_commit_date() { return OMNISHADOW_COMMIT_DATE; }
-
 std::map<std::string, std::string> system_info() {
   std::map<std::string, std::string> info;
   info["cpu_model"] = cpu_model();
