@@ -3,6 +3,10 @@
 # without configuring again included), "-dirty" while a tracked file differs from it, "unknown" outside a git
 # checkout, and it is left untouched when the commit has not changed (a build at the same commit recompiles nothing).
 set -euo pipefail
+if ! command -v git >/dev/null; then
+  echo "build_commit_test: skipped: git is not installed (Debian package git)"
+  exit 77
+fi
 here="$(cd "$(dirname "$0")/.." && pwd)"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
