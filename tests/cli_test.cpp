@@ -68,6 +68,11 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
   EXPECT_FALSE(j["omnishadow"]["devices"]["gl"]["renderer"].get<std::string>().empty());
   EXPECT_TRUE(j["omnishadow"]["system"].contains("LP_NUM_THREADS"));
   EXPECT_TRUE(j["omnishadow"]["system"].contains("cpu_model"));
+  // `omnishadow --version` names the commit the results record: the build's, taken at build time.
+  const std::string commit = j["omnishadow"]["commit"];
+  const Outcome version = run("--version");
+  EXPECT_EQ(version.exit_code, 0) << version.err;
+  EXPECT_EQ(version.out.rfind("omnishadow " + commit, 0), 0u) << version.out << " against " << commit;
   int ok = 0, unsupported = 0;
   for (const auto& c : cases) {
     std::string status = c["status"];

@@ -15,6 +15,7 @@
 #include "bench/report/compare.h"
 #include "bench/report/merge.h"
 #include "bench/report/results_store.h"
+#include "bench/run/system_info.h"
 
 using namespace omnishadow;
 using namespace omnishadow::bench;
@@ -178,6 +179,11 @@ int main(int argc, char** argv) {
 
   CLI::App app{"omnishadow: benchmark harness for point-light (cube-map) shadow mapping"};
   app.require_subcommand(1);
+  // The commit the binary was built from, as every results file records it (cmake/build_commit.cmake).
+  app.set_version_flag("--version", [] {
+    const std::string date = build_commit_date();
+    return "omnishadow " + build_commit() + (date.empty() ? "" : " (" + date + ")");
+  });
   CommonOptions common;
   common.scenes_dir = project_path("scenes");
   CLI::App* list =
@@ -217,6 +223,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     print_error(parse_error_message(app, e, ours));
