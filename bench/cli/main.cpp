@@ -220,11 +220,7 @@ int main(int argc, char** argv) {
     if (!r->parsed() && !run.benchmark_args.empty())
       throw std::invalid_argument(run.benchmark_args.front() + " applies to 'run' only");
     if (r->parsed()) finish_run_options(run, run_flags, common);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
+  } catch (const CLI::Success& e) {  // --help, --help-all, --version: printed, exit 0
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     print_error(parse_error_message(app, e, ours));
