@@ -117,6 +117,23 @@ TEST_P(BackendTest, CubeTexelsAgreeWithExactDistances) {
                                                         DepthFormat::d32f, room_->light().near_plane, bits);
   EXPECT_GT(bad.bad_percent(), 5.0) << bench::describe(bad);
   EXPECT_GT(bad.bad_per_face[2], 0u);
+  // The same rule texel by texel (texel_admissible: how the technique checks judge texels where coverage may
+  // flip): each stored value is admissible where it was stored, and +Y's values are not -Y's.
+  int admitted = 0, refused = 0, compared = 0;
+  for (int t = 3; t < 256; t += 16)
+    for (int s = 5; s < 256; s += 16) {
+      const float plus_y = img.cube_distance[2][size_t(t) * 256 + size_t(s)];
+      const float minus_y = img.cube_distance[3][size_t(t) * 256 + size_t(s)];
+      admitted += bench::texel_admissible(truth, Storage::linear_depth, DepthFormat::d32f,
+                                          room_->light().near_plane, img.light_far, bits, 2, s, t, plus_y);
+      if (std::fabs(plus_y - minus_y) <= 1e-3f * img.light_far) continue;
+      ++compared;
+      refused += !bench::texel_admissible(truth, Storage::linear_depth, DepthFormat::d32f,
+                                          room_->light().near_plane, img.light_far, bits, 3, s, t, plus_y);
+    }
+  EXPECT_EQ(admitted, 16 * 16);
+  EXPECT_GT(compared, 100) << "the test needs +Y and -Y to differ";
+  EXPECT_EQ(refused, compared);
   Images unscaled = img;
   for (auto& face : unscaled.cube_distance)
     for (float& v : face) v /= img.light_far;  // distance / far read back as if it were the distance

@@ -121,6 +121,7 @@ json checks_to_json(const std::vector<CheckResult>& checks) {
                    {"values_compared", k.difference.total},
                    {"percent_differing", k.difference.percent_differing()},
                    {"method", k.method},
+                   {"values_inadmissible", k.inadmissible ? json(*k.inadmissible) : json(nullptr)},
                    {"diff_image", k.diff_image.empty() ? json(nullptr) : json(k.diff_image)}});
   return out;
 }

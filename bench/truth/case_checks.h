@@ -127,10 +127,15 @@ void check_timed_variant(CaseFindings& r, const Images& images, const CheckConte
 // Whether the device's (or the host's) face hashes show the two cubes equal, so that their values need not
 // be compared; otherwise check_against_reference needs both cubes in full.
 bool cubes_equal_by_hash(const Images& images, const Images& reference);
+// Whether a read-back distance at texel (s, t) of a layer is one a conformant rasteriser may store there
+// (texel_admissible against the light's cube truth).
+using TexelAdmissible = std::function<bool(int layer, int s, int t, double distance)>;
 // Every technique against its group's six_pass rendering (`reference`, of reference_config(r.config)): cube
-// faces, shadow factor, lit frame, with the driver's evidence when the images point at it.
+// faces, shadow factor, lit frame, with the driver's evidence when the images point at it. Where the
+// technique's coverage may flip at triangle edges, `admissible` judges the texels that differ (empty: every
+// difference fails).
 void check_against_reference(CaseFindings& r, const Images& images, const Images& reference,
-                             const CheckContext& ctx);
+                             const CheckContext& ctx, const TexelAdmissible& admissible = {});
 // The first API's lit frame and shadow factor of a case, for the same case on the other API.
 struct CrossReference {
   std::string case_id;

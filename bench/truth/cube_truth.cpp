@@ -171,6 +171,67 @@ static TexelSample reach_sample(const CubeTruth& truth, Storage storage, double 
   return TexelSample{d >= 0.0, d, plane};
 }
 
+namespace {
+
+// What one texel's judgement needs besides the texel: the truth, the storage and the rasteriser's reach.
+struct TexelRule {
+  const CubeTruth& truth;
+  Storage storage;
+  DepthFormat format;
+  float near_plane;
+  double far_plane;
+  double reach_texels;
+};
+
+// One texel's judgement: `got` (read back) at texel (s, t) of layer f against `want` (the exact distance at
+// its centre, -1 for nothing). `want` comes back as judged (-1 where a clamping storage reads a surface
+// beyond far as nothing), and `got_surface` says whether `got` is a surface.
+TexelVerdict judge_cube_texel(const TexelRule& rule, int f, int s, int t, double got, double& want,
+                              bool& got_surface) {
+  const CubeTruth& truth = rule.truth;
+  const Storage storage = rule.storage;
+  const double far_plane = rule.far_plane;
+  // Depth storages hold min(distance / far, 1): a surface farther than the light's far (along a texel ray
+  // whose axis distance is within it: a cube's corners reach sqrt 3 far) is the clear value, as it is to
+  // every lookup. A light whose range is shorter than its room (the hall's lamps) has many such texels.
+  const bool clamps_at_far = traits(storage).checked == DistanceEncoding::linear_depth;
+  // Distance over the stored depth's measure at a point of layer f: axis distance for a perspective face, 1
+  // where the depth is radial (the paraboloid's).
+  auto depth_to_distance = [&](double cs, double ct) {
+    const std::optional<LayerRay> ray = truth.geometry->point_ray(f, cs, ct, truth.size);
+    return ray ? ray->depth_to_distance : 1.0;
+  };
+  got_surface = stored_surface(storage, got, far_plane);
+  const double len = depth_to_distance(s + 0.5, t + 0.5);
+  auto agree = [&](double stored_distance, double exact_distance) {
+    return std::fabs(stored_distance - exact_distance) <=
+           2.0 * storage_step(storage, rule.format, exact_distance, exact_distance / len, rule.near_plane,
+                              far_plane) +
+               1e-4 * exact_distance;
+  };
+  if (clamps_at_far && want >= 0.0) {
+    // Within the storage's agreement of far either answer is right; beyond it only "nothing".
+    if (!got_surface && agree(far_plane, std::min(want, far_plane))) return TexelVerdict::ok;
+    if (want >= far_plane && !(got_surface && agree(got, want))) want = -1.0;
+  }
+  auto cast = [&](double cs, double ct) {
+    return reach_sample(truth, storage, far_plane, f, cs, ct, s + 0.5, t + 0.5,
+                        len / depth_to_distance(cs, ct));
+  };
+  return judge_texel({got_surface, got}, {want >= 0.0, want}, agree,
+                     [&] { return reach_corners(s + 0.5, t + 0.5, rule.reach_texels, cast); });
+}
+
+}  // namespace
+
+bool texel_admissible(const CubeTruth& truth, Storage storage, DepthFormat format, float near_plane,
+                      float far_plane, int subpixel_bits, int layer, int s, int t, double stored) {
+  const TexelRule rule{truth, storage, format, near_plane, far_plane, raster_reach_texels(subpixel_bits)};
+  double want = double(float(truth.cast(layer, s + 0.5, t + 0.5)));  // as compute_cube_truth's grid holds it
+  bool got_surface = false;
+  return judge_cube_texel(rule, layer, s, t, stored, want, got_surface) == TexelVerdict::ok;
+}
+
 CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
                                   DepthFormat format, float near_plane, int subpixel_bits) {
   CubeTexelReport r;
@@ -184,17 +245,7 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
   if (!images.has_full_cube() &&
       (images.cube_sample_stride != truth.stride || images.cube_sample[0].size() != size_t(n * n)))
     return r;
-  const double far_plane = images.light_far;
-  // Depth storages hold min(distance / far, 1): a surface farther than the light's far (along a texel ray
-  // whose axis distance is within it: a cube's corners reach sqrt 3 far) is the clear value, as it is to
-  // every lookup. A light whose range is shorter than its room (the hall's lamps) has many such texels.
-  const bool clamps_at_far = traits(storage).checked == DistanceEncoding::linear_depth;
-  // Distance over the stored depth's measure at a point of layer f: axis distance for a perspective face, 1
-  // where the depth is radial (the paraboloid's).
-  auto depth_to_distance = [&](int f, double cs, double ct) {
-    const std::optional<LayerRay> ray = geometry.point_ray(f, cs, ct, truth.size);
-    return ray ? ray->depth_to_distance : 1.0;
-  };
+  const TexelRule rule{truth, storage, format, near_plane, images.light_far, r.reach_texels};
   for (int f = 0; f < geometry.layers; ++f) {
     if (!images.face_drawn(f)) continue;  // view culling left it out: no visible pixel reads it
     // The check grid is the truth's grid: read from the device's sample, or from the full cube where it came
@@ -209,28 +260,10 @@ CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, 
         const double got =
             full ? stored[size_t(t) * size_t(truth.size) + size_t(s)] : stored[size_t(y * n + x)];
         double want = exact[size_t(y) * size_t(n) + size_t(x)];
-        const bool got_surface = stored_surface(storage, got, far_plane);
         ++r.texels;
-        const double len = depth_to_distance(f, s + 0.5, t + 0.5);
-        auto agree = [&](double stored_distance, double exact_distance) {
-          return std::fabs(stored_distance - exact_distance) <=
-                 2.0 * storage_step(storage, format, exact_distance, exact_distance / len, near_plane,
-                                    far_plane) +
-                     1e-4 * exact_distance;
-        };
-        if (clamps_at_far && want >= 0.0) {
-          // Within the storage's agreement of far either answer is right; beyond it only "nothing".
-          if (!got_surface && agree(far_plane, std::min(want, far_plane))) continue;
-          if (want >= far_plane && !(got_surface && agree(got, want))) want = -1.0;
-        }
+        bool got_surface = false;
+        const TexelVerdict v = judge_cube_texel(rule, f, s, t, got, want, got_surface);
         if (got_surface && want >= 0.0) r.max_error = std::max(r.max_error, std::fabs(got - want));
-        auto cast = [&](double cs, double ct) {
-          return reach_sample(truth, storage, far_plane, f, cs, ct, s + 0.5, t + 0.5,
-                              len / depth_to_distance(f, cs, ct));
-        };
-        const TexelVerdict v = judge_texel({got_surface, got}, {want >= 0.0, want}, agree, [&] {
-          return reach_corners(s + 0.5, t + 0.5, r.reach_texels, cast);
-        });
         if (v == TexelVerdict::ok) continue;
         ++(v == TexelVerdict::wrong ? r.wrong : v == TexelVerdict::spurious ? r.spurious : r.missing);
         ++r.bad_per_face[size_t(f)];

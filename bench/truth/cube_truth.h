@@ -98,6 +98,12 @@ struct CubeTexelReport {
 CubeTexelReport check_cube_texels(const CubeTruth& truth, const Images& images, Storage storage,
                                   DepthFormat format, float near_plane, int subpixel_bits);
 
+// check_cube_texels's rule for one texel, at any texel of any layer (its centre's ray cast now): whether
+// `stored`, a read-back distance at texel (s, t) of `layer`, is a value a conformant rasteriser may leave
+// there.
+bool texel_admissible(const CubeTruth& truth, Storage storage, DepthFormat format, float near_plane,
+                      float far_plane, int subpixel_bits, int layer, int s, int t, double stored);
+
 // "cube_texels: 5.21% of 98304 texels wrong (+Y 31.2%, -Y 0.1%), max error 3.1 units" for a finding.
 std::string describe(const CubeTexelReport& r);
 

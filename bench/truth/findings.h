@@ -68,6 +68,10 @@ struct CheckResult {
   std::string diff_image;  // relative to out_dir, written on failure only
   // "values": compared value by value; "hash": the face hashes were equal, so were the values (cubes).
   std::string method = "values";
+  // cube_faces of a pipeline whose coverage may flip at triangle edges: of the differing texels, those where
+  // either value is not one a conformant rasteriser may store there (texel_admissible), which must be none;
+  // unset where every difference counts alike.
+  std::optional<uint64_t> inadmissible;
 };
 
 // A many-light case's reports for one of the point lights its checks read (the first, then every stride-th:
