@@ -70,7 +70,7 @@ struct CheckResult {
   std::string method = "values";
   // cube_faces of a pipeline whose coverage may flip at triangle edges: of the differing texels, those where
   // either value is not one a conformant rasteriser may store there (texel_admissible), which must be none;
-  // unset where every difference counts alike.
+  // unset where every difference counts alike, or where too many differ to be flips (judged unneeded).
   std::optional<uint64_t> inadmissible;
 };
 
