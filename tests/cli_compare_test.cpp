@@ -26,7 +26,7 @@ TEST_F(CliRun, ShardsMergeIntoTheSameRunAndCompareReadsIt) {
   ASSERT_EQ(run(matrix + "--shard 1/2 --out " + s1.string()).exit_code, 0);
   Outcome m = run("merge " + merged.string() + " " + s0.string() + " " + s1.string());
   ASSERT_EQ(m.exit_code, 0) << m.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((merged / "results.json").string()));
+  auto j = results_of(merged);
   EXPECT_EQ(j["omnishadow"]["cases"].size(), 4u);
   // Deterministic rendering: the merged shards hold the full run's work and images exactly.
   Outcome c = run("compare --no-timing " + full.string() + " " + merged.string());
@@ -42,7 +42,7 @@ TEST_F(CliRun, ShardsMergeIntoTheSameRunAndCompareReadsIt) {
   Outcome half = run("merge " + partial.string() + " " + s0.string());
   EXPECT_EQ(half.exit_code, 1) << "written, but not a whole run";
   EXPECT_NE(half.err.find("merge: INCOMPLETE: shard 1 missing"), std::string::npos) << half.err;
-  auto p = nlohmann::json::parse(omnishadow::bench::read_file((partial / "results.json").string()));
+  auto p = results_of(partial);
   EXPECT_FALSE(p["omnishadow"]["complete"].get<bool>());
   EXPECT_EQ(p["omnishadow"]["missing_shards"], nlohmann::json::array({1}));
   Outcome lacking = run("compare --no-timing " + full.string() + " " + partial.string());
@@ -67,7 +67,7 @@ TEST_F(CliRun, ExperimentAxesRunEveryCopyInOneRun) {
           "--no-accuracy --inject-fragment-work 0,5 --replicas 2 --out " +
           out.string() + " --benchmark_repetitions=2");
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   std::vector<std::string> ids;
   for (const auto& c : j["omnishadow"]["cases"]) {
     ids.push_back(c["id"]);
@@ -101,7 +101,7 @@ TEST_F(CliRun, WarmupByTimeKeepsTheTimedFrames) {
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_NE(b.err.find("[settle] gl: clock "), std::string::npos) << b.err;
   auto warmup_frames = [](const fs::path& out) {
-    auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+    auto j = results_of(out);
     return j["omnishadow"]["cases"][0]["timing"]["warmup_frames"].get<int>();
   };
   EXPECT_EQ(warmup_frames(none), 4) << "2 frames in each of 2 repetitions";
@@ -129,7 +129,7 @@ TEST_F(CliRun, RepetitionLengthInTimeAddsTimedFrames) {
   ASSERT_EQ(a.exit_code, 0) << a.err;
   ASSERT_EQ(b.exit_code, 0) << b.err;
   auto timing = [](const fs::path& out) {
-    auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+    auto j = results_of(out);
     return j["omnishadow"]["cases"][0]["timing"];
   };
   EXPECT_EQ(timing(plain)["frames_per_repetition"], 2) << "--repetition-ms 0 keeps --frames";

@@ -25,8 +25,7 @@ struct FaultRun {
   nlohmann::json results;
 };
 FaultRun run_with_fault(const std::string& name, const std::string& fault) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   const fs::path out = scratch(name);
   FaultRun f;
   f.outcome =
@@ -34,8 +33,7 @@ FaultRun run_with_fault(const std::string& name, const std::string& fault) {
           " --scene room --cube 16 --frame 32x24 --technique six_pass,geometry_shader "
           "--filter hard --frames 2 --warmup 0 --no-accuracy --images none --benchmark_repetitions=2 " +
           fault + " --out " + out.string());
-  if (fs::exists(out / "results.json"))
-    f.results = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  if (fs::exists(out / "results.json")) f.results = results_of(out);
   return f;
 }
 
@@ -135,7 +133,7 @@ TEST_F(CliRun, CaptureRunsTheFailedCasesAgainUnderACapture) {
   const auto captures =
       nlohmann::json::parse(omnishadow::bench::read_file((out / "captures.json").string()))["captures"];
   ASSERT_EQ(captures.size(), 2u) << captures.dump(1);
-  const auto results = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  const auto results = results_of(out);
   EXPECT_EQ(results["omnishadow"]["captures"], captures);
   for (const auto& c : captures) {
     if (c["case"].get<std::string>().rfind("gl/", 0) == 0) {  // RenderDoc (tests/capture_replay_test.py)

@@ -8,7 +8,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "bench/io/file_io.h"
 #include "tests/cli_support.h"
 
 namespace omnishadow::cli_test {
@@ -19,8 +18,7 @@ namespace {
 // with the missing extension named, and the matrix goes on; a device with them (an NVIDIA GPU) must pass
 // every check. nv_swizzle refuses hardware_depth on every device, with its reason.
 TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("singlepass");
   Outcome o =
       run("run --backend " + backends +
@@ -30,7 +28,7 @@ TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) 
           " --images none --check --benchmark_repetitions=1 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   int six_pass_ok = 0, gpu_paths = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     const std::string id = c["id"], technique = c["axes"]["technique"], status = c["status"];
@@ -75,8 +73,7 @@ TEST_F(CliRun, NvSwizzleAndMeshShaderRunWithChecksOrSayWhichExtensionIsMissing) 
 // --max-error 100; a flipped culling sign or an unreversed depth test fails the checks:
 // docs/mutants.md).
 TEST_F(CliRun, EmulatedNvSwizzlePassesEveryCheckOnBothApis) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("swizzle_emulated");
   Outcome o = run(
       "run --backend " + backends +
@@ -86,7 +83,7 @@ TEST_F(CliRun, EmulatedNvSwizzlePassesEveryCheckOnBothApis) {
       " --benchmark_repetitions=1 --out " +
       out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   int emulated = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     EXPECT_EQ(c["status"], "ok") << c.dump();
@@ -102,8 +99,7 @@ TEST_F(CliRun, EmulatedNvSwizzlePassesEveryCheckOnBothApis) {
 // The face_array layout runs with --check on both APIs (truth, timing, the technique checks within
 // the layout), beside the cube; its cases carry the layout in the id and the JSON axes.
 TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("layouts");
   Outcome o =
       run("run --backend " + backends +
@@ -112,7 +108,7 @@ TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {
           " --warmup 0 --images none --check --benchmark_repetitions=1 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   int face_array_ok = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     const std::string id = c["id"];
@@ -131,8 +127,7 @@ TEST_F(CliRun, FaceArrayLayoutPassesItsChecksBesideTheCube) {
 // texels are a figure (the warp bends edges), and against exact visibility its error falls with tessellation
 // to the cube's. The techniques it has no pass for yet are unsupported with the reason.
 TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("paraboloid");
   Outcome o = run(
       "run --backend " + backends +
@@ -141,7 +136,7 @@ TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
       " --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
       out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   std::map<std::string, double> misclassified;  // backend/layout/tessellation, six_pass hard
   int paraboloid_ok = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
@@ -177,8 +172,7 @@ TEST_F(CliRun, DualParaboloidPassesItsChecksAndTessellationBringsItToTheCube) {
 // cube's are (cube_texels is a check here, not a figure), its techniques agree with its six_pass, and both
 // APIs agree.
 TEST_F(CliRun, TetrahedralPassesItsChecksAndItsExactTexelTruth) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("tetrahedral");
   // tetra_seams: casters on its faces' corners, edges and tie planes (the layouts' extremes).
   const std::string seams = std::string(OMNISHADOW_TEST_SCENES_DIR) + "/extremes/tetra_seams.json";
@@ -189,7 +183,7 @@ TEST_F(CliRun, TetrahedralPassesItsChecksAndItsExactTexelTruth) {
           " --check --max-error 100 --benchmark_repetitions=1 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   int ok = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     EXPECT_EQ(c["axes"]["layout"], "tetrahedral");
@@ -208,8 +202,7 @@ TEST_F(CliRun, TetrahedralPassesItsChecksAndItsExactTexelTruth) {
 // (Vulkan) texels of 1.18 M so on llvmpipe and lavapipe. The technique check lets such texels differ, few and
 // each holding values the texel rule admits there, and says how many it refused (none).
 TEST_F(CliRun, ASinglePassMayFlipEdgeTexelsTheTexelRuleAdmits) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   const fs::path out = scratch("edge_flips");
   const Outcome o =
       run("run --backend " + backends +
@@ -218,7 +211,7 @@ TEST_F(CliRun, ASinglePassMayFlipEdgeTexelsTheTexelRuleAdmits) {
           " --check --benchmark_repetitions=1 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  const auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  const auto j = results_of(out);
   int judged = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     EXPECT_EQ(c["status"], "ok") << c["id"] << ": " << c["reason"];
@@ -239,8 +232,7 @@ TEST_F(CliRun, ASinglePassMayFlipEdgeTexelsTheTexelRuleAdmits) {
 // back) and vsm's blur stays in the light's tiles (the moments check). Cube 48: no power of two, the single
 // pass's bound.
 TEST_F(CliRun, AtlasPassesEveryCheckForEveryLightOnBothApis) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("atlas");
   Outcome o =
       run("run --backend " + backends +
@@ -249,7 +241,7 @@ TEST_F(CliRun, AtlasPassesEveryCheckForEveryLightOnBothApis) {
           " --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   int ok = 0, lookups = 0, moments = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     EXPECT_EQ(c["axes"]["layout"], "atlas");
@@ -268,8 +260,7 @@ TEST_F(CliRun, AtlasPassesEveryCheckForEveryLightOnBothApis) {
 // its pixels' faces check and its clusters' check; with every light in one pass it is unsupported with its
 // reason.
 TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("view");
   Outcome o = run(
       "run --backend " + backends +
@@ -278,7 +269,7 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
       " --frames 1 --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
       out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   int ok = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     if (c["status"] == "unsupported") {  // six_pass has no one pass at all; vs_layer's is not culled
@@ -311,7 +302,7 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
       " --benchmark_repetitions=1 --out " +
       beside.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  j = nlohmann::json::parse(omnishadow::bench::read_file((beside / "results.json").string()));
+  j = results_of(beside);
   for (const auto& c : j["omnishadow"]["cases"]) {
     EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
     EXPECT_GT(c["shadow_plan"]["view_culling"]["faces_culled"].get<int>(), 0) << c["id"];
@@ -324,8 +315,7 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
 // bound; the stale faces of the swaying lamps and of those the moving casters reach cost misclassified
 // pixels.
 TEST_F(CliRun, UpdateBudgetRendersAtMostItsFacesAndReportsWhatStalenessCosts) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("update_budget");
   Outcome o = run("run --backend " + backends +
                   " --scene hall --light-count 8 --update-budget none,2,12 --staleness-frames 12 --cube 32"
@@ -333,7 +323,7 @@ TEST_F(CliRun, UpdateBudgetRendersAtMostItsFacesAndReportsWhatStalenessCosts) {
                   " --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
                   out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   int sequences = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     const int budget = c["axes"]["update_budget_faces"].get<int>();
@@ -375,7 +365,7 @@ TEST_F(CliRun, UpdateBudgetRendersAtMostItsFacesAndReportsWhatStalenessCosts) {
           " --no-accuracy --benchmark_repetitions=1 --out " +
           plain.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  j = nlohmann::json::parse(omnishadow::bench::read_file((plain / "results.json").string()));
+  j = results_of(plain);
   const auto& s = j["omnishadow"]["cases"][0]["staleness"];
   EXPECT_TRUE(s["misclassified_percent"].is_null()) << s.dump();
   EXPECT_TRUE(s["frames"][5]["misclassified_percent"].is_null());
@@ -388,8 +378,7 @@ TEST_F(CliRun, UpdateBudgetRendersAtMostItsFacesAndReportsWhatStalenessCosts) {
 // frames from a fresh start: each lamp a moving caster reaches renders again, no face read stale);
 // mesh_shader too (through its emulation), whose moving meshlets' spheres follow the casters every frame.
 TEST_F(CliRun, MovingCastersAreDrawnWhereTheirFrameHasThem) {
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("moving_casters");
   Outcome o =
       run("run --backend " + backends +
@@ -399,7 +388,7 @@ TEST_F(CliRun, MovingCastersAreDrawnWhereTheirFrameHasThem) {
           " --frames 2 --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   int checked = 0, meshes = 0;
   for (const auto& c : j["omnishadow"]["cases"]) {
     if (c["status"] == "unsupported")

@@ -100,7 +100,7 @@ TEST_F(CliRun, SigtermInsideARoundLeavesValidResults) {
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 143);
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   EXPECT_FALSE(j["omnishadow"]["complete"].get<bool>());
   EXPECT_EQ(j["omnishadow"]["stopped_by"], "SIGTERM");
   int timed = 0, interrupted = 0;
@@ -116,7 +116,7 @@ TEST_F(CliRun, SigtermInsideARoundLeavesValidResults) {
 // The run of `--cube 16384,64` in `out`: the first case a resource_error (a memory finding), the second ok.
 // Returns the first case's reason ("" when the file does not hold two cases; the failures are recorded).
 std::string out_of_memory_then_ok(const fs::path& out) {
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   const auto& cases = j["omnishadow"]["cases"];
   EXPECT_EQ(cases.size(), 2u);
   if (cases.size() != 2) return "";
@@ -204,7 +204,7 @@ nlohmann::json run_extremes(const std::string& name, const std::string& args) {
           " --out " + out.string());
   EXPECT_EQ(o.exit_code, 0) << o.err;
   if (o.exit_code != 0) return nullptr;
-  return nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  return results_of(out);
 }
 
 TEST_F(CliRun, ExtremesHoldTheirStatedBounds) {

@@ -59,6 +59,15 @@ bool vulkan_available(std::string& why) {
   return true;
 }
 
+std::string available_backends() {
+  std::string why;
+  return vulkan_available(why) ? "gl,vulkan" : "gl";
+}
+
+nlohmann::json results_of(const fs::path& run_folder) {
+  return nlohmann::json::parse(omnishadow::bench::read_file((run_folder / "results.json").string()));
+}
+
 std::string error_lines(const std::string& err) {
   std::istringstream in(err);
   std::string line, out;

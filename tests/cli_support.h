@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace omnishadow::cli_test {
@@ -26,6 +27,10 @@ Outcome run(const std::string& args);
 // fails is a test failure, never a reason to skip).
 bool gl_available(std::string& why);
 bool vulkan_available(std::string& why);
+// "gl,vulkan" where Vulkan came up here, else "gl" (CliRun has made sure of GL): both APIs wherever they run.
+std::string available_backends();
+// A run folder's results.json, parsed.
+nlohmann::json results_of(const fs::path& run_folder);
 // Everything on stderr but the progress lines: what a user reads when the run refuses to start.
 std::string error_lines(const std::string& err);
 

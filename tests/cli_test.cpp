@@ -61,7 +61,7 @@ TEST_F(CliRun, SmallMatrixWritesResultsImagesAndSummary) {
                                 (out / "report.html").string() + " in a browser\n";
   ASSERT_GE(o.out.size(), last_line.size());
   EXPECT_EQ(o.out.substr(o.out.size() - last_line.size()), last_line) << o.out;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   const auto& cases = j["omnishadow"]["cases"];
   ASSERT_EQ(cases.size(), 12u);
   EXPECT_TRUE(j["omnishadow"]["complete"].get<bool>());
@@ -132,7 +132,7 @@ TEST_F(CliRun, VersionNamesTheCommitTheResultsRecord) {
           "--warmup 0 --images none --max-error 100 --benchmark_repetitions=1 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  const auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  const auto j = results_of(out);
   const std::string commit = j["omnishadow"]["commit"];
   const Outcome version = run("--version");
   EXPECT_EQ(version.exit_code, 0) << version.err;
@@ -171,7 +171,7 @@ TEST_F(CliRun, SustainLoopsRoundsAndReportsStability) {
           "--frames 2 --warmup 0 --no-accuracy --no-images --sustain 2 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   for (const auto& c : j["omnishadow"]["cases"]) {
     const auto& per = c["timing"]["per_repetition"];
     EXPECT_EQ(per["ended_by"], "sustain") << c["id"];
@@ -192,7 +192,7 @@ TEST_F(CliRun, PrecisionJudgesGpuTimeWhereTheTimerPassedItsCheck) {
           "--max-repetitions 9 --out " +
           out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   EXPECT_EQ(j["omnishadow"]["repetition_policy"]["precision_metric"], "gpu");
   size_t reliable = 0;
   for (const auto& b : j["benchmarks"])
@@ -236,7 +236,7 @@ TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
           "--images none --out " +
           out.string() + " --benchmark_repetitions=1");
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   bool multiview_supported = o.err.find("multiview left out on gl") == std::string::npos;
   size_t cases = j["omnishadow"]["cases"].size();
   EXPECT_EQ(cases, multiview_supported ? 5u : 4u) << o.err;
@@ -247,7 +247,7 @@ TEST_F(CliRun, DefaultMatrixLeavesOutWhatABackendCannotDo) {
           "--warmup 0 --no-accuracy --images none --out " +
           named.string() + " --benchmark_repetitions=1");
   ASSERT_EQ(n.exit_code, 0) << n.err;
-  auto k = nlohmann::json::parse(omnishadow::bench::read_file((named / "results.json").string()));
+  auto k = results_of(named);
   ASSERT_EQ(k["omnishadow"]["cases"].size(), 1u);
   if (!multiview_supported) {
     EXPECT_EQ(k["omnishadow"]["cases"][0]["status"], "unsupported");
@@ -263,7 +263,7 @@ TEST_F(CliRun, CpuDriversDefaultToOneCubeSizeAndSaySo) {
   fs::path out = scratch("cpu_cube_default");
   Outcome o = run("run" + common + out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   std::set<int> sizes;
   for (const auto& c : j["omnishadow"]["cases"]) sizes.insert(c["axes"]["cube_size"].get<int>());
   const bool cpu_driver = j["omnishadow"]["devices"]["gl"]["shares_host_memory"].get<bool>();
@@ -275,7 +275,7 @@ TEST_F(CliRun, CpuDriversDefaultToOneCubeSizeAndSaySo) {
   Outcome a = run("run --cube 512,1024" + common + asked.string());
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_EQ(a.err.find("cube 512 only"), std::string::npos) << a.err;
-  auto k = nlohmann::json::parse(omnishadow::bench::read_file((asked / "results.json").string()));
+  auto k = results_of(asked);
   EXPECT_EQ(k["omnishadow"]["cases"].size(), 2u);
 }
 
@@ -326,8 +326,7 @@ TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
   if (!fs::exists(engine) || !fs::exists(bunny))
     GTEST_SKIP() << engine << " or " << bunny
                  << " missing: bash scripts/setup.sh installs assimp-testmodels and glmark2-data";
-  std::string why;
-  const std::string backends = vulkan_available(why) ? "gl,vulkan" : "gl";
+  const std::string backends = available_backends();
   fs::path out = scratch("models");
   Outcome o = run(
       "run --backend " + backends + " --scene " + engine + "," + bunny +
@@ -335,7 +334,7 @@ TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
       " --warmup 0 --images none --check --benchmark_repetitions=1 --out " +
       out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   std::map<std::string, int> by_scene;
   for (const auto& c : j["omnishadow"]["cases"]) {
     EXPECT_EQ(c["status"], "ok") << c.dump();
@@ -368,7 +367,7 @@ TEST_F(CliRun, ModelFilesRunDirectlyAndPassTheirChecksOnBothApis) {
           "--benchmark_repetitions=1 --out " +
           hand.string());
   ASSERT_EQ(h.exit_code, 0) << h.err;
-  auto k = nlohmann::json::parse(omnishadow::bench::read_file((hand / "results.json").string()));
+  auto k = results_of(hand);
   EXPECT_EQ(k["omnishadow"]["options"]["light"], "0.2,1.6,0.9,0.3,0,0");
   EXPECT_EQ(k["omnishadow"]["options"]["camera"], "2,1,3,0,0,0");
   EXPECT_NE(h.err.find("light by --light"), std::string::npos) << h.err;
@@ -391,7 +390,7 @@ TEST_F(CliRun, DefaultSceneThatCannotLoadIsLeftOutInOneLine) {
   Outcome o = run("run" + common + " --out " + out.string());
   ASSERT_EQ(o.exit_code, 0) << o.err;
   EXPECT_NE(o.err.find("scene bunny left out (not asked for by name)"), std::string::npos) << o.err;
-  auto j = nlohmann::json::parse(omnishadow::bench::read_file((out / "results.json").string()));
+  auto j = results_of(out);
   EXPECT_EQ(j["omnishadow"]["cases"].size(), 2u);
   Outcome named = run("run --scene bunny" + common + " --out " + scratch("named_bunny").string());
   EXPECT_EQ(named.exit_code, 2) << named.err;
