@@ -272,27 +272,7 @@ step_matrix() {
 # PASS when no case failed a check, and the only quality failures are the cases named in $2 (a regex over ids):
 # heavy at cube 64 misclassifies 13% on every device, a real quality limit, not a false alarm.
 judge_checks() {
-  /usr/bin/python3 - "$1" "${2:-^$}" <<'PY' | tee -a "$summary"
-import json, re, sys
-cases = json.load(open(sys.argv[1] + "/results.json"))["omnishadow"]["cases"]
-allowed = re.compile(sys.argv[2])
-# interrupted: a step that cuts its run at a budget (lights) stops cases before their timing; not a failure
-# when that is its only finding beyond ok (interrupted outranks failed_check in a case's status).
-def cut_clean(c):
-    return c["status"] == "interrupted" and all(
-        f["status"] in ("ok", "failed_quality", "interrupted") for f in c.get("findings", []))
-bad = [c for c in cases if c["status"] == "failed_check" or
-       (c["status"] not in ("ok", "unsupported", "failed_check") and not cut_clean(c) and
-        not allowed.search(c["id"]))]
-ok = sum(c["status"] == "ok" for c in cases)
-cut = sum(cut_clean(c) for c in cases)
-print(f"- {'PASS' if not bad else 'FAIL'}: {ok} ok, {sum(c['status'] == 'unsupported' for c in cases)} unsupported, "
-      f"{len(bad)} failed beyond the expected quality limit, {cut} cut by the budget before their timing, "
-      f"of {len(cases)}")
-for c in bad[:20]:
-    print(f"  - {c['id']}: {c['status']}: {c.get('reason', '')[:240]}")
-sys.exit(1 if bad else 0)
-PY
+  /usr/bin/python3 "$here/scripts/analysis/judge_checks.py" "$1" --allow "${2:-^$}" | tee -a "$summary"
   return "${PIPESTATUS[0]}"
 }
 
