@@ -146,6 +146,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "--moments-tuning: unknown moments tuning 'blur9'"},
         BadInput{"run --moments-tuning exp3 --out @OUT@", "--moments-tuning: moments tuning 'exp3'"},
         BadInput{"run --precision 2 --sustain 5 --out @OUT@", "--precision and --sustain: choose one"},
+        BadInput{"run --no-timing --precision 2 --out @OUT@", "--precision and --no-timing:"},
+        BadInput{"run --sustain 5 --no-timing --out @OUT@", "--sustain and --no-timing:"},
         BadInput{"run --precision 0 --out @OUT@", "--precision"},
         BadInput{"run --precision 2 --precision-metric vram --out @OUT@", "--precision-metric"},
         BadInput{"run --out @OUT@ --benchmark_repetitions=zero", "--benchmark_repetitions: expected"},

@@ -162,6 +162,40 @@ TEST_F(CliRun, CompareScriptReadsTwoRuns) {
   EXPECT_NE(text.find("U Test"), std::string::npos) << text;
 }
 
+// --no-timing: every check runs and judges the run, no case is timed, and compare still reads its images.
+TEST_F(CliRun, NoTimingChecksEveryCaseAndTimesNone) {
+  const fs::path out = scratch("no_timing");
+  const std::string matrix = "run --backend " + available_backends() +
+                             " --scene room --cube 64 --frame 64x48 --technique six_pass,geometry_shader "
+                             "--filter hard --frames 2 --warmup 0 --no-images --check --no-timing";
+  Outcome o = run(matrix + " --out " + out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  const auto j = results_of(out);
+  EXPECT_TRUE(j["benchmarks"].empty()) << j["benchmarks"].dump();
+  EXPECT_EQ(j["omnishadow"]["repetition_policy"]["timed"], false);
+  EXPECT_TRUE(j["omnishadow"]["phases"]["timed_seconds"].is_null());
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["status"], "ok") << c["id"];
+    EXPECT_FALSE(c.contains("timing")) << c["id"] << ": a case of a --no-timing run was timed";
+    std::set<std::string> checks;
+    for (const auto& check : c["checks"]) checks.insert(check["name"].get<std::string>());
+    if (c["axes"]["technique"] == "geometry_shader") {
+      EXPECT_TRUE(checks.count("cube_faces")) << c["id"] << ": not held to six_pass's faces";
+    }
+  }
+  EXPECT_NE(o.out.find("Not timed (`--no-timing`)"), std::string::npos) << o.out;
+  EXPECT_EQ(o.out.find("Shadow pass: median wall time"), std::string::npos)
+      << "a time table with no time in it";
+  // The checks' verdict is the run's: a quality limit no case meets fails it.
+  const fs::path strict = scratch("no_timing_strict");
+  EXPECT_EQ(run(matrix + " --max-error 0 --out " + strict.string()).exit_code, 1);
+  EXPECT_EQ(results_of(strict)["omnishadow"]["cases"][0]["status"], "failed_quality");
+  const Outcome compared =
+      run("compare " + out.string() + " " + out.string() + " --out " + scratch("no_timing_compare").string());
+  EXPECT_EQ(compared.exit_code, 0) << compared.out << compared.err;
+  EXPECT_NE(compared.out.find("not timed"), std::string::npos) << compared.out;
+}
+
 // Rounds until the time is up; every case then holds its stability figure and its clock samples per
 // repetition.
 TEST_F(CliRun, SustainLoopsRoundsAndReportsStability) {

@@ -393,6 +393,9 @@ void add_run_options(CLI::App& r, RunCommand& run, RunFlags& flags) {
   add_check_options(r, run.harness);
   add_experiment_options(r, run);
   r.add_flag("--no-accuracy", flags.no_accuracy, "skip the shadow error against the ray-cast reference");
+  r.add_flag("--no-timing", flags.no_timing,
+             "the untimed part only: every check, the reference, read-backs and images; no case is timed (a "
+             "check of a driver, or a sweep of the checks: results.json's cases carry no timing)");
   r.add_option(
        "--memory-budget", run.harness.memory_budget,
        "plan as if the device had BYTES (1G, 512M, ...; on CPU drivers: host memory): a case that would not "
@@ -457,6 +460,11 @@ void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOpti
     throw std::invalid_argument(
         "--precision and --sustain: choose one (sustain loops for a time, precision until "
         "the interval is narrow enough)");
+  run.repetitions.timed = !flags.no_timing;
+  if (flags.no_timing && (run.repetitions.precision_percent > 0.0 || run.repetitions.sustain_seconds > 0.0))
+    throw std::invalid_argument(
+        std::string(run.repetitions.precision_percent > 0.0 ? "--precision" : "--sustain") +
+        " and --no-timing: the one times repetitions, the other times none");
   using Policy = RunOptions::ImagePolicy;
   run.harness.images = flags.no_images || flags.images == "none" ? Policy::none
                        : flags.images == "all"                   ? Policy::all

@@ -35,6 +35,7 @@ struct RunFlags {
   std::string cube_read_back = "auto";
   bool no_images = false;
   bool no_accuracy = false;
+  bool no_timing = false;  // run's --no-timing (compare's has its own)
   bool no_memory_precheck = false;
   std::string shard;
 };

@@ -353,6 +353,14 @@ bool claim_out_dir(const std::string& dir, std::optional<FileLock>& lock) {
   return true;
 }
 
+// A finished run's exit code: 1 with --check when a case failed or failed a check.
+int run_exit_code(const RunCommand& cmd, const std::vector<CaseResult>& results) {
+  if (cmd.check)
+    for (const CaseResult& r : results)
+      if (fails_run(r.status)) return 1;
+  return 0;
+}
+
 // The matrix in this process: a run without isolation, or a worker's share of one.
 int run_matrix_here(const RunCommand& cmd, RunOptions options) {
   options.progress_fd = cmd.worker_progress_fd;
@@ -393,6 +401,11 @@ int run_matrix_here(const RunCommand& cmd, RunOptions options) {
     return 128 + static_cast<int>(g_stop_signal);
   }
 
+  if (!run.info.repetitions.timed) {  // --no-timing: the checks' verdicts are the run's
+    run.save(nullptr, true);
+    write_summary(run, "");
+    return run_exit_code(cmd, run.results);
+  }
   const std::string raw_path = (fs::path(options.out_dir) / ".gbench_raw.json").string();
   if (!init_benchmark(cmd, run.info, run.benchmark_argv)) return 2;
   auto timed_start = std::chrono::steady_clock::now();
@@ -413,10 +426,7 @@ int run_matrix_here(const RunCommand& cmd, RunOptions options) {
                  run.info.stopped_by.c_str(), run.results_path.c_str());
     return 128 + static_cast<int>(g_stop_signal);
   }
-  if (cmd.check)
-    for (const CaseResult& r : run.results)
-      if (fails_run(r.status)) return 1;
-  return 0;
+  return run_exit_code(cmd, run.results);
 }
 
 }  // namespace

@@ -452,7 +452,8 @@ void write_results(const std::string& path, const RunInfo& run, const std::vecto
         {"timed_seconds", run.phases.timed_seconds < 0 ? json(nullptr) : json(run.phases.timed_seconds)},
         {"scene_loads", scene_loads_json(run.phases.scene_loads)}}},
       {"repetition_policy",
-       {{"repetitions", run.repetitions.repetitions},
+       {{"timed", run.repetitions.timed},  // false: --no-timing, no case was timed
+        {"repetitions", run.repetitions.repetitions},
         {"precision_percent", run.repetitions.precision_percent},
         {"max_repetitions", run.repetitions.max_repetitions},
         {"minimum", run.repetitions.minimum()},

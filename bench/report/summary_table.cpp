@@ -294,6 +294,7 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
     md << "**Incomplete run: " << incomplete << ".** Cases it did not time are `interrupted`; the figures "
        << "below are of what ran, and compare counts the cases it lacks as missing.\n\n";
   md << "## Cases\n\n";
+  if (!policy.timed) md << "Not timed (`--no-timing`): the checks, the reference and the images only.\n\n";
   if (phases.untimed_seconds >= 0 && phases.timed_seconds >= 0) {
     char buf[160];
     std::snprintf(buf, sizeof buf,
@@ -347,6 +348,7 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
   repetition_table(md, results, policy);
   floor_table(md, results);
   staleness_table(md, results);
+  if (!policy.timed) return md.str();
   ratio_table<Technique>(
       md, results, "Shadow pass: median wall time per technique, all filters pooled (ratio to six_pass)",
       &CaseConfig::technique, Technique::six_pass, shadow_wall);

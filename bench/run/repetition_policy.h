@@ -13,6 +13,10 @@ namespace omnishadow::bench {
 
 struct RepetitionPolicy {
   int repetitions = 1;  // the fixed count; with --precision or --sustain the minimum
+  // --no-timing: false, the run is its untimed part only (checks, the reference, read-backs, images), as a
+  // check of a driver or the mutation suite wants it: no case is timed and Google Benchmark's output is
+  // empty.
+  bool timed = true;
   double precision_percent =
       0.0;                       // --precision: target half-width of the 95% interval, % of the median; 0 off
   int max_repetitions = 30;      // --max-repetitions: the cap under --precision

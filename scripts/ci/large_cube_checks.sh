@@ -6,8 +6,9 @@
 # mutants' baseline. Both APIs, room and heavy, every storage and depth format, the layouts cube, face_array,
 # tetrahedral, dual_paraboloid and atlas, hard and pcf_disk20 (--max-error 100: a layout's own error against exact
 # visibility is its table's figure, not an alarm). Judged by scripts/analysis/judge_checks.py: PASS when no case
-# failed. About 25 minutes on 2 cores with the CPU drivers; a step of scripts/ci/extended.sh.
-# Usage: scripts/ci/large_cube_checks.sh [OUT] (default: a temporary folder); a built build/release/omnishadow.
+# failed. Untimed (--no-timing): about 35 minutes on 2 cores with the CPU drivers; a stage of scripts/ci/extended.sh.
+# Usage: scripts/ci/large_cube_checks.sh [OUT] (default: a temporary folder; OUT/formats and OUT/remedies, each a run
+# folder with its log beside it); a built build/release/omnishadow.
 #   SWEEP_TECHNIQUES  the techniques (default six_pass,geometry_shader,geometry_shader_instanced,vs_layer: multiview
 #                     is left out on the CPU drivers, whose lavapipe writes every view into one face, a driver bug
 #                     the checks name; add it, nv_swizzle and mesh_shader on a GPU that has them)
@@ -19,17 +20,34 @@ out="${1:-$(mktemp -d)/large-cube-checks}"
 bin=./build/release/omnishadow
 [ -x "$bin" ] || { echo "large_cube_checks.sh: $bin is not built (scripts/build.sh builds it)" >&2; exit 2; }
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
-run_status=0
-"$bin" run --backend "${SWEEP_BACKENDS:-gl,vulkan}" --scene room,heavy --cube "${SWEEP_CUBES:-1024,2048}" \
-  --technique "${SWEEP_TECHNIQUES:-six_pass,geometry_shader,geometry_shader_instanced,vs_layer}" \
+# One matrix into a run folder, its log beside it; exits 2 (the script's input error) when the run did not finish:
+# 1 is the run's verdict on its checks, which the judge reads.
+sweep() {
+  local dir="$1"
+  shift
+  local status=0
+  "$bin" run --backend "${SWEEP_BACKENDS:-gl,vulkan}" --scene room,heavy --max-error 100 --check --no-timing \
+    --images none --out "$dir" "$@" >"$dir.log" 2>&1 || status=$?
+  if [ "$status" -gt 1 ]; then
+    tail -n 5 "$dir.log" >&2
+    echo "large_cube_checks.sh: the run exited $status (its log: $dir.log)" >&2
+    exit 2
+  fi
+}
+techniques="${SWEEP_TECHNIQUES:-six_pass,geometry_shader,geometry_shader_instanced,vs_layer}"
+mkdir -p "$out"
+# Every storage and depth format in every layout.
+sweep "$out/formats" --cube "${SWEEP_CUBES:-1024,2048}" --technique "$techniques" \
   --layout cube,face_array,tetrahedral,dual_paraboloid,atlas --storage linear_depth,r32f_distance,hardware_depth \
-  --depth-format d16,d24,d32f --filter hard,pcf_disk20 --max-error 100 --check --images none --frames 1 --warmup 0 \
-  --settle-s 0 --benchmark_repetitions=1 --out "$out" >"$out.log" 2>&1 || run_status=$?
-# 1 is the run's verdict on its checks (the judge says which case); anything else is a run that did not finish.
-if [ "$run_status" -gt 1 ]; then
-  tail -n 5 "$out.log" >&2
-  echo "large_cube_checks.sh: the run exited $run_status (its log: $out.log)" >&2
-  exit 2
-fi
-echo "large_cube_checks.sh: $out (log $out.log)"
-/usr/bin/python3 scripts/analysis/judge_checks.py "$out"
+  --depth-format d16,d24,d32f --filter hard,pcf_disk20
+# What moves the stored depths or the lookup: the far plane fitted to the scene, per-face culling, the biases and the
+# normal offset, at the largest cube.
+sweep "$out/remedies" --cube "${SWEEP_CUBES##*,}" --technique "$techniques" --layout cube,tetrahedral,atlas \
+  --optimize cull,fit,cull+fit --remedy none,slope_bias,normal_offset --filter hard,pcf_disk20
+echo "large_cube_checks.sh: $out (logs beside each run)"
+status=0
+for run in formats remedies; do
+  echo "$run:"
+  /usr/bin/python3 scripts/analysis/judge_checks.py "$out/$run" || status=1
+done
+exit $status
