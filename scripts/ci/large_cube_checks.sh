@@ -6,7 +6,7 @@
 # mutants' baseline. Both APIs, room and heavy, every storage and depth format, the layouts cube, face_array,
 # tetrahedral, dual_paraboloid and atlas, hard and pcf_disk20 (--max-error 100: a layout's own error against exact
 # visibility is its table's figure, not an alarm). Judged by scripts/analysis/judge_checks.py: PASS when no case
-# failed. Untimed (--no-timing): about 35 minutes on 2 cores with the CPU drivers; a stage of scripts/ci/extended.sh.
+# failed. Untimed (--no-timing): about 45 minutes on 2 cores with the CPU drivers; a stage of scripts/ci/extended.sh.
 # Usage: scripts/ci/large_cube_checks.sh [OUT] (default: a temporary folder; OUT/formats and OUT/remedies, each a run
 # folder with its log beside it); a built build/release/omnishadow.
 #   SWEEP_TECHNIQUES  the techniques (default six_pass,geometry_shader,geometry_shader_instanced,vs_layer: multiview
