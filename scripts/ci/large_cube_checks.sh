@@ -35,14 +35,15 @@ sweep() {
   fi
 }
 techniques="${SWEEP_TECHNIQUES:-six_pass,geometry_shader,geometry_shader_instanced,vs_layer}"
+cubes="${SWEEP_CUBES:-1024,2048}"
 mkdir -p "$out"
 # Every storage and depth format in every layout.
-sweep "$out/formats" --cube "${SWEEP_CUBES:-1024,2048}" --technique "$techniques" \
+sweep "$out/formats" --cube "$cubes" --technique "$techniques" \
   --layout cube,face_array,tetrahedral,dual_paraboloid,atlas --storage linear_depth,r32f_distance,hardware_depth \
   --depth-format d16,d24,d32f --filter hard,pcf_disk20
 # What moves the stored depths or the lookup: the far plane fitted to the scene, per-face culling, the biases and the
 # normal offset, at the largest cube.
-sweep "$out/remedies" --cube "${SWEEP_CUBES##*,}" --technique "$techniques" --layout cube,tetrahedral,atlas \
+sweep "$out/remedies" --cube "${cubes##*,}" --technique "$techniques" --layout cube,tetrahedral,atlas \
   --optimize cull,fit,cull+fit --remedy none,slope_bias,normal_offset --filter hard,pcf_disk20
 echo "large_cube_checks.sh: $out (logs beside each run)"
 status=0
