@@ -8,16 +8,18 @@
 # visibility is its table's figure, not an alarm). Judged by scripts/analysis/judge_checks.py: PASS when no case
 # failed. Untimed (--no-timing): about 45 minutes on 2 cores with the CPU drivers; a stage of scripts/ci/extended.sh.
 # Usage: scripts/ci/large_cube_checks.sh [OUT] (default: a temporary folder; OUT/formats and OUT/remedies, each a run
-# folder with its log beside it); a built build/release/omnishadow.
+# folder with its log beside it); a built build/release/omnishadow (OMNISHADOW_BIN names another).
 #   SWEEP_TECHNIQUES  the techniques (default six_pass,geometry_shader,geometry_shader_instanced,vs_layer: multiview
 #                     is left out on the CPU drivers, whose lavapipe writes every view into one face, a driver bug
 #                     the checks name; add it, nv_swizzle and mesh_shader on a GPU that has them)
 #   SWEEP_CUBES       the cube sizes (default 1024,2048)
 #   SWEEP_BACKENDS    the APIs (default gl,vulkan)
+#   SWEEP_SCENES      the scenes (default room,heavy)
+# Exit: 0 when both parts pass, 1 when a case failed its checks, 2 when a run did not finish (bad input, a lost run).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out="${1:-$(mktemp -d)/large-cube-checks}"
-bin=./build/release/omnishadow
+bin="${OMNISHADOW_BIN:-./build/release/omnishadow}"
 [ -x "$bin" ] || { echo "large_cube_checks.sh: $bin is not built (scripts/build.sh builds it)" >&2; exit 2; }
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 # One matrix into a run folder, its log beside it; exits 2 (the script's input error) when the run did not finish:
@@ -26,7 +28,7 @@ sweep() {
   local dir="$1"
   shift
   local status=0
-  "$bin" run --backend "${SWEEP_BACKENDS:-gl,vulkan}" --scene room,heavy --max-error 100 --check --no-timing \
+  "$bin" run --backend "${SWEEP_BACKENDS:-gl,vulkan}" --scene "${SWEEP_SCENES:-room,heavy}" --max-error 100 --check --no-timing \
     --images none --out "$dir" "$@" >"$dir.log" 2>&1 || status=$?
   if [ "$status" -gt 1 ]; then
     tail -n 5 "$dir.log" >&2
