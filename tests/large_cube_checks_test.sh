@@ -9,7 +9,9 @@ bin="${OMNISHADOW_BIN:?OMNISHADOW_BIN names the built omnishadow}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "large_cube_checks_test: $*" >&2; exit 1; }
-sweep() { OMNISHADOW_BIN="$bin" SWEEP_SCENES=room SWEEP_TECHNIQUES="$1" bash "$here/scripts/ci/large_cube_checks.sh" "$2"; }
+sweep() {
+  OMNISHADOW_BIN="$bin" SWEEP_SCENES=room SWEEP_TECHNIQUES="$1" bash "$here/scripts/ci/large_cube_checks.sh" "$2"
+}
 
 # Cube 16, one technique and one scene: the smallest matrix that still runs every storage, depth format and layout,
 # and every remedy, through both parts.

@@ -28,8 +28,8 @@ sweep() {
   local dir="$1"
   shift
   local status=0
-  "$bin" run --backend "${SWEEP_BACKENDS:-gl,vulkan}" --scene "${SWEEP_SCENES:-room,heavy}" --max-error 100 --check --no-timing \
-    --images none --out "$dir" "$@" >"$dir.log" 2>&1 || status=$?
+  "$bin" run --backend "${SWEEP_BACKENDS:-gl,vulkan}" --scene "${SWEEP_SCENES:-room,heavy}" --max-error 100 --check \
+    --no-timing --images none --out "$dir" "$@" >"$dir.log" 2>&1 || status=$?
   if [ "$status" -gt 1 ]; then
     tail -n 5 "$dir.log" >&2
     echo "large_cube_checks.sh: the run exited $status (its log: $dir.log)" >&2
