@@ -10,6 +10,7 @@ concatenated into SPIRV_DIR/modules.pack, which OUTPUT (a C++ file defining omni
 includes with the assembler's .incbin: the 8 MB of words never pass through the C++ compiler as text.
 
 Usage: embed_spirv.py --glslc G --list L --shader-dir S --spirv-dir D --output O [--cache C] [--jobs N]
+                      [--optimization performance|size|none]
 """
 import argparse
 import concurrent.futures
@@ -29,6 +30,10 @@ INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 # (NVIDIA rendered an empty cube). Such a file is compiled unoptimised; tests/spirv_modules_test.py checks the
 # inputs are there.
 PASSTHROUGH = re.compile(r"layout\s*\(\s*passthrough")
+# --optimization: glslc's level for every other module. "none" hands the driver's compiler the program as glslang
+# wrote it, as an engine that ships unoptimised SPIR-V does (on lavapipe that alone doubled the tetrahedral
+# pcf_disk20 lighting: docs/layouts.md).
+OPTIMIZATION_FLAGS = {"performance": "-O", "size": "-Os", "none": "-O0"}
 CACHE_DAYS = 14  # cache entries unused for this long are removed
 
 
@@ -57,11 +62,12 @@ def sources_of(shader_dir, file):
     return tuple(texts_with_includes(shader_dir, file))
 
 
-def variant(shader_dir, key, glslc_version):
+def variant(shader_dir, key, glslc_version, optimization="performance"):
     file, _, defines = key.partition(":")
     define_list = [d for d in defines.split(",") if d]
     text = (shader_dir / file).read_text()
-    flags = ["--target-env=vulkan1.2", "-O0" if PASSTHROUGH.search(text) else "-O"] + [f"-D{d}" for d in define_list]
+    level = "-O0" if PASSTHROUGH.search(text) else OPTIMIZATION_FLAGS[optimization]
+    flags = ["--target-env=vulkan1.2", level] + [f"-D{d}" for d in define_list]
     digest = hashlib.sha256("\0".join([glslc_version, *flags, *sources_of(shader_dir, file)]).encode())
     return {"key": key, "file": file, "flags": flags, "hash": digest.hexdigest(),
             "name": f"{file}.{'_'.join(define_list)}.spv"}
@@ -100,7 +106,7 @@ def prune(cache):
             pass  # another build pruned it first
 
 
-def cpp_file(pack_path, table, pack_hash):
+def cpp_file(pack_path, table, pack_hash, optimization="performance"):
     rows = "".join(f'      {{"{key}", {{{offset}, {count}}}}},\n' for key, offset, count in table)
     # The pack's hash is a string the compiler sees, so a changed pack changes this file's preprocessed text (ccache
     # and make rebuild it); .incbin's file is invisible to both.
@@ -119,6 +125,7 @@ extern "C" const uint32_t omnishadow_spirv_pack[] __asm__("omnishadow_spirv_pack
 
 namespace omnishadow::vk {{
 const char* embedded_spirv_pack_hash() {{ return "{pack_hash}"; }}
+const char* embedded_spirv_optimization() {{ return "{optimization} (glslc {OPTIMIZATION_FLAGS[optimization]})"; }}
 
 const std::map<std::string, std::vector<uint32_t>>& embedded_spirv() {{
   static const std::map<std::string, std::vector<uint32_t>> modules = [] {{
@@ -145,13 +152,15 @@ def main():
     p.add_argument("--output", required=True, type=pathlib.Path)
     p.add_argument("--cache", type=pathlib.Path, default=None)
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    p.add_argument("--optimization", choices=sorted(OPTIMIZATION_FLAGS), default="performance",
+                   help="glslc's level for every module but a passthrough stage (always -O0)")
     a = p.parse_args()
     cache = a.cache or default_cache()
     cache.mkdir(parents=True, exist_ok=True)
     a.spirv_dir.mkdir(parents=True, exist_ok=True)
     glslc_version = subprocess.run([a.glslc, "--version"], capture_output=True, text=True, check=True).stdout
     keys = [k.strip() for k in a.list.read_text().splitlines() if k.strip()]
-    variants = [variant(a.shader_dir, k, glslc_version) for k in keys]
+    variants = [variant(a.shader_dir, k, glslc_version, a.optimization) for k in keys]
     try:
         with concurrent.futures.ThreadPoolExecutor(max(1, a.jobs)) as pool:
             compiled = sum(pool.map(lambda v: compile_into_cache(a.glslc, a.shader_dir, cache, v), variants))
@@ -175,7 +184,7 @@ def main():
     write_if_different(pack_path, bytes(pack))
     pack_hash = hashlib.sha256(pack).hexdigest()
     a.output.parent.mkdir(parents=True, exist_ok=True)
-    write_if_different(a.output, cpp_file(pack_path, table, pack_hash).encode())
+    write_if_different(a.output, cpp_file(pack_path, table, pack_hash, a.optimization).encode())
     prune(cache)
     print(f"embed_spirv: {len(variants)} modules, {compiled} compiled, {len(variants) - compiled} from {cache}")
     return 0

@@ -68,6 +68,9 @@ TEST_F(VkBackendTest, DeviceIsDescribed) {
   EXPECT_NE(d.renderer, "");
   EXPECT_GE(d.max_cube_size, 4096);
   EXPECT_EQ(d.extra.at("api_checks"), "VK_LAYER_KHRONOS_validation");
+  // The build's SPIR-V level, since the driver's compiler sees another program at each.
+  EXPECT_EQ(d.extra.at("spirv_optimization").rfind(OMNISHADOW_TEST_SPIRV_OPTIMIZATION " (glslc -O", 0), 0u)
+      << d.extra.at("spirv_optimization");
 }
 
 TEST_F(VkBackendTest, TimestampsAreWithinWallTime) {

@@ -8,6 +8,7 @@
 #include "backends/common/layouts.h"
 #include "backends/common/techniques.h"
 #include "backends/common/viewport_swizzle.h"
+#include "backends/vulkan/vk_spirv.h"
 
 namespace omnishadow::vk {
 namespace {
@@ -81,6 +82,7 @@ void VkBackend::describe_device(bool validation) {
   info_.extra["shaderOutputLayer"] = ctx_->has_layer_output() ? "yes" : "no";
   info_.extra["pipelineStatisticsQuery"] = ctx_->has_pipeline_statistics() ? "yes" : "no";
   info_.extra["api_checks"] = validation ? "VK_LAYER_KHRONOS_validation" : "off";
+  info_.extra["spirv_optimization"] = embedded_spirv_optimization();
 }
 
 void VkBackend::create_layouts() {

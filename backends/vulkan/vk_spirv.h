@@ -13,5 +13,9 @@ namespace omnishadow::vk {
 const std::map<std::string, std::vector<uint32_t>>& embedded_spirv();
 // sha256 of the embedded modules, back to back in the variant list's order (cmake/embed_spirv.py).
 const char* embedded_spirv_pack_hash();
+// How glslc optimised them (the build's OMNISHADOW_SPIRV_OPTIMIZATION), e.g. "performance (glslc -O)":
+// results.json gives it as devices.vulkan.extra.spirv_optimization, since the driver's compiler sees a
+// different program.
+const char* embedded_spirv_optimization();
 
 }  // namespace omnishadow::vk
