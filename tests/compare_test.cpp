@@ -232,6 +232,27 @@ TEST_F(CompareTest, ClockDifferencesBetweenRunsAreShown) {
   EXPECT_TRUE(compare_runs(load_run(base), load_run(plain), CompareOptions{}).clock_note().empty());
 }
 
+// The same device made to run another program (a SPIR-V level, a GL profile): compare names each setting that
+// differs, where both runs record it, and still compares (one device).
+TEST_F(CompareTest, DeviceSettingsThatDifferAreShown) {
+  std::string base = write_run("base", {{"a", kBase}});
+  std::string fresh = write_run("new", {{"a", kBase}});
+  json b = read_doc(base), n = read_doc(fresh);
+  b["omnishadow"]["devices"]["gl"]["extra"] = {
+      {"gl_profile", "core"}, {"api_checks", "off"}, {"only_base", "x"}};
+  n["omnishadow"]["devices"]["gl"]["extra"] = {{"gl_profile", "compatibility"}, {"api_checks", "off"}};
+  write_doc(base, b);
+  write_doc(fresh, n);
+  Comparison c = compare_runs(load_run(base), load_run(fresh), CompareOptions{});
+  ASSERT_EQ(c.setup_changes.size(), 1u);
+  EXPECT_EQ(c.setup_changes[0], "gl gl_profile: core -> compatibility");
+  EXPECT_NE(comparison_table(c, {}).find("setup differs: gl gl_profile: core -> compatibility"),
+            std::string::npos);
+  EXPECT_NE(comparison_markdown(c, {}).find("- gl gl_profile: core -> compatibility"), std::string::npos);
+  EXPECT_EQ(comparison_json(c, {})["setup_changes"][0], "gl gl_profile: core -> compatibility");
+  EXPECT_TRUE(compare_runs(load_run(base), load_run(base), CompareOptions{}).setup_changes.empty());
+}
+
 TEST_F(CompareTest, WorkAndImageChangesAreRegressionsWhateverTheTiming) {
   std::string base = write_run("base", {{"a", kBase}});
   std::string work = write_run("work", {{"a", kBase}}, 72);

@@ -167,6 +167,25 @@ std::map<std::string, std::string> device_keys(const RunData& run) {
   return keys;
 }
 
+static std::vector<std::string> setup_changes(const RunData& base, const RunData& fresh) {
+  auto extras = [](const RunData& run, const std::string& backend) -> const json* {
+    const json* o = run.doc.contains("omnishadow") ? &run.doc["omnishadow"] : nullptr;
+    if (!o || !o->contains("devices") || !(*o)["devices"].contains(backend)) return nullptr;
+    const json& d = (*o)["devices"][backend];
+    return d.contains("extra") && d["extra"].is_object() ? &d["extra"] : nullptr;
+  };
+  auto text = [](const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); };
+  std::vector<std::string> out;
+  for (const auto& [backend, _] : device_keys(base)) {
+    const json *b = extras(base, backend), *n = extras(fresh, backend);
+    if (!b || !n) continue;
+    for (const auto& [key, value] : b->items())
+      if (n->contains(key) && (*n)[key] != value)
+        out.push_back(backend + " " + key + ": " + text(value) + " -> " + text((*n)[key]));
+  }
+  return out;
+}
+
 static double median_clock(const RunData& run) {
   std::vector<double> clocks;
   for (const auto& [id, c] : run.cases) {
@@ -247,6 +266,7 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
   c.new_clock_mhz = median_clock(fresh);
   c.base_devices = device_keys(base);
   c.new_devices = device_keys(fresh);
+  c.setup_changes = setup_changes(base, fresh);
   for (const auto& [id, _] : base.cases)
     if (!fresh.cases.count(id)) c.only_in_base.push_back(id);
   for (const auto& [id, _] : fresh.cases)
@@ -345,6 +365,7 @@ std::string comparison_table(const Comparison& c, const CompareOptions& o) {
     images += !cc.image_changes.empty();
   }
   if (!c.clock_note().empty()) s << c.clock_note() << "\n";
+  for (const std::string& change : c.setup_changes) s << "setup differs: " << change << "\n";
   if (const std::string blind = c.resolution_note(o); !blind.empty()) s << blind << "\n";
   s << c.cases.size() << " cases compared: " << regressions << " timing regressions, " << improvements
     << " improvements, " << work << " work changes, " << images << " image changes (alpha " << o.alpha
@@ -360,6 +381,11 @@ std::string comparison_markdown(const Comparison& c, const CompareOptions& o) {
     << "%. Work counters compared exactly; images by checksum, "
     << "then metrics." << (c.clock_note().empty() ? "" : " " + c.clock_note() + ".")
     << (blind.empty() ? "" : " **" + blind + ".**") << "\n\n";
+  if (!c.setup_changes.empty()) {
+    s << "**Setup differs** (the same device, another program or path):\n\n";
+    for (const auto& line : c.setup_changes) s << "- " << line << "\n";
+    s << "\n";
+  }
   if (!c.status_regressions.empty()) {
     s << "**Status regressions** (ok in the base, not in the new run):\n\n";
     for (const auto& line : c.status_regressions)
@@ -412,7 +438,8 @@ nlohmann::json comparison_json(const Comparison& c, const CompareOptions& o) {
           {"only_in_base", c.only_in_base},
           {"only_in_new", c.only_in_new},
           {"base_devices", c.base_devices},
-          {"new_devices", c.new_devices}};
+          {"new_devices", c.new_devices},
+          {"setup_changes", c.setup_changes}};
 }
 
 void apply_gate_file(const std::string& path, CompareOptions& options) {

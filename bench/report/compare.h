@@ -63,6 +63,10 @@ struct Comparison {
   // none. Two runs of one device at different clocks are different measurements: the output says so.
   double base_clock_mhz = -1, new_clock_mhz = -1;
   std::string clock_note() const;  // "clocks: base 1980 MHz, new 1755 MHz (-11.4%)"; empty without both
+  // A device's settings that differ between the runs, where both record them (results.json
+  // devices.<backend>.extra: the SPIR-V level, the GL profile, API checks...): "vulkan spirv_optimization:
+  // performance (glslc -O) -> none (glslc -O0)". The same device made to run a different program or path.
+  std::vector<std::string> setup_changes;
   // "3 of 24 timed cases cannot be flagged at alpha 0.05 whatever their change: ..."; empty when all can.
   std::string resolution_note(const CompareOptions& options) const;
   // Whether the comparison fails: a status regression, a regressed case, or nothing in common to compare.
