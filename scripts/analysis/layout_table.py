@@ -10,10 +10,12 @@ time, so compare ratios within one run only.
 
 Usage: scripts/analysis/layout_table.py RUN_DIR [--out FILE]
 
-Writes RUN_DIR/layouts.md (or --out) and prints it. The committed table (docs/layouts.md) comes from
-  omnishadow run --backend gl,vulkan --scene room,heavy,mixed --cube 256,512 --layout cube,face_array,dual_paraboloid \\
-      --tessellate 1,4,16 --technique six_pass --filter hard,pcf_disk20,hw_compare2x2,vsm --check --max-error 100 \\
-      --benchmark_repetitions=3 --out RUN_DIR
+Writes RUN_DIR/layouts.md (or --out) and prints it. The committed tables (docs/layouts.md) come from
+  omnishadow run --backend gl,vulkan --scene room,mixed --cube 256,512 \\
+      --layout cube,face_array,dual_paraboloid,tetrahedral --tessellate 1,4,16 --technique six_pass \\
+      --filter hard,pcf_disk20 --check --max-error 100 --frames 3 --warmup 1 --benchmark_repetitions=3 \\
+      --benchmark_enable_random_interleaving=true --images none --out RUN_DIR
+and, for its heavy section, the same at --scene heavy --cube 256 --tessellate 1,4.
 """
 import os
 import sys
