@@ -76,6 +76,32 @@ TEST(SummaryTable, AnIncompleteRunSaysSoFirst) {
       << md;
 }
 
+// A run that timed nothing (every case unsupported) shows no empty timing tables and no ratio of two
+// near-zero parts; a run that timed cases shows both.
+TEST(SummaryTable, ARunThatTimedNothingHasNoTimingTablesOrPhaseRatio) {
+  CaseResult unsupported;
+  unsupported.status = Status::unsupported;
+  RunPhases tiny;
+  tiny.untimed_seconds = 0.0007;
+  tiny.timed_seconds = 0.00001;
+  const std::string md = summary_markdown({unsupported}, tiny);
+  EXPECT_NE(md.find("Run: 0.0 s untimed (checks, read-backs, reference, images) + 0.0 s timed\n"),
+            std::string::npos)
+      << md;
+  EXPECT_EQ(md.find("the timed part)"), std::string::npos) << md;
+  EXPECT_EQ(md.find("median wall time"), std::string::npos) << md;
+
+  CaseResult timed = with_accuracy(Technique::six_pass, Filter::hard, 0.1, 0.001, -1.0);
+  timed.frames = {FrameTiming{}};
+  RunPhases measured;
+  measured.untimed_seconds = 3.0;
+  measured.timed_seconds = 2.0;
+  const std::string both = summary_markdown({unsupported, timed}, measured);
+  EXPECT_NE(both.find("+ 2.0 s timed (1.50x the timed part)"), std::string::npos) << both;
+  EXPECT_NE(both.find("## Shadow pass: median wall time per technique"), std::string::npos) << both;
+  EXPECT_NE(both.find("## Lighting pass: median wall time per filter"), std::string::npos) << both;
+}
+
 // A run over several light counts gets a row per case whose cells are the cost per light and the pooled error
 // at each count; a run with one count has no such table.
 TEST(SummaryTable, ManyLightsRowsGiveTheCostPerLightAtEachCount) {

@@ -51,6 +51,9 @@ std::string pass_group(const CaseConfig& c) {
 template <typename E>
 void ratio_table(std::ostringstream& md, const std::vector<CaseResult>& results, const std::string& title,
                  E CaseConfig::*axis, E base, double (*metric)(const FrameTiming&)) {
+  // A run that timed no case (every one unsupported, failed or crashed) has no row to show: no table.
+  if (std::none_of(results.begin(), results.end(), [](const CaseResult& r) { return !r.frames.empty(); }))
+    return;
   const std::vector<E> values = all_values<E>();
   md << "\n## " << title << "\n\n| backend/scene/cube/frame/storage/depth |";
   for (E v : values) md << " " << to_string(v) << " |";
@@ -298,11 +301,17 @@ std::string summary_markdown(const std::vector<CaseResult>& results, const RunPh
   if (phases.untimed_seconds >= 0 && phases.timed_seconds >= 0) {
     char buf[160];
     std::snprintf(buf, sizeof buf,
-                  "Run: %.1f s untimed (checks, read-backs, reference, images) + %.1f s timed "
-                  "(%.2fx the timed part)\n\n",
-                  phases.untimed_seconds, phases.timed_seconds,
-                  phases.timed_seconds > 0 ? phases.untimed_seconds / phases.timed_seconds : 0.0);
+                  "Run: %.1f s untimed (checks, read-backs, reference, images) + %.1f s timed",
+                  phases.untimed_seconds, phases.timed_seconds);
     md << buf;
+    // The ratio only where both parts are long enough to read at this precision: a matrix of unsupported
+    // cases spends microseconds in each, and their ratio says nothing.
+    if (phases.untimed_seconds >= 0.05 && phases.timed_seconds >= 0.05) {
+      std::snprintf(buf, sizeof buf, " (%.2fx the timed part)",
+                    phases.untimed_seconds / phases.timed_seconds);
+      md << buf;
+    }
+    md << "\n\n";
   }
   if (!phases.scene_loads.empty()) {
     md << "Scenes loaded before the untimed part (parse, bake, bounds):";
