@@ -7,9 +7,11 @@
 
 #include <csignal>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -300,6 +302,55 @@ TEST_F(CliRun, RemediesAreMeasuredOnAndOff) {
   EXPECT_GT(error["nf_25 bias0"], 10.0);
   EXPECT_NEAR(error["nf_25 two_sided"], error["nf_25 none"], 0.05)
       << "two-sided casters change nothing else here";
+}
+
+// Without --out a run takes results/run-<UTC time>; where a run of the same second is writing that folder or
+// has finished in it, the next free suffix, never a refusal to start and never the other run's results. Every
+// second of the next two minutes has its folder held by a lock and its -2 filled, so whenever the run starts
+// it must take -3.
+TEST_F(CliRun, WithoutOutARunTakesAFreeFolderAndARefusedRunLeavesNone) {
+  const fs::path cwd = scratch("default_out");
+  std::vector<std::unique_ptr<bench::FileLock>> held;
+  const std::time_t now = std::time(nullptr);
+  for (std::time_t t = now; t <= now + 120; ++t) {
+    char name[64];
+    std::strftime(name, sizeof name, "run-%Y%m%d-%H%M%S", std::gmtime(&t));
+    const fs::path running = cwd / "results" / name, finished = cwd / "results" / (std::string(name) + "-2");
+    fs::create_directories(running);
+    fs::create_directories(finished);
+    held.push_back(std::make_unique<bench::FileLock>((running / ".omnishadow.lock").string()));
+    std::ofstream(finished / "results.json") << "finished";
+  }
+  const std::string cmd = "cd " + cwd.string() + " && " + OMNISHADOW_BINARY +
+                          " run --backend gl --scene room --cube 16 --frame 32x24 --technique six_pass "
+                          "--filter hard --frames 1 --warmup 0 --no-images --no-timing >out 2>err";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << bench::read_file((cwd / "err").string());
+  std::vector<fs::path> taken;
+  for (const auto& entry : fs::directory_iterator(cwd / "results")) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() > 2 && name.compare(name.size() - 2, 2, "-3") == 0) taken.push_back(entry.path());
+    if (name.size() > 2 && name.compare(name.size() - 2, 2, "-2") == 0) {
+      EXPECT_EQ(bench::read_file((entry.path() / "results.json").string()), "finished") << name;
+    }
+  }
+  ASSERT_EQ(taken.size(), 1u) << bench::read_file((cwd / "out").string());
+  EXPECT_EQ(results_of(taken[0])["omnishadow"]["cases"].size(), 1u);
+  EXPECT_NE(bench::read_file((cwd / "out").string()).find("results: results/" + taken[0].filename().string()),
+            std::string::npos);
+
+  // A run refused after its claim (an unknown scene) takes back the folder it made, and only the lock from a
+  // folder it did not make.
+  const fs::path typo = scratch("default_out_typo");
+  fs::create_directories(typo / "mine");
+  for (const std::string out : {"", " --out mine"}) {
+    const std::string refused = "cd " + typo.string() + " && " + OMNISHADOW_BINARY +
+                                " run --scene no_such_scene" + out + " >out 2>err";
+    const int code = std::system(refused.c_str());
+    EXPECT_TRUE(WIFEXITED(code) && WEXITSTATUS(code) == 2) << bench::read_file((typo / "err").string());
+  }
+  EXPECT_TRUE(fs::is_empty(typo / "results")) << "an empty run folder left behind";
+  EXPECT_TRUE(fs::is_empty(typo / "mine")) << "the lock file left in the user's folder";
 }
 
 }  // namespace

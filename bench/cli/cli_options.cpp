@@ -42,7 +42,8 @@ std::optional<double> finite_number(const std::string& text) {
 }
 
 void add_frame_options(CLI::App& r, RunOptions& o) {
-  r.add_option("--out", o.out_dir, "output folder (must not hold a run already); default results/run-<time>");
+  r.add_option("--out", o.out_dir,
+               "output folder (must not hold a run already); default results/run-<UTC time>[-N]");
   r.add_option("--frames", o.frames, "timed frames per repetition")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));

@@ -336,8 +336,11 @@ std::optional<std::vector<CaseConfig>> cases_to_run(const RunCommand& cmd, Harne
 }
 
 // The folder is this run's for its whole life: a second run given the same --out is refused at once, not when
-// results.json appears. False, the error printed, when it cannot be had.
-bool claim_out_dir(const std::string& dir, std::optional<FileLock>& lock) {
+// results.json appears. False, the error printed, when it cannot be had. `created`: the folder was not there
+// before.
+bool claim_out_dir(const std::string& dir, std::optional<FileLock>& lock, bool& created) {
+  std::error_code ec;
+  created = !fs::exists(dir, ec);
   try {
     prepare_out_dir(dir);
   } catch (const std::exception& e) {
@@ -351,6 +354,47 @@ bool claim_out_dir(const std::string& dir, std::optional<FileLock>& lock) {
     return false;
   }
   return true;
+}
+
+// Without --out: results/run-<UTC time>, or -2, -3, ... after it where a run started in the same second has
+// that name (a script's GL and Vulkan halves started together). The folder is claimed as claim_out_dir does;
+// false, the error printed, when none can be had.
+bool claim_default_out_dir(std::string& dir, std::optional<FileLock>& lock, bool& created) {
+  const std::string base = default_out_dir();
+  constexpr int kMostRunsASecond = 99;
+  for (int k = 1; k <= kMostRunsASecond; ++k) {
+    const std::string candidate = k == 1 ? base : base + "-" + std::to_string(k);
+    std::error_code ec;
+    if (fs::exists(fs::path(candidate) / "results.json", ec)) continue;
+    try {
+      created = !fs::exists(candidate, ec);
+      create_writable_folder(candidate, "--out");
+      lock.emplace((fs::path(candidate) / kOutLockFile).string());
+    } catch (const LockHeld&) {
+      continue;
+    } catch (const std::exception& e) {
+      print_error(e.what());
+      return false;
+    }
+    dir = candidate;
+    return true;
+  }
+  print_error("--out not given and " + base + " to -" + std::to_string(kMostRunsASecond) +
+              " are all taken: give --out");
+  return false;
+}
+
+// A run that stopped before it wrote anything (a bad option or scene found after the claim) takes back its
+// lock file and the folder if it created it, so that a mistyped command leaves no empty run behind; a folder
+// with any other file in it is kept whole.
+void release_unused_out_dir(const std::string& dir, std::optional<FileLock>& lock, bool created) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (entry.path().filename() != kOutLockFile) return;
+  if (ec) return;
+  lock.reset();
+  fs::remove(fs::path(dir) / kOutLockFile, ec);
+  if (created) fs::remove(dir, ec);
 }
 
 // A finished run's exit code: 1 with --check when a case failed or failed a check.
@@ -433,10 +477,14 @@ int run_matrix_here(const RunCommand& cmd, RunOptions options) {
 
 int run_command(const RunCommand& cmd) {
   RunOptions options = cmd.harness;
-  if (options.out_dir.empty()) options.out_dir = default_out_dir();
-  // Workers write under their supervisor's lock.
+  // Workers write under their supervisor's lock, into the folder it names.
   std::optional<FileLock> out_lock;
-  if (cmd.worker_skip < 0 && !claim_out_dir(options.out_dir, out_lock)) return 2;
+  bool created = false;
+  if (cmd.worker_skip < 0) {
+    const bool claimed = options.out_dir.empty() ? claim_default_out_dir(options.out_dir, out_lock, created)
+                                                 : claim_out_dir(options.out_dir, out_lock, created);
+    if (!claimed) return 2;
+  }
   int code = 0;
   if (cmd.isolate && cmd.worker_skip < 0) {  // this process supervises; workers run the matrix
     IsolationSettings isolation{cmd.args, options.out_dir, cmd.case_timeout_s};
@@ -455,6 +503,7 @@ int run_command(const RunCommand& cmd) {
   if (cmd.worker_skip < 0 && cmd.capture != "none" && (code == 0 || code == 1))
     capture_cases(
         {cmd.capture, cmd.capture_tool, cmd.args, options.out_dir, cmd.case_timeout_s, cmd.capture_max_mb});
+  if (cmd.worker_skip < 0) release_unused_out_dir(options.out_dir, out_lock, created);
   return code;
 }
 

@@ -63,8 +63,7 @@ FileLock::FileLock(const std::string& path) {
     ::close(fd_);
     fd_ = -1;
     if (err == EWOULDBLOCK)
-      throw std::runtime_error("another run (pid " + std::string(holder, n > 0 ? size_t(n) : 0) +
-                               ") is writing there");
+      throw LockHeld("another run (pid " + std::string(holder, n > 0 ? size_t(n) : 0) + ") is writing there");
     throw std::runtime_error("cannot lock " + path + ": " + std::strerror(err));
   }
   const std::string pid = std::to_string(::getpid());
