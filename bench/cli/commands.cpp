@@ -9,7 +9,6 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -19,6 +18,7 @@
 #include "backends/vulkan/vk_context.h"
 #include "bench/cli/capture.h"
 #include "bench/cli/case_isolation.h"
+#include "bench/cli/run_folder.h"
 #include "bench/io/file_io.h"
 #include "bench/io/results_reader.h"
 #include "bench/report/results_writer.h"
@@ -37,13 +37,6 @@ namespace fs = std::filesystem;
 // Set by SIGINT/SIGTERM: the run finishes the case in hand, saves what finished and exits 128 + signal.
 volatile std::sig_atomic_t g_stop_signal = 0;
 extern "C" void request_stop(int signal_number) { g_stop_signal = signal_number; }
-
-std::string default_out_dir() {
-  std::time_t now = std::time(nullptr);
-  char buf[64];
-  std::strftime(buf, sizeof buf, "results/run-%Y%m%d-%H%M%S", std::gmtime(&now));
-  return buf;
-}
 
 // --benchmark_filter semantics of Google Benchmark 1.7: an extended regex searched in the name, negated by
 // a leading '-'. Applied to the untimed part too, so that both parts run the same cases.
@@ -64,17 +57,6 @@ std::vector<CaseConfig> apply_benchmark_filter(const std::vector<CaseConfig>& ca
   for (const CaseConfig& c : cases)
     if (std::regex_search(c.id(), re) != negate) out.push_back(c);
   return out;
-}
-
-// Refuses to clobber an earlier run; creates the folder and proves it is writable.
-// In a run's folder while it runs: the FileLock that keeps a second run out.
-constexpr const char* kOutLockFile = ".omnishadow.lock";
-
-void prepare_out_dir(const std::string& dir) {
-  std::error_code ec;
-  if (fs::exists(fs::path(dir) / "results.json", ec))
-    throw std::invalid_argument("--out " + dir + " already holds a run (results.json); choose a new folder");
-  create_writable_folder(dir, "--out");
 }
 
 }  // namespace
@@ -335,68 +317,6 @@ std::optional<std::vector<CaseConfig>> cases_to_run(const RunCommand& cmd, Harne
   }
 }
 
-// The folder is this run's for its whole life: a second run given the same --out is refused at once, not when
-// results.json appears. False, the error printed, when it cannot be had. `created`: the folder was not there
-// before.
-bool claim_out_dir(const std::string& dir, std::optional<FileLock>& lock, bool& created) {
-  std::error_code ec;
-  created = !fs::exists(dir, ec);
-  try {
-    prepare_out_dir(dir);
-  } catch (const std::exception& e) {
-    print_error(e.what());
-    return false;
-  }
-  try {
-    lock.emplace((fs::path(dir) / kOutLockFile).string());
-  } catch (const std::exception& e) {
-    print_error("--out " + dir + ": " + e.what());
-    return false;
-  }
-  return true;
-}
-
-// Without --out: results/run-<UTC time>, or -2, -3, ... after it where a run started in the same second has
-// that name (a script's GL and Vulkan halves started together). The folder is claimed as claim_out_dir does;
-// false, the error printed, when none can be had.
-bool claim_default_out_dir(std::string& dir, std::optional<FileLock>& lock, bool& created) {
-  const std::string base = default_out_dir();
-  constexpr int kMostRunsASecond = 99;
-  for (int k = 1; k <= kMostRunsASecond; ++k) {
-    const std::string candidate = k == 1 ? base : base + "-" + std::to_string(k);
-    std::error_code ec;
-    if (fs::exists(fs::path(candidate) / "results.json", ec)) continue;
-    try {
-      created = !fs::exists(candidate, ec);
-      create_writable_folder(candidate, "--out");
-      lock.emplace((fs::path(candidate) / kOutLockFile).string());
-    } catch (const LockHeld&) {
-      continue;
-    } catch (const std::exception& e) {
-      print_error(e.what());
-      return false;
-    }
-    dir = candidate;
-    return true;
-  }
-  print_error("--out not given and " + base + " to -" + std::to_string(kMostRunsASecond) +
-              " are all taken: give --out");
-  return false;
-}
-
-// A run that stopped before it wrote anything (a bad option or scene found after the claim) takes back its
-// lock file and the folder if it created it, so that a mistyped command leaves no empty run behind; a folder
-// with any other file in it is kept whole.
-void release_unused_out_dir(const std::string& dir, std::optional<FileLock>& lock, bool created) {
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir, ec))
-    if (entry.path().filename() != kOutLockFile) return;
-  if (ec) return;
-  lock.reset();
-  fs::remove(fs::path(dir) / kOutLockFile, ec);
-  if (created) fs::remove(dir, ec);
-}
-
 // A finished run's exit code: 1 with --check when a case failed or failed a check.
 int run_exit_code(const RunCommand& cmd, const std::vector<CaseResult>& results) {
   if (cmd.check)
@@ -477,13 +397,16 @@ int run_matrix_here(const RunCommand& cmd, RunOptions options) {
 
 int run_command(const RunCommand& cmd) {
   RunOptions options = cmd.harness;
-  // Workers write under their supervisor's lock, into the folder it names.
-  std::optional<FileLock> out_lock;
-  bool created = false;
+  // Workers write under their supervisor's claim, into the folder it names.
+  std::optional<RunFolder> folder;
   if (cmd.worker_skip < 0) {
-    const bool claimed = options.out_dir.empty() ? claim_default_out_dir(options.out_dir, out_lock, created)
-                                                 : claim_out_dir(options.out_dir, out_lock, created);
-    if (!claimed) return 2;
+    try {
+      folder.emplace(options.out_dir);
+    } catch (const std::exception& e) {
+      print_error(e.what());
+      return 2;
+    }
+    options.out_dir = folder->path();
   }
   int code = 0;
   if (cmd.isolate && cmd.worker_skip < 0) {  // this process supervises; workers run the matrix
@@ -503,7 +426,7 @@ int run_command(const RunCommand& cmd) {
   if (cmd.worker_skip < 0 && cmd.capture != "none" && (code == 0 || code == 1))
     capture_cases(
         {cmd.capture, cmd.capture_tool, cmd.args, options.out_dir, cmd.case_timeout_s, cmd.capture_max_mb});
-  if (cmd.worker_skip < 0) release_unused_out_dir(options.out_dir, out_lock, created);
+  if (folder) folder->release_if_unused();
   return code;
 }
 
