@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "backends/common/case_support.h"
 #include "backends/common/shader_variants.h"
 
 namespace omnishadow::bench {

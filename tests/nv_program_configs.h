@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "backends/common/case_config.h"
+#include "backends/common/case_support.h"
 #include "backends/common/storage_filter_tables.h"
 
 namespace omnishadow {

@@ -7,6 +7,7 @@
 #include <array>
 #include <vector>
 
+#include "backends/common/case_support.h"
 #include "backends/common/shadow_frame.h"
 #include "bench/truth/case_checks.h"
 

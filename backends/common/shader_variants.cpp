@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <set>
 
+#include "backends/common/case_support.h"
 #include "backends/common/layouts.h"
 #include "backends/common/storage_filter_tables.h"
 #include "backends/common/techniques.h"

@@ -4,6 +4,7 @@
 #include <bit>
 #include <tuple>
 
+#include "backends/common/case_support.h"
 #include "backends/common/frame_uniforms.h"
 #include "backends/common/view_culling.h"
 

@@ -1,5 +1,6 @@
 // What the context can run: each refusal names the extension, limit or format and the renderer.
 #include "backends/common/atlas.h"
+#include "backends/common/case_support.h"
 #include "backends/common/gpu_layout.h"
 #include "backends/common/layouts.h"
 #include "backends/common/meshlets.h"

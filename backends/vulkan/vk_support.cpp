@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "backends/common/atlas.h"
+#include "backends/common/case_support.h"
 #include "backends/common/layouts.h"
 #include "backends/common/meshlets.h"
 #include "backends/common/storage_filter_tables.h"

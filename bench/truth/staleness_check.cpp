@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "backends/common/case_support.h"
 #include "backends/common/cube_faces.h"
 #include "backends/common/shadow_plan.h"
 #include "bench/truth/case_checks.h"
