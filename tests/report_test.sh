@@ -84,7 +84,23 @@ assert at >= 0, "the stopped run's banner is missing"
 assert at < dom.find("<h2>"), "the banner comes before every section"
 whole = html.unescape(open(f"{tmp}/dom.html").read())
 assert "Incomplete run" not in whole, "a whole run shows no banner"
+assert "every check passed" in whole, "the small run's checks all passed"
 PY
+# A run whose cases ran no check (every one unsupported) does not say that every check passed.
+/usr/bin/python3 - "$tmp" <<'PY'
+import json, os, sys
+tmp = sys.argv[1]
+doc = json.load(open(f"{tmp}/run/results.json"))
+for c in doc["omnishadow"]["cases"]:
+    c.update({"status": "unsupported", "checks": []})
+    c.pop("timing", None)
+doc["benchmarks"] = []
+os.makedirs(f"{tmp}/unchecked")
+json.dump(doc, open(f"{tmp}/unchecked/results.json", "w"))
+PY
+"$bin" report "$tmp/unchecked" --out "$tmp/unchecked.html" >/dev/null
+grep -q "no check ran in this run" "$tmp/unchecked.html" || { echo "a run with no check says every check passed"; exit 1; }
+if grep -q "every check passed" "$tmp/unchecked.html"; then echo "a run with no check says every check passed"; exit 1; fi
 "$browser" --headless=new --no-sandbox --disable-gpu --window-size=1280,2400 --screenshot="$tmp/report.png" \
   "file://$tmp/report.html" >/dev/null 2>&1
 test -s "$tmp/report.png"
