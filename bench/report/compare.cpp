@@ -167,7 +167,9 @@ std::map<std::string, std::string> device_keys(const RunData& run) {
   return keys;
 }
 
-static std::vector<std::string> setup_changes(const RunData& base, const RunData& fresh) {
+// `backends`: the base run's device keys (compare_runs has them already), one per backend it recorded.
+static std::vector<std::string> setup_changes(const RunData& base, const RunData& fresh,
+                                              const std::map<std::string, std::string>& backends) {
   auto extras = [](const RunData& run, const std::string& backend) -> const json* {
     const json* o = run.doc.contains("omnishadow") ? &run.doc["omnishadow"] : nullptr;
     if (!o || !o->contains("devices") || !(*o)["devices"].contains(backend)) return nullptr;
@@ -176,7 +178,7 @@ static std::vector<std::string> setup_changes(const RunData& base, const RunData
   };
   auto text = [](const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); };
   std::vector<std::string> out;
-  for (const auto& [backend, _] : device_keys(base)) {
+  for (const auto& [backend, _] : backends) {
     const json *b = extras(base, backend), *n = extras(fresh, backend);
     if (!b || !n) continue;
     for (const auto& [key, value] : b->items())
@@ -266,7 +268,7 @@ Comparison compare_runs(const RunData& base, const RunData& fresh, const Compare
   c.new_clock_mhz = median_clock(fresh);
   c.base_devices = device_keys(base);
   c.new_devices = device_keys(fresh);
-  c.setup_changes = setup_changes(base, fresh);
+  c.setup_changes = setup_changes(base, fresh, c.base_devices);
   for (const auto& [id, _] : base.cases)
     if (!fresh.cases.count(id)) c.only_in_base.push_back(id);
   for (const auto& [id, _] : fresh.cases)
