@@ -73,12 +73,15 @@ ModelPlacement place_model(const glm::dvec3& lo, const glm::dvec3& hi, const Loa
   if (overrides.camera) {
     p.camera.position = p.scale * overrides.camera->position;
     p.camera.target = overrides.camera->target ? p.scale * *overrides.camera->target : c;
+    p.camera.amplitude = glm::vec3(p.scale * glm::dvec3(overrides.camera->amplitude));
   } else {
     p.camera.position = c + 3.0 * r * glm::normalize(glm::dvec3(0.55, 0.45, 1.0));
     p.camera.target = c;
   }
   p.camera_near = 0.01 * r;
-  p.camera_far = glm::length(p.camera.position - *p.camera.target) + 3.0 * r;
+  // A swaying camera strays up to |amplitude| from where it is put, and the model with it.
+  p.camera_far = glm::length(p.camera.position - *p.camera.target) + 3.0 * r +
+                 glm::length(glm::dvec3(p.camera.amplitude));
   return p;
 }
 
@@ -198,6 +201,8 @@ void set_light_and_camera(Scene& scene, const ModelPlacement& place, const LoadO
   scene.camera.target = stored(*place.camera.target);
   scene.camera.near_plane = static_cast<float>(place.camera_near);
   scene.camera.far_plane = static_cast<float>(place.camera_far);
+  scene.camera.path.amplitude = place.camera.amplitude;
+  scene.camera.path.frequency = kSeedLightFrequency;
   // A camera looking straight down or up: lookAt's +Y up is parallel to the view, so take -Z (the model's
   // back).
   const glm::vec3 view = scene.camera.target - scene.camera.position;

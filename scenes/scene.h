@@ -99,6 +99,14 @@ struct Camera {
   float far_plane = 100.0f;
   int width = 800;
   int height = 600;
+  // A moving camera (a walk through the scene): position and target translated together by path.at(frame)
+  // (base 0), a function of the frame index like a moving caster's, so it keeps its direction and up. A path
+  // without amplitude stands still.
+  LightPath path;
+  bool moves() const { return path.amplitude != glm::vec3(0.0f); }
+  // The camera frame `frame` sees through: this one moved along its path, as a still camera. Whatever draws,
+  // culls or checks a frame's lit image reads the camera there, never `position` itself.
+  Camera at(int frame) const;
 };
 
 struct Scene {
@@ -165,11 +173,13 @@ struct LightPlacement {
   glm::dvec3 base{0.0};
   glm::vec3 amplitude{0.0f};
 };
-// `--camera X,Y,Z[,TX,TY,TZ]`: the camera's position, and the point it looks at (default: the scene's
-// target).
+// `--camera X,Y,Z[,TX,TY,TZ[,AX,AY,AZ]]`: the camera's position, the point it looks at (default: the scene's
+// target), and its sway: both translated by amplitude * sin(0.5 t), the seeds' frequency; no amplitude = a
+// camera standing still.
 struct CameraPlacement {
   glm::dvec3 position{0.0};
   std::optional<glm::dvec3> target;
+  glm::vec3 amplitude{0.0f};
 };
 
 struct LoadOptions {

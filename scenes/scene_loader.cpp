@@ -37,7 +37,7 @@ glm::vec3 normalize_wide(glm::vec3 v) {
 }
 
 Camera parse_camera(const Node& n, const glm::dvec3& origin) {
-  n.expect_object({"position", "target", "up", "fov_y_degrees", "near", "far", "size"});
+  n.expect_object({"position", "target", "up", "fov_y_degrees", "near", "far", "size", "path"});
   Camera c;
   c.position = glm::vec3(glm::dvec3(c.position) - origin);
   c.target = glm::vec3(glm::dvec3(c.target) - origin);
@@ -58,6 +58,11 @@ Camera parse_camera(const Node& n, const glm::dvec3& origin) {
     if (!s.value().is_array() || s.value().size() != 2) s.fail("expected [width, height]");
     c.width = s.at(size_t{0}).integer_in(1, 16384);
     c.height = s.at(size_t{1}).integer_in(1, 16384);
+  }
+  if (n.has("path")) {
+    c.path = detail::parse_path_fields(n.at("path"), LightPath{});
+    if (!finite(c.path.amplitude) || !std::isfinite(c.path.frequency))
+      n.at("path").fail("amplitude and frequency must be finite");
   }
   return c;
 }
@@ -236,6 +241,9 @@ void apply_placement(Scene& scene, const LoadOptions& options, const std::string
     Camera& c = scene.camera;
     c.position = glm::vec3(options.camera->position - scene.origin);
     if (options.camera->target) c.target = glm::vec3(*options.camera->target - scene.origin);
+    c.path = LightPath{};  // the placed camera stands still, or sways as --camera says
+    c.path.amplitude = options.camera->amplitude;
+    c.path.frequency = kSeedLightFrequency;
     if (!(glm::length(c.target - c.position) > 0.0f))
       throw SceneError(source + ": --camera position coincides with the camera's target");
     if (!(glm::length(glm::cross(glm::normalize(c.target - c.position), c.up)) > 1e-6f))

@@ -1,4 +1,4 @@
-// Moving casters (scenes/README.md, "path" on an object): the scene posed at a frame.
+// Moving casters and camera (scenes/README.md, "path" on an object or the camera): the scene at a frame.
 
 #include <algorithm>
 
@@ -8,6 +8,16 @@ namespace omnishadow::scene {
 
 bool Scene::has_moving_objects() const {
   return std::any_of(objects.begin(), objects.end(), [](const Object& o) { return o.moves(); });
+}
+
+Camera Camera::at(int frame) const {
+  if (!moves()) return *this;
+  Camera c = *this;
+  const glm::vec3 offset = path.at(frame);
+  c.position += offset;
+  c.target += offset;
+  c.path = LightPath{};
+  return c;
 }
 
 void Scene::pose(int frame) {

@@ -156,6 +156,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --scene room,@OTHER_ROOM@ --out @OUT@", "would both be named 'room' in case ids"},
         BadInput{"run --light 1,2 --out @OUT@", "--light: expected X,Y,Z or X,Y,Z,AX,AY,AZ, got 2"},
         BadInput{"run --camera 1,nan,3 --out @OUT@", "--camera: 'nan' is not a finite number"},
+        BadInput{"run --camera 1,2,3,0,0,0,4 --out @OUT@",
+                 "--camera: expected X,Y,Z or X,Y,Z,TX,TY,TZ or X,Y,Z,TX,TY,TZ,AX,AY,AZ, got 7"},
+        BadInput{"run --light 1,2,3,0,0,0,1,0,0 --out @OUT@",
+                 "--light: expected X,Y,Z or X,Y,Z,AX,AY,AZ, got 9"},
         BadInput{"run --scene spot --light 0,1,0 --out @OUT@", "spot.json: --light moves the point light"},
         // Every option that takes a value, given one it cannot take (tests/bad_input_coverage_test.py holds
         // the table to that): the option named, and what it expected.

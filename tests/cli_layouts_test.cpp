@@ -310,6 +310,36 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
   }
 }
 
+// The camera walked 16 units back down the hall (--camera's sway), checked at frame 188 where the walk ends:
+// every case, culled to that frame's view and shaded from its lists, passes six_pass unculled and its truth,
+// which cast from where the camera stands then; results.json keeps the sway as given.
+TEST_F(CliRun, AWalkingCameraIsCheckedWhereTheFrameHasIt) {
+  const std::string backends = available_backends();
+  fs::path out = scratch("walk");
+  Outcome o = run("run --backend " + backends +
+                  " --scene hall --light-count 16 --camera 0,3,0,20,2,0,-16,0,0 --check-frame 188"
+                  " --optimize none,view+clusters --cube 32 --frame 96x64 --technique six_pass"
+                  " --filter pcf_disk20 --frames 1 --warmup 0 --images none --check --max-error 100"
+                  " --benchmark_repetitions=1 --out " +
+                  out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  auto j = results_of(out);
+  EXPECT_EQ(j["omnishadow"]["options"]["camera"], "0,3,0,20,2,0,-16,0,0");
+  int culled = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+    EXPECT_GT(c["accuracy"]["pixels"].get<int>(), 0) << c["id"];
+    if (c["id"].get<std::string>().find("/view") == std::string::npos) continue;
+    ++culled;
+    bool held_to_unculled = false;
+    for (const auto& check : c["checks"])
+      held_to_unculled |=
+          check["name"] == "lit" && check["against"].get<std::string>().find("/view") == std::string::npos;
+    EXPECT_TRUE(held_to_unculled) << c["id"];
+  }
+  EXPECT_EQ(culled, backends == "gl,vulkan" ? 2 : 1);
+}
+
 // An update budget on both APIs: the check frame's maps are whole (every check holds), and the sequence from
 // a fresh start renders at most the budget's faces a frame after the first, every face read within its wait
 // bound; the stale faces of the swaying lamps and of those the moving casters reach cost misclassified

@@ -352,6 +352,47 @@ TEST_P(ManyLightsTest, ViewCullingChangesNothingTheFrameReads) {
   }
 }
 
+// The same view walked 16 units back down the hall (Camera::path) over frames rendered in turn: lamps behind
+// it at rest come before it, so the faces culled and the clustered lists change from frame to frame, and at
+// each frame the lit image is bit for bit the one without culling or lists.
+TEST_P(ManyLightsTest, CullingAndClustersFollowAWalkingCamera) {
+  scene::Scene hall = hall_;
+  hall.camera.position = {0.0f, 3.0f, 0.0f};
+  hall.camera.target = {20.0f, 2.0f, 0.0f};
+  hall.camera.path.amplitude = {-16.0f, 0.0f, 0.0f};
+  hall.camera.path.frequency = scene::kSeedLightFrequency;
+  backend_->load(hall);
+  const int lights = 16;
+  const std::vector<int> frames = {0, 94, 188};  // the camera at x = 0, -11.3, -16
+  const CaseConfig off = hall_case(lights, Layout::cube_array);
+  CaseConfig on = off;
+  on.optimizations.view_culling = true;
+  on.optimizations.light_clusters = true;
+  ASSERT_TRUE(backend_->supports(on).ok) << backend_->supports(on).reason;
+  backend_->configure(off);
+  std::vector<Images> want;
+  for (int frame : frames) {
+    backend_->render(frame, FrameKind::check);
+    want.push_back(backend_->read_back(CubeReadBack::sampled, 0));
+  }
+  backend_->configure(on);
+  std::vector<int> in_view;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(frames[i]));
+    backend_->render(frames[i], FrameKind::check);
+    const Images got = backend_->read_back(CubeReadBack::sampled, 0);
+    EXPECT_EQ(got.lit_rgba8, want[i].lit_rgba8);
+    EXPECT_EQ(got.shadow_factor, want[i].shadow_factor);
+    int seen = 0;
+    for (int k = 0; k < lights; ++k) {
+      scene::FocusLight focus(hall, k);
+      seen += gpu::view_faces(hall, on, frames[i], hall.light().far_plane, off.cube_size) != 0;
+    }
+    in_view.push_back(seen);
+  }
+  EXPECT_LT(in_view.front(), in_view.back()) << "the walk brings lamps into view";
+}
+
 TEST_P(ManyLightsTest, LayoutCubeSaysWhyItHoldsSixteenLightsAtMost) {
   EXPECT_TRUE(backend_->supports(hall_case(kLightCubes, Layout::cube)).ok)
       << backend_->supports(hall_case(kLightCubes, Layout::cube)).reason;

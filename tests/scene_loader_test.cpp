@@ -162,7 +162,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "path": {"position": [1, 0, 0]}}]})",
                  "/objects/0/path/position: unknown field"},
         BadScene{"{" LIGHT R"(, "objects": [{"type": "box", "path": {"frequency": "fast"}}]})",
-                 "/objects/0/path/frequency: expected a number"}),
+                 "/objects/0/path/frequency: expected a number"},
+        // A walking camera: the same path, its position and target moved together.
+        BadScene{"{" LIGHT R"(, "camera": {"path": {"amplitude": [1, 0]}}, "objects": [{"type": "box"}]})",
+                 "/camera/path/amplitude: expected an array of 3 numbers"},
+        BadScene{"{" LIGHT R"(, "camera": {"path": {"target": [1, 0, 0]}}, "objects": [{"type": "box"}]})",
+                 "/camera/path/target: unknown field"}),
     [](const ::testing::TestParamInfo<BadScene>& info) { return "case" + std::to_string(info.index); });
 
 TEST(SceneLoader, LightsEachGetWhatTheyNeed) {
@@ -241,6 +246,34 @@ TEST(SceneLoader, MovingCastersArePosedByTheFrameAlone) {
   for (size_t v = 0; v < rest.size(); ++v) ASSERT_EQ(hall.vertices[v].position, rest[v].position);
   const Scene room = load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/room.json");
   EXPECT_FALSE(room.has_moving_objects());
+}
+
+// The camera's path from the file, and --camera's sway on a scene file and on a model (scaled with it, its
+// far plane widened by the sway).
+TEST(SceneLoader, ACameraWalksByItsPathOrByCameraPlacement) {
+  const Scene s = load_scene_text("{" LIGHT R"(, "camera": {"position": [0, 1, 5], "target": [0, 1, 0],
+      "path": {"amplitude": [2, 0, 0], "frequency": 1.5, "phase": 0.5}}, "objects": [{"type": "box"}]})",
+                                  "walk.json");
+  EXPECT_TRUE(s.camera.moves());
+  EXPECT_EQ(s.camera.path.amplitude, glm::vec3(2, 0, 0));
+  EXPECT_EQ(s.camera.path.frequency, 1.5f);
+  EXPECT_EQ(s.camera.at(30).position, glm::vec3(0, 1, 5) + glm::vec3(2, 0, 0) * std::sin(1.5f * 0.5f + 0.5f));
+  LoadOptions still;
+  still.camera = CameraPlacement{{0, 2, 6}, std::nullopt, glm::vec3(0.0f)};
+  const Scene placed = load_scene_file(kScenes + "/hall.json", still);
+  EXPECT_FALSE(placed.camera.moves()) << "--camera without a sway stands still";
+  EXPECT_EQ(placed.camera.at(100).position, glm::vec3(0, 2, 6));
+  LoadOptions swaying = still;
+  swaying.camera->amplitude = {4, 0, 0};
+  const Scene walked = load_scene_file(kScenes + "/hall.json", swaying);
+  EXPECT_EQ(walked.camera.path.amplitude, glm::vec3(4, 0, 0));
+  EXPECT_EQ(walked.camera.path.frequency, kSeedLightFrequency);
+  const std::string model = kScenes + "/extremes/degenerate.obj";
+  const Scene model_still = load_scene_file(model, still);
+  const Scene model_walked = load_scene_file(model, swaying);
+  EXPECT_TRUE(model_walked.camera.moves());
+  EXPECT_FALSE(model_still.camera.moves());
+  EXPECT_GT(model_walked.camera.far_plane, model_still.camera.far_plane) << "the far plane takes in the sway";
 }
 
 TEST(SceneLoader, MissingFileIsAnError) {

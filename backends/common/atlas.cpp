@@ -65,12 +65,12 @@ Plan pack(std::span<const int> face_sizes) {
 
 double distance_over_range(const scene::Scene& scene, int light) {
   const scene::PointLight& l = scene.point_lights.at(size_t(light));
-  return double(glm::length(l.path.at(0) - scene.camera.position)) / double(l.far_plane);
+  return double(glm::length(l.path.at(0) - scene.camera.at(0).position)) / double(l.far_plane);
 }
 
 double screen_coverage(const scene::Scene& scene, int light, int width, int height) {
   const scene::PointLight& l = scene.point_lights.at(size_t(light));
-  const cube::ViewVolume v = cube::camera_view(scene.camera, width, height);
+  const cube::ViewVolume v = cube::camera_view(scene.camera.at(0), width, height);
   const glm::vec3 p = l.path.at(0);
   const float r = l.far_plane;
   if (glm::length(p - v.eye) <= r) return 1.0;  // the camera inside the range: it fills the view

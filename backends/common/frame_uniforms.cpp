@@ -14,7 +14,7 @@ namespace omnishadow::gpu {
 FrameUniforms make_frame_uniforms(const scene::Scene& scene, int frame, const CaseConfig& config,
                                   cube::DepthRange range) {
   const int width = config.width, height = config.height, injected_work = config.injected_work;
-  const scene::Camera& cam = scene.camera;
+  const scene::Camera cam = scene.camera.at(frame);
   const scene::PointLight& light = scene.light();
   const glm::vec3 light_position = light.path.at(frame);
   const float aspect = static_cast<float>(width) / static_cast<float>(height);

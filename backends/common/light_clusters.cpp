@@ -131,7 +131,9 @@ const std::vector<uint32_t>& LightClusterBuilder::build(const std::vector<Cluste
   return words_;
 }
 
-const std::vector<uint32_t>& LightClusterBuilder::build(const std::vector<PointLightRecord>& records) {
+const std::vector<uint32_t>& LightClusterBuilder::build(const scene::Camera& camera,
+                                                        const std::vector<PointLightRecord>& records) {
+  grid_.view = cube::camera_view(camera, grid_.width, grid_.height);
   lights_.clear();
   for (const PointLightRecord& r : records) lights_.push_back({glm::vec3(r.position_far), r.position_far.w});
   return build(lights_);

@@ -56,8 +56,10 @@ class LightClusterBuilder {
  public:
   explicit LightClusterBuilder(const ClusterGrid& grid = {}) : grid_(grid) {}
   const std::vector<uint32_t>& build(const std::vector<ClusterLight>& lights);
-  // From the lighting pass's records (their position and far plane).
-  const std::vector<uint32_t>& build(const std::vector<PointLightRecord>& records);
+  // From the lighting pass's records (their position and far plane), for the frame seen through `camera`: a
+  // moving camera takes the grid along (its tiles and slices stay; its frustum is the frame's).
+  const std::vector<uint32_t>& build(const scene::Camera& camera,
+                                     const std::vector<PointLightRecord>& records);
   const ClusterGrid& grid() const { return grid_; }
 
  private:

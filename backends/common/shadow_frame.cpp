@@ -86,6 +86,7 @@ void ShadowFramePlanner::rendered(const ShadowFrame& f, const CaseConfig& config
 LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const CaseConfig& config,
                                        cube::DepthRange range) {
   LightFrames f;
+  f.camera = scene.camera.at(frame);
   for (size_t k = 0; k < planners_.size(); ++k) {
     scene::FocusLight focus(scene, static_cast<int>(k));
     f.lights.push_back(planners_[k].prepare(scene, frame, config, range, face_size(int(k), config)));

@@ -79,6 +79,7 @@ class ShadowFramePlanner {
 struct LightFrames {
   std::vector<ShadowFrame> lights;
   std::vector<PointLightRecord> records;
+  scene::Camera camera;  // the one the frame is seen through (Camera::at): the clustered lists' view
 };
 
 // One ShadowFramePlanner per light. The frame uniforms of light k are made with the scene's focus on light k

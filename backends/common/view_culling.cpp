@@ -172,10 +172,10 @@ bool culls_faces_to_view(const CaseConfig& c) {
 uint8_t view_faces(const scene::Scene& scene, const CaseConfig& c, int frame, float range, int face_size) {
   if (!c.optimizations.view_culling || !scene.has_point_light()) return cube::kAllFaces;
   const glm::vec3 light = scene.light().path.at(frame);
-  const cube::LookupReach reach =
-      lookup_reach(c, range, glm::length(scene.camera.position - light), face_size);
-  return cube::view_face_mask(cube::camera_view(scene.camera, c.width, c.height), light, range, reach,
-                              face_size, culls_faces_to_view(c));
+  const scene::Camera camera = scene.camera.at(frame);
+  const cube::LookupReach reach = lookup_reach(c, range, glm::length(camera.position - light), face_size);
+  return cube::view_face_mask(cube::camera_view(camera, c.width, c.height), light, range, reach, face_size,
+                              culls_faces_to_view(c));
 }
 
 }  // namespace omnishadow::gpu

@@ -25,7 +25,7 @@ gpu::LightFrames GlBackend::update_frame_uniforms(int frame) {
 
 void GlBackend::upload_light_clusters(const gpu::LightFrames& f) {
   if (!clusters_ssbo_) return;
-  const std::vector<uint32_t>& words = clusters_.build(f.records);
+  const std::vector<uint32_t>& words = clusters_.build(f.camera, f.records);
   glNamedBufferSubData(clusters_ssbo_, 0, GLsizeiptr(words.size() * sizeof(uint32_t)), words.data());
 }
 

@@ -287,7 +287,7 @@ void VkBackend::write_frame_uniforms(const gpu::LightFrames& frame) {
 // The frame's clustered light lists, built on the CPU and written for the lighting pass (timed with it).
 void VkBackend::write_light_clusters(const gpu::LightFrames& frame) {
   if (!config_->optimizations.light_clusters) return;
-  const std::vector<uint32_t>& words = clusters_.build(frame.records);
+  const std::vector<uint32_t>& words = clusters_.build(frame.camera, frame.records);
   std::memcpy(light_clusters_.mapped, words.data(), words.size() * sizeof(uint32_t));
 }
 

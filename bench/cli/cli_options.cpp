@@ -217,8 +217,9 @@ void add_common_options(CLI::App& sub, CommonOptions& o) {
 }
 
 // "X,Y,Z" or "X,Y,Z,A,B,C": world units, finite, below 1e30 like a scene file's numbers.
-std::vector<double> parse_placement(const std::string& text, const std::string& option,
-                                    const char* expected) {
+// Three or six numbers; nine where `nine` (the camera's sway).
+std::vector<double> parse_placement(const std::string& text, const std::string& option, const char* expected,
+                                    bool nine = false) {
   std::vector<double> v;
   size_t start = 0;
   while (start <= text.size()) {
@@ -232,7 +233,7 @@ std::vector<double> parse_placement(const std::string& text, const std::string& 
     if (end == std::string::npos) break;
     start = end + 1;
   }
-  if (v.size() != 3 && v.size() != 6)
+  if (v.size() != 3 && v.size() != 6 && (v.size() != 9 || !nine))
     throw std::invalid_argument(option + ": expected " + expected + ", got " + std::to_string(v.size()) +
                                 " numbers");
   return v;
@@ -257,15 +258,17 @@ void add_placement_options(CLI::App& r, RunOptions& o) {
   r.add_option_function<std::string>(
       "--camera",
       [&o](const std::string& t) {
-        std::vector<double> v = parse_placement(t, "--camera", "X,Y,Z or X,Y,Z,TX,TY,TZ");
+        std::vector<double> v =
+            parse_placement(t, "--camera", "X,Y,Z or X,Y,Z,TX,TY,TZ or X,Y,Z,TX,TY,TZ,AX,AY,AZ", true);
         scene::CameraPlacement c;
         c.position = glm::dvec3(v[0], v[1], v[2]);
-        if (v.size() == 6) c.target = glm::dvec3(v[3], v[4], v[5]);
+        if (v.size() >= 6) c.target = glm::dvec3(v[3], v[4], v[5]);
+        if (v.size() == 9) c.amplitude = glm::vec3(v[6], v[7], v[8]);
         o.camera = c;
         o.camera_text = t;
       },
       "the camera at X,Y,Z looking at TX,TY,TZ (default: the scene's target; a model's centre) in every "
-      "scene");
+      "scene, standing still; with AX,AY,AZ it sways, position and target + A sin(0.5 t)");
 }
 
 // A crashing or hanging driver costs one case (bench/cli/case_isolation.h), and the test-only faults that

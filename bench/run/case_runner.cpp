@@ -320,8 +320,9 @@ void Harness::prepare(CaseResult& r) {
     const bool is_reference = r.config == reference_config(r.config);
     if (is_reference) references_.clear();
     check_lights(r, images, others, is_reference);
-    check_view_culling(r, images, planned, scene_of(r.config).camera.position);
-    check_light_clusters(r, images, planned, scene_of(r.config).camera);
+    const scene::Camera camera = scene_of(r.config).camera.at(options_.check_frame);
+    check_view_culling(r, images, planned, camera.position);
+    check_light_clusters(r, images, planned, camera);
     step("staleness", [&] { measure_staleness(r, b); });
     // Last, when the case's status is known: a failed check also keeps every float buffer.
     if (options_.write_images()) step("images", [&] { write_images(r, images); });

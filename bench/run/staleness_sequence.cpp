@@ -75,8 +75,9 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
   TruthOptions point = options_.truth;
   point.light_radius = 0.0f;  // the misclassified figure reads the point light's visibility only
   // Each light's truth takes from its last one every pixel that shows the same surface point, where neither
-  // the light nor a caster within its range moved in between (the camera stands still): a still lamp far from
-  // the moving casters is cast once, and one they pass recast only where the image changed.
+  // the light nor a caster within its range moved in between: a still lamp far from the moving casters is
+  // cast once, and one they pass recast only where the image changed. A point's visibility from a point
+  // light does not depend on the camera, so a moving camera only recasts the pixels that show other points.
   std::map<int, LastCast> last;
   const CubeReadBack cube = traits(r.config.layout).geometry.map == TexelMap::cube_faces
                                 ? CubeReadBack::sampled

@@ -223,9 +223,10 @@ Truth compute_truth(const reference::RayCaster& caster, const scene::Scene& scen
   const scene::MapLight* map = reported.map;
   const bool directional = reported.directional;
   const glm::vec3 light_color = reported.color;
-  const glm::vec3 camera = scene.camera.position;
+  const scene::Camera seen_through = scene.camera.at(frame);
+  const glm::vec3 camera = seen_through.position;
   const int k = std::max(1, options.samples_per_axis);
-  PriorPixels from_prior(prior, img, t, scene.camera);
+  PriorPixels from_prior(prior, img, t, seen_through);
   // Radius-fit slots: one per fit_stride-th pixel of every fit_stride-th row, filled where covered; large
   // frames thin the fit as they thin the soft reference.
   const bool fit = options.light_radius > 0 && map == nullptr;

@@ -82,7 +82,7 @@ void check_lookups_of(CaseFindings& r, const Images& images, const CheckContext&
   in.filter = r.config.filter;
   in.bias = r.config.remedies.bias;
   in.light = glm::dvec3(sc.light().path.at(ctx.options.check_frame));
-  in.camera = glm::dvec3(sc.camera.position);
+  in.camera = glm::dvec3(sc.camera.at(ctx.options.check_frame).position);
   in.far_plane = images.light_far;
   in.pcf_scale = r.config.pcf_scale;
   in.subtexel_bits = ctx.device.subtexel_bits;

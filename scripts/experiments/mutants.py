@@ -60,6 +60,10 @@ GS_ONE_PASS = MANY + ["--technique", "six_pass,geometry_shader", "--light-groupi
 # none): every case is held to six_pass unculled, and its covered pixels to the faces it drew.
 VIEW = ["--scene", "hall", "--light-count", "16", "--camera", "0,3,0,20,2,0", "--optimize", "view",
         "--technique", "six_pass,geometry_shader", "--filter", "hard,pcf_disk20"]
+# The same lamps with the camera walking 16 units back down the hall (--camera's sway), checked where the walk
+# ends (frame 188): the lamps it passes come into view, and the maps and lists must follow it.
+WALK = ["--scene", "hall", "--light-count", "16", "--camera", "0,3,0,20,2,0,-16,0,0", "--check-frame", "188",
+        "--optimize", "view+clusters", "--technique", "six_pass", "--filter", "hard,pcf_disk20"]
 # Sixteen lamps shaded from clustered light lists: every case is held to the loop over every light, and every
 # covered pixel's cluster to the lights that reach it.
 CLUSTERS = ["--scene", "hall", "--light-count", "16", "--optimize", "clusters", "--technique", "six_pass",
@@ -252,6 +256,14 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
     ("cluster_lists_drop_last_light", "backends/common/light_clusters.cpp",
      replace("for (uint32_t k = 0; k < lights.size(); ++k) {", "for (uint32_t k = 0; k + 1 < lights.size(); ++k) {"),
      "the clustered light lists leave out the case's last light: no pixel is shaded by it", CLUSTERS),
+    ("view_culls_to_camera_at_rest", "backends/common/view_culling.cpp",
+     replace("  const scene::Camera camera = scene.camera.at(frame);", "  const scene::Camera camera = scene.camera;"),
+     "view culling culls to the camera where the scene put it, not where the frame has it: the lamps a walking "
+     "camera passes get no map", WALK),
+    ("cluster_lists_for_camera_at_rest", "backends/common/light_clusters.cpp",
+     replace("  grid_.view = cube::camera_view(camera, grid_.width, grid_.height);", "  (void)camera;"),
+     "the clustered lists are built over the frustum of the camera where the scene put it: a walking camera's "
+     "pixels are shaded from another place's lists", WALK),
     ("budget_allocation_exceeds_budget", "backends/common/atlas.cpp",
      replace("if (uint64_t(plan.width) * uint64_t(plan.height) <= budget) return sizes;",
              "if (uint64_t(plan.width) * uint64_t(plan.height) <= 2 * budget) return sizes;"),
