@@ -80,6 +80,7 @@ void Harness::check_light(CaseResult& r, Images& images, int light, bool is_refe
     });
     step("accuracy", [&] { check_accuracy(r, images, checks, truths_); });
   }
+  if (light == 0) step("camera", [&] { check_camera(r, images, checks); });  // every light's positions alike
   step("lookups", [&] { check_lookups_of(r, images, checks); });
   step("comparisons", [&] {
     if (!is_reference) check_against_six_pass(r, images, light);

@@ -80,6 +80,9 @@ void check_moment_cube(CaseFindings& r, const Images& images);
 void check_maps(CaseFindings& r, const Images& images, const CheckContext& ctx, TruthCache& truths);
 void check_lookups_of(CaseFindings& r, const Images& images, const CheckContext& ctx);
 void check_accuracy(CaseFindings& r, const Images& images, const CheckContext& ctx, TruthCache& truths);
+// The frame's camera (bench/truth/camera_check.cpp): every covered pixel's world position lands in that pixel
+// through the camera the check frame has.
+void check_camera(CaseFindings& r, const Images& images, const CheckContext& ctx);
 // --optimize view, every light of the case at the check frame: no covered pixel within a light's range looks
 // it up through a face the frame left out. Light k as planned: its position, range and faces drawn.
 struct PlannedLight {

@@ -64,6 +64,9 @@ VIEW = ["--scene", "hall", "--light-count", "16", "--camera", "0,3,0,20,2,0", "-
 # ends (frame 188): the lamps it passes come into view, and the maps and lists must follow it.
 WALK = ["--scene", "hall", "--light-count", "16", "--camera", "0,3,0,20,2,0,-16,0,0", "--check-frame", "188",
         "--optimize", "view+clusters", "--technique", "six_pass", "--filter", "hard,pcf_disk20"]
+# The walk alone, nothing culled or listed: the frame's own matrices must follow the camera.
+WALK_PLAIN = ["--scene", "hall", "--light-count", "16", "--camera", "0,3,0,20,2,0,-16,0,0", "--check-frame", "188",
+              "--technique", "six_pass,geometry_shader", "--filter", "hard"]
 # Sixteen lamps shaded from clustered light lists: every case is held to the loop over every light, and every
 # covered pixel's cluster to the lights that reach it.
 CLUSTERS = ["--scene", "hall", "--light-count", "16", "--optimize", "clusters", "--technique", "six_pass",
@@ -264,6 +267,10 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      replace("  grid_.view = cube::camera_view(camera, grid_.width, grid_.height);", "  (void)camera;"),
      "the clustered lists are built over the frustum of the camera where the scene put it: a walking camera's "
      "pixels are shaded from another place's lists", WALK),
+    ("frame_camera_at_rest", "backends/common/frame_uniforms.cpp",
+     replace("  const scene::Camera cam = scene.camera.at(frame);", "  const scene::Camera cam = scene.camera;"),
+     "the frame's matrices see through the camera where the scene put it, not where the frame has it on its walk",
+     WALK_PLAIN),
     ("budget_allocation_exceeds_budget", "backends/common/atlas.cpp",
      replace("if (uint64_t(plan.width) * uint64_t(plan.height) <= budget) return sizes;",
              "if (uint64_t(plan.width) * uint64_t(plan.height) <= 2 * budget) return sizes;"),
