@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "backends/common/cube_summary.h"
 #include "backends/common/shadow_plan.h"
@@ -64,7 +65,7 @@ class ScriptedBackend : public Backend {
     img.height = 3;
     img.lit_rgba8.assign(4 * 3 * 4, 100);
     img.shadow_factor.assign(12, 0.0f);
-    img.world_position.assign(12 * 4, 1.0f);
+    img.world_position = seen_positions(img.width, img.height);
     img.cube_size = 4;
     for (size_t f = 0; f < 6; ++f) img.cube_distance[f].assign(16, static_cast<float>(f + 1));
     if (current_.technique == Technique::geometry_shader && current_.filter == Filter::pcf_disk20) {
@@ -82,6 +83,24 @@ class ScriptedBackend : public Backend {
     }
     ++read_backs_[cube == CubeReadBack::full];
     return img;
+  }
+
+  // Points on the rays through the pixel centres of the scene's camera (row 0 at clip y = -1), as a
+  // renderer's read-back has them: the camera check holds them to it.
+  std::vector<float> seen_positions(int width, int height) const {
+    const scene::Camera& c = scene_->camera;
+    const glm::mat4 inverse =
+        glm::inverse(glm::perspectiveRH_NO(glm::radians(c.fov_y_degrees), float(width) / float(height),
+                                           c.near_plane, c.far_plane) *
+                     glm::lookAtRH(c.position, c.target, c.up));
+    std::vector<float> p;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const glm::vec4 q = inverse * glm::vec4((float(x) + 0.5f) / float(width) * 2.0f - 1.0f,
+                                                (float(y) + 0.5f) / float(height) * 2.0f - 1.0f, 0.5f, 1.0f);
+        p.insert(p.end(), {q.x / q.w, q.y / q.w, q.z / q.w, 1.0f});
+      }
+    return p;
   }
 
   double jitter_ms = 0.0;
