@@ -41,6 +41,10 @@
 #              GL and Vulkan, with --check and a 24-frame staleness sequence for every case: PASS when no check
 #              fails and the policy table's target holds (a policy at <= 1/4 of the texels of every light, every
 #              face, full size, for <= 0.5 points more misclassified pixels); cut at 5 minutes (POLICIES_BUDGET_S)
+#   walk       the same view walking 16 units back down the hall (--camera's sway): hall at 16 lights, culling to
+#              the view and clustered lists off and on, six_pass and geometry_shader, pcf_disk20, cube 256, GL and
+#              Vulkan, checked where the walk ends (frame 188) and timed over the 188 frames of the walk: PASS when
+#              no check fails; the many-light table; cut at 3 minutes (WALK_BUDGET_S)
 #   capture    a failed case captured with --capture failed on both APIs and the Vulkan capture replayed by
 #              gfxrecon-replay on this driver: PASS when it replays (exit 0); the GL case's RenderDoc capture
 #              replayed by scripts/replay_renderdoc.py where RenderDoc's Python module is there (else said): PASS
@@ -482,6 +486,14 @@ step_policies() {
     { note "**FAIL** policies: the target missed (or no table: exit $code)"; failed=1; }
 }
 
+# What a walk gains: timed over frames 0-187, the camera's whole way back, so a frame's culling and lists are
+# those of where the camera then stands.
+step_walk() {
+  many_lights_run walk WALK_BUDGET_S 180 --light-count 16 --camera 0,3,0,20,2,0,-16,0,0 --check-frame 188 \
+    --layout cube_array --technique six_pass,geometry_shader --optimize none,view+clusters --filter pcf_disk20 \
+    --frames 188 --warmup 0
+}
+
 step_tutorial() {
   note "## tutorial"
   /usr/bin/python3 "$here/scripts/experiments/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
@@ -533,7 +545,7 @@ step_precision() {
   fi
 }
 
-steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas policies suite capture"
+steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas policies walk suite capture"
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] ($steps)" >&2; exit 2; }
 for step in "$@"; do
   case " $steps " in
