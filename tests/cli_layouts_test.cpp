@@ -312,7 +312,9 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
 
 // The camera walked 16 units back down the hall (--camera's sway), checked at frame 188 where the walk ends:
 // every case, culled to that frame's view and shaded from its lists, passes six_pass unculled and its truth,
-// which cast from where the camera stands then; results.json keeps the sway as given.
+// which cast from where the camera stands then; results.json keeps the sway as given. Under an update budget
+// the walk brings faces into view that view culling left empty: each renders at once, beyond the budget, so
+// no frame of the staleness sequence reads a face that holds nothing.
 TEST_F(CliRun, AWalkingCameraIsCheckedWhereTheFrameHasIt) {
   const std::string backends = available_backends();
   fs::path out = scratch("walk");
@@ -338,6 +340,22 @@ TEST_F(CliRun, AWalkingCameraIsCheckedWhereTheFrameHasIt) {
     EXPECT_TRUE(held_to_unculled) << c["id"];
   }
   EXPECT_EQ(culled, backends == "gl,vulkan" ? 2 : 1);
+  fs::path budget = scratch("walk_budget");
+  o = run(
+      "run --backend " + backends +
+      " --scene hall --light-count 16 --camera 0,3,0,20,2,0,-16,0,0 --update-budget 8 --staleness-frames 6"
+      " --optimize view --cube 32 --frame 96x64 --technique six_pass,geometry_shader --filter hard --frames 1"
+      " --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
+      budget.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  j = results_of(budget);
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+    int beyond = 0;
+    for (const auto& f : c["staleness"]["frames"])
+      beyond += f["frame"].get<int>() > 0 && f["faces_rendered"].get<int>() > 8;
+    EXPECT_GT(beyond, 0) << c["id"] << ": a face the walk brought into view rendered beyond the budget";
+  }
 }
 
 // An update budget on both APIs: the check frame's maps are whole (every check holds), and the sequence from

@@ -117,7 +117,10 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
 // the frame their content went stale (then light, then face, so that the order is deterministic) while the
 // budget lasts; the first that does not fit ends the frame's refreshes, so that no unit waits behind later
 // ones: a unit waits at most ceil(units that can be stale / units a frame) - 1 frames. A light never written
-// since configure renders whole, outside the budget (its map must hold defined values).
+// since configure renders whole, outside the budget (its map must hold defined values); so does a face the
+// frame reads that holds nothing (culled to the view until now, as a walking camera or a moving lamp brings
+// it in): alone where faces refresh alone, else with its whole light. That work is a first render, not a
+// refresh: it leaves the budget and the wait bound to the stale faces.
 void LightFramePlanner::apply_update_budget(LightFrames& f, const scene::Scene& scene, int frame,
                                             const CaseConfig& config) {
   struct Unit {
@@ -130,8 +133,14 @@ void LightFramePlanner::apply_update_budget(LightFrames& f, const scene::Scene& 
     ShadowFrame& s = f.lights[k];
     ShadowFramePlanner& p = planners_[k];
     if (s.skipped() || !p.written()) continue;  // out of view, or rendered whole this frame
+    uint8_t empty = 0;
+    for (int face = 0; face < cube::kFaceCount; ++face)
+      if (p.faces()[size_t(face)].frame < 0) empty |= uint8_t(1u << face);
+    empty &= s.view_faces;
+    refresh[k] = single ? empty : (empty ? cube::kAllFaces : uint8_t{0});
     const float near_plane = scene.point_lights.at(k).near_plane;
-    const uint8_t stale = p.stale_faces(scene, s.uniforms.light_position, near_plane, frame) & s.view_faces;
+    const uint8_t stale =
+        p.stale_faces(scene, s.uniforms.light_position, near_plane, frame) & s.view_faces & ~refresh[k];
     int oldest = frame;
     for (int face = 0; face < cube::kFaceCount; ++face) {
       if (!((stale >> face) & 1u)) continue;
