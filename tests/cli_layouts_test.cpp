@@ -13,6 +13,14 @@
 namespace omnishadow::cli_test {
 namespace {
 
+// Whether a culled case's lit frame was compared with an unculled one (its reference: six_pass, no /view).
+bool held_to_unculled(const nlohmann::json& c) {
+  for (const auto& check : c["checks"])
+    if (check["name"] == "lit" && check["against"].get<std::string>().find("/view") == std::string::npos)
+      return true;
+  return false;
+}
+
 // The GPU-specific single passes, asked for by name with --check on both APIs, beside six_pass with
 // culling on and off. A device without their extensions (Mesa's CPU drivers) reports each case unsupported
 // with the missing extension named, and the matrix goes on; a device with them (an NVIDIA GPU) must pass
@@ -284,11 +292,7 @@ TEST_F(CliRun, ViewCullingCountsWhatItLeftOutAndPassesEveryCheck) {
     const auto& culled = c["shadow_plan"]["view_culling"];
     EXPECT_GT(culled["lights_culled"].get<int>(), 0) << c["id"];
     EXPECT_GT(culled["faces_culled"].get<int>(), 0) << c["id"];
-    bool held_to_unculled = false;
-    for (const auto& check : c["checks"])
-      held_to_unculled |=
-          check["name"] == "lit" && check["against"].get<std::string>().find("/view") == std::string::npos;
-    EXPECT_TRUE(held_to_unculled) << c["id"] << ": its lit frame against six_pass unculled";
+    EXPECT_TRUE(held_to_unculled(c)) << c["id"] << ": its lit frame against six_pass unculled";
   }
   EXPECT_EQ(ok, backends == "gl,vulkan" ? 4 : 2);
   // Beside a lamp, inside its range: faces culled, not lights. The moments blur still runs over a face left
@@ -333,11 +337,7 @@ TEST_F(CliRun, AWalkingCameraIsCheckedWhereTheFrameHasIt) {
     EXPECT_GT(c["accuracy"]["pixels"].get<int>(), 0) << c["id"];
     if (c["id"].get<std::string>().find("/view") == std::string::npos) continue;
     ++culled;
-    bool held_to_unculled = false;
-    for (const auto& check : c["checks"])
-      held_to_unculled |=
-          check["name"] == "lit" && check["against"].get<std::string>().find("/view") == std::string::npos;
-    EXPECT_TRUE(held_to_unculled) << c["id"];
+    EXPECT_TRUE(held_to_unculled(c)) << c["id"];
   }
   EXPECT_EQ(culled, backends == "gl,vulkan" ? 2 : 1);
   fs::path budget = scratch("walk_budget");
