@@ -358,6 +358,42 @@ TEST_F(CliRun, AWalkingCameraIsCheckedWhereTheFrameHasIt) {
   }
 }
 
+// An atlas re-planned every 4 frames along the walk: checked at frame 188 with the tiles planned there (every
+// check holds, results.json says which frame planned them, and they are not frame 0's), and under an update
+// budget the staleness sequence counts the lights a re-plan moved apart from the budget.
+TEST_F(CliRun, AnAtlasReplannedOnTheWalkIsCheckedWithTheFramesTiles) {
+  const std::string backends = available_backends();
+  fs::path out = scratch("replan");
+  Outcome o =
+      run("run --backend " + backends +
+          " --scene hall --light-count 8 --camera 0,3,0,20,2,0,-16,0,0 --check-frame 188 --layout atlas"
+          " --atlas-tiles by_coverage --shadow-budget 32K --atlas-replan none,4 --update-budget 12"
+          " --staleness-frames 24 --cube 32 --frame 96x64 --technique six_pass --filter hard --frames 1"
+          " --warmup 0 --images none --check --max-error 100 --benchmark_repetitions=1 --out " +
+          out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  const auto j = results_of(out);
+  std::map<std::string, nlohmann::json> sizes;  // backend -> face sizes, planned once
+  int replanned = 0, relocated = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+    const auto& atlas = c["shadow_plan"]["atlas"];
+    if (c["axes"]["atlas_replan_frames"] == 0) {
+      sizes[c["axes"]["backend"]] = atlas["face_sizes"];
+      continue;
+    }
+    ++replanned;
+    EXPECT_EQ(atlas["planned_at_frame"], 188) << c["id"];
+    for (const auto& f : c["staleness"]["frames"]) relocated += f["lights_relocated"].get<int>();
+  }
+  EXPECT_EQ(replanned, backends == "gl,vulkan" ? 2 : 1);
+  EXPECT_GT(relocated, 0) << "the sequence's walk moved blocks";
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    if (c["axes"]["atlas_replan_frames"] != 4) continue;
+    EXPECT_NE(c["shadow_plan"]["atlas"]["face_sizes"], sizes[c["axes"]["backend"]]) << c["id"];
+  }
+}
+
 // An update budget on both APIs: the check frame's maps are whole (every check holds), and the sequence from
 // a fresh start renders at most the budget's faces a frame after the first, every face read within its wait
 // bound; the stale faces of the swaying lamps and of those the moving casters reach cost misclassified

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "backends/backend.h"
+#include "backends/common/atlas.h"
 #include "backends/common/layouts.h"
 #include "backends/common/view_culling.h"
 #include "tests/backend_availability.h"
@@ -50,6 +51,16 @@ class ManyLightsTest : public ::testing::TestWithParam<std::string> {
     c.layout = layout;
     c.light_count = lights;
     return c;
+  }
+  // The mid-hall view walked 16 units back down the hall (Camera::path): at x = 0, -11.3, -16 at frames 0,
+  // 94, 188.
+  scene::Scene walking_hall() const {
+    scene::Scene hall = hall_;
+    hall.camera.position = {0.0f, 3.0f, 0.0f};
+    hall.camera.target = {20.0f, 2.0f, 0.0f};
+    hall.camera.path.amplitude = {-16.0f, 0.0f, 0.0f};
+    hall.camera.path.frequency = scene::kSeedLightFrequency;
+    return hall;
   }
   // Light k of the hall as a scene of its own: what the many-light case's light k must reproduce.
   scene::Scene alone(int k) const {
@@ -356,11 +367,7 @@ TEST_P(ManyLightsTest, ViewCullingChangesNothingTheFrameReads) {
 // it at rest come before it, so the faces culled and the clustered lists change from frame to frame, and at
 // each frame the lit image is bit for bit the one without culling or lists.
 TEST_P(ManyLightsTest, CullingAndClustersFollowAWalkingCamera) {
-  scene::Scene hall = hall_;
-  hall.camera.position = {0.0f, 3.0f, 0.0f};
-  hall.camera.target = {20.0f, 2.0f, 0.0f};
-  hall.camera.path.amplitude = {-16.0f, 0.0f, 0.0f};
-  hall.camera.path.frequency = scene::kSeedLightFrequency;
+  scene::Scene hall = walking_hall();
   backend_->load(hall);
   const int lights = 16;
   const std::vector<int> frames = {0, 94, 188};  // the camera at x = 0, -11.3, -16
@@ -391,6 +398,47 @@ TEST_P(ManyLightsTest, CullingAndClustersFollowAWalkingCamera) {
     in_view.push_back(seen);
   }
   EXPECT_LT(in_view.front(), in_view.back()) << "the walk brings lamps into view";
+}
+
+// The walk again, with an atlas whose tiles are planned again every frame by distance (--atlas-replan 1)
+// and static caching: frames rendered in turn must light the scene bit for bit as a fresh start at each
+// frame does. The lamps that stand still keep their maps where their blocks stay, and render again where a
+// re-plan moved them; the read-back follows the frame's tiles.
+TEST_P(ManyLightsTest, AnAtlasReplannedOnAWalkRendersTheLightsItMoves) {
+  scene::Scene hall = walking_hall();
+  backend_->load(hall);
+  CaseConfig c = hall_case(24, Layout::atlas);  // lamps 16-23 stand still
+  c.atlas_tiles = AtlasTiles::by_distance;
+  c.atlas_replan_frames = 1;
+  c.optimizations.static_cache = true;
+  ASSERT_TRUE(backend_->supports(c).ok) << backend_->supports(c).reason;
+  const std::vector<int> frames = {0, 47, 94, 141, 188};
+  std::vector<Images> fresh;
+  for (int frame : frames) {
+    backend_->configure(c);
+    backend_->render(frame, FrameKind::check);
+    fresh.push_back(backend_->read_back(CubeReadBack::sampled, 0));
+  }
+  backend_->configure(c);
+  int still_moved = 0, still_kept = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(frames[i]));
+    backend_->render(frames[i], FrameKind::check);
+    const Images got = backend_->read_back(CubeReadBack::sampled, 0);
+    EXPECT_EQ(got.lit_rgba8, fresh[i].lit_rgba8);
+    EXPECT_EQ(got.shadow_factor, fresh[i].shadow_factor);
+    const atlas::Plan now = atlas::plan_at(c, hall, frames[i]);
+    EXPECT_EQ(got.cube_size, now.lights[0].face_size) << "light 0 read back at the frame's tiles";
+    if (i == 0) continue;
+    const atlas::Plan was = atlas::plan_at(c, hall, frames[i - 1]);
+    for (size_t k = 16; k < now.lights.size(); ++k) {
+      const bool moved = was.lights[k].x != now.lights[k].x || was.lights[k].y != now.lights[k].y ||
+                         was.lights[k].face_size != now.lights[k].face_size;
+      (moved ? still_moved : still_kept) += 1;
+    }
+  }
+  EXPECT_GT(still_moved, 0) << "the walk moves a still lamp's block";
+  EXPECT_GT(still_kept, 0) << "and keeps one's";
 }
 
 TEST_P(ManyLightsTest, LayoutCubeSaysWhyItHoldsSixteenLightsAtMost) {

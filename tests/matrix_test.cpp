@@ -79,6 +79,40 @@ TEST(Matrix, AShadowBudgetInBytesBecomesEachCasesTexels) {
   EXPECT_EQ(budgets.at("hard/uniform"), 0u) << "a uniform atlas has no budget";
 }
 
+// Re-plans move by_distance and by_coverage tiles only: uniform tiles and the other layouts keep one case,
+// planned once; the re-planned ids end in /replan<N>, and the support check refuses a re-plan of tiles that
+// never change.
+TEST(Matrix, AtlasReplansMultiplyOnlyTheTilesTheyMove) {
+  MatrixSpec spec;
+  spec.scenes = {"hall"};
+  spec.light_counts = {16};
+  spec.techniques = {Technique::six_pass};
+  spec.cube_sizes = {64};
+  spec.layouts = {Layout::cube_array, Layout::atlas};
+  spec.layouts_given = true;
+  spec.atlas_tiles = {AtlasTiles::uniform, AtlasTiles::by_distance};
+  spec.atlas_replans = {0, 8};
+  spec.filters = {Filter::hard};
+  std::multiset<std::string> kinds;
+  for (const auto& c : expand(spec, kSizes)) {
+    kinds.insert(std::string(to_string(c.layout)) + "/" + std::string(to_string(c.atlas_tiles)) + "/" +
+                 std::to_string(c.atlas_replan_frames));
+    if (c.atlas_replan_frames) {
+      EXPECT_NE(c.id().find("/tiles_by_distance/replan8"), std::string::npos) << c.id();
+    }
+  }
+  EXPECT_EQ(kinds, (std::multiset<std::string>{"cube_array/uniform/0", "atlas/uniform/0",
+                                               "atlas/by_distance/0", "atlas/by_distance/8"}));
+  CaseConfig uniform;
+  uniform.layout = Layout::atlas;
+  uniform.light_count = 16;
+  uniform.atlas_replan_frames = 8;
+  EXPECT_NE(common_support(uniform).reason.find("uniform tiles never change"), std::string::npos);
+  uniform.layout = Layout::cube_array;
+  EXPECT_NE(common_support(uniform).reason.find("--atlas-replan plans an atlas's tiles again"),
+            std::string::npos);
+}
+
 // The moments tunings (--moments-tuning): spelling round trip, one id segment per knob away from its default,
 // a one-line error naming a bad word, and each knob refused by the filters it means nothing to.
 TEST(Matrix, MomentsTuningsParseIntoTheIdAndOnlyTheirFilters) {

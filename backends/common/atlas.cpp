@@ -37,9 +37,9 @@ Plan shelves(std::span<const int> face_sizes, const std::vector<size_t>& order, 
   plan.height = y + row_height;
   return plan;
 }
-}  // namespace
 
-Plan pack(std::span<const int> face_sizes) {
+// The lights largest block first (ties in light order), after checking the sizes.
+std::vector<size_t> packing_order(std::span<const int> face_sizes) {
   if (face_sizes.empty()) throw std::invalid_argument("an atlas needs at least one light");
   for (int s : face_sizes)
     if (s < 1) throw std::invalid_argument("an atlas face size must be at least 1, got " + std::to_string(s));
@@ -47,31 +47,56 @@ Plan pack(std::span<const int> face_sizes) {
   std::iota(order.begin(), order.end(), size_t{0});
   std::stable_sort(order.begin(), order.end(),
                    [&](size_t a, size_t b) { return face_sizes[a] > face_sizes[b]; });
-  // Shelves as wide as 1, 2, ... of the largest block: the plan whose longer side is shortest (what a
-  // device's largest 2D texture bounds), then the smallest area, then the narrowest.
+  return order;
+}
+
+// pack's order of plans: the longer side shortest (what a device's largest 2D texture bounds), then the
+// smallest area, then the narrowest.
+auto plan_key(const Plan& q) {
+  return std::make_tuple(std::max(q.width, q.height), 1LL * q.width * q.height, q.width);
+}
+}  // namespace
+
+Plan pack(std::span<const int> face_sizes) {
+  const std::vector<size_t> order = packing_order(face_sizes);
+  // Shelves as wide as 1, 2, ... of the largest block.
   const int widest = block_width(face_sizes[order[0]]);
   Plan best;
   for (size_t n = 1; n <= face_sizes.size(); ++n) {
     Plan p = shelves(face_sizes, order, int(n) * widest);
     const bool one_shelf = p.width < int(n) * widest;  // wider shelves change nothing more
-    const auto key = [](const Plan& q) {
-      return std::make_tuple(std::max(q.width, q.height), 1LL * q.width * q.height, q.width);
-    };
-    if (best.lights.empty() || key(p) < key(best)) best = std::move(p);
+    if (best.lights.empty() || plan_key(p) < plan_key(best)) best = std::move(p);
     if (one_shelf) break;
   }
   return best;
 }
 
-double distance_over_range(const scene::Scene& scene, int light) {
-  const scene::PointLight& l = scene.point_lights.at(size_t(light));
-  return double(glm::length(l.path.at(0) - scene.camera.at(0).position)) / double(l.far_plane);
+// The atlas's own width is a candidate: with it, blocks no wider than a uniform atlas's fill at least as many
+// to a row as it holds, on rows no taller, so that a by_distance re-plan always fits the uniform rectangle.
+std::optional<Plan> pack_into(std::span<const int> face_sizes, int width, int height) {
+  const std::vector<size_t> order = packing_order(face_sizes);
+  const int widest = block_width(face_sizes[order[0]]);
+  std::vector<int> rows{width};
+  for (int n = 1; n <= int(face_sizes.size()) && n * widest < width; ++n) rows.push_back(n * widest);
+  std::optional<Plan> best;
+  for (int row : rows) {
+    Plan p = shelves(face_sizes, order, row);
+    if (p.width > width || p.height > height) continue;
+    if (!best || plan_key(p) < plan_key(*best)) best = std::move(p);
+  }
+  if (best) std::tie(best->width, best->height) = std::tie(width, height);
+  return best;
 }
 
-double screen_coverage(const scene::Scene& scene, int light, int width, int height) {
+double distance_over_range(const scene::Scene& scene, int light, int frame) {
   const scene::PointLight& l = scene.point_lights.at(size_t(light));
-  const cube::ViewVolume v = cube::camera_view(scene.camera.at(0), width, height);
-  const glm::vec3 p = l.path.at(0);
+  return double(glm::length(l.path.at(frame) - scene.camera.at(frame).position)) / double(l.far_plane);
+}
+
+double screen_coverage(const scene::Scene& scene, int light, int width, int height, int frame) {
+  const scene::PointLight& l = scene.point_lights.at(size_t(light));
+  const cube::ViewVolume v = cube::camera_view(scene.camera.at(frame), width, height);
+  const glm::vec3 p = l.path.at(frame);
   const float r = l.far_plane;
   if (glm::length(p - v.eye) <= r) return 1.0;  // the camera inside the range: it fills the view
   if (cube::view_face_mask(v, p, r, {}, 1, false) == 0) return 0.0;
@@ -89,13 +114,14 @@ double screen_coverage(const scene::Scene& scene, int light, int width, int heig
 namespace {
 
 // by_coverage: face sizes t sqrt(coverage) rounded down to a power of two, between kMinCoverageFace and
-// --cube, for the largest scale t (in steps of 2^(1/4)) whose atlas fits the budget; every light at the
+// --cube, for the largest scale t (in steps of 2^(1/4)) whose sizes `fits` accepts; every light at the
 // smallest when none does (budget_problem says so).
-std::vector<int> sizes_by_coverage(const CaseConfig& config, const scene::Scene& scene, size_t lights) {
+template <class Fits>
+std::vector<int> sizes_by_coverage(const CaseConfig& config, const scene::Scene& scene, size_t lights,
+                                   int frame, Fits fits) {
   std::vector<double> coverage(lights);
   for (size_t k = 0; k < lights; ++k)
-    coverage[k] = screen_coverage(scene, int(k), config.width, config.height);
-  const uint64_t budget = budget_texels(config);
+    coverage[k] = screen_coverage(scene, int(k), config.width, config.height, frame);
   std::vector<int> sizes(lights);
   for (double t = 16.0 * config.cube_size; t >= 1.0; t /= std::pow(2.0, 0.25)) {
     for (size_t k = 0; k < lights; ++k) {
@@ -104,8 +130,7 @@ std::vector<int> sizes_by_coverage(const CaseConfig& config, const scene::Scene&
       while (size * 2 <= std::min(ideal, double(config.cube_size))) size *= 2;
       sizes[k] = std::min(size, config.cube_size);
     }
-    const Plan plan = pack(sizes);
-    if (uint64_t(plan.width) * uint64_t(plan.height) <= budget) return sizes;
+    if (fits(sizes)) return sizes;
   }
   return std::vector<int>(lights, std::min(kMinCoverageFace, config.cube_size));
 }
@@ -118,22 +143,65 @@ uint64_t budget_texels(const CaseConfig& config) {
   return uint64_t(uniform.width) * uint64_t(uniform.height);
 }
 
-std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene) {
+std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene, int frame) {
   std::vector<int> sizes(static_cast<size_t>(std::max(config.light_count, 1)), config.cube_size);
   if (config.atlas_tiles == AtlasTiles::uniform) return sizes;
   if (scene.point_lights.size() < sizes.size())
     throw std::logic_error("atlas sizes for " + std::to_string(sizes.size()) + " lights of a scene with " +
                            std::to_string(scene.point_lights.size()));
-  if (config.atlas_tiles == AtlasTiles::by_coverage) return sizes_by_coverage(config, scene, sizes.size());
+  if (config.atlas_tiles == AtlasTiles::by_coverage) {
+    const uint64_t budget = budget_texels(config);
+    return sizes_by_coverage(config, scene, sizes.size(), frame, [&](const std::vector<int>& s) {
+      const Plan plan = pack(s);
+      return uint64_t(plan.width) * uint64_t(plan.height) <= budget;
+    });
+  }
   for (size_t k = 0; k < sizes.size(); ++k) {
-    const double ratio = distance_over_range(scene, int(k));
+    const double ratio = distance_over_range(scene, int(k), frame);
     const int halvings = ratio <= 1.0 ? 0 : std::clamp(int(std::lround(std::log2(ratio))), 0, kMaxHalvings);
     sizes[k] = std::max(1, config.cube_size >> halvings);
   }
   return sizes;
 }
 
-Plan plan_for(const CaseConfig& config, const scene::Scene& scene) { return pack(face_sizes(config, scene)); }
+Plan plan_for(const CaseConfig& config, const scene::Scene& scene) {
+  if (config.atlas_replan_frames <= 0 || config.atlas_tiles == AtlasTiles::uniform)
+    return pack(face_sizes(config, scene));
+  const Plan kept =
+      config.atlas_tiles == AtlasTiles::by_distance ? uniform_plan(config) : pack(face_sizes(config, scene));
+  return replan(config, scene, 0, kept.width, kept.height);
+}
+
+int planned_frame(const CaseConfig& config, int frame) {
+  const int every = config.atlas_replan_frames;
+  if (every <= 0 || config.atlas_tiles == AtlasTiles::uniform || frame <= 0) return 0;
+  return frame - frame % every;
+}
+
+Plan plan_at(const CaseConfig& config, const scene::Scene& scene, int frame) {
+  const Plan allocated = plan_for(config, scene);
+  const int at = planned_frame(config, frame);
+  return at == 0 ? allocated : replan(config, scene, at, allocated.width, allocated.height);
+}
+
+Plan replan(const CaseConfig& config, const scene::Scene& scene, int frame, int width, int height) {
+  std::vector<int> sizes;
+  if (config.atlas_tiles == AtlasTiles::by_coverage) {
+    sizes =
+        sizes_by_coverage(config, scene, size_t(std::max(config.light_count, 1)), frame,
+                          [&](const std::vector<int>& s) { return pack_into(s, width, height).has_value(); });
+  } else {
+    sizes = face_sizes(config, scene, frame);
+  }
+  std::optional<Plan> plan = pack_into(sizes, width, height);
+  // Smaller blocks than the kept rectangle's own never fail to fit it (pack_into's row as wide as the atlas);
+  // a plan that did would be a packing bug, not a case to go on with.
+  if (!plan)
+    throw std::logic_error("a re-plan of " + std::to_string(sizes.size()) + " lights at frame " +
+                           std::to_string(frame) + " does not fit the " + std::to_string(width) + "x" +
+                           std::to_string(height) + " atlas");
+  return *plan;
+}
 
 std::string budget_problem(const CaseConfig& config) {
   if (config.layout != Layout::atlas || config.atlas_tiles != AtlasTiles::by_coverage) return {};

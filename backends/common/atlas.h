@@ -11,6 +11,7 @@
 // sub-texel rounding): the border keeps a neighbour's texels out of that reach. Borders hold the clear value
 // (nothing drawn: lit), cleared with the light's block. Texel rows as the faces': row 0 is t = 0.
 
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -48,26 +49,44 @@ Texel face_origin(const Block& block, int face);
 // wide as makes the atlas's longer side shortest (a device bounds each side). Deterministic: the same sizes
 // always give the same plan. Throws std::invalid_argument for an empty list or a size below 1.
 Plan pack(std::span<const int> face_sizes);
+// The same shelves within a width x height atlas already allocated (a re-plan: the texture keeps its size):
+// rows as wide as the atlas or as 1, 2, ... of the largest block, the first that fits by pack's order; the
+// plan's width and height are the atlas's. None when no shelf width fits.
+std::optional<Plan> pack_into(std::span<const int> face_sizes, int width, int height);
 
 // Each light's face size for the case (CaseConfig::atlas_tiles): --cube for every light (uniform), or by
 // distance: --cube halved round(log2(d / range)) times, at most kMaxHalvings, where d is the light's distance
-// from the camera at frame 0 (none within its range). A light's range sphere subtends about range / d of the
+// from the camera at the frame the tiles are planned for (frame 0, or the re-plan's: plan_at; none within its
+// range). A light's range sphere subtends about range / d of the
 // view, so its texels a side follow its share of the screen, as engines size atlas slots by screen coverage.
 inline constexpr int kMaxHalvings = 3;
-// Point light k's distance from the camera at frame 0 over its range: the inverse of its range sphere's share
+// Point light k's distance from the camera at `frame` over its range: the inverse of its range sphere's share
 // of the view (what by_distance sizes by, and what the checks pick their farthest light by).
-double distance_over_range(const scene::Scene& scene, int light);
-// by_coverage: the share of a width x height view that point light k's range sphere covers at frame 0, by its
+double distance_over_range(const scene::Scene& scene, int light, int frame = 0);
+// by_coverage: the share of a width x height view that point light k's range sphere covers at `frame`, by its
 // projected bounding rectangle (1 with the camera inside the range, 0 out of view); each light's faces get
 // --cube x sqrt(coverage) times a scale, powers of two from kMinCoverageFace to --cube, the largest scale
 // whose atlas fits budget_texels(config).
-double screen_coverage(const scene::Scene& scene, int light, int width, int height);
+double screen_coverage(const scene::Scene& scene, int light, int width, int height, int frame = 0);
 inline constexpr int kMinCoverageFace = 4;         // the moments blur's least face
 uint64_t budget_texels(const CaseConfig& config);  // --shadow-budget, or the uniform atlas's texels
-std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene);
-// The case's atlas (layout atlas): the lights' face_sizes packed. `scene` holds at least light_count point
-// lights.
+std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene, int frame = 0);
+// The case's atlas as allocated (layout atlas; `scene` holds at least light_count point lights): the lights'
+// face_sizes at frame 0 packed. With re-plans (CaseConfig::atlas_replan_frames) the texture must hold every
+// later plan, so it keeps a rectangle: by_distance the uniform atlas's (no tile is larger than --cube), and
+// by_coverage frame 0's within the budget (each re-plan takes the largest scale that fits it); frame 0's
+// tiles are packed into it.
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene);
+// The tiles in force at `frame`: plan_for's without re-plans; with them, the sizes of the last re-plan frame
+// at or before it (every atlas_replan_frames frames from 0, as that frame has its camera and lights) packed
+// into the allocated width x height. A function of the frame alone, so that the backends and the checks that
+// replay a frame agree; a light whose block changes must render again (its texels are elsewhere).
+Plan plan_at(const CaseConfig& config, const scene::Scene& scene, int frame);
+// The sizes at `frame` packed into a width x height atlas (plan_at's step, for a planner that keeps the
+// allocated size).
+Plan replan(const CaseConfig& config, const scene::Scene& scene, int frame, int width, int height);
+// The frame whose plan is in force at `frame` (0 without re-plans).
+int planned_frame(const CaseConfig& config, int frame);
 // by_coverage: why no allocation fits the case's budget (every light at the smallest tiles exceeds it); empty
 // when one does.
 std::string budget_problem(const CaseConfig& config);

@@ -137,6 +137,7 @@ std::string CaseConfig::id() const {
   if (light_grouping == LightGrouping::all_lights) id += "/all_lights";
   if (atlas_tiles != AtlasTiles::uniform) id += "/tiles_" + std::string(to_string(atlas_tiles));
   if (shadow_budget_texels) id += "/budget" + std::to_string(shadow_budget_texels);
+  if (atlas_replan_frames) id += "/replan" + std::to_string(atlas_replan_frames);
   if (update_budget_faces) id += "/update" + std::to_string(update_budget_faces);
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";

@@ -230,6 +230,10 @@ struct CaseConfig {
   // --shadow-budget (atlas by_coverage only): the atlas's texels at most; 0: the uniform atlas's (the same
   // memory, given by coverage). In the id as /budget<texels> when set.
   uint64_t shadow_budget_texels = 0;
+  // --atlas-replan (atlas by_distance and by_coverage only): the tiles planned again every this many frames,
+  // from that frame's camera and lights, within the atlas allocated at configure (backends/common/atlas.h
+  // plan_at); 0: planned once, from frame 0. In the id as /replan<frames> when set.
+  int atlas_replan_frames = 0;
   // --update-budget: at most this many cube faces rendered a frame, the faces whose content is stale (their
   // light moved since they were rendered) oldest first; the others keep what they hold
   // (backends/common/shadow_frame.h). 0: every stale face every frame. In the id as /update<faces> when set.

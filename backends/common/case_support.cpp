@@ -51,7 +51,14 @@ Support atlas_support(const CaseConfig& c) {
     if (c.shadow_budget_texels && c.atlas_tiles != AtlasTiles::by_coverage)
       return {false, "--shadow-budget sizes the tiles by coverage (--atlas-tiles by_coverage), not " +
                          std::string(to_string(c.atlas_tiles))};
-  } else if (c.atlas_tiles != AtlasTiles::uniform) {
+    if (c.atlas_replan_frames && c.atlas_tiles == AtlasTiles::uniform)
+      return {false,
+              "--atlas-replan plans the tiles again by distance or coverage (--atlas-tiles by_distance, "
+              "by_coverage); uniform tiles never change"};
+  } else if (c.atlas_tiles != AtlasTiles::uniform || c.atlas_replan_frames) {
+    if (c.atlas_replan_frames && c.atlas_tiles == AtlasTiles::uniform)
+      return {false, "--atlas-replan plans an atlas's tiles again; layout " +
+                         std::string(to_string(c.layout)) + " gives every light --cube"};
     return {false, "--atlas-tiles " + std::string(to_string(c.atlas_tiles)) +
                        " sizes an atlas's tiles; layout " + std::string(to_string(c.layout)) +
                        " gives every light --cube"};

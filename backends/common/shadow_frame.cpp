@@ -87,6 +87,7 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
                                        cube::DepthRange range) {
   LightFrames f;
   f.camera = scene.camera.at(frame);
+  if (atlas_) replan_atlas(f, scene, frame, config);
   for (size_t k = 0; k < planners_.size(); ++k) {
     scene::FocusLight focus(scene, static_cast<int>(k));
     f.lights.push_back(planners_[k].prepare(scene, frame, config, range, face_size(int(k), config)));
@@ -111,6 +112,22 @@ LightFrames LightFramePlanner::prepare(scene::Scene& scene, int frame, const Cas
                          tile, u.face_view_proj});
   }
   return f;
+}
+
+void LightFramePlanner::replan_atlas(LightFrames& f, const scene::Scene& scene, int frame,
+                                     const CaseConfig& config) {
+  const int at = atlas::planned_frame(config, frame);
+  if (at == planned_at_) return;
+  atlas::Plan next = atlas::replan(config, scene, at, atlas_->width, atlas_->height);
+  for (size_t k = 0; k < planners_.size(); ++k) {
+    const atlas::Block &was = atlas_->lights.at(k), &now = next.lights.at(k);
+    if (std::tie(was.x, was.y, was.face_size) == std::tie(now.x, now.y, now.face_size)) continue;
+    planners_[k].reset();
+    ++f.atlas_relocated;
+  }
+  f.atlas_replanned = f.atlas_relocated > 0;
+  atlas_ = std::move(next);
+  planned_at_ = at;
 }
 
 // Units are faces where a face can be refreshed alone, else lights (their faces drawn as cost), taken by

@@ -80,16 +80,23 @@ struct LightFrames {
   std::vector<ShadowFrame> lights;
   std::vector<PointLightRecord> records;
   scene::Camera camera;  // the one the frame is seen through (Camera::at): the clustered lists' view
+  // Layout atlas with re-plans: this frame's tiles differ from the last frame's (LightFramePlanner::atlas()
+  // has them; the records carry them already). The lights whose block changed render whole.
+  bool atlas_replanned = false;
+  int atlas_relocated = 0;  // how many lights' blocks changed
 };
 
 // One ShadowFramePlanner per light. The frame uniforms of light k are made with the scene's focus on light k
 // (scene::FocusLight), so the one-light code (make_frame_uniforms, plan_shadow_draws) serves every light.
 class LightFramePlanner {
  public:
-  // `atlas`: layout atlas's plan, made once at configure (each light's record carries its tiles).
+  // `atlas`: layout atlas's plan as allocated at configure (atlas::plan_for; each light's record carries its
+  // tiles). With re-plans (CaseConfig::atlas_replan_frames) prepare() moves to atlas::plan_at's tiles for the
+  // frame, within the allocated width and height.
   void reset(int lights, std::optional<atlas::Plan> atlas = std::nullopt) {
     planners_.assign(static_cast<size_t>(lights), ShadowFramePlanner{});
     atlas_ = std::move(atlas);
+    planned_at_ = 0;
   }
   LightFrames prepare(scene::Scene& scene, int frame, const CaseConfig& config, cube::DepthRange range);
   void rendered(const LightFrames& f, const CaseConfig& config);
@@ -101,6 +108,8 @@ class LightFramePlanner {
   int face_size(int light, const CaseConfig& config) const {
     return atlas_ ? atlas_->lights.at(size_t(light)).face_size : config.cube_size;
   }
+  // The tiles of the frame last prepared (layout atlas; none otherwise).
+  const std::optional<atlas::Plan>& atlas() const { return atlas_; }
   // Per light, the frame each face's content was rendered for (FaceContent::frame): what the staleness
   // checks hold to the lights' paths.
   std::vector<std::array<int, 6>> face_frames() const;
@@ -108,9 +117,13 @@ class LightFramePlanner {
  private:
   // The update budget: which stale faces `f` refreshes (the oldest first), the others deferred.
   void apply_update_budget(LightFrames& f, const scene::Scene& scene, int frame, const CaseConfig& config);
+  // Re-plans the atlas where `frame` is planned apart from the tiles in force; a light whose block changed
+  // forgets its map (its texels are elsewhere now), so that it renders whole.
+  void replan_atlas(LightFrames& f, const scene::Scene& scene, int frame, const CaseConfig& config);
 
   std::vector<ShadowFramePlanner> planners_;
   std::optional<atlas::Plan> atlas_;
+  int planned_at_ = 0;  // the frame atlas_'s tiles were planned for
 };
 
 }  // namespace omnishadow::gpu

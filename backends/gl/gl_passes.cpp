@@ -15,6 +15,7 @@ namespace omnishadow::gl {
 
 gpu::LightFrames GlBackend::update_frame_uniforms(int frame) {
   gpu::LightFrames f = planner_.prepare(*scene_, frame, *config_, cube::DepthRange::minus_one_to_one);
+  if (f.atlas_replanned) shadow_.atlas = planner_.atlas();  // the passes' tiles, and the read-back's
   for (size_t k = 0; k < f.lights.size(); ++k)
     glNamedBufferSubData(frame_ubo_, GLintptr(k) * frame_stride_, sizeof(gpu::FrameUniforms),
                          &f.lights[k].uniforms);

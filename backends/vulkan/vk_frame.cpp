@@ -277,6 +277,7 @@ double VkBackend::timestamp_ms(uint32_t first) const {
 }
 
 void VkBackend::write_frame_uniforms(const gpu::LightFrames& frame) {
+  if (frame.atlas_replanned) shadow_.atlas = planner_.atlas();  // the passes' tiles, and the read-back's
   auto* base = static_cast<uint8_t*>(frame_uniforms_.mapped);
   for (size_t k = 0; k < frame.lights.size(); ++k)
     std::memcpy(base + k * frame_stride_, &frame.lights[k].uniforms, sizeof(gpu::FrameUniforms));

@@ -59,14 +59,18 @@ ShadowBudget parse_shadow_budget(const std::string& t) {
   return {std::stoull(number) << shift, bytes};
 }
 
-// "none" (0: every stale face each frame) or a positive count of faces.
-int parse_face_budget(const std::string& t) {
+// "none" (0) or a positive count of `what`.
+int parse_none_or_count(const std::string& t, const std::string& what) {
   if (t == "none") return 0;
   const bool digits = !t.empty() && t.size() <= 6 && t.find_first_not_of("0123456789") == std::string::npos;
   if (!digits || std::stoi(t) < 1)
-    throw std::invalid_argument("'" + t + "' is not a face count (none, or a whole number from 1 to 999999)");
+    throw std::invalid_argument("'" + t + "' is not " + what + " (none, or a whole number from 1 to 999999)");
   return std::stoi(t);
 }
+// The update budget: none, every stale face each frame.
+int parse_face_budget(const std::string& t) { return parse_none_or_count(t, "a face count"); }
+// Atlas re-plans: none, the tiles planned once.
+int parse_replan_frames(const std::string& t) { return parse_none_or_count(t, "a frame interval"); }
 
 // The axes that say what is drawn and at what size: backends, scenes, cube and frame sizes.
 void add_scene_axes(CLI::App& r, MatrixSpec& m) {
@@ -137,6 +141,13 @@ void add_light_axes(CLI::App& r, MatrixSpec& m) {
       "by_coverage: each light's faces by the screen area its range covers, the largest that fit the atlas "
       "in "
       "the budget; ids end in /budget<texels> when not 0; other tilings ignore it");
+  list_option(
+      r, "--atlas-replan", m.atlas_replans, parse_replan_frames,
+      [](int v) { return v ? std::to_string(v) : std::string("none"); },
+      "comma list of frame intervals (none: the tiles planned once, from frame 0) for --atlas-tiles "
+      "by_distance and by_coverage: every this many frames the tiles are sized again from that frame's "
+      "camera and lights and packed into the atlas as allocated, and a light whose tile moved renders "
+      "again; ids end in /replan<frames>; other tilings ignore it");
   list_option(
       r, "--update-budget", m.update_budgets, parse_face_budget,
       [](int v) { return v ? std::to_string(v) : std::string("none"); },

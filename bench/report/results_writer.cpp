@@ -76,6 +76,7 @@ json axes_to_json(const CaseConfig& c) {
                {"light_grouping", to_string(c.light_grouping)},
                {"atlas_tiles", to_string(c.atlas_tiles)},
                {"shadow_budget_texels", c.shadow_budget_texels},
+               {"atlas_replan_frames", c.atlas_replan_frames},
                {"update_budget_faces", c.update_budget_faces},
                {"optimizations", to_string(c.optimizations)},
                {"remedies", to_string(c.remedies)},
@@ -149,6 +150,8 @@ json plan_to_json(const CaseResult& r) {
                   {"height", r.atlas->height},
                   {"border", atlas::kBorder},
                   {"face_sizes", sizes}};
+    if (r.config.atlas_replan_frames)  // the tiles of the check frame's re-plan
+      j["atlas"]["planned_at_frame"] = r.atlas_planned_at;
     if (r.config.atlas_tiles == AtlasTiles::by_coverage) {
       j["atlas"]["budget_texels"] = atlas::budget_texels(r.config);
       j["atlas"]["budget_bytes"] = atlas::budget_texels(r.config) * shadow_bytes_per_texel(r.config);
@@ -308,7 +311,8 @@ json staleness_to_json(const StalenessReport& s) {
                       {"faces_stale", f.faces_stale},
                       {"max_wait_frames", f.max_wait},
                       {"misclassified_percent", measured ? json(f.misclassified_percent) : json(nullptr)},
-                      {"pixels", f.pixels}});
+                      {"pixels", f.pixels},
+                      {"lights_relocated", f.lights_relocated}});
   return {{"lights", s.lights},
           {"frames", frames},
           {"wait_bound_frames", s.wait_bound},

@@ -65,8 +65,10 @@ struct CaseResult : CaseFindings {
   int64_t texels_rendered = -1;
   // The shadow storage as allocated for the case's scene (memory_budget.h shadow_texels); 0 before the plan.
   uint64_t shadow_texels = 0, shadow_storage_bytes = 0;
-  // Layout atlas: its size and each light's face size (backends/common/atlas.h), as allocated.
+  // Layout atlas: its size as allocated and each light's face size at the check frame
+  // (backends/common/atlas.h).
   std::optional<atlas::Plan> atlas;
+  int atlas_planned_at = 0;            // with re-plans: the frame the check frame's tiles were planned for
   std::vector<double> atlas_coverage;  // by_coverage: each light's screen coverage at frame 0
   // The device's clocks, temperature, power and throttling before and after each repetition's frames
   // (bench/run/device_state.h), and where they came from.

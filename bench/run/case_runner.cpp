@@ -155,9 +155,10 @@ bool Harness::admit(CaseResult& r, Backend& b) {
 // and the work counters.
 // by_coverage: the atlas the case allocated within its budget (an allocation that exceeds it fails), and each
 // light's coverage for results.json.
-static void check_shadow_budget(CaseResult& r, const scene::Scene& sc) {
+static void check_shadow_budget(CaseResult& r, const scene::Scene& sc, int check_frame) {
+  const int planned = atlas::planned_frame(r.config, check_frame);  // the coverage the tiles were sized by
   for (int k = 0; k < r.config.light_count; ++k)
-    r.atlas_coverage.push_back(atlas::screen_coverage(sc, k, r.config.width, r.config.height));
+    r.atlas_coverage.push_back(atlas::screen_coverage(sc, k, r.config.width, r.config.height, planned));
   const uint64_t texels = uint64_t(r.atlas->width) * uint64_t(r.atlas->height);
   const uint64_t budget = atlas::budget_texels(r.config);
   if (texels <= budget) return;
@@ -168,14 +169,15 @@ static void check_shadow_budget(CaseResult& r, const scene::Scene& sc) {
        {{"texels", double(texels)}, {"budget", double(budget)}}});
 }
 
-// The faces the counted frame drew (their content is that frame's), their texels and the passes that drew
-// them.
-static void count_rendered(CaseResult& r, const std::vector<std::array<int, 6>>& face_frames, int frame) {
+// The faces the counted frame drew (their content is that frame's), their texels (at its tiles: `tiles`,
+// layout atlas) and the passes that drew them.
+static void count_rendered(CaseResult& r, const std::vector<std::array<int, 6>>& face_frames, int frame,
+                           const std::optional<atlas::Plan>& tiles) {
   if (face_frames.empty()) return;
   r.faces_rendered = r.passes_rendered = 0;
   r.texels_rendered = 0;
   for (size_t k = 0; k < face_frames.size(); ++k) {
-    const int64_t size = r.atlas ? r.atlas->lights.at(k).face_size : r.config.cube_size;
+    const int64_t size = tiles ? tiles->lights.at(k).face_size : r.config.cube_size;
     const int faces = int(std::count(face_frames[k].begin(), face_frames[k].end(), frame));
     r.faces_rendered += faces;
     r.texels_rendered += faces * size * size;
@@ -190,8 +192,14 @@ std::vector<PlannedLight> Harness::count_work(CaseResult& r, Backend& b, float l
   scene::Scene& sc = const_cast<scene::Scene&>(scene_of(r.config));  // not a const object: focus only
   r.shadow_texels = shadow_texels(r.config, &sc);
   r.shadow_storage_bytes = shadow_storage_bytes(r.config, &sc);
-  if (r.config.layout == Layout::atlas) r.atlas = atlas::plan_for(r.config, sc);
-  if (r.atlas && r.config.atlas_tiles == AtlasTiles::by_coverage) check_shadow_budget(r, sc);
+  // Layout atlas: the tiles in force at the check frame (frame 0's unless re-planned), in the atlas as
+  // allocated.
+  if (r.config.layout == Layout::atlas) {
+    r.atlas = atlas::plan_at(r.config, sc, options_.check_frame);
+    r.atlas_planned_at = atlas::planned_frame(r.config, options_.check_frame);
+  }
+  if (r.atlas && r.config.atlas_tiles == AtlasTiles::by_coverage)
+    check_shadow_budget(r, sc, options_.check_frame);
   for (int k = 0; k < (sc.has_point_light() ? r.config.light_count : 1); ++k) {
     scene::FocusLight focus(sc, k);
     const glm::vec3 light = sc.light().path.at(options_.check_frame);
@@ -216,7 +224,9 @@ std::vector<PlannedLight> Harness::count_work(CaseResult& r, Backend& b, float l
   const bool after_check = r.config.optimizations.static_cache || r.config.update_budget_faces > 0;
   const int counted = options_.check_frame + (after_check ? 1 : 0);
   r.counters = b.count_work(counted);
-  count_rendered(r, b.face_frames(), counted);
+  const bool replanned = r.atlas && atlas::planned_frame(r.config, counted) !=
+                                        atlas::planned_frame(r.config, options_.check_frame);
+  count_rendered(r, b.face_frames(), counted, replanned ? atlas::plan_at(r.config, sc, counted) : r.atlas);
   return planned;
 }
 

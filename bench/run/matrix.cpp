@@ -129,6 +129,14 @@ std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& ba
   });
   for (CaseConfig& c : cases)
     if (c.atlas_tiles != AtlasTiles::by_coverage) c.shadow_budget_texels = 0;
+  // Re-plans move by_distance and by_coverage tiles only: the other cases keep one, planned once.
+  times(cases, spec.atlas_replans, [](CaseConfig& c, int v) { c.atlas_replan_frames = v; });
+  std::erase_if(cases, [&](const CaseConfig& c) {
+    return (c.layout != Layout::atlas || c.atlas_tiles == AtlasTiles::uniform) &&
+           c.atlas_replan_frames != spec.atlas_replans.front();
+  });
+  for (CaseConfig& c : cases)
+    if (c.layout != Layout::atlas || c.atlas_tiles == AtlasTiles::uniform) c.atlas_replan_frames = 0;
   times(cases, spec.update_budgets, [](CaseConfig& c, int v) { c.update_budget_faces = v; });
   times(cases, spec.injected_work, [&](CaseConfig& c, int v) {
     c.injected_work = v;

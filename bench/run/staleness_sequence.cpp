@@ -8,6 +8,7 @@
 #include <map>
 #include <tuple>
 
+#include "backends/common/atlas.h"
 #include "backends/common/layouts.h"
 #include "backends/common/shadow_plan.h"
 #include "backends/common/view_culling.h"
@@ -30,16 +31,46 @@ std::vector<int> sequence_lights(const std::vector<int>& checked, const scene::S
   return lights;
 }
 
-// The faces of light `k` (in focus) that frame `t` reads: view culling's, planned as the backend plans them
-// (its far: the scene's, or fitted), else all six.
-uint8_t read_faces(const CaseResult& r, const scene::Scene& sc, int t, const glm::vec3& at, int k) {
+// The faces of the light in focus that frame `t` reads: view culling's, planned as the backend plans them
+// (its far: the scene's, or fitted; face_size its tiles' at t), else all six.
+uint8_t read_faces(const CaseResult& r, const scene::Scene& sc, int t, const glm::vec3& at, int face_size) {
   if (!r.config.optimizations.view_culling) return cube::kAllFaces;
   const float far_plane = r.config.optimizations.fit_range
                               ? cube::fitted_far(sc, at, sc.light().near_plane, sc.light().far_plane)
                               : sc.light().far_plane;
-  const int face_size = r.atlas ? r.atlas->lights.at(size_t(k)).face_size : r.config.cube_size;
   return gpu::view_faces(sc, r.config, t, far_plane, face_size);
 }
+
+// Layout atlas: the tiles in force at each frame of the sequence (atlas::plan_at, planned again only where a
+// re-plan falls), and which lights' blocks the frame moved.
+class SequenceTiles {
+ public:
+  SequenceTiles(const CaseConfig& c, const scene::Scene& sc) : config_(c), scene_(sc) {}
+  // Moves to frame t; the lights whose block differs from the frame before's (none at the first frame).
+  std::vector<uint8_t> advance(int t) {
+    if (config_.layout != Layout::atlas) return {};
+    const int at = atlas::planned_frame(config_, t);
+    std::vector<uint8_t> moved;
+    if (!plan_.lights.empty() && at == planned_at_) return moved;
+    atlas::Plan next = atlas::plan_at(config_, scene_, t);
+    for (size_t k = 0; k < plan_.lights.size() && k < next.lights.size(); ++k) {
+      const atlas::Block &was = plan_.lights[k], &now = next.lights[k];
+      moved.push_back(std::tie(was.x, was.y, was.face_size) != std::tie(now.x, now.y, now.face_size));
+    }
+    plan_ = std::move(next);
+    planned_at_ = at;
+    return moved;
+  }
+  int face_size(int k) const {
+    return plan_.lights.empty() ? config_.cube_size : plan_.lights.at(size_t(k)).face_size;
+  }
+
+ private:
+  const CaseConfig& config_;
+  const scene::Scene& scene_;
+  atlas::Plan plan_;  // no lights until the first frame, and outside layout atlas
+  int planned_at_ = 0;
+};
 
 // Whether a moving caster moved between frames `then` and `now` within `range` of `light` (its box at either
 // frame). Visibility of a point within range cannot change otherwise: the segment from it to the light lies
@@ -83,10 +114,11 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
                                 ? CubeReadBack::sampled
                                 : CubeReadBack::full;
   std::vector<SequenceFrame> sequence;
+  SequenceTiles tiles(r.config, sc);
   b.render(0, FrameKind::floor);  // every map cleared and forgotten: a fresh start
   for (int t = 0; t < frames; ++t) {
     b.render(t, FrameKind::check);
-    SequenceFrame s{t, b.face_frames(), {}, 0.0, 0};
+    SequenceFrame s{t, b.face_frames(), {}, 0.0, 0, tiles.advance(t)};
     if (s.face_frames.empty()) break;  // the backend keeps no record of its faces
     sc.pose(t);
     const reference::RayCaster& caster = truths_.caster(r.config, sc);
@@ -94,7 +126,7 @@ void Harness::measure_staleness(CaseResult& r, Backend& b) {
     for (int k = 0; k < r.config.light_count; ++k) {
       scene::FocusLight focus(sc, k);
       const glm::vec3 at = sc.light().path.at(t);
-      s.read_faces.push_back(read_faces(r, sc, t, at, k));
+      s.read_faces.push_back(read_faces(r, sc, t, at, tiles.face_size(k)));
       if (!options_.accuracy || std::find(lights.begin(), lights.end(), k) == lights.end()) continue;
       const Images images = b.read_back(cube, k);
       LastCast& before = last[k];

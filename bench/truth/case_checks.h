@@ -110,6 +110,9 @@ struct SequenceFrame {
   std::vector<uint8_t> read_faces;              // per light
   double misclassified_percent = 0.0;
   uint64_t pixels = 0;
+  // Per light, whether an atlas re-plan moved its block at this frame (atlas::plan_at against the frame
+  // before): it renders whole, outside the budget, as a first render. Empty without re-plans.
+  std::vector<uint8_t> relocated;
 };
 void check_update_budget(CaseFindings& r, const scene::Scene& scene, const std::vector<int>& lights,
                          const std::vector<SequenceFrame>& frames);

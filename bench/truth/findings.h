@@ -101,6 +101,8 @@ struct StalenessFrame {
   int max_wait = 0;                    // frames, the longest any face read this frame has waited
   double misclassified_percent = 0.0;  // the sequence's lights' pixels together, against this frame's truth
   uint64_t pixels = 0;
+  int lights_relocated =
+      0;  // lights an atlas re-plan moved this frame (each renders whole, outside the budget)
 };
 struct StalenessReport {
   std::vector<int> lights;  // the lights whose error is measured: those checked, and every one that moves

@@ -74,6 +74,12 @@ CLUSTERS = ["--scene", "hall", "--light-count", "16", "--optimize", "clusters", 
 # Sixteen lamps in an atlas whose tiles follow each lamp's screen coverage within 256K texels.
 BUDGET = ["--scene", "hall", "--light-count", "16", "--layout", "atlas", "--atlas-tiles", "by_coverage",
           "--shadow-budget", "256K", "--technique", "six_pass", "--filter", "hard,pcf_disk20"]
+# Twenty-four lamps (16-23 standing still) in an atlas whose tiles are planned again every frame by distance, with
+# static caching, the camera walking 16 units back down the hall and checked where the walk ends: a re-plan moves
+# still lamps' blocks, and those must render again where the records now point.
+REPLAN = ["--scene", "hall", "--light-count", "24", "--camera", "0,3,0,20,2,0,-16,0,0", "--check-frame", "188",
+          "--layout", "atlas", "--atlas-tiles", "by_distance", "--atlas-replan", "1", "--optimize", "cache",
+          "--technique", "six_pass,geometry_shader", "--filter", "hard"]
 # Sixteen lamps (four swaying) under an update budget of 8 faces a frame, faces one by one (six_pass) and whole
 # lights (geometry_shader), with the staleness sequence that holds what every face shows to the lamps' paths.
 UPDATE = ["--scene", "hall", "--light-count", "16", "--update-budget", "8", "--technique", "six_pass,geometry_shader",
@@ -272,9 +278,17 @@ MUTANTS = [(f"up_flip_{FACES[f]}", "backends/common/cube_faces.h", flip_up(f),
      "the frame's matrices see through the camera where the scene put it, not where the frame has it on its walk",
      WALK_PLAIN),
     ("budget_allocation_exceeds_budget", "backends/common/atlas.cpp",
-     replace("if (uint64_t(plan.width) * uint64_t(plan.height) <= budget) return sizes;",
-             "if (uint64_t(plan.width) * uint64_t(plan.height) <= 2 * budget) return sizes;"),
+     replace("return uint64_t(plan.width) * uint64_t(plan.height) <= budget;",
+             "return uint64_t(plan.width) * uint64_t(plan.height) <= 2 * budget;"),
      "the coverage allocation accepts an atlas of up to twice its --shadow-budget", BUDGET),
+    ("replan_keeps_moved_maps", "backends/common/shadow_frame.cpp",
+     replace("    planners_[k].reset();\n    ++f.atlas_relocated;", "    ++f.atlas_relocated;"),
+     "an atlas re-plan moves a lamp's block but the planner keeps its map: a still lamp's cache is reused from tiles "
+     "that are no longer its own", REPLAN),
+    ("replan_never_reaches_the_passes", "backends/common/shadow_frame.cpp",
+     replace("  f.atlas_replanned = f.atlas_relocated > 0;", "  f.atlas_replanned = false;"),
+     "the lights' records carry the re-planned tiles but the backends' passes and read-backs keep the tiles allocated "
+     "at configure", REPLAN),
     ("stale_face_never_refreshed", "backends/common/shadow_frame.cpp",
      replace("if (holds) continue;", "if (holds || face == 5) continue;"),
      "the update budget never finds a light's -Z face stale: after the first frame it keeps its first position",

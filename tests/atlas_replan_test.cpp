@@ -1,0 +1,192 @@
+// Atlas re-plans (CaseConfig::atlas_replan_frames): as the camera walks past still lamps, each re-plan sizes
+// the tiles from that frame's view and packs them into the atlas as allocated; the planner renders again
+// exactly the lights whose blocks moved, and the update budget's check counts those renders apart.
+
+#include <gtest/gtest.h>
+
+#include <tuple>
+#include <vector>
+
+#include "backends/common/atlas.h"
+#include "backends/common/shadow_frame.h"
+#include "bench/truth/case_checks.h"
+
+namespace omnishadow {
+namespace {
+
+// Eight still lamps of range 4 along +x, 6 units apart; the camera looks down +x from x = -10 and walks
+// 40 units along it (0.5 rad/s sway, frame 188 near its far end), so that lamps pass from far to near.
+scene::Scene lamps_along_a_walk() {
+  scene::Scene s;
+  s.point_lights.clear();
+  for (int k = 0; k < 8; ++k) {
+    scene::PointLight l;
+    l.far_plane = 4.0f;
+    l.path.base = glm::vec3(float(6 * k), 0.0f, 1.0f);
+    s.point_lights.push_back(l);
+  }
+  s.camera.position = glm::vec3(-10.0f, 0.0f, 0.0f);
+  s.camera.target = glm::vec3(0.0f, 0.0f, 0.0f);
+  s.camera.path.amplitude = glm::vec3(40.0f, 0.0f, 0.0f);
+  s.camera.path.frequency = 0.5f;
+  return s;
+}
+
+CaseConfig replan_case(AtlasTiles tiles, int every) {
+  CaseConfig c;
+  c.layout = Layout::atlas;
+  c.atlas_tiles = tiles;
+  c.atlas_replan_frames = every;
+  c.cube_size = 64;
+  c.light_count = 8;
+  c.width = 320;
+  c.height = 240;
+  if (tiles == AtlasTiles::by_coverage) c.shadow_budget_texels = 96 * 1024;
+  return c;
+}
+
+bool same_block(const atlas::Block& a, const atlas::Block& b) {
+  return std::tie(a.x, a.y, a.face_size) == std::tie(b.x, b.y, b.face_size);
+}
+
+std::vector<int> sizes_of(const atlas::Plan& p) {
+  std::vector<int> sizes;
+  for (const atlas::Block& b : p.lights) sizes.push_back(b.face_size);
+  return sizes;
+}
+
+// Every block inside the allocated atlas and apart from every other (atlas_test.cpp holds the tiles within
+// a block).
+void expect_blocks_fit(const atlas::Plan& p, int width, int height) {
+  EXPECT_EQ(p.width, width);
+  EXPECT_EQ(p.height, height);
+  for (size_t i = 0; i < p.lights.size(); ++i) {
+    const atlas::Block& a = p.lights[i];
+    EXPECT_TRUE(a.x >= 0 && a.y >= 0 && a.x + atlas::block_width(a.face_size) <= width &&
+                a.y + atlas::block_height(a.face_size) <= height)
+        << "light " << i;
+    for (size_t j = i + 1; j < p.lights.size(); ++j) {
+      const atlas::Block& b = p.lights[j];
+      const bool apart =
+          a.x + atlas::block_width(a.face_size) <= b.x || b.x + atlas::block_width(b.face_size) <= a.x ||
+          a.y + atlas::block_height(a.face_size) <= b.y || b.y + atlas::block_height(b.face_size) <= a.y;
+      EXPECT_TRUE(apart) << "lights " << i << " and " << j;
+    }
+  }
+}
+
+TEST(AtlasReplan, EveryReplanFitsTheAtlasAsAllocated) {
+  const scene::Scene s = lamps_along_a_walk();
+  for (AtlasTiles tiles : {AtlasTiles::by_distance, AtlasTiles::by_coverage}) {
+    SCOPED_TRACE(std::string(to_string(tiles)));
+    const CaseConfig c = replan_case(tiles, 8);
+    const atlas::Plan allocated = atlas::plan_for(c, s);
+    if (tiles == AtlasTiles::by_distance) {
+      const atlas::Plan uniform = atlas::uniform_plan(c);
+      EXPECT_EQ(std::tie(allocated.width, allocated.height), std::tie(uniform.width, uniform.height))
+          << "by_distance keeps the uniform atlas: no tile is larger than --cube";
+    } else {
+      EXPECT_LE(uint64_t(allocated.width) * uint64_t(allocated.height), atlas::budget_texels(c));
+    }
+    int changes = 0;
+    std::vector<int> before = sizes_of(allocated);
+    for (int t = 0; t <= 200; ++t) {
+      SCOPED_TRACE("frame " + std::to_string(t));
+      const atlas::Plan p = atlas::plan_at(c, s, t);
+      expect_blocks_fit(p, allocated.width, allocated.height);
+      const int planned = atlas::planned_frame(c, t);
+      EXPECT_EQ(planned, t - t % 8);
+      if (tiles == AtlasTiles::by_distance) {
+        EXPECT_EQ(sizes_of(p), atlas::face_sizes(c, s, planned));
+      }
+      const atlas::Plan at_plan = atlas::plan_at(c, s, planned);
+      for (size_t k = 0; k < p.lights.size(); ++k) EXPECT_TRUE(same_block(p.lights[k], at_plan.lights[k]));
+      changes += sizes_of(p) != before;
+      before = sizes_of(p);
+    }
+    EXPECT_GT(changes, 1) << "the walk re-sizes the tiles more than once";
+    CaseConfig once = c;
+    once.atlas_replan_frames = 0;
+    EXPECT_EQ(atlas::planned_frame(once, 188), 0);
+    EXPECT_EQ(sizes_of(atlas::plan_at(once, s, 188)), sizes_of(atlas::plan_for(once, s)))
+        << "without re-plans every frame keeps frame 0's tiles";
+  }
+}
+
+TEST(AtlasReplan, PackIntoKeepsTheAtlasSizeOrSaysItCannot) {
+  const std::vector<int> sizes = {32, 16, 16, 8};
+  const std::optional<atlas::Plan> p = atlas::pack_into(sizes, 300, 200);
+  ASSERT_TRUE(p.has_value());
+  expect_blocks_fit(*p, 300, 200);
+  EXPECT_EQ(sizes_of(*p), sizes);
+  EXPECT_FALSE(atlas::pack_into(sizes, atlas::block_width(32) - 1, 1000).has_value()) << "too narrow";
+  EXPECT_FALSE(atlas::pack_into(sizes, 1000, atlas::block_height(32) - 1).has_value()) << "too low";
+}
+
+// Still lamps and static caching: at a re-plan the lights whose blocks moved render whole (their texels are
+// elsewhere now), the others keep their maps, and every record carries the new tiles.
+TEST(AtlasReplan, APlannerRendersAgainTheLightsAReplanMoves) {
+  scene::Scene s = lamps_along_a_walk();
+  CaseConfig c = replan_case(AtlasTiles::by_distance, 1);
+  c.optimizations.static_cache = true;
+  gpu::LightFramePlanner planner;
+  planner.reset(c.light_count, atlas::plan_for(c, s));
+  gpu::LightFrames f = planner.prepare(s, 0, c, cube::DepthRange::zero_to_one);
+  planner.rendered(f, c);
+  int moved_total = 0, kept_total = 0;
+  atlas::Plan was = atlas::plan_for(c, s);
+  for (int t = 1; t <= 188; t += 11) {
+    SCOPED_TRACE("frame " + std::to_string(t));
+    f = planner.prepare(s, t, c, cube::DepthRange::zero_to_one);
+    const atlas::Plan now = atlas::plan_at(c, s, t);
+    int moved = 0;
+    for (size_t k = 0; k < now.lights.size(); ++k) {
+      const bool relocated = !same_block(was.lights[k], now.lights[k]);
+      moved += relocated;
+      EXPECT_EQ(f.lights[k].reuse_cube, !relocated) << "light " << k;
+      const atlas::Block& b = now.lights[k];
+      EXPECT_EQ(f.records[k].atlas_tile, glm::vec4(float(b.x), float(b.y), float(b.face_size), 1.0f));
+    }
+    EXPECT_EQ(f.atlas_relocated, moved);
+    EXPECT_EQ(f.atlas_replanned, moved > 0);
+    ASSERT_TRUE(planner.atlas().has_value());
+    EXPECT_EQ(sizes_of(*planner.atlas()), sizes_of(now));
+    moved_total += moved;
+    kept_total += int(now.lights.size()) - moved;
+    planner.rendered(f, c);
+    was = now;
+  }
+  EXPECT_GT(moved_total, 0) << "the walk moves blocks";
+  EXPECT_GT(kept_total, 0) << "and keeps some";
+}
+
+// A light a re-plan moved renders its six faces at once, outside the update budget of one light (6 faces):
+// frame 2 renders light 1 (stale) and light 0 (moved), 12 faces, and passes; unmarked, it fails.
+TEST(AtlasReplan, TheBudgetCheckCountsAMovedLightApart) {
+  const uint8_t all = cube::kAllFaces;
+  CaseConfig c;
+  c.layout = Layout::atlas;
+  c.technique = Technique::six_pass;
+  c.light_count = 2;
+  c.update_budget_faces = 6;
+  using F = std::array<int, 6>;
+  std::vector<bench::SequenceFrame> frames = {
+      {0, {F{0, 0, 0, 0, 0, 0}, F{0, 0, 0, 0, 0, 0}}, {all, all}, 0.0, 0, {}},
+      {1, {F{0, 0, 0, 0, 0, 0}, F{0, 0, 0, 0, 0, 0}}, {all, all}, 0.0, 0, {0, 0}},
+      {2, {F{2, 2, 2, 2, 2, 2}, F{2, 2, 2, 2, 2, 2}}, {all, all}, 0.0, 0, {1, 0}}};
+  scene::Scene s;
+  s.point_lights.assign(2, scene::PointLight{});
+  bench::CaseFindings moved;
+  moved.config = c;
+  bench::check_update_budget(moved, s, {}, frames);
+  EXPECT_EQ(moved.status, bench::Status::ok) << moved.reason;
+  frames[2].relocated = {0, 0};
+  bench::CaseFindings unmarked;
+  unmarked.config = c;
+  bench::check_update_budget(unmarked, s, {}, frames);
+  EXPECT_NE(unmarked.reason.find("frame 2 rendered 12 faces (0 of them first renders"), std::string::npos)
+      << unmarked.reason;
+}
+
+}  // namespace
+}  // namespace omnishadow
