@@ -188,5 +188,31 @@ TEST(AtlasReplan, TheBudgetCheckCountsAMovedLightApart) {
       << unmarked.reason;
 }
 
+// A light a re-plan moved that keeps a face from before (the planner forgot to render it again) fails, named.
+TEST(AtlasReplan, TheCheckFailsAMovedLightThatKeptAFace) {
+  const uint8_t all = cube::kAllFaces, but_minus_y = uint8_t(all & ~(1u << 3));
+  CaseConfig c;
+  c.layout = Layout::atlas;
+  c.technique = Technique::six_pass;
+  c.light_count = 1;
+  using F = std::array<int, 6>;
+  std::vector<bench::SequenceFrame> frames = {{0, {F{0, 0, 0, 0, 0, 0}}, {all}, 0.0, 0, {}},
+                                              {1, {F{1, 1, 1, -1, 1, 1}}, {but_minus_y}, 0.0, 0, {1}}};
+  scene::Scene s;
+  s.point_lights.assign(1, scene::PointLight{});
+  bench::CaseFindings whole;
+  whole.config = c;
+  bench::check_update_budget(whole, s, {}, frames);
+  EXPECT_EQ(whole.status, bench::Status::ok) << whole.reason << " (a face culled to the view holds nothing)";
+  frames[1].face_frames[0][4] = 0;
+  bench::CaseFindings kept;
+  kept.config = c;
+  bench::check_update_budget(kept, s, {}, frames);
+  EXPECT_NE(
+      kept.reason.find("frame 1: an atlas re-plan moved light 0's block, but its face +Z holds frame 0's"),
+      std::string::npos)
+      << kept.reason;
+}
+
 }  // namespace
 }  // namespace omnishadow

@@ -74,12 +74,13 @@ CLUSTERS = ["--scene", "hall", "--light-count", "16", "--optimize", "clusters", 
 # Sixteen lamps in an atlas whose tiles follow each lamp's screen coverage within 256K texels.
 BUDGET = ["--scene", "hall", "--light-count", "16", "--layout", "atlas", "--atlas-tiles", "by_coverage",
           "--shadow-budget", "256K", "--technique", "six_pass", "--filter", "hard,pcf_disk20"]
-# Twenty-four lamps (16-23 standing still) in an atlas whose tiles are planned again every frame by distance, with
-# static caching, the camera walking 16 units back down the hall and checked where the walk ends: a re-plan moves
-# still lamps' blocks, and those must render again where the records now point.
+# Twenty-four lamps (16-23 standing still) in an atlas whose tiles are planned again every frame by distance, without
+# and with static caching, the camera walking 16 units back down the hall, checked where the walk ends and over a
+# staleness sequence of its first 24 frames (re-plans at frames 14, 17 and 21 move blocks): a moved lamp must render
+# again where the records now point.
 REPLAN = ["--scene", "hall", "--light-count", "24", "--camera", "0,3,0,20,2,0,-16,0,0", "--check-frame", "188",
-          "--layout", "atlas", "--atlas-tiles", "by_distance", "--atlas-replan", "1", "--optimize", "cache",
-          "--technique", "six_pass,geometry_shader", "--filter", "hard"]
+          "--layout", "atlas", "--atlas-tiles", "by_distance", "--atlas-replan", "1", "--optimize", "none,cache",
+          "--staleness-frames", "24", "--technique", "six_pass", "--filter", "hard"]
 # Sixteen lamps (four swaying) under an update budget of 8 faces a frame, faces one by one (six_pass) and whole
 # lights (geometry_shader), with the staleness sequence that holds what every face shows to the lamps' paths.
 UPDATE = ["--scene", "hall", "--light-count", "16", "--update-budget", "8", "--technique", "six_pass,geometry_shader",
