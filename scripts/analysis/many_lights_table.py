@@ -39,6 +39,8 @@ def groups_of(cases):
                                             else " tiles_" + a["atlas_tiles"])
         if a.get("shadow_budget_texels"):  # by_coverage within a budget: a row per budget
             layout += f" budget{a['shadow_budget_texels']}"
+        if a.get("atlas_replan_frames"):  # tiles sized again every N frames: a row per interval
+            layout += f" replan{a['atlas_replan_frames']}"
         groups.setdefault(key, {})[(layout, technique, a.get("light_count", 1))] = c
     return groups
 

@@ -35,6 +35,8 @@ def policy_of(a):
         layout += " " + a["atlas_tiles"]
     if a.get("shadow_budget_texels"):
         layout += f" {a['shadow_budget_texels'] // 1024}K"
+    if a.get("atlas_replan_frames"):
+        layout += f" replan {a['atlas_replan_frames']}"
     opt = a.get("optimizations", "none")
     update = a.get("update_budget_faces", 0)
     return f"{layout} / {opt}" + (f" / update {update}" if update else "")
