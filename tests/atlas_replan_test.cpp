@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -121,6 +123,43 @@ TEST(AtlasReplan, PackIntoKeepsTheAtlasSizeOrSaysItCannot) {
   EXPECT_EQ(sizes_of(*p), sizes);
   EXPECT_FALSE(atlas::pack_into(sizes, atlas::block_width(32) - 1, 1000).has_value()) << "too narrow";
   EXPECT_FALSE(atlas::pack_into(sizes, 1000, atlas::block_height(32) - 1).has_value()) << "too low";
+}
+
+// A re-plan keeps every block whose size held: four blocks, one grown, the other three where they were and
+// the grown one in the space left; one grown beyond any space left gets no placement (replan packs afresh).
+TEST(AtlasReplan, PlacingKeepsTheBlocksWhoseSizeHeld) {
+  const atlas::Plan before = *atlas::pack_into(std::vector<int>{16, 16, 16, 16}, 400, 200);
+  const std::vector<int> grown = {16, 32, 16, 16};
+  const std::optional<atlas::Plan> p = atlas::place_keeping(before, grown);
+  ASSERT_TRUE(p.has_value());
+  expect_blocks_fit(*p, 400, 200);
+  EXPECT_EQ(sizes_of(*p), grown);
+  for (size_t k : {0u, 2u, 3u}) EXPECT_TRUE(same_block(p->lights[k], before.lights[k])) << "light " << k;
+  EXPECT_FALSE(atlas::place_keeping(before, std::vector<int>{16, 100, 16, 16}).has_value()) << "no room";
+}
+
+// Along the walk, each re-plan moves exactly the lights whose size changed (no fresh packing was needed).
+TEST(AtlasReplan, AlongTheWalkOnlyTheResizedLightsMove) {
+  const scene::Scene s = lamps_along_a_walk();
+  for (AtlasTiles tiles : {AtlasTiles::by_distance, AtlasTiles::by_coverage}) {
+    SCOPED_TRACE(std::string(to_string(tiles)));
+    const CaseConfig c = replan_case(tiles, 1);
+    atlas::Plan was = atlas::plan_for(c, s);
+    int resized = 0;
+    for (int t = 1; t <= 200; ++t) {
+      const atlas::Plan now = atlas::replan(c, s, t, was);
+      for (size_t k = 0; k < now.lights.size(); ++k) {
+        const bool same_size = now.lights[k].face_size == was.lights[k].face_size;
+        resized += !same_size;
+        EXPECT_EQ(same_block(now.lights[k], was.lights[k]), same_size) << "frame " << t << " light " << k;
+      }
+      was = now;
+    }
+    EXPECT_GT(resized, 1);
+    EXPECT_TRUE(std::equal(was.lights.begin(), was.lights.end(), atlas::plan_at(c, s, 200).lights.begin(),
+                           same_block))
+        << "the chain plan_at walks";
+  }
 }
 
 // Still lamps and static caching: at a re-plan the lights whose blocks moved render whole (their texels are

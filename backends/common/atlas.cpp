@@ -164,43 +164,20 @@ std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene,
   return sizes;
 }
 
+std::vector<int> face_sizes_within(const CaseConfig& config, const scene::Scene& scene, int frame, int width,
+                                   int height) {
+  if (config.atlas_tiles != AtlasTiles::by_coverage) return face_sizes(config, scene, frame);
+  return sizes_by_coverage(
+      config, scene, size_t(std::max(config.light_count, 1)), frame,
+      [&](const std::vector<int>& s) { return pack_into(s, width, height).has_value(); });
+}
+
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene) {
   if (config.atlas_replan_frames <= 0 || config.atlas_tiles == AtlasTiles::uniform)
     return pack(face_sizes(config, scene));
   const Plan kept =
       config.atlas_tiles == AtlasTiles::by_distance ? uniform_plan(config) : pack(face_sizes(config, scene));
-  return replan(config, scene, 0, kept.width, kept.height);
-}
-
-int planned_frame(const CaseConfig& config, int frame) {
-  const int every = config.atlas_replan_frames;
-  if (every <= 0 || config.atlas_tiles == AtlasTiles::uniform || frame <= 0) return 0;
-  return frame - frame % every;
-}
-
-Plan plan_at(const CaseConfig& config, const scene::Scene& scene, int frame) {
-  const Plan allocated = plan_for(config, scene);
-  const int at = planned_frame(config, frame);
-  return at == 0 ? allocated : replan(config, scene, at, allocated.width, allocated.height);
-}
-
-Plan replan(const CaseConfig& config, const scene::Scene& scene, int frame, int width, int height) {
-  std::vector<int> sizes;
-  if (config.atlas_tiles == AtlasTiles::by_coverage) {
-    sizes =
-        sizes_by_coverage(config, scene, size_t(std::max(config.light_count, 1)), frame,
-                          [&](const std::vector<int>& s) { return pack_into(s, width, height).has_value(); });
-  } else {
-    sizes = face_sizes(config, scene, frame);
-  }
-  std::optional<Plan> plan = pack_into(sizes, width, height);
-  // Smaller blocks than the kept rectangle's own never fail to fit it (pack_into's row as wide as the atlas);
-  // a plan that did would be a packing bug, not a case to go on with.
-  if (!plan)
-    throw std::logic_error("a re-plan of " + std::to_string(sizes.size()) + " lights at frame " +
-                           std::to_string(frame) + " does not fit the " + std::to_string(width) + "x" +
-                           std::to_string(height) + " atlas");
-  return *plan;
+  return pack_frame(config, scene, 0, kept.width, kept.height);
 }
 
 std::string budget_problem(const CaseConfig& config) {

@@ -77,16 +77,32 @@ std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene,
 // by_coverage frame 0's within the budget (each re-plan takes the largest scale that fits it); frame 0's
 // tiles are packed into it.
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene);
-// The tiles in force at `frame`: plan_for's without re-plans; with them, the sizes of the last re-plan frame
-// at or before it (every atlas_replan_frames frames from 0, as that frame has its camera and lights) packed
-// into the allocated width x height. A function of the frame alone, so that the backends and the checks that
-// replay a frame agree; a light whose block changes must render again (its texels are elsewhere).
+// Re-plans (backends/common/atlas_replan.cpp). The tiles in force at `frame`: plan_for's without re-plans;
+// with them, the plan of the last re-plan frame at or before it (every atlas_replan_frames frames from 0, as
+// that frame has its camera and lights), each re-plan made from the one before (replan), within the allocated
+// width x height. A function of the frame alone, so that the backends and the checks that replay a frame
+// agree; a light whose block changes must render again (its texels are elsewhere).
 Plan plan_at(const CaseConfig& config, const scene::Scene& scene, int frame);
-// The sizes at `frame` packed into a width x height atlas (plan_at's step, for a planner that keeps the
-// allocated size).
-Plan replan(const CaseConfig& config, const scene::Scene& scene, int frame, int width, int height);
 // The frame whose plan is in force at `frame` (0 without re-plans).
 int planned_frame(const CaseConfig& config, int frame);
+// The re-plan at `frame` after `before`: the sizes that frame asks for within before's width x height
+// (face_sizes_within); every block whose size is unchanged stays where it was, and the others go into the
+// space left (largest first, each at the lowest, then leftmost, corner of the blocks placed that holds it),
+// so that only the lights whose size changed render again. Where they do not all fit, everything is packed
+// afresh (pack_frame).
+Plan replan(const CaseConfig& config, const scene::Scene& scene, int frame, const Plan& before);
+// Every block at its sizes for `frame` packed afresh into a width x height atlas (plan_for's frame 0 with
+// re-plans). Throws std::logic_error where they do not fit: the kept rectangle always holds them (a packing
+// bug, not a case to go on with).
+Plan pack_frame(const CaseConfig& config, const scene::Scene& scene, int frame, int width, int height);
+// Blocks of `sizes` into before's atlas, keeping each block whose size is unchanged; none where one does not
+// fit.
+std::optional<Plan> place_keeping(const Plan& before, std::span<const int> sizes);
+// The sizes at `frame`: face_sizes's, by_coverage's scale the largest whose fresh packing fits width x
+// height.
+std::vector<int> face_sizes_within(const CaseConfig& config, const scene::Scene& scene, int frame, int width,
+                                   int height);
+
 // by_coverage: why no allocation fits the case's budget (every light at the smallest tiles exceeds it); empty
 // when one does.
 std::string budget_problem(const CaseConfig& config);

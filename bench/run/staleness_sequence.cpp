@@ -52,7 +52,10 @@ class SequenceTiles {
     const int at = atlas::planned_frame(config_, t);
     std::vector<uint8_t> moved;
     if (!plan_.lights.empty() && at == planned_at_) return moved;
-    atlas::Plan next = atlas::plan_at(config_, scene_, t);
+    // The next re-plan from this one, as atlas::plan_at chains them (frames run in turn from 0).
+    atlas::Plan next = !plan_.lights.empty() && at == planned_at_ + config_.atlas_replan_frames
+                           ? atlas::replan(config_, scene_, at, plan_)
+                           : atlas::plan_at(config_, scene_, t);
     for (size_t k = 0; k < plan_.lights.size() && k < next.lights.size(); ++k) {
       const atlas::Block &was = plan_.lights[k], &now = next.lights[k];
       moved.push_back(std::tie(was.x, was.y, was.face_size) != std::tie(now.x, now.y, now.face_size));
