@@ -45,6 +45,12 @@
 #              the view and clustered lists off and on, six_pass and geometry_shader, pcf_disk20, cube 256, GL and
 #              Vulkan, checked where the walk ends (frame 188) and timed over the 188 frames of the walk: PASS when
 #              no check fails; the many-light table; cut at 3 minutes (WALK_BUDGET_S)
+#   replan     the walk with an atlas re-planned every frame: hall at 24 lights, tiles by distance, re-plans off
+#              and on, without and with an update budget of 24 faces, six_pass and geometry_shader, pcf_disk20,
+#              cube 256, 400x300 (the CPU's exact visibility of each sequence frame within the budget), GL and
+#              Vulkan, checked where the walk ends (frame 188) and over a 24-frame staleness sequence, timed over
+#              the walk: PASS when no check fails; the many-light table; cut at 3 minutes
+#              (REPLAN_BUDGET_S)
 #   capture    a failed case captured with --capture failed on both APIs and the Vulkan capture replayed by
 #              gfxrecon-replay on this driver: PASS when it replays (exit 0); the GL case's RenderDoc capture
 #              replayed by scripts/replay_renderdoc.py where RenderDoc's Python module is there (else said): PASS
@@ -494,6 +500,15 @@ step_walk() {
     --frames 188 --warmup 0
 }
 
+# What re-planning an atlas along the walk costs and buys: the tiles sized again every frame (blocks whose size
+# held kept in place), with and without an update budget, whose staleness sequence holds every lamp a re-plan
+# moved to rendering again.
+step_replan() {
+  many_lights_run replan REPLAN_BUDGET_S 180 --light-count 24 --camera 0,3,0,20,2,0,-16,0,0 --check-frame 188 \
+    --layout atlas --atlas-tiles by_distance --atlas-replan none,1 --update-budget none,24 --staleness-frames 24 \
+    --frame 400x300 --technique six_pass,geometry_shader --filter pcf_disk20 --frames 188 --warmup 0
+}
+
 step_tutorial() {
   note "## tutorial"
   /usr/bin/python3 "$here/scripts/experiments/tutorial_ab.py" --rounds 5 --frames 60 --out "$out/tutorial/ab" \
@@ -545,7 +560,7 @@ step_precision() {
   fi
 }
 
-steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas policies walk suite capture"
+steps="exits checks clocks multiview singlepass matrix tutorial precision layouts lights atlas policies walk replan suite capture"
 [ $# -gt 0 ] || { echo "usage: scripts/gpu_acceptance.sh OUT STEP [STEP...] ($steps)" >&2; exit 2; }
 for step in "$@"; do
   case " $steps " in

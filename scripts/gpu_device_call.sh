@@ -12,7 +12,7 @@
 # its exit and seconds, and what was left for lack of time. At the end OUT is archived as OUT.tgz beside it (the
 # files a device call brings back are few and bounded: the archive is the one to fetch).
 # PLAN (default "singlepass capture suite lights policies atlas") picks and orders the steps: the first call
-# reaches about the suite; a second one runs PLAN="lights policies atlas" (walk, named, runs like them).
+# reaches about the suite; a second one runs PLAN="lights policies atlas" (walk and replan, named, run like them).
 # Usage, on the device machine: bash .gpu/device.sh bash scripts/gpu_device_call.sh "$OUT/acc"
 #   (docs/gpu.md: the bundle, the carried packages, and what the lent machine's settings allow: nothing changed)
 # Exit: 0 when every step that ran passed, 1 otherwise (the plan says which), 2 on bad input.
@@ -57,11 +57,11 @@ for step in ${PLAN:-singlepass capture suite lights policies atlas}; do
       [ "$budget" -ge 150 ] || budget=150
       run_step suite all SUITE_BUDGET_S "$budget" $((budget + 20)) ;;
     capture) run_step capture all - - 90 ;;
-    lights | policies | atlas | walk)
+    lights | policies | atlas | walk | replan)
       var="$(tr '[:lower:]' '[:upper:]' <<<"$step")_BUDGET_S"
       run_step "$step" gl "$var" 40 60
       run_step "$step" vulkan "$var" 40 60 ;;
-    *) echo "gpu_device_call: PLAN names '$step' (singlepass suite capture lights policies atlas walk)" >&2; exit 2 ;;
+    *) echo "gpu_device_call: PLAN names '$step' (singlepass suite capture lights policies atlas walk replan)" >&2; exit 2 ;;
   esac
 done
 echo "" >>"$plan"

@@ -111,6 +111,29 @@ TEST_F(CliRun, AHangIsKilledAfterTheCaseTimeoutAndCostsOneCase) {
                        "no progress for 10 s", "check_frame");
 }
 
+// A stop asked for while a case hangs (SIGTERM 3 s into the run, as `timeout` sends it to a time-boxed run):
+// the hung worker is killed at --case-timeout-s, its case recorded `crashed`, and no fresh process goes on to
+// the cases left; results.json says the run stopped and is incomplete, and the run exits 143.
+TEST_F(CliRun, AStopDuringAHangEndsTheRunAfterThatCase) {
+  const fs::path out = scratch("stop_hang");
+  const Outcome o =
+      run("run --backend " + available_backends() +
+              " --scene room --cube 16 --frame 32x24 --technique six_pass,geometry_shader --filter hard "
+              "--frames 2"
+              " --warmup 0 --no-accuracy --images none --benchmark_repetitions=1 --inject-hang /six_pass/"
+              " --case-timeout-s 8 --out " +
+              out.string(),
+          "timeout --preserve-status -s TERM 3");
+  EXPECT_EQ(o.exit_code, 128 + SIGTERM) << o.err;
+  const nlohmann::json j = results_of(out);
+  ASSERT_EQ(j["omnishadow"]["cases"].size(), 1u)
+      << "no case after the hung one: " << j.dump().substr(0, 2000);
+  EXPECT_EQ(j["omnishadow"]["cases"][0]["status"], "crashed");
+  EXPECT_NE(j["omnishadow"]["cases"][0]["id"].get<std::string>().find("/six_pass/"), std::string::npos);
+  EXPECT_FALSE(j["omnishadow"]["complete"].get<bool>());
+  EXPECT_EQ(j["omnishadow"]["stopped_by"], "SIGTERM");
+}
+
 // --capture failed: after the matrix the failed cases run again, each alone in a process of its own, under a
 // capture: on Vulkan GFXReconstruct's layer writes OUT/captures/<case>.gfxr, which gfxrecon-replay replays to
 // the end; on GL RenderDoc captures the check frame (or, where it is not installed, the capture is

@@ -28,11 +28,11 @@ fs::path scratch(const std::string& name) {
   return dir;
 }
 
-Outcome run(const std::string& args) {
+Outcome run(const std::string& args, const std::string& wrapper) {
   fs::path base = scratch("io");
   fs::create_directories(base);
-  std::string cmd = std::string(OMNISHADOW_BINARY) + " " + args + " >" + (base / "out").string() + " 2>" +
-                    (base / "err").string();
+  std::string cmd = (wrapper.empty() ? "" : wrapper + " ") + std::string(OMNISHADOW_BINARY) + " " + args +
+                    " >" + (base / "out").string() + " 2>" + (base / "err").string();
   int status = std::system(cmd.c_str());
   Outcome o{WIFEXITED(status) ? WEXITSTATUS(status) : -1,
             omnishadow::bench::read_file((base / "out").string()),

@@ -21,8 +21,9 @@ struct Outcome {
 
 // A fresh folder under this process's scratch root (removed first).
 fs::path scratch(const std::string& name);
-// OMNISHADOW_BINARY with `args` through the shell; its outputs read back whole.
-Outcome run(const std::string& args);
+// OMNISHADOW_BINARY with `args` through the shell, after `wrapper` where given (a command that runs it, as
+// `timeout ...`); its outputs read back whole.
+Outcome run(const std::string& args, const std::string& wrapper = "");
 // Whether `omnishadow list` brought the backend up; `why` is list's reason where it did not (a list that
 // fails is a test failure, never a reason to skip).
 bool gl_available(std::string& why);

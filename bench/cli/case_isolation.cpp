@@ -29,9 +29,15 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 // SIGINT / SIGTERM to the supervisor: passed on to the worker, which stops after the repetition in hand,
-// saves its results and exits 130 / 143, as a run without isolation does.
+// saves its results and exits 130 / 143, as a run without isolation does. A worker that ends otherwise after
+// a stop was asked for (it crashed, or hung in the case in hand and was killed) gets no successor: the run
+// stops there, with what finished, as the signal asked.
 volatile std::sig_atomic_t g_signal_to_forward = 0;
-extern "C" void forward_later(int signal_number) { g_signal_to_forward = signal_number; }
+volatile std::sig_atomic_t g_stop_signal = 0;  // the first SIGINT or SIGTERM
+extern "C" void forward_later(int signal_number) {
+  g_signal_to_forward = signal_number;
+  if (g_stop_signal == 0) g_stop_signal = signal_number;
+}
 
 void pass_on_signal(pid_t worker) {
   if (const int s = g_signal_to_forward; s != 0) {
@@ -168,8 +174,10 @@ bool benchmark_of(const json& b, const std::set<std::string>& ids) {
 }
 
 // Every part's kept cases in matrix order, each crash in its place, into OUT/results.json. `complete`: every
-// case of the matrix has its result (a crashed case's is `crashed`), unless the last worker said otherwise.
-void merge_parts(const std::vector<Part>& parts, const std::string& out_dir, bool complete) {
+// case of the matrix has its result (a crashed case's is `crashed`), unless the last worker said otherwise;
+// `stopped_by`: the signal that stopped the run before its last case (empty: none).
+void merge_parts(const std::vector<Part>& parts, const std::string& out_dir, bool complete,
+                 const std::string& stopped_by) {
   json merged, cases = json::array(), benchmarks = json::array(), crashes = json::array();
   for (const Part& part : parts) {
     if (fs::exists(part.results)) {
@@ -185,6 +193,7 @@ void merge_parts(const std::vector<Part>& parts, const std::string& out_dir, boo
   }
   if (merged.is_null()) merged = {{"omnishadow", json::object()}};
   if (!parts.back().all_kept) merged["omnishadow"]["complete"] = complete;  // else the last worker's own word
+  if (!stopped_by.empty()) merged["omnishadow"]["stopped_by"] = stopped_by;
   merged["omnishadow"]["cases"] = cases;
   merged["benchmarks"] = benchmarks;
   merged["omnishadow"]["crashed_cases"] = crashes;
@@ -260,6 +269,10 @@ int supervise_run(const IsolationSettings& settings) {
       fs::rename(first_results, part.results);
     }
     parts.push_back(part);
+    if (g_stop_signal != 0) {  // stopped: no fresh process for the cases left
+      exit_code = 128 + g_stop_signal;
+      break;
+    }
     if (state.total >= 0 && skip >= state.total) {
       exit_code = 1;
       break;
@@ -267,7 +280,9 @@ int supervise_run(const IsolationSettings& settings) {
   }
   if (parts.size() == 1 && parts[0].crash.is_null())
     return exit_code;  // no crash: the worker's files are the run's
-  merge_parts(parts, settings.out_dir, true);
+  const bool stopped = g_stop_signal != 0 && !parts.back().all_kept;
+  merge_parts(parts, settings.out_dir, !stopped,
+              stopped ? (g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM") : "");
   report_crashes(parts, settings.out_dir);
   std::error_code ec;
   fs::remove_all(parts_dir, ec);
