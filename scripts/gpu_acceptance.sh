@@ -46,7 +46,7 @@
 #              Vulkan, checked where the walk ends (frame 188) and timed over the 188 frames of the walk: PASS when
 #              no check fails; the many-light table; cut at 3 minutes (WALK_BUDGET_S)
 #   replan     the walk with an atlas re-planned every frame: hall at 24 lights, tiles by distance, re-plans off
-#              and on, without and with an update budget of 24 faces, six_pass and geometry_shader, pcf_disk20,
+#              and on, without and with an update budget of 24 faces, six_pass, pcf_disk20,
 #              cube 256, 400x300 (the CPU's exact visibility of each sequence frame within the budget), GL and
 #              Vulkan, checked where the walk ends (frame 188) and over a 24-frame staleness sequence, timed over
 #              the walk: PASS when no check fails; the many-light table; cut at 3 minutes
@@ -506,7 +506,7 @@ step_walk() {
 step_replan() {
   many_lights_run replan REPLAN_BUDGET_S 180 --light-count 24 --camera 0,3,0,20,2,0,-16,0,0 --check-frame 188 \
     --layout atlas --atlas-tiles by_distance --atlas-replan none,1 --update-budget none,24 --staleness-frames 24 \
-    --frame 400x300 --technique six_pass,geometry_shader --filter pcf_disk20 --frames 188 --warmup 0
+    --frame 400x300 --technique six_pass --filter pcf_disk20 --frames 188 --warmup 0
 }
 
 step_tutorial() {
