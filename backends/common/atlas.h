@@ -11,6 +11,7 @@
 // sub-texel rounding): the border keeps a neighbour's texels out of that reach. Borders hold the clear value
 // (nothing drawn: lit), cleared with the light's block. Texel rows as the faces': row 0 is t = 0.
 
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -85,6 +86,12 @@ Plan plan_for(const CaseConfig& config, const scene::Scene& scene);
 Plan plan_at(const CaseConfig& config, const scene::Scene& scene, int frame);
 // The frame whose plan is in force at `frame` (0 without re-plans).
 int planned_frame(const CaseConfig& config, int frame);
+// The plan of planned frame `at` for a reader that holds `current`, planned at `current_at`: the next re-plan
+// from it where `at` is the next one (stepping the chain), else plan_at's walk from frame 0.
+Plan plan_after(const CaseConfig& config, const scene::Scene& scene, int at, const Plan& current,
+                int current_at);
+// Per light, 1 where its block differs between two plans of the same lights (it must render again).
+std::vector<uint8_t> moved_blocks(const Plan& was, const Plan& now);
 // The re-plan at `frame` after `before`: the sizes that frame asks for within before's width x height
 // (face_sizes_within); every block whose size is unchanged stays where it was, and the others go into the
 // space left (largest first, each at the lowest, then leftmost, corner of the blocks placed that holds it),

@@ -96,4 +96,19 @@ Plan plan_at(const CaseConfig& config, const scene::Scene& scene, int frame) {
   return plan;
 }
 
+Plan plan_after(const CaseConfig& config, const scene::Scene& scene, int at, const Plan& current,
+                int current_at) {
+  if (at == current_at + config.atlas_replan_frames) return replan(config, scene, at, current);
+  return plan_at(config, scene, at);
+}
+
+std::vector<uint8_t> moved_blocks(const Plan& was, const Plan& now) {
+  std::vector<uint8_t> moved;
+  for (size_t k = 0; k < was.lights.size() && k < now.lights.size(); ++k) {
+    const Block &a = was.lights[k], &b = now.lights[k];
+    moved.push_back(a.x != b.x || a.y != b.y || a.face_size != b.face_size);
+  }
+  return moved;
+}
+
 }  // namespace omnishadow::atlas

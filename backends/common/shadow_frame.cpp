@@ -118,13 +118,10 @@ void LightFramePlanner::replan_atlas(LightFrames& f, const scene::Scene& scene, 
                                      const CaseConfig& config) {
   const int at = atlas::planned_frame(config, frame);
   if (at == planned_at_) return;
-  // The next re-plan from this one, as atlas::plan_at chains them; any other frame walks the chain.
-  atlas::Plan next = at == planned_at_ + config.atlas_replan_frames
-                         ? atlas::replan(config, scene, at, *atlas_)
-                         : atlas::plan_at(config, scene, at);
-  for (size_t k = 0; k < planners_.size(); ++k) {
-    const atlas::Block &was = atlas_->lights.at(k), &now = next.lights.at(k);
-    if (std::tie(was.x, was.y, was.face_size) == std::tie(now.x, now.y, now.face_size)) continue;
+  atlas::Plan next = atlas::plan_after(config, scene, at, *atlas_, planned_at_);
+  const std::vector<uint8_t> moved = atlas::moved_blocks(*atlas_, next);
+  for (size_t k = 0; k < planners_.size() && k < moved.size(); ++k) {
+    if (!moved[k]) continue;
     planners_[k].reset();
     ++f.atlas_relocated;
   }

@@ -50,16 +50,10 @@ class SequenceTiles {
   std::vector<uint8_t> advance(int t) {
     if (config_.layout != Layout::atlas) return {};
     const int at = atlas::planned_frame(config_, t);
-    std::vector<uint8_t> moved;
-    if (!plan_.lights.empty() && at == planned_at_) return moved;
-    // The next re-plan from this one, as atlas::plan_at chains them (frames run in turn from 0).
-    atlas::Plan next = !plan_.lights.empty() && at == planned_at_ + config_.atlas_replan_frames
-                           ? atlas::replan(config_, scene_, at, plan_)
-                           : atlas::plan_at(config_, scene_, t);
-    for (size_t k = 0; k < plan_.lights.size() && k < next.lights.size(); ++k) {
-      const atlas::Block &was = plan_.lights[k], &now = next.lights[k];
-      moved.push_back(std::tie(was.x, was.y, was.face_size) != std::tie(now.x, now.y, now.face_size));
-    }
+    if (!plan_.lights.empty() && at == planned_at_) return {};
+    atlas::Plan next = plan_.lights.empty() ? atlas::plan_at(config_, scene_, t)
+                                            : atlas::plan_after(config_, scene_, at, plan_, planned_at_);
+    std::vector<uint8_t> moved = atlas::moved_blocks(plan_, next);  // none at the first frame
     plan_ = std::move(next);
     planned_at_ = at;
     return moved;
