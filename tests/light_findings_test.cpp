@@ -55,15 +55,17 @@ TEST(LightFindings, PooledAccuracyWeighsEveryLightsPixels) {
   b.misclassified_percent = 2.0;
   b.mae_point = 0.0;
   b.psnr_point_db = -1.0;  // identical: no error
-  const Accuracy p = pooled_accuracy({{0, a, {}, {}}, {4, b, {}, {}}});
+  const Accuracy p = *pooled_accuracy({{0, a, {}, {}}, {4, b, {}, {}}});
   EXPECT_EQ(p.pixels, 400u);
   EXPECT_DOUBLE_EQ(p.misclassified_percent, 4.0);
   EXPECT_DOUBLE_EQ(p.mae_point, 0.05);
   EXPECT_NEAR(p.psnr_point_db, 10.0 * std::log10(400.0 / (0.01 * 100.0)), 1e-9);
   b.psnr_point_db = -1.0;
   a.psnr_point_db = -1.0;
-  EXPECT_EQ(pooled_accuracy({{0, a, {}, {}}, {4, b, {}, {}}}).psnr_point_db, -1.0) << "identical stays so";
-  EXPECT_EQ(pooled_accuracy({}).pixels, 0u);
+  EXPECT_EQ(pooled_accuracy({{0, a, {}, {}}, {4, b, {}, {}}})->psnr_point_db, -1.0) << "identical stays so";
+  EXPECT_FALSE(pooled_accuracy({}).has_value());
+  EXPECT_FALSE(pooled_accuracy({{0, std::nullopt, {}, {}}, {4, std::nullopt, {}, {}}}).has_value())
+      << "lights whose accuracy was not measured (--no-accuracy) pool to none, not to 0% misclassified";
 }
 
 // The lit frame from every light: each light's shadow error weighs its own unshadowed light, and errors of

@@ -61,7 +61,7 @@ void merge_light_findings(CaseFindings& into, int light, CaseFindings&& from) {
   into.per_light.push_back({light, from.accuracy, from.cube_texels, from.lookups});
 }
 
-Accuracy pooled_accuracy(const std::vector<LightReport>& lights) {
+std::optional<Accuracy> pooled_accuracy(const std::vector<LightReport>& lights) {
   Accuracy a;
   double pixels = 0, sphere_pixels = 0, mse_point = 0, mse_sphere = 0;
   bool point_errs = false, sphere_errs = false;
@@ -89,7 +89,7 @@ Accuracy pooled_accuracy(const std::vector<LightReport>& lights) {
       sphere_errs = sphere_errs || x.psnr_sphere_db >= 0;
     }
   }
-  if (pixels == 0) return a;
+  if (pixels == 0) return std::nullopt;
   for (double* v :
        {&a.misclassified_percent, &a.false_shadow_percent, &a.missed_shadow_percent, &a.mae_point})
     *v /= pixels;

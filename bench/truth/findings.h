@@ -157,7 +157,8 @@ std::vector<int> checked_lights(int light_count);
 // "light k: ", its image checks named "<check>@l<k>", its reports into per_light.
 void merge_light_findings(CaseFindings& into, int light, CaseFindings&& light_findings);
 // Every checked light's accuracy over their pixels together: the percentages and mean errors averaged over
-// all (light, pixel) pairs, the PSNRs from the pooled squared error.
-Accuracy pooled_accuracy(const std::vector<LightReport>& lights);
+// all (light, pixel) pairs, the PSNRs from the pooled squared error. None where no light's accuracy was
+// measured (--no-accuracy): a pooled zero would read as a case without error.
+std::optional<Accuracy> pooled_accuracy(const std::vector<LightReport>& lights);
 
 }  // namespace omnishadow::bench
