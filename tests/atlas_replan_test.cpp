@@ -5,13 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
+#include <string>
 #include <tuple>
 #include <vector>
 
 #include "backends/common/atlas.h"
 #include "backends/common/shadow_frame.h"
 #include "bench/truth/case_checks.h"
+#include "scenes/scene.h"
 
 namespace omnishadow {
 namespace {
@@ -197,6 +200,115 @@ TEST(AtlasReplan, APlannerRendersAgainTheLightsAReplanMoves) {
   }
   EXPECT_GT(moved_total, 0) << "the walk moves blocks";
   EXPECT_GT(kept_total, 0) << "and keeps some";
+}
+
+// Hysteresis: one lamp of range 1 whose distance from a swaying camera crosses by_distance's edge between
+// --cube and --cube / 2 (ratio sqrt 2) every half sway. Re-planned by that frame alone it resizes, and
+// renders whole, at each crossing; with a quarter octave of hysteresis its need never leaves 2^(1/4) of the
+// edge, so it keeps frame 0's size.
+TEST(AtlasReplan, HysteresisKeepsALampSwayingAcrossASizesEdge) {
+  scene::Scene s;
+  s.point_lights.assign(1, scene::PointLight{});
+  s.point_lights[0].far_plane = 1.0f;
+  s.camera.position = glm::vec3(-1.45f, 0.0f, 0.0f);  // ratio 1.45 +- 0.12: log2 0.41 to 0.65
+  s.camera.target = glm::vec3(0.0f);
+  s.camera.path.amplitude = glm::vec3(0.12f, 0.0f, 0.0f);
+  s.camera.path.frequency = 30.0f;  // a sway every 12.6 frames
+  for (float octaves : {0.0f, 0.25f}) {
+    SCOPED_TRACE("hysteresis " + std::to_string(octaves));
+    CaseConfig c = replan_case(AtlasTiles::by_distance, 1);
+    c.light_count = 1;
+    c.atlas_hysteresis_octaves = octaves;
+    atlas::Plan was = atlas::plan_for(c, s);
+    EXPECT_EQ(was.lights[0].face_size, 32) << "frame 0: ratio 1.45, past the edge";
+    int resized = 0;
+    for (int t = 1; t <= 100; ++t) {
+      const atlas::Plan now = atlas::replan(c, s, t, was);
+      resized += now.lights[0].face_size != was.lights[0].face_size;
+      was = now;
+    }
+    if (octaves == 0.0f)
+      EXPECT_GE(resized, 10) << "two crossings a sway, about 8 sways";
+    else
+      EXPECT_EQ(resized, 0);
+  }
+}
+
+// The rule by_distance's sizes follow (atlas.h face_sizes), for a need scaled by `f`: the test's own.
+int distance_rule(const CaseConfig& c, double ratio, double f) {
+  const double r = ratio / f;
+  return r <= 1.0 ? c.cube_size
+                  : std::max(1, c.cube_size >> std::clamp(int(std::lround(std::log2(r))), 0, 3));
+}
+
+// Along the walk with hysteresis, each lamp at each re-plan has either its size from before (by distance
+// while the rule gives it for a need within 2^H of its own) or the frame's own size; the plans fit the
+// atlas, move only the resized lamps, and resize fewer than without (by coverage too, where a step of the
+// scale resized many lamps at once, and where holding sizes must still fit the budget).
+TEST(AtlasReplan, HysteresisHoldsASizeOnlyWhileTheNeedIsWithinItsOctaves) {
+  const scene::Scene s = lamps_along_a_walk();
+  for (AtlasTiles tiles : {AtlasTiles::by_distance, AtlasTiles::by_coverage}) {
+    SCOPED_TRACE(std::string(to_string(tiles)));
+    std::vector<int> resized;
+    for (float octaves : {0.0f, 0.5f}) {
+      CaseConfig c = replan_case(tiles, 1);
+      c.atlas_hysteresis_octaves = octaves;
+      const double by = std::exp2(double(octaves));
+      atlas::Plan was = atlas::plan_for(c, s);
+      int count = 0, held_apart = 0;
+      for (int t = 1; t <= 200; ++t) {
+        SCOPED_TRACE("frame " + std::to_string(t));
+        const atlas::Plan now = atlas::replan(c, s, t, was);
+        expect_blocks_fit(now, was.width, was.height);
+        const std::vector<int> fresh = atlas::face_sizes_within(c, s, t, was.width, was.height);
+        for (size_t k = 0; k < now.lights.size(); ++k) {
+          const int before = was.lights[k].face_size, size = now.lights[k].face_size;
+          count += size != before;
+          EXPECT_EQ(same_block(now.lights[k], was.lights[k]), size == before) << "light " << k;
+          EXPECT_TRUE(size == before || size == fresh[k]) << "light " << k << ": held, or the frame's own";
+          if (tiles != AtlasTiles::by_distance) continue;
+          const double ratio = atlas::distance_over_range(s, int(k), t);
+          const bool within =
+              distance_rule(c, ratio, 1.0 / by) <= before && before <= distance_rule(c, ratio, by);
+          EXPECT_EQ(size, within ? before : distance_rule(c, ratio, 1.0)) << "light " << k;
+          held_apart += size != distance_rule(c, ratio, 1.0);
+        }
+        was = now;
+      }
+      if (tiles == AtlasTiles::by_distance && octaves > 0.0f) EXPECT_GT(held_apart, 0) << "some size held";
+      resized.push_back(count);
+    }
+    EXPECT_LT(resized[1], resized[0]) << "hysteresis resizes fewer lamps";
+  }
+}
+
+// The hall's walk (docs/many-lights.md, "Tiles that follow the walk"): 24 lamps by coverage within 128K
+// texels. Held sizes there overflow the atlas at frame 17 (the view takes in more lamps and the scale drops):
+// the lamps held furthest above their frame's size give it up until the plan fits, and the walk still
+// resizes fewer lamps than without hysteresis (40 there).
+TEST(AtlasReplan, HeldCoverageSizesGiveWayToFitTheBudget) {
+  scene::LoadOptions load;
+  load.camera = scene::CameraPlacement{glm::dvec3(0, 3, 0), glm::dvec3(20, 2, 0), glm::vec3(-16, 0, 0)};
+  const scene::Scene s = scene::load_scene_file(std::string(OMNISHADOW_TEST_SCENES_DIR) + "/hall.json", load);
+  std::vector<int> moved;
+  for (float octaves : {0.0f, 0.5f}) {
+    CaseConfig c = replan_case(AtlasTiles::by_coverage, 1);
+    c.light_count = 24;
+    c.width = 200;
+    c.height = 150;
+    c.shadow_budget_texels = 128 * 1024;
+    c.atlas_hysteresis_octaves = octaves;
+    atlas::Plan was = atlas::plan_for(c, s);
+    int count = 0;
+    for (int t = 1; t <= 188; ++t) {
+      const atlas::Plan now = atlas::replan(c, s, t, was);
+      expect_blocks_fit(now, was.width, was.height);
+      for (uint8_t m : atlas::moved_blocks(was, now)) count += m;
+      was = now;
+    }
+    moved.push_back(count);
+  }
+  EXPECT_LT(moved[1], moved[0]);
 }
 
 // A light a re-plan moved renders its six faces at once, outside the update budget of one light (6 faces):

@@ -176,6 +176,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "--shadow-budget: '0MiB': a budget in bytes must be"},
         BadInput{"run --update-budget 0 --out @OUT@", "--update-budget: '0' is not a face count"},
         BadInput{"run --atlas-replan 1.5 --out @OUT@", "--atlas-replan: '1.5' is not a frame interval"},
+        BadInput{"run --atlas-hysteresis 4 --out @OUT@", "--atlas-hysteresis: '4' is not a hysteresis"},
         BadInput{"run --staleness-frames -1 --out @OUT@",
                  "--staleness-frames: Value -1 not in range 0 to 10000"},
         BadInput{"run --isolation thread --out @OUT@", "--isolation: 'thread' is not process or none"},

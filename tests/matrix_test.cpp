@@ -81,7 +81,7 @@ TEST(Matrix, AShadowBudgetInBytesBecomesEachCasesTexels) {
 
 // Re-plans move by_distance and by_coverage tiles only: uniform tiles and the other layouts keep one case,
 // planned once; the re-planned ids end in /replan<N>, and the support check refuses a re-plan of tiles that
-// never change.
+// never change. Hysteresis multiplies the re-planned cases alone, and is refused without re-plans.
 TEST(Matrix, AtlasReplansMultiplyOnlyTheTilesTheyMove) {
   MatrixSpec spec;
   spec.scenes = {"hall"};
@@ -92,17 +92,21 @@ TEST(Matrix, AtlasReplansMultiplyOnlyTheTilesTheyMove) {
   spec.layouts_given = true;
   spec.atlas_tiles = {AtlasTiles::uniform, AtlasTiles::by_distance};
   spec.atlas_replans = {0, 8};
+  spec.atlas_hysteresis = {0.0f, 0.5f};
   spec.filters = {Filter::hard};
   std::multiset<std::string> kinds;
   for (const auto& c : expand(spec, kSizes)) {
     kinds.insert(std::string(to_string(c.layout)) + "/" + std::string(to_string(c.atlas_tiles)) + "/" +
-                 std::to_string(c.atlas_replan_frames));
+                 std::to_string(c.atlas_replan_frames) + "/" + std::to_string(c.atlas_hysteresis_octaves));
     if (c.atlas_replan_frames) {
       EXPECT_NE(c.id().find("/tiles_by_distance/replan8"), std::string::npos) << c.id();
     }
+    EXPECT_EQ(c.id().find("/hysteresis") != std::string::npos, c.atlas_hysteresis_octaves != 0.0f) << c.id();
   }
-  EXPECT_EQ(kinds, (std::multiset<std::string>{"cube_array/uniform/0", "atlas/uniform/0",
-                                               "atlas/by_distance/0", "atlas/by_distance/8"}));
+  // Hysteresis holds sizes between re-plans: only the re-planned case takes both.
+  EXPECT_EQ(kinds, (std::multiset<std::string>{"cube_array/uniform/0/0.000000", "atlas/uniform/0/0.000000",
+                                               "atlas/by_distance/0/0.000000", "atlas/by_distance/8/0.000000",
+                                               "atlas/by_distance/8/0.500000"}));
   CaseConfig uniform;
   uniform.layout = Layout::atlas;
   uniform.light_count = 16;
@@ -111,6 +115,16 @@ TEST(Matrix, AtlasReplansMultiplyOnlyTheTilesTheyMove) {
   uniform.layout = Layout::cube_array;
   EXPECT_NE(common_support(uniform).reason.find("--atlas-replan plans an atlas's tiles again"),
             std::string::npos);
+  CaseConfig once;
+  once.layout = Layout::atlas;
+  once.light_count = 16;
+  once.atlas_tiles = AtlasTiles::by_distance;
+  once.atlas_hysteresis_octaves = 0.5f;
+  EXPECT_NE(
+      common_support(once).reason.find("--atlas-hysteresis holds tile sizes from one re-plan to the next"),
+      std::string::npos);
+  once.atlas_replan_frames = 8;
+  EXPECT_TRUE(common_support(once).ok) << common_support(once).reason;
 }
 
 // The moments tunings (--moments-tuning): spelling round trip, one id segment per knob away from its default,

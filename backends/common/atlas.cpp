@@ -113,26 +113,87 @@ double screen_coverage(const scene::Scene& scene, int light, int width, int heig
 
 namespace {
 
+// A lamp's size at a re-plan with hysteresis (CaseConfig::atlas_hysteresis_octaves): `held`, the size it
+// has, while the rule's sizes for its need scaled by 2^-H and by 2^H bracket it (a need within H octaves of
+// one that gives the held size keeps it); else the rule's size for the need itself. size_at(f): the rule's
+// size for the need times f, never decreasing in f, so that neither does the result in the need.
+template <class SizeAt>
+int held_or_fresh(int held, double octaves, SizeAt size_at) {
+  if (held > 0 && octaves > 0.0) {
+    const double by = std::exp2(octaves);
+    if (size_at(1.0 / by) <= held && held <= size_at(by)) return held;
+  }
+  return size_at(1.0);
+}
+
+int coverage_size(const CaseConfig& config, double ideal) {
+  int size = kMinCoverageFace;
+  while (size * 2 <= std::min(ideal, double(config.cube_size))) size *= 2;
+  return std::min(size, config.cube_size);
+}
+
+// by_distance: --cube halved round(log2(ratio)) times, at most kMaxHalvings (a need 1 / ratio).
+int distance_size(const CaseConfig& config, double ratio) {
+  const int halvings = ratio <= 1.0 ? 0 : std::clamp(int(std::lround(std::log2(ratio))), 0, kMaxHalvings);
+  return std::max(1, config.cube_size >> halvings);
+}
+
 // by_coverage: face sizes t sqrt(coverage) rounded down to a power of two, between kMinCoverageFace and
 // --cube, for the largest scale t (in steps of 2^(1/4)) whose sizes `fits` accepts; every light at the
-// smallest when none does (budget_problem says so).
+// smallest when none does (budget_problem says so; scale 0).
+struct CoverageSizes {
+  std::vector<double> coverage;
+  double scale = 0.0;
+  std::vector<int> sizes;
+};
 template <class Fits>
-std::vector<int> sizes_by_coverage(const CaseConfig& config, const scene::Scene& scene, size_t lights,
-                                   int frame, Fits fits) {
-  std::vector<double> coverage(lights);
+CoverageSizes sizes_by_coverage(const CaseConfig& config, const scene::Scene& scene, size_t lights, int frame,
+                                Fits fits) {
+  CoverageSizes out{std::vector<double>(lights), 0.0, std::vector<int>(lights)};
   for (size_t k = 0; k < lights; ++k)
-    coverage[k] = screen_coverage(scene, int(k), config.width, config.height, frame);
-  std::vector<int> sizes(lights);
+    out.coverage[k] = screen_coverage(scene, int(k), config.width, config.height, frame);
   for (double t = 16.0 * config.cube_size; t >= 1.0; t /= std::pow(2.0, 0.25)) {
-    for (size_t k = 0; k < lights; ++k) {
-      const double ideal = t * std::sqrt(coverage[k]);
-      int size = kMinCoverageFace;
-      while (size * 2 <= std::min(ideal, double(config.cube_size))) size *= 2;
-      sizes[k] = std::min(size, config.cube_size);
+    for (size_t k = 0; k < lights; ++k) out.sizes[k] = coverage_size(config, t * std::sqrt(out.coverage[k]));
+    if (fits(out.sizes)) {
+      out.scale = t;
+      return out;
     }
-    if (fits(sizes)) return sizes;
   }
-  return std::vector<int>(lights, std::min(kMinCoverageFace, config.cube_size));
+  out.sizes.assign(lights, std::min(kMinCoverageFace, config.cube_size));
+  return out;
+}
+
+// by_coverage with hysteresis: the frame's scale and sizes (`fresh`), each light keeping its `held` size
+// while that is within the band at that scale; where the held sizes then do not fit, the lights held above
+// their fresh size give it up, the furthest above first (ties: the larger, then the lower light), until they
+// do (all fresh fits). Holding relative to one frame's scale, rather than choosing the scale with the held
+// sizes in it, keeps a step of the scale from moving every light at once, and a light held large from
+// pushing the scale down until all the others drop out of their bands together.
+template <class Fits>
+std::vector<int> held_by_coverage(const CaseConfig& config, const CoverageSizes& fresh,
+                                  std::span<const int> held, Fits fits) {
+  std::vector<int> sizes = fresh.sizes;
+  if (fresh.scale <= 0.0) return sizes;
+  for (size_t k = 0; k < sizes.size() && k < held.size(); ++k) {
+    const double ideal = fresh.scale * std::sqrt(fresh.coverage[k]);
+    sizes[k] = held_or_fresh(held[k], config.atlas_hysteresis_octaves,
+                             [&](double f) { return coverage_size(config, ideal * f); });
+  }
+  while (!fits(sizes)) {
+    size_t give_up = sizes.size();
+    for (size_t k = 0; k < sizes.size(); ++k) {
+      if (sizes[k] == fresh.sizes[k]) continue;
+      if (give_up == sizes.size()) {
+        give_up = k;
+        continue;
+      }
+      const auto key = [&](size_t j) { return std::make_tuple(double(sizes[j]) / fresh.sizes[j], sizes[j]); };
+      if (key(k) > key(give_up)) give_up = k;
+    }
+    if (give_up == sizes.size()) break;  // all fresh: they fit
+    sizes[give_up] = fresh.sizes[give_up];
+  }
+  return sizes;
 }
 
 }  // namespace
@@ -151,25 +212,34 @@ std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene,
                            std::to_string(scene.point_lights.size()));
   if (config.atlas_tiles == AtlasTiles::by_coverage) {
     const uint64_t budget = budget_texels(config);
-    return sizes_by_coverage(config, scene, sizes.size(), frame, [&](const std::vector<int>& s) {
-      const Plan plan = pack(s);
-      return uint64_t(plan.width) * uint64_t(plan.height) <= budget;
-    });
+    return sizes_by_coverage(config, scene, sizes.size(), frame,
+                             [&](const std::vector<int>& s) {
+                               const Plan plan = pack(s);
+                               return uint64_t(plan.width) * uint64_t(plan.height) <= budget;
+                             })
+        .sizes;
   }
-  for (size_t k = 0; k < sizes.size(); ++k) {
-    const double ratio = distance_over_range(scene, int(k), frame);
-    const int halvings = ratio <= 1.0 ? 0 : std::clamp(int(std::lround(std::log2(ratio))), 0, kMaxHalvings);
-    sizes[k] = std::max(1, config.cube_size >> halvings);
-  }
+  for (size_t k = 0; k < sizes.size(); ++k)
+    sizes[k] = distance_size(config, distance_over_range(scene, int(k), frame));
   return sizes;
 }
 
 std::vector<int> face_sizes_within(const CaseConfig& config, const scene::Scene& scene, int frame, int width,
-                                   int height) {
-  if (config.atlas_tiles != AtlasTiles::by_coverage) return face_sizes(config, scene, frame);
-  return sizes_by_coverage(
-      config, scene, size_t(std::max(config.light_count, 1)), frame,
-      [&](const std::vector<int>& s) { return pack_into(s, width, height).has_value(); });
+                                   int height, std::span<const int> held) {
+  if (config.atlas_tiles == AtlasTiles::by_coverage) {
+    const auto fits = [&](const std::vector<int>& s) { return pack_into(s, width, height).has_value(); };
+    const CoverageSizes fresh =
+        sizes_by_coverage(config, scene, size_t(std::max(config.light_count, 1)), frame, fits);
+    return held.empty() ? fresh.sizes : held_by_coverage(config, fresh, held, fits);
+  }
+  std::vector<int> sizes = face_sizes(config, scene, frame);
+  if (config.atlas_tiles != AtlasTiles::by_distance) return sizes;
+  for (size_t k = 0; k < sizes.size() && k < held.size(); ++k) {
+    const double ratio = distance_over_range(scene, int(k), frame);
+    sizes[k] = held_or_fresh(held[k], config.atlas_hysteresis_octaves,
+                             [&](double f) { return distance_size(config, ratio / f); });
+  }
+  return sizes;
 }
 
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene) {

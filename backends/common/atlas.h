@@ -93,10 +93,10 @@ Plan plan_after(const CaseConfig& config, const scene::Scene& scene, int at, con
 // Per light, 1 where its block differs between two plans of the same lights (it must render again).
 std::vector<uint8_t> moved_blocks(const Plan& was, const Plan& now);
 // The re-plan at `frame` after `before`: the sizes that frame asks for within before's width x height
-// (face_sizes_within); every block whose size is unchanged stays where it was, and the others go into the
-// space left (largest first, each at the lowest, then leftmost, corner of the blocks placed that holds it),
-// so that only the lights whose size changed render again. Where they do not all fit, everything is packed
-// afresh (pack_frame).
+// (face_sizes_within, holding before's sizes with hysteresis); every block whose size is unchanged stays
+// where it was, and the others go into the space left (largest first, each at the lowest, then leftmost,
+// corner of the blocks placed that holds it), so that only the lights whose size changed render again. Where
+// they do not all fit, everything is packed afresh (pack_frame).
 Plan replan(const CaseConfig& config, const scene::Scene& scene, int frame, const Plan& before);
 // Every block at its sizes for `frame` packed afresh into a width x height atlas (plan_for's frame 0 with
 // re-plans). Throws std::logic_error where they do not fit: the kept rectangle always holds them (a packing
@@ -106,9 +106,13 @@ Plan pack_frame(const CaseConfig& config, const scene::Scene& scene, int frame, 
 // fit.
 std::optional<Plan> place_keeping(const Plan& before, std::span<const int> sizes);
 // The sizes at `frame`: face_sizes's, by_coverage's scale the largest whose fresh packing fits width x
-// height.
+// height. `held`: each light's size before a re-plan, which it keeps with
+// CaseConfig::atlas_hysteresis_octaves H > 0 while the rule gives that size for a need (distance or coverage)
+// within a factor 2^H of its own at `frame`, so that a lamp near a size's edge, or a coverage scale's step,
+// does not resize it back and forth (each resize a whole render); empty, or H = 0: the rule's sizes for
+// `frame` alone.
 std::vector<int> face_sizes_within(const CaseConfig& config, const scene::Scene& scene, int frame, int width,
-                                   int height);
+                                   int height, std::span<const int> held = {});
 
 // by_coverage: why no allocation fits the case's budget (every light at the smallest tiles exceeds it); empty
 // when one does.

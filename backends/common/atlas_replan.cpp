@@ -32,15 +32,29 @@ int planned_frame(const CaseConfig& config, int frame) {
   return frame - frame % every;
 }
 
-Plan pack_frame(const CaseConfig& config, const scene::Scene& scene, int frame, int width, int height) {
-  const std::vector<int> sizes = face_sizes_within(config, scene, frame, width, height);
+namespace {
+
+// Sizes face_sizes_within gave for width x height: by_distance no block is larger than the kept rectangle's
+// own (pack_into's row as wide as the atlas holds them), by_coverage the scale was chosen so that they fit.
+Plan packed_afresh(std::span<const int> sizes, int frame, int width, int height) {
   std::optional<Plan> plan = pack_into(sizes, width, height);
-  // Blocks no larger than the kept rectangle's own always fit it (pack_into's row as wide as the atlas).
   if (!plan)
     throw std::logic_error("a re-plan of " + std::to_string(sizes.size()) + " lights at frame " +
                            std::to_string(frame) + " does not fit the " + std::to_string(width) + "x" +
                            std::to_string(height) + " atlas");
   return *plan;
+}
+
+std::vector<int> sizes_of(const Plan& plan) {
+  std::vector<int> sizes;
+  for (const Block& b : plan.lights) sizes.push_back(b.face_size);
+  return sizes;
+}
+
+}  // namespace
+
+Plan pack_frame(const CaseConfig& config, const scene::Scene& scene, int frame, int width, int height) {
+  return packed_afresh(face_sizes_within(config, scene, frame, width, height), frame, width, height);
 }
 
 // Candidate corners: x at 0 or a placed block's right edge, y at 0 or a placed block's bottom edge (the
@@ -81,9 +95,10 @@ std::optional<Plan> place_keeping(const Plan& before, std::span<const int> sizes
 }
 
 Plan replan(const CaseConfig& config, const scene::Scene& scene, int frame, const Plan& before) {
-  const std::vector<int> sizes = face_sizes_within(config, scene, frame, before.width, before.height);
+  const std::vector<int> sizes =
+      face_sizes_within(config, scene, frame, before.width, before.height, sizes_of(before));
   if (std::optional<Plan> kept = place_keeping(before, sizes)) return *kept;
-  return pack_frame(config, scene, frame, before.width, before.height);
+  return packed_afresh(sizes, frame, before.width, before.height);
 }
 
 // Each re-plan from the one before, from frame 0's: a plan depends on the frames planned before it, and this

@@ -125,6 +125,19 @@ OMNISHADOW_INSTANTIATE(AtlasTiles)
 
 bool light_cubes(const CaseConfig& c) { return c.layout == Layout::cube && c.light_count > 1; }
 
+std::string CaseConfig::atlas_tiling_id() const {
+  std::string id;
+  if (atlas_tiles != AtlasTiles::uniform) id += "/tiles_" + std::string(to_string(atlas_tiles));
+  if (shadow_budget_texels) id += "/budget" + std::to_string(shadow_budget_texels);
+  if (atlas_replan_frames) id += "/replan" + std::to_string(atlas_replan_frames);
+  if (atlas_hysteresis_octaves != 0.0f) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "/hysteresis%g", static_cast<double>(atlas_hysteresis_octaves));
+    id += buf;
+  }
+  return id;
+}
+
 std::string CaseConfig::id() const {
   std::string id = backend + "/" + scene + "/c" + std::to_string(cube_size) + "/f" + std::to_string(width) +
                    "x" + std::to_string(height) + "/" + std::string(to_string(technique)) + "/" +
@@ -135,9 +148,7 @@ std::string CaseConfig::id() const {
   if (tessellation != 1) id += "/t" + std::to_string(tessellation);
   if (light_count != 1) id += "/l" + std::to_string(light_count);
   if (light_grouping == LightGrouping::all_lights) id += "/all_lights";
-  if (atlas_tiles != AtlasTiles::uniform) id += "/tiles_" + std::string(to_string(atlas_tiles));
-  if (shadow_budget_texels) id += "/budget" + std::to_string(shadow_budget_texels);
-  if (atlas_replan_frames) id += "/replan" + std::to_string(atlas_replan_frames);
+  id += atlas_tiling_id();
   if (update_budget_faces) id += "/update" + std::to_string(update_budget_faces);
   if (optimizations.face_culling) id += "/cull";
   if (optimizations.fit_range) id += "/fit";

@@ -234,6 +234,11 @@ struct CaseConfig {
   // from that frame's camera and lights, within the atlas allocated at configure (backends/common/atlas.h
   // plan_at); 0: planned once, from frame 0. In the id as /replan<frames> when set.
   int atlas_replan_frames = 0;
+  // --atlas-hysteresis (with re-plans only): at a re-plan a light keeps its face size while the tiling's rule
+  // gives that size for a need (distance or coverage) within a factor 2^octaves of its own, so that a need
+  // near a size's edge does not resize it, and render it whole, back and forth (atlas.h face_sizes_within);
+  // 0: each re-plan sizes by that frame alone. In the id as /hysteresis<octaves> when set.
+  float atlas_hysteresis_octaves = 0.0f;
   // --update-budget: at most this many cube faces rendered a frame, the faces whose content is stale (their
   // light moved since they were rendered) oldest first; the others keep what they hold
   // (backends/common/shadow_frame.h). 0: every stale face every frame. In the id as /update<faces> when set.
@@ -285,6 +290,9 @@ struct CaseConfig {
   // on append a segment each (/cull, /fit, /cache), as do remedies (/rebase, /bias0, ...), so ids without
   // them are unchanged.
   std::string id() const;
+  // The id's segments for the atlas's tiles: /tiles_<tiling>, /budget, /replan, /hysteresis where set (the
+  // summary's pass groups key by them too).
+  std::string atlas_tiling_id() const;
   bool operator==(const CaseConfig&) const = default;
 };
 

@@ -36,6 +36,9 @@ Support moments_tuning_support(Filter filter, const MomentsTuning& t) {
 }
 // Layout atlas routes faces by viewport; --atlas-tiles belongs to it alone.
 Support atlas_support(const CaseConfig& c) {
+  if (c.atlas_hysteresis_octaves != 0.0f && !c.atlas_replan_frames)
+    return {false,
+            "--atlas-hysteresis holds tile sizes from one re-plan to the next: it needs --atlas-replan"};
   if (c.layout == Layout::atlas) {
     const std::string technique(to_string(c.technique));
     if (c.technique == Technique::multiview || c.technique == Technique::mesh_shader)

@@ -72,6 +72,20 @@ int parse_face_budget(const std::string& t) { return parse_none_or_count(t, "a f
 // Atlas re-plans: none, the tiles planned once.
 int parse_replan_frames(const std::string& t) { return parse_none_or_count(t, "a frame interval"); }
 
+// Atlas hysteresis: none (0), or octaves in (0, 3] (by_distance has four sizes, three octaves apart).
+float parse_hysteresis_octaves(const std::string& t) {
+  if (t == "none") return 0.0f;
+  size_t used = 0;
+  float v = -1.0f;
+  try {
+    v = std::stof(t, &used);
+  } catch (const std::exception&) {
+  }
+  if (used != t.size() || !(v > 0.0f && v <= 3.0f))
+    throw std::invalid_argument("'" + t + "' is not a hysteresis (none, or octaves above 0 and at most 3)");
+  return v;
+}
+
 // The axes that say what is drawn and at what size: backends, scenes, cube and frame sizes.
 void add_scene_axes(CLI::App& r, MatrixSpec& m) {
   auto text = [](const std::string& s) { return s; };
@@ -148,6 +162,13 @@ void add_light_axes(CLI::App& r, MatrixSpec& m) {
       "by_distance and by_coverage: every this many frames the tiles are sized again from that frame's "
       "camera and lights and packed into the atlas as allocated, and a light whose tile moved renders "
       "again; ids end in /replan<frames>; other tilings ignore it");
+  list_option(
+      r, "--atlas-hysteresis", m.atlas_hysteresis, parse_hysteresis_octaves,
+      [](float v) { return v != 0.0f ? std::to_string(v) : std::string("none"); },
+      "comma list of octaves (none, or above 0 and at most 3) for --atlas-replan: at a re-plan a light keeps "
+      "its tiles' size while its tiling gives that size for a distance or coverage within a factor 2^octaves "
+      "of the light's own, so that a light near a size's edge is not resized (and rendered whole) back and "
+      "forth; ids end in /hysteresis<octaves>; cases planned once ignore it");
   list_option(
       r, "--update-budget", m.update_budgets, parse_face_budget,
       [](int v) { return v ? std::to_string(v) : std::string("none"); },

@@ -77,6 +77,7 @@ json axes_to_json(const CaseConfig& c) {
                {"atlas_tiles", to_string(c.atlas_tiles)},
                {"shadow_budget_texels", c.shadow_budget_texels},
                {"atlas_replan_frames", c.atlas_replan_frames},
+               {"atlas_hysteresis_octaves", c.atlas_hysteresis_octaves},
                {"update_budget_faces", c.update_budget_faces},
                {"optimizations", to_string(c.optimizations)},
                {"remedies", to_string(c.remedies)},

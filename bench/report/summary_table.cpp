@@ -41,11 +41,7 @@ std::string pass_group(const CaseConfig& c) {
          (c.layout == Layout::cube ? std::string() : "/" + std::string(to_string(c.layout))) +
          (c.tessellation == 1 ? std::string() : "/t" + std::to_string(c.tessellation)) +
          (c.light_count == 1 ? std::string() : "/l" + std::to_string(c.light_count)) +
-         (c.light_grouping == LightGrouping::per_light ? std::string() : "/all_lights") +
-         (c.atlas_tiles == AtlasTiles::uniform ? std::string()
-                                               : "/tiles_" + std::string(to_string(c.atlas_tiles))) +
-         (c.shadow_budget_texels ? "/budget" + std::to_string(c.shadow_budget_texels) : std::string()) +
-         (c.atlas_replan_frames ? "/replan" + std::to_string(c.atlas_replan_frames) : std::string());
+         (c.light_grouping == LightGrouping::per_light ? std::string() : "/all_lights") + c.atlas_tiling_id();
 }
 
 // One row per pass group, one column per value of `axis`: the median of `metric` over all timed frames of the

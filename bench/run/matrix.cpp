@@ -137,6 +137,13 @@ std::vector<CaseConfig> scene_cases(const MatrixSpec& spec, const CaseConfig& ba
   });
   for (CaseConfig& c : cases)
     if (c.layout != Layout::atlas || c.atlas_tiles == AtlasTiles::uniform) c.atlas_replan_frames = 0;
+  // Hysteresis holds sizes between re-plans: a case planned once keeps one.
+  times(cases, spec.atlas_hysteresis, [](CaseConfig& c, float v) { c.atlas_hysteresis_octaves = v; });
+  std::erase_if(cases, [&](const CaseConfig& c) {
+    return !c.atlas_replan_frames && c.atlas_hysteresis_octaves != spec.atlas_hysteresis.front();
+  });
+  for (CaseConfig& c : cases)
+    if (!c.atlas_replan_frames) c.atlas_hysteresis_octaves = 0.0f;
   times(cases, spec.update_budgets, [](CaseConfig& c, int v) { c.update_budget_faces = v; });
   times(cases, spec.injected_work, [&](CaseConfig& c, int v) {
     c.injected_work = v;

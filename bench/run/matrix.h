@@ -45,8 +45,9 @@ struct MatrixSpec {
       LightGrouping::per_light};                             // --light-grouping per_light,all_lights
   std::vector<AtlasTiles> atlas_tiles{AtlasTiles::uniform};  // --atlas-tiles uniform,by_distance (atlas)
   std::vector<ShadowBudget> shadow_budgets{ShadowBudget{}};  // --shadow-budget (atlas by_coverage)
-  std::vector<int> atlas_replans{0};   // --atlas-replan frames (0: tiles planned once, at frame 0)
-  std::vector<int> update_budgets{0};  // --update-budget faces a frame (0: every stale face)
+  std::vector<int> atlas_replans{0};          // --atlas-replan frames (0: tiles planned once, at frame 0)
+  std::vector<float> atlas_hysteresis{0.0f};  // --atlas-hysteresis octaves (0: none)
+  std::vector<int> update_budgets{0};         // --update-budget faces a frame (0: every stale face)
   std::vector<Optimizations> optimizations{Optimizations{}};    // --optimize none,cull,...
   std::vector<Remedies> remedies{Remedies{}};                   // --remedy none,rebase
   std::vector<MomentsTuning> moments_tunings{MomentsTuning{}};  // --moments-tuning none,lbr0.4,exp1.01

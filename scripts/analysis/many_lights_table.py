@@ -41,6 +41,8 @@ def groups_of(cases):
             layout += f" budget{a['shadow_budget_texels']}"
         if a.get("atlas_replan_frames"):  # tiles sized again every N frames: a row per interval
             layout += f" replan{a['atlas_replan_frames']}"
+        if a.get("atlas_hysteresis_octaves"):  # sizes held between re-plans: a row per hysteresis
+            layout += f" hysteresis{a['atlas_hysteresis_octaves']:g}"
         groups.setdefault(key, {})[(layout, technique, a.get("light_count", 1))] = c
     return groups
 

@@ -37,6 +37,8 @@ def policy_of(a):
         layout += f" {a['shadow_budget_texels'] // 1024}K"
     if a.get("atlas_replan_frames"):
         layout += f" replan {a['atlas_replan_frames']}"
+    if a.get("atlas_hysteresis_octaves"):
+        layout += f" hysteresis {a['atlas_hysteresis_octaves']:g}"
     opt = a.get("optimizations", "none")
     update = a.get("update_budget_faces", 0)
     return f"{layout} / {opt}" + (f" / update {update}" if update else "")
