@@ -219,17 +219,19 @@ step_singlepass() {
   else
     note "- GL link probe: $probe not built"; failed=1
   fi
-  timeout "${SINGLEPASS_BUDGET_S:-480}" "$bin" run --backend "${ACCEPTANCE_BACKENDS:-gl,vulkan}" --scene room,heavy \
+  timeout -k 20 "${SINGLEPASS_BUDGET_S:-480}" "$bin" run --backend "${ACCEPTANCE_BACKENDS:-gl,vulkan}" --scene room,heavy \
     --cube 512,1024 --technique six_pass,geometry_shader,nv_swizzle,mesh_shader --filter hard --storage linear_depth,r32f_distance \
     --optimize none,cull --check --frames 5 --benchmark_repetitions=3 --images none \
     --out "$out/singlepass/run" >"$out/singlepass/run.log" 2>&1
   local code=$?
+  # 124: stopped at the budget after the case in hand; 137: that case did not end within 20 s more (a hang).
   [ "$code" -eq 124 ] && note "- singlepass run --check: cut at SINGLEPASS_BUDGET_S (the cases so far kept)" ||
+    { [ "$code" -eq 137 ] && note "- singlepass run --check: killed 20 s past SINGLEPASS_BUDGET_S: a case did not end (the cases so far kept)"; } ||
     exit_note "$code" "singlepass run --check"
   judge_checks "$out/singlepass/run" || failed=1
   # Where nv_swizzle's missing far plane shows (r32f_distance, lamps whose ranges end inside the hall) and where it
   # routes by viewport (the atlas): held to six_pass by --check, natively on NVIDIA.
-  timeout 60 "$bin" run --backend "${ACCEPTANCE_BACKENDS:-gl,vulkan}" --scene hall --light-count 4 \
+  timeout -k 20 60 "$bin" run --backend "${ACCEPTANCE_BACKENDS:-gl,vulkan}" --scene hall --light-count 4 \
     --layout cube_array,atlas --technique six_pass,nv_swizzle --filter hard --storage r32f_distance --cube 256 \
     --check --max-error 100 --frames 1 --benchmark_repetitions=1 --images none --out "$out/singlepass/hall" \
     >"$out/singlepass/hall.log" 2>&1
@@ -456,11 +458,12 @@ many_lights_run() {
   local step=$1 budget_var=$2 budget=${!2:-$3}
   shift 3
   note "## $step"
-  timeout "$budget" "$bin" run --backend "${ACCEPTANCE_BACKENDS:-gl,vulkan}" --scene hall "$@" \
+  timeout -k 20 "$budget" "$bin" run --backend "${ACCEPTANCE_BACKENDS:-gl,vulkan}" --scene hall "$@" \
     --cube 256 --check --max-error 100 --benchmark_repetitions=3 --images none --out "$out/$step/run" \
     >"$out/$step/run.log" 2>&1
   local code=$?
   [ "$code" -eq 124 ] && note "- $step run --check: cut at $budget_var (the cases so far kept)" ||
+    { [ "$code" -eq 137 ] && note "- $step run --check: killed 20 s past $budget_var: a case did not end (the cases so far kept)"; } ||
     exit_note "$code" "$step run --check"
   judge_and_tabulate "$out/$step/run" many_lights_table.py "$out/$step/many-lights.md"
 }
