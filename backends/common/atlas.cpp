@@ -196,6 +196,41 @@ std::vector<int> held_by_coverage(const CaseConfig& config, const CoverageSizes&
   return sizes;
 }
 
+// by_coverage within an allocated atlas: the scale rising on past the quarter step that fits. The light whose
+// ideal at `fresh`'s scale is the largest multiple of its size (the next to reach its next size as the scale
+// rises; ties: the lower light) doubles while the atlas holds it; one that does not fit stays for that pass,
+// and the others go on; passes repeat until one grows nothing (shelves are not monotone in the sizes: a light
+// refused early may fit after others grew), so that no light could double and still fit. A quarter step
+// moves a share of the lights across a power of two at once, so the last step that fits can leave most of a
+// kept rectangle empty (a re-plan's atlas does not shrink to its sizes, as frame 0's does). Lights out of
+// view stay at the least; none grows past --cube.
+template <class Fits>
+void fill_by_coverage(const CaseConfig& config, const CoverageSizes& fresh, std::vector<int>& sizes,
+                      Fits fits) {
+  if (fresh.scale <= 0.0) return;
+  for (bool grew = true; grew;) {
+    grew = false;
+    std::vector<uint8_t> stays(sizes.size(), 0);
+    for (;;) {
+      size_t grow = sizes.size();
+      double most = 0.0;
+      for (size_t k = 0; k < sizes.size(); ++k) {
+        if (stays[k] || sizes[k] >= config.cube_size || fresh.coverage[k] <= 0.0) continue;
+        const double multiple = fresh.scale * std::sqrt(fresh.coverage[k]) / sizes[k];
+        if (multiple > most) most = multiple, grow = k;
+      }
+      if (grow == sizes.size()) break;
+      sizes[grow] *= 2;
+      if (fits(sizes)) {
+        grew = true;
+      } else {
+        sizes[grow] /= 2;
+        stays[grow] = 1;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 uint64_t budget_texels(const CaseConfig& config) {
@@ -230,7 +265,9 @@ std::vector<int> face_sizes_within(const CaseConfig& config, const scene::Scene&
     const auto fits = [&](const std::vector<int>& s) { return pack_into(s, width, height).has_value(); };
     const CoverageSizes fresh =
         sizes_by_coverage(config, scene, size_t(std::max(config.light_count, 1)), frame, fits);
-    return held.empty() ? fresh.sizes : held_by_coverage(config, fresh, held, fits);
+    std::vector<int> sizes = held.empty() ? fresh.sizes : held_by_coverage(config, fresh, held, fits);
+    fill_by_coverage(config, fresh, sizes, fits);
+    return sizes;
   }
   std::vector<int> sizes = face_sizes(config, scene, frame);
   if (config.atlas_tiles != AtlasTiles::by_distance) return sizes;

@@ -75,8 +75,8 @@ std::vector<int> face_sizes(const CaseConfig& config, const scene::Scene& scene,
 // The case's atlas as allocated (layout atlas; `scene` holds at least light_count point lights): the lights'
 // face_sizes at frame 0 packed. With re-plans (CaseConfig::atlas_replan_frames) the texture must hold every
 // later plan, so it keeps a rectangle: by_distance the uniform atlas's (no tile is larger than --cube), and
-// by_coverage frame 0's within the budget (each re-plan takes the largest scale that fits it); frame 0's
-// tiles are packed into it.
+// by_coverage frame 0's within the budget (each re-plan takes the largest scale that fits it, and fills
+// what it leaves); frame 0's tiles are packed into it.
 Plan plan_for(const CaseConfig& config, const scene::Scene& scene);
 // Re-plans (backends/common/atlas_replan.cpp). The tiles in force at `frame`: plan_for's without re-plans;
 // with them, the plan of the last re-plan frame at or before it (every atlas_replan_frames frames from 0, as
@@ -106,11 +106,13 @@ Plan pack_frame(const CaseConfig& config, const scene::Scene& scene, int frame, 
 // fit.
 std::optional<Plan> place_keeping(const Plan& before, std::span<const int> sizes);
 // The sizes at `frame`: face_sizes's, by_coverage's scale the largest whose fresh packing fits width x
-// height. `held`: each light's size before a re-plan, which it keeps with
-// CaseConfig::atlas_hysteresis_octaves H > 0 while the rule gives that size for a need (distance or coverage)
-// within a factor 2^H of its own at `frame`, so that a lamp near a size's edge, or a coverage scale's step,
-// does not resize it back and forth (each resize a whole render); empty, or H = 0: the rule's sizes for
-// `frame` alone.
+// height, and then, lights one at a time in the order the scale rising on would reach their next size, each
+// doubled where the atlas still holds it (the kept rectangle does not shrink to the sizes as frame 0's atlas
+// does, and a quarter step of the scale can leave most of it empty). `held`: each light's size before a
+// re-plan, which it keeps with CaseConfig::atlas_hysteresis_octaves H > 0 while the rule gives that size for
+// a need (distance or coverage) within a factor 2^H of its own at `frame`, so that a lamp near a size's edge,
+// or a coverage scale's step, does not resize it back and forth (each resize a whole render); empty, or H =
+// 0: the rule's sizes for `frame` alone.
 std::vector<int> face_sizes_within(const CaseConfig& config, const scene::Scene& scene, int frame, int width,
                                    int height, std::span<const int> held = {});
 
