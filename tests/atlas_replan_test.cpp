@@ -227,10 +227,11 @@ TEST(AtlasReplan, HysteresisKeepsALampSwayingAcrossASizesEdge) {
       resized += now.lights[0].face_size != was.lights[0].face_size;
       was = now;
     }
-    if (octaves == 0.0f)
+    if (octaves == 0.0f) {
       EXPECT_GE(resized, 10) << "two crossings a sway, about 8 sways";
-    else
+    } else {
       EXPECT_EQ(resized, 0);
+    }
   }
 }
 
@@ -275,13 +276,16 @@ TEST(AtlasReplan, HysteresisHoldsASizeOnlyWhileTheNeedIsWithinItsOctaves) {
         }
         was = now;
       }
-      if (tiles == AtlasTiles::by_distance && octaves > 0.0f) EXPECT_GT(held_apart, 0) << "some size held";
+      if (tiles == AtlasTiles::by_distance && octaves > 0.0f) {
+        EXPECT_GT(held_apart, 0) << "some size held";
+      }
       resized.push_back(count);
     }
-    if (tiles == AtlasTiles::by_distance)
+    if (tiles == AtlasTiles::by_distance) {
       EXPECT_LT(resized[1], resized[0]) << "hysteresis resizes fewer lamps";
-    else  // the fill already keeps a step of the scale from resizing a share of the lamps at once
+    } else {  // the fill already keeps a step of the scale from resizing a share of the lamps at once
       EXPECT_LE(resized[1], resized[0]) << "hysteresis resizes no more lamps";
+    }
   }
 }
 

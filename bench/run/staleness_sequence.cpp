@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <map>
-#include <tuple>
 
 #include "backends/common/atlas.h"
 #include "backends/common/layouts.h"

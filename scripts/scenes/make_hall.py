@@ -9,7 +9,10 @@ others (its own phase), so frames differ, and reaches 10 units only (lights of o
 renderer's do); the rest stand still. Casters move too: four rollers sweep 6 units either way along the hall
 and three carts 2 units across it, each group in step (their paths are functions of the frame index like a
 lamp's), so that the faces they reach must be rendered again while the rest of a still lamp's cube keeps.
-Usage: scripts/scenes/make_hall.py [OUT]
+With --still the rollers and carts stand where they start (no paths, the same file otherwise): a hall whose
+still lamps a static cache keeps whole, where what an atlas re-plan moves is a whole lamp's render again
+(docs/many-lights.md, "Holding a size between re-plans").
+Usage: scripts/scenes/make_hall.py [--still] [OUT]
 """
 import json
 import sys
@@ -35,8 +38,8 @@ def lamp(order):
     return light
 
 
-def hall():
-    return {
+def hall(still=False):
+    doc = {
         "format": "omnishadow-scene/1",
         "description": "Many shadowed point lights: 64 lamps (16 x 4, every fourth swaying) under the ceiling of "
                        "a 64 x 8 x 12 hall of pillars, crates and balls, with rollers and carts moving; written "
@@ -62,11 +65,21 @@ def hall():
              "path": {"amplitude": [0, 0, 2], "frequency": 0.8, "seconds_per_frame": 0.0166666667, "phase": 1.1}},
         ],
     }
+    if still:
+        for o in doc["objects"]:
+            o.pop("path", None)
+        doc["description"] = doc["description"].replace("with rollers and carts moving", "its rollers and carts still")
+    return doc
 
 
 def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else "scenes/hall.json"
-    doc = hall()
+    args = sys.argv[1:]
+    still = "--still" in args
+    args = [a for a in args if a != "--still"]
+    if any(a.startswith("-") for a in args) or len(args) > 1:
+        sys.exit("make_hall.py: usage: make_hall.py [--still] [OUT]")
+    out = args[0] if args else "scenes/hall.json"
+    doc = hall(still)
     # One lamp a line: the file stays readable at 64 lights.
     lines = ["{", '  "format": "omnishadow-scene/1",', f'  "description": {json.dumps(doc["description"])},',
              f'  "camera": {json.dumps(doc["camera"])},', '  "lights": [']
