@@ -130,5 +130,41 @@ TEST(SummaryTable, ManyLightsRowsGiveTheCostPerLightAtEachCount) {
       << md;
 }
 
+// The staleness table: a sequence without error measured (--no-accuracy) reads like one with it, and where a
+// case re-plans its atlas, every row says how many lights the re-plans moved (and in how many frames).
+TEST(SummaryTable, StalenessRowsCountTheLightsReplansMoved) {
+  auto sequence = [](int replan, std::vector<int> relocated, bool measured) {
+    CaseResult r;
+    r.config.layout = Layout::atlas;
+    r.config.atlas_tiles = AtlasTiles::by_distance;
+    r.config.atlas_replan_frames = replan;
+    StalenessReport s;
+    for (size_t t = 0; t < relocated.size(); ++t)
+      s.frames.push_back({int(t), 6, 0, 0, 0.5, 100, relocated[t]});
+    s.mean_faces_rendered = 6.25;
+    if (measured) {
+      s.lights = {0};
+      s.mean_misclassified_percent = 0.5;
+      s.worst_misclassified_percent = 0.5;
+    }
+    r.staleness = s;
+    return r;
+  };
+  const std::string once = summary_markdown({sequence(0, {0, 0, 0}, true)});
+  EXPECT_EQ(once.find("moved by re-plans"), std::string::npos) << "no re-plans, no column\n" << once;
+  const std::string md = summary_markdown({sequence(0, {0, 0, 0}, true), sequence(1, {0, 2, 0, 1}, false)});
+  const size_t table = md.find("## Staleness over a sequence of frames");
+  ASSERT_NE(table, std::string::npos) << md;
+  EXPECT_NE(md.find("| longest wait, frames | misclassified, mean | worst | moved by re-plans |", table),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("/tiles_by_distance` | 3 | 6.2 | 0 (bound 0) | 0.5% | 0.5% (frame 0) | - |", table),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("/tiles_by_distance/replan1` | 4 | 6.2 | 0 (bound 0) | - | - | 3 (2) |", table),
+            std::string::npos)
+      << md;
+}
+
 }  // namespace
 }  // namespace omnishadow::bench
