@@ -4,7 +4,6 @@
 // block after the first whose size changed.
 
 #include <algorithm>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -24,16 +23,6 @@ Box box_of(const Block& b) {
   return {b.x, b.y, b.x + block_width(b.face_size), b.y + block_height(b.face_size)};
 }
 
-}  // namespace
-
-int planned_frame(const CaseConfig& config, int frame) {
-  const int every = config.atlas_replan_frames;
-  if (every <= 0 || config.atlas_tiles == AtlasTiles::uniform || frame <= 0) return 0;
-  return frame - frame % every;
-}
-
-namespace {
-
 // Sizes face_sizes_within gave for width x height: by_distance no block is larger than the kept rectangle's
 // own (pack_into's row as wide as the atlas holds them), by_coverage the scale was chosen so that they fit.
 Plan packed_afresh(std::span<const int> sizes, int frame, int width, int height) {
@@ -52,6 +41,12 @@ std::vector<int> sizes_of(const Plan& plan) {
 }
 
 }  // namespace
+
+int planned_frame(const CaseConfig& config, int frame) {
+  const int every = config.atlas_replan_frames;
+  if (every <= 0 || config.atlas_tiles == AtlasTiles::uniform || frame <= 0) return 0;
+  return frame - frame % every;
+}
 
 Plan pack_frame(const CaseConfig& config, const scene::Scene& scene, int frame, int width, int height) {
   return packed_afresh(face_sizes_within(config, scene, frame, width, height), frame, width, height);

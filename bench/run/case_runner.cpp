@@ -224,9 +224,13 @@ std::vector<PlannedLight> Harness::count_work(CaseResult& r, Backend& b, float l
   const bool after_check = r.config.optimizations.static_cache || r.config.update_budget_faces > 0;
   const int counted = options_.check_frame + (after_check ? 1 : 0);
   r.counters = b.count_work(counted);
-  const bool replanned = r.atlas && atlas::planned_frame(r.config, counted) !=
-                                        atlas::planned_frame(r.config, options_.check_frame);
-  count_rendered(r, b.face_frames(), counted, replanned ? atlas::plan_at(r.config, sc, counted) : r.atlas);
+  const int counted_plan = atlas::planned_frame(r.config, counted);
+  const bool replanned = r.atlas && counted_plan != r.atlas_planned_at;
+  // The counted frame's tiles: one step on from the check frame's plan, not the chain walked again from frame
+  // 0.
+  count_rendered(
+      r, b.face_frames(), counted,
+      replanned ? atlas::plan_after(r.config, sc, counted_plan, *r.atlas, r.atlas_planned_at) : r.atlas);
   return planned;
 }
 
