@@ -76,12 +76,59 @@ TEST(CubeTruth, ACentreJustOutsideItsTriangleMayHoldTheTrianglesPlane) {
   auto agree = [](double got, double want) { return std::fabs(got - want) <= 1e-4 * want; };
   const TexelSample nothing{false, 0.0};
   const std::vector<TexelSample> corners = {
-      nothing, {true, 1.76587, 1.76723}, nothing, {true, 1.76600, 1.76723}};
+      nothing, {true, 1.76587, 1.76587, 1.76723}, nothing, {true, 1.76600, 1.76600, 1.76723}};
   auto reach = [&] { return corners; };
   EXPECT_EQ(judge_texel({true, 1.76723}, nothing, agree, reach), TexelVerdict::ok);
   EXPECT_EQ(judge_texel({true, 1.80}, nothing, agree, reach), TexelVerdict::spurious);
   const std::vector<TexelSample> no_plane = {nothing, {true, 1.76587}, nothing, {true, 1.76600}};
   EXPECT_EQ(judge_texel({true, 1.76723}, nothing, agree, [&] { return no_plane; }), TexelVerdict::spurious);
+}
+
+// A steep triangle whose edge runs between a texel's centre and its left corners, 1/256 texel from the
+// centre: the rasteriser may cover the centre from a point between the two, and that point's distance lies
+// beyond every corner's (the left corners meet nothing, the right ones nearer parts of the slope). The judge
+// bounds it by the triangle's plane over the whole reach square: it accepts the edge's value, on both the
+// storages that write a distance and hardware_depth (the axis depth there, scaled by the centre's ray), and
+// still rejects the plane one step beyond the square.
+TEST(CubeTruth, ASteepEdgeInsideTheReachSquareBoundsByItsPlane) {
+  constexpr int kSize = 8, kBits = 8;
+  const double step = std::ldexp(1.0, -kBits), edge = 4.5 - step;
+  auto on_ray = [](double s, double t, double distance) {
+    return glm::vec3(layout_geometry::cube_point_ray(0, s, t, kSize)->unit * distance);
+  };
+  // The edge at s = `edge` for every t (a constant-s line of +X is a plane through the light), 5 away, the
+  // far vertex 2 away: about 0.9 units a texel along s, ten times the 1e-4 of the distance allowed.
+  scene::Scene s;
+  s.name = "slope";
+  for (const glm::vec3& p : {on_ray(edge, 0.0, 5.0), on_ray(edge, 8.0, 5.0), on_ray(8.0, 4.5, 2.0)})
+    s.vertices.push_back({p, glm::vec3(-1, 0, 0), glm::vec3(1)});
+  scene::Object o;
+  o.name = "slope";
+  o.vertex_count = 3;
+  s.objects.push_back(o);  // two-sided: its winding does not matter
+  const reference::RayCaster caster(s);
+  const float near_plane = 0.1f, far_plane = 20.0f;
+  const CubeTruth truth = compute_cube_truth(caster, s, glm::vec3(0.0f), near_plane, far_plane, kSize, true);
+  const double reach = raster_reach_texels(kBits);
+  ASSERT_GE(truth.cast(0, 4.5, 4.5), 0.0);
+  ASSERT_EQ(truth.cast(0, 4.5 - reach, 4.5 - reach), -1.0);
+  double corners_max = -1.0;
+  for (double dt : {-reach, reach}) corners_max = std::max(corners_max, truth.cast(0, 4.5 + reach, 4.5 + dt));
+  const double at_edge = truth.plane_at(0, 5.0, 4.5, edge + 1e-6, 4.5);
+  EXPECT_GT(at_edge, corners_max + 1e-3 * at_edge) << "the corners alone would not bound it";
+  auto admissible = [&](Storage storage, double stored) {
+    return texel_admissible(truth, storage, DepthFormat::d32f, near_plane, far_plane, kBits, 0, 4, 4, stored);
+  };
+  const double beyond = truth.plane_at(0, 5.0, 4.5, 4.5 - reach - step, 4.5);
+  EXPECT_TRUE(admissible(Storage::linear_depth, at_edge));
+  EXPECT_FALSE(admissible(Storage::linear_depth, beyond));
+  // hardware_depth reads back the axis depth times the centre's depth-to-distance.
+  auto as_read = [&](double distance, double s_at) {
+    return distance / layout_geometry::cube_point_ray(0, s_at, 4.5, kSize)->depth_to_distance *
+           layout_geometry::cube_point_ray(0, 4.5, 4.5, kSize)->depth_to_distance;
+  };
+  EXPECT_TRUE(admissible(Storage::hardware_depth, as_read(at_edge, edge)));
+  EXPECT_FALSE(admissible(Storage::hardware_depth, as_read(beyond, 4.5 - reach - step)));
 }
 
 }  // namespace

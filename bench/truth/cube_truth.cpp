@@ -74,31 +74,36 @@ CubeTruth compute_cube_truth(const reference::RayCaster& caster, const scene::Sc
     const auto [start, hit] = layer_hit(face, s, tt);
     return hit.hit ? start + hit.distance : -1.0;
   };
-  // The plane of the surface a hit lies on, where it crosses the layer's ray through (cs, ct); -1 where it
-  // does not (see plane_at).
-  auto plane_through = [scene = &scene, light, cube_size, ray_at = geometry.point_ray,
-                        planar = geometry.map != TexelMap::paraboloid](const reference::Hit& hit, int face,
-                                                                       double cs, double ct) {
-    if (!planar || !hit.hit) return -1.0;
-    const std::optional<LayerRay> centre = ray_at(face, cs, ct, cube_size);
-    if (!centre) return -1.0;
+  // The plane of the triangle a hit lies on; none off a perspective projection (see plane_at).
+  auto hit_plane = [scene = &scene, light, planar = geometry.map != TexelMap::paraboloid](
+                       const reference::Hit& hit) -> std::optional<SurfacePlane> {
+    if (!planar || !hit.hit) return std::nullopt;
     const glm::dvec3 a(scene->vertices[3 * size_t(hit.triangle)].position),
         b(scene->vertices[3 * size_t(hit.triangle) + 1].position),
         c(scene->vertices[3 * size_t(hit.triangle) + 2].position);
     const glm::dvec3 normal = glm::cross(b - a, c - a);
-    const double towards = glm::dot(centre->unit, normal);
-    if (std::fabs(towards) <= 1e-9 * glm::length(normal)) return -1.0;  // the ray runs along the plane
-    const double d = glm::dot(a - glm::dvec3(light), normal) / towards;
-    return d > 0.0 ? d : -1.0;
+    return SurfacePlane{normal, glm::dot(a - glm::dvec3(light), normal)};
   };
-  t.cast_with_plane = [layer_hit, plane_through](int face, double s, double tt, double cs, double ct) {
+  t.cast_with_plane = [layer_hit, hit_plane](int face, double s, double tt) {
     const auto [start, hit] = layer_hit(face, s, tt);
-    return std::pair{hit.hit ? start + hit.distance : -1.0, plane_through(hit, face, cs, ct)};
+    return std::pair{hit.hit ? start + hit.distance : -1.0, hit_plane(hit)};
   };
-  if (geometry.map != TexelMap::paraboloid)
-    t.plane_at = [layer_hit, plane_through](int face, double s, double tt, double cs, double ct) {
-      return plane_through(layer_hit(face, s, tt).second, face, cs, ct);
+  if (geometry.map != TexelMap::paraboloid) {
+    t.plane_along = [cube_size, ray_at = geometry.point_ray](const SurfacePlane& plane, int face, double cs,
+                                                             double ct) {
+      const std::optional<LayerRay> ray = ray_at(face, cs, ct, cube_size);
+      if (!ray) return -1.0;
+      const double towards = glm::dot(ray->unit, plane.normal);
+      if (std::fabs(towards) <= 1e-9 * glm::length(plane.normal)) return -1.0;  // the ray runs along it
+      const double d = plane.offset / towards;
+      return d > 0.0 ? d : -1.0;
     };
+    t.plane_at = [layer_hit, hit_plane, along = t.plane_along](int face, double s, double tt, double cs,
+                                                               double ct) {
+      const std::optional<SurfacePlane> plane = hit_plane(layer_hit(face, s, tt).second);
+      return plane ? along(*plane, face, cs, ct) : -1.0;
+    };
+  }
   const int n = cube_size / t.stride;
   auto face_truth = [&](int face) {
     std::vector<float> out(size_t(n) * size_t(n), -1.0f);
@@ -153,22 +158,36 @@ static bool stored_surface(Storage storage, double got, double far_plane) {
   return got != far_plane;
 }
 
-// What the storage reports for a point (cs, ct) of the reach square around the centre (s, t): its distance
-// for the storages that compute one per fragment; hardware_depth stores the point's axis depth and the
-// read-back scales it by the centre's direction (cube::projective_depth_to_distance), so the same scaling
-// (`scale`: the centre's depth-to-distance over the point's) applies here. Also the point's surface extended
-// along the centre's own ray (its plane there): every storage reads that back unscaled.
+// What the storage reports for a point (cs, ct) of the square of half-side `reach` around the centre (s, t):
+// its distance for the storages that compute one per fragment; hardware_depth stores the point's axis depth
+// and the read-back scales it by the centre's direction (cube::projective_depth_to_distance), so the same
+// scaling (`scale(x, y)`: the centre's depth-to-distance over the point's) applies here. Also the range the
+// point's surface spans over the whole square (its plane at the four corners and along the centre's own ray,
+// scaled alike): a fragment of that triangle may cover the centre from any point of the square, its edge
+// included, and where the edge crosses the square the triangle's extreme lies there, between the corners.
+template <typename Scale>
 static TexelSample reach_sample(const CubeTruth& truth, Storage storage, double far_plane, int f, double cs,
-                                double ct, double s, double t, double scale) {
+                                double ct, double s, double t, double reach, Scale scale) {
   const bool clamps_at_far = traits(storage).checked == DistanceEncoding::linear_depth;
-  // One ray for both: the corner's distance and its surface's plane along the centre's ray.
-  auto [d, plane] =
-      truth.cast_with_plane ? truth.cast_with_plane(f, cs, ct, s, t) : std::pair{truth.cast(f, cs, ct), -1.0};
+  const bool scaled = traits(storage).checked == DistanceEncoding::projective_depth;
+  // One ray for both: the point's distance and its surface's plane.
+  auto [d, plane] = truth.cast_with_plane ? truth.cast_with_plane(f, cs, ct)
+                                          : std::pair{truth.cast(f, cs, ct), std::optional<SurfacePlane>{}};
   if (clamps_at_far && d >= far_plane) d = -1.0;
-  if (d >= 0.0 && traits(storage).checked == DistanceEncoding::projective_depth) d *= scale;
-  if (d < 0.0) plane = -1.0;
-  if (clamps_at_far && plane >= far_plane) plane = -1.0;
-  return TexelSample{d >= 0.0, d, plane};
+  if (d >= 0.0 && scaled) d *= scale(cs, ct);
+  TexelSample out{d >= 0.0, d};
+  if (d < 0.0 || !plane || !truth.plane_along) return out;
+  const double square[5][2] = {
+      {s, t}, {s - reach, t - reach}, {s + reach, t - reach}, {s - reach, t + reach}, {s + reach, t + reach}};
+  for (const auto& [x, y] : square) {
+    double v = truth.plane_along(*plane, f, x, y);
+    if (v < 0.0) continue;  // the plane turns edge-on within the square: its other points still bound it
+    if (scaled) v *= scale(x, y);
+    if (clamps_at_far) v = std::min(v, far_plane);  // beyond far the fragment stores the clear
+    out.plane_lo = out.plane_lo < 0.0 ? v : std::min(out.plane_lo, v);
+    out.plane_hi = std::max(out.plane_hi, v);
+  }
+  return out;
 }
 
 namespace {
@@ -214,12 +233,16 @@ TexelVerdict judge_cube_texel(const TexelRule& rule, int f, int s, int t, double
     if (!got_surface && agree(far_plane, std::min(want, far_plane))) return TexelVerdict::ok;
     if (want >= far_plane && !(got_surface && agree(got, want))) want = -1.0;
   }
+  auto scale = [&](double cs, double ct) { return len / depth_to_distance(cs, ct); };
   auto cast = [&](double cs, double ct) {
-    return reach_sample(truth, storage, far_plane, f, cs, ct, s + 0.5, t + 0.5,
-                        len / depth_to_distance(cs, ct));
+    return reach_sample(truth, storage, far_plane, f, cs, ct, s + 0.5, t + 0.5, rule.reach_texels, scale);
   };
-  return judge_texel({got_surface, got}, {want >= 0.0, want}, agree,
-                     [&] { return reach_corners(s + 0.5, t + 0.5, rule.reach_texels, cast); });
+  return judge_texel({got_surface, got}, {want >= 0.0, want}, agree, [&] {
+    // The centre's own surface spans its plane's range over the square too.
+    std::vector<TexelSample> reach = reach_corners(s + 0.5, t + 0.5, rule.reach_texels, cast);
+    reach.push_back(cast(s + 0.5, t + 0.5));
+    return reach;
+  });
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <glm/glm.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +46,12 @@ double first_kept_hit(const reference::RayCaster& caster, const scene::Scene& sc
 // miss; the limit absorbs those and still fails every mutant in docs/mutants.md by a factor of ten or more.
 inline constexpr double kCubeTexelLimitPercent = 0.1;
 
+// A triangle's plane, relative to the light: the points x with dot(x - light, normal) = offset.
+struct SurfacePlane {
+  glm::dvec3 normal{0.0};
+  double offset = 0.0;
+};
+
 struct CubeTruth {
   // How a layer's texels map to directions, and how many layers (backends/common/layouts.h).
   const TexelGeometry* geometry = &kCubeFaceGeometry;
@@ -62,10 +69,12 @@ struct CubeTruth {
   // nothing, the ray misses the plane, or the layer is no perspective projection (a paraboloid's triangles
   // are not planes in its warp).
   std::function<double(int face, double s, double t, double cs, double ct)> plane_at;
-  // cast(face, s, t) and plane_at(face, s, t, cs, ct) from one ray (plane -1 where plane_at is not given):
-  // the reach checks need both at every corner.
-  std::function<std::pair<double, double>(int face, double s, double t, double cs, double ct)>
-      cast_with_plane;
+  // cast(face, s, t) and the plane of the surface it meets (none where it meets nothing or plane_at is not
+  // given), from one ray: the reach checks extend that plane over the whole square around a centre.
+  std::function<std::pair<double, std::optional<SurfacePlane>>(int face, double s, double t)> cast_with_plane;
+  // Where `plane` crosses layer `face`'s ray through (cs, ct); -1 where it does not (the ray runs along it or
+  // meets it behind the light).
+  std::function<double(const SurfacePlane& plane, int face, double cs, double ct)> plane_along;
 };
 // Closed objects (Object::cull_back_faces) are drawn with back faces culled unless `two_sided`, so a ray that
 // meets one of their back faces (a caster cut by the near plane) goes on, as the rasteriser's does. Every

@@ -33,6 +33,9 @@ struct MapTruth {
   // The exact window depth through any point of map `m` in continuous texel coordinates (texel k's centre at
   // k + 0.5), 1 where nothing is met: the checks cast off-centre rays through it (texel_bounds.h).
   std::function<double(size_t m, double x, double y)> cast;
+  // cast(m, x, y) as a sample of the reach square of half-side `reach` around (cx, cy): with the range the
+  // surface met spans over that square (texel_bounds.h; window depths).
+  std::function<TexelSample(size_t m, double x, double y, double cx, double cy, double reach)> sample;
 };
 MapTruth compute_map_truth(const reference::RayCaster& caster, const scene::Scene& scene, int frame,
                            int map_size, cube::DepthRange range);

@@ -15,9 +15,15 @@
 //     edge-on;
 //   - a silhouette edge that crosses the square has corners on both sides (a line through a convex square's
 //     interior separates its corners), so either side's value is allowed: a surface or nothing, near or far.
+//     The surface's own extreme then lies on its edge, inside the square and beyond every corner that meets
+//     it: a steep triangle whose edge passes between the centre and a corner stores a value none of the
+//     corners hold (seen on the hall at 16-texel faces, where a texel spans four times a 64-texel one's
+//     slope). So each surface a corner or the centre meets counts with its plane's range over the whole
+//     square, the plane at the four corners (TexelSample::plane_lo, plane_hi); a paraboloid's triangles are
+//     no planes in its warp and count by the values at the corners alone.
 // The checks therefore accept a stored value within the storage's bound of the centre's exact value, or else
-// within that bound of the range of exact values at the square's corners (where some corner meets a surface)
-// or "nothing" (where some corner meets none). The corner rays are cast only for texels that fail the centre,
+// within that bound of the range those surfaces span over the square (where some corner meets a surface) or
+// "nothing" (where some corner meets none). The corner rays are cast only for texels that fail the centre,
 // so the cost stays with the few texels at edges. The storage's bound is its quantisation step plus fp32
 // interpolation error.
 //
@@ -44,9 +50,10 @@ inline double raster_reach_texels(int subpixel_bits) {
 struct TexelSample {
   bool surface = false;
   double value = 0.0;
-  // A corner's surface extended to the centre's ray (its plane there; -1: none): what a fragment at the
-  // centre interpolates when the triangle's coverage reaches the centre from this corner's side.
-  double centre_plane = -1.0;
+  // The range this point's surface spans over the whole reach square (its plane at the square's corners and
+  // along the centre's ray; -1: none known): what a fragment at the centre may interpolate when the
+  // triangle's coverage reaches the centre from anywhere in the square, past its own edge included.
+  double plane_lo = -1.0, plane_hi = -1.0;
 };
 
 // One wrong texel, for the report: which, what it held, what the centre's ray says, and how far (in texels)
@@ -61,8 +68,8 @@ struct TexelFinding {
 enum class TexelVerdict { ok, wrong, spurious, missing };
 
 // The verdict on `got` given the centre's exact sample, whether two values agree within the storage's bound
-// (`agree(stored, exact)`), and the exact samples at the square's corners (`corners()`, called only when
-// needed).
+// (`agree(stored, exact)`), and the exact samples at the square's corners, with the ranges their surfaces
+// span over the square (`corners()`, called only when needed; it may add the centre's own sample).
 template <typename Agree, typename Corners>
 TexelVerdict judge_texel(const TexelSample& got, const TexelSample& centre, Agree agree, Corners corners) {
   if (got.surface == centre.surface && (!got.surface || agree(got.value, centre.value)))
@@ -76,7 +83,7 @@ TexelVerdict judge_texel(const TexelSample& got, const TexelSample& centre, Agre
       continue;
     }
     lo = std::min(lo, c.value), hi = std::max(hi, c.value);
-    if (c.centre_plane >= 0.0) lo = std::min(lo, c.centre_plane), hi = std::max(hi, c.centre_plane);
+    if (c.plane_lo >= 0.0) lo = std::min(lo, c.plane_lo), hi = std::max(hi, c.plane_hi);
   }
   if (!got.surface && any_nothing) return TexelVerdict::ok;
   if (got.surface && lo <= hi) {
