@@ -263,6 +263,29 @@ TEST_F(CliRun, AtlasPassesEveryCheckForEveryLightOnBothApis) {
   EXPECT_GT(moments, 0) << "the moments check ran on atlas cases";
 }
 
+// The texel bound under a rasteriser that snaps otherwise (--raster-perturb 1: one more sub-pixel step) at
+// faces of 16 texels, where a texel spans four times a 64-texel face's slope: the hall's lamp 12 meets steep
+// edges 1/256 texel from its +Z centres at the walk's last frame, whose values lie beyond every corner's but
+// within the planes' range over the reach square (bench/truth/texel_bounds.h). Every lamp's cube passes.
+TEST_F(CliRun, SmallFacesPassTheTexelBoundUnderAPerturbedRasteriser) {
+  const std::string backends = available_backends();
+  fs::path out = scratch("perturbed_small_faces");
+  Outcome o = run("run --backend " + backends +
+                  " --scene hall --light-count 24 --camera 0,3,0,20,2,0,-16,0,0 --check-frame 188"
+                  " --layout cube_array --cube 16 --technique six_pass --filter hard --frame 200x150"
+                  " --no-timing --images none --check --max-error 100 --raster-perturb 1 --out " +
+                  out.string());
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  const auto j = results_of(out);
+  int ok = 0;
+  for (const auto& c : j["omnishadow"]["cases"]) {
+    EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+    ok += c["status"] == "ok";
+    EXPECT_EQ(c["cube_texels"]["texels"].get<int>(), 6 * 16 * 16) << "the first lamp's cube, all its texels";
+  }
+  EXPECT_EQ(ok, backends == "gl,vulkan" ? 2 : 1);
+}
+
 // Culled to the view from mid-hall and shaded from clustered lists: lamps behind the camera and faces turned
 // away get no pass, which results.json counts, and every case still passes six_pass unculled and unclustered,
 // its pixels' faces check and its clusters' check; with every light in one pass it is unsupported with its
