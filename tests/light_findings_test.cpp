@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "bench/report/results_writer.h"
 #include "bench/truth/findings.h"
 
 namespace omnishadow::bench {
@@ -43,6 +44,33 @@ TEST(LightFindings, ALightsFindingsJoinTheCaseUnderItsName) {
   ASSERT_EQ(c.per_light.size(), 1u);
   EXPECT_EQ(c.per_light[0].light, 2);
   EXPECT_EQ(c.per_light[0].accuracy->pixels, 10u);
+}
+
+// results.json names a checked light's wrong texels as a one-light case's cube_texels does (its finding reads
+// "light 12: ..." with the worst one only): which faces, which texels, what they held and what was exact.
+TEST(LightFindings, ResultsNameALightsWrongTexels) {
+  CaseResult r;
+  r.config.light_count = 24;
+  CubeTexelReport clean, wrong;
+  clean.texels = wrong.texels = 1536;
+  wrong.wrong = 7;
+  wrong.max_error = 0.0168;
+  wrong.bad_per_face[4] = 7;
+  wrong.worst = {{4, 13, 12, 11.095, 11.0896, 0.0156}};
+  r.per_light = {{0, std::nullopt, clean, {}}, {12, std::nullopt, wrong, {}}};
+  const nlohmann::json lights = case_to_json(r)["accuracy"]["per_light"]["lights"];
+  ASSERT_EQ(lights.size(), 2u);
+  EXPECT_EQ(lights[0]["cube_texels"], nlohmann::json({{"texels", 1536}, {"bad", 0}}))
+      << "a clean light: counts";
+  const nlohmann::json& t = lights[1]["cube_texels"];
+  EXPECT_EQ(t["bad"], 7);
+  EXPECT_EQ(t["wrong"], 7);
+  EXPECT_EQ(t["bad_per_face"][4], 7);
+  EXPECT_DOUBLE_EQ(t["max_error"].get<double>(), 0.0168);
+  ASSERT_EQ(t["worst"].size(), 1u);
+  EXPECT_EQ(t["worst"][0]["layer"], 4);
+  EXPECT_EQ(t["worst"][0]["s"], 13);
+  EXPECT_DOUBLE_EQ(t["worst"][0]["got"].get<double>(), 11.095);
 }
 
 TEST(LightFindings, PooledAccuracyWeighsEveryLightsPixels) {

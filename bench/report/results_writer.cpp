@@ -168,6 +168,8 @@ json plan_to_json(const CaseResult& r) {
 }
 
 json accuracy_to_json(const Accuracy& a);
+template <typename Report>
+json texels_to_json(const Report& k, const char* reference, double limit_percent);
 
 // A many-light case's checked lights, each against its own truth; the totals beside pool them.
 json per_light_to_json(const CaseResult& r) {
@@ -183,7 +185,15 @@ json per_light_to_json(const CaseResult& r) {
   for (const LightReport& l : r.per_light) {
     json e = {{"light", l.light}};
     if (l.accuracy) e["accuracy"] = accuracy_to_json(*l.accuracy);
-    if (l.cube_texels) e["cube_texels"] = {{"texels", l.cube_texels->texels}, {"bad", l.cube_texels->bad()}};
+    if (l.cube_texels) {
+      e["cube_texels"] = {{"texels", l.cube_texels->texels}, {"bad", l.cube_texels->bad()}};
+      if (l.cube_texels->bad()) {  // which texels of this light's map, as a one-light case reports them
+        const json full = texels_to_json(*l.cube_texels, "", kCubeTexelLimitPercent);
+        for (const char* field : {"wrong", "spurious", "missing", "max_error", "worst"})
+          e["cube_texels"][field] = full[field];
+        e["cube_texels"]["bad_per_face"] = l.cube_texels->bad_per_face;
+      }
+    }
     if (l.lookups) e["lookups"] = {{"pixels", l.lookups->pixels}, {"outside", l.lookups->outside}};
     lights["lights"].push_back(e);
   }
