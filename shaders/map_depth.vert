@@ -6,4 +6,5 @@
 
 layout(location = 0) in vec3 in_position;
 
-void main() { gl_Position = perturb_raster(frame.map_view_proj[pass.face] * vec4(in_position, 1.0)); }
+// The maps' layers are --cube texels a side, whichever light's uniforms are bound.
+void main() { gl_Position = perturb_raster_in(frame.map_view_proj[pass.face] * vec4(in_position, 1.0), 1.0); }

@@ -188,6 +188,8 @@ TEST(AtlasReplan, APlannerRendersAgainTheLightsAReplanMoves) {
       EXPECT_EQ(f.lights[k].reuse_cube, !relocated) << "light " << k;
       const atlas::Block& b = now.lights[k];
       EXPECT_EQ(f.records[k].atlas_tile, glm::vec4(float(b.x), float(b.y), float(b.face_size), 1.0f));
+      EXPECT_EQ(f.lights[k].uniforms.raster_knobs.x, float(c.cube_size) / float(b.face_size))
+          << "--raster-perturb's step scaled to the light's tile";
     }
     EXPECT_EQ(f.atlas_relocated, moved);
     EXPECT_EQ(f.atlas_replanned, moved > 0);

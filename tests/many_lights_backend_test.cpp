@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 
@@ -442,6 +443,53 @@ TEST_P(ManyLightsTest, AnAtlasReplannedOnAWalkRendersTheLightsItMoves) {
   }
   EXPECT_GT(still_moved, 0) << "the walk moves a still lamp's block";
   EXPECT_GT(still_kept, 0) << "and keeps one's";
+}
+
+// --raster-perturb moves each target by its own sub-pixel steps: an atlas tile a quarter of --cube moves as a
+// cube of the tile's size does under the same steps, not by a quarter of them (the step is scaled by the
+// light's FrameUniforms::raster_knobs). A step of one whole texel, so that the two sides differ at every
+// silhouette and along every slope: the tile matches the cube moved by the same steps, and not the cube moved
+// by a quarter of them (what an unscaled step would give). Matching allows a few texels whose edges the
+// viewport's offset rounds apart (the drivers here: 1 and 5 of 12288).
+TEST_P(ManyLightsTest, APerturbedAtlasTileMovesByItsOwnSteps) {
+  backend_->load(hall_);
+  CaseConfig atlas = hall_case(24, Layout::atlas, Technique::six_pass, Filter::hard);
+  atlas.cube_size = 64;
+  atlas.atlas_tiles = AtlasTiles::by_distance;
+  const float steps = std::ldexp(1.0f, backend_->device().subpixel_bits);  // one texel of the target
+  atlas.raster_perturb_steps = steps;
+  const atlas::Plan plan = atlas::plan_for(atlas, hall_);
+  std::vector<int> quarter;  // the lamps whose faces are a quarter of --cube
+  for (size_t k = 0; k < plan.lights.size(); ++k)
+    if (plan.lights[k].face_size * 4 == atlas.cube_size) quarter.push_back(int(k));
+  ASSERT_FALSE(quarter.empty()) << "the hall's far lamps get 16-texel tiles at --cube 64";
+  ASSERT_TRUE(backend_->supports(atlas).ok) << backend_->supports(atlas).reason;
+  backend_->configure(atlas);
+  backend_->render(3, FrameKind::check);
+  std::vector<Images> tiles;
+  for (int k : quarter) tiles.push_back(backend_->read_back(CubeReadBack::full, k));
+  auto differing = [&](float cube_steps) {
+    CaseConfig cubes = hall_case(24, Layout::cube_array, Technique::six_pass, Filter::hard);
+    cubes.cube_size = atlas.cube_size / 4;
+    cubes.raster_perturb_steps = cube_steps;
+    backend_->configure(cubes);
+    backend_->render(3, FrameKind::check);
+    size_t beyond = 0, texels = 0;
+    for (size_t i = 0; i < quarter.size(); ++i) {
+      const Images want = backend_->read_back(CubeReadBack::full, quarter[i]);
+      for (size_t f = 0; f < 6; ++f) {
+        EXPECT_EQ(tiles[i].cube_distance[f].size(), want.cube_distance[f].size());
+        for (size_t t = 0; t < want.cube_distance[f].size() && t < tiles[i].cube_distance[f].size(); ++t)
+          beyond += std::abs(tiles[i].cube_distance[f][t] - want.cube_distance[f][t]) > 1e-4 * want.light_far;
+        texels += want.cube_distance[f].size();
+      }
+    }
+    std::printf("%s: %zu of %zu texels of %zu lamps beyond 1e-4 of far from the cube moved by %g steps\n",
+                atlas.id().c_str(), beyond, texels, quarter.size(), double(cube_steps));
+    return double(beyond) / double(texels);
+  };
+  EXPECT_LE(differing(steps), 0.002) << "the tile moves as a cube of its size under the same steps";
+  EXPECT_GT(differing(steps / 4.0f), 0.05) << "and not by a quarter of them";
 }
 
 TEST_P(ManyLightsTest, LayoutCubeSaysWhyItHoldsSixteenLightsAtMost) {

@@ -15,6 +15,7 @@ ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, co
   ShadowFrame f;
   f.frame = frame;
   f.uniforms = make_frame_uniforms(scene, frame, config, range);
+  f.uniforms.raster_knobs.x = float(config.cube_size) / float(face_size);
   // The light's position and range decide the cube's content, and the moving casters within its reach.
   // Exact float equality: a light that moves by one ulp renders again.
   f.reuse_cube = config.optimizations.static_cache && cube_light_ &&
