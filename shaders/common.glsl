@@ -21,8 +21,8 @@ layout(std140, binding = 0) uniform FrameUniforms {
   vec4 moments_knobs;      // the moments filters' tuning (MomentsTuning): x = bleed reduction a (0: none);
                            // y = what z = distance / far is multiplied by before its moments (1, or far: world
                            // units); z = the moments format's unit roundoff (2^-24 float, 2^-11 half)
-  vec4 raster_knobs;       // x = --cube / the edge of the light's faces in the pass's target (an atlas tile's, else
-                           // 1): scales --raster-perturb's step to the target (raster_perturb.glsl)
+  vec4 raster_knobs;       // x = --cube / the edge of the pass's target (an atlas tile, a paraboloid's or a
+                           // tetrahedron's layer, a cube's face): --raster-perturb's step there (raster_perturb.glsl)
 } frame;
 
 // Per draw of the shadow pass: the face a six_pass draw renders, and for vs_layer with face culling the faces

@@ -29,5 +29,5 @@ vec4 perturb_raster_in(vec4 clip, float cube_texels) {
   return clip;
 }
 
-// The shadow pass: the light's faces (frame.raster_knobs.x: --cube / their edge, an atlas tile's or the cube's).
+// The shadow pass: the light's layers (frame.raster_knobs.x: --cube / their edge: an atlas tile's, a layout's layer).
 vec4 perturb_raster(vec4 clip) { return perturb_raster_in(clip, frame.raster_knobs.x); }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "backends/common/atlas.h"
+#include "backends/common/layouts.h"
 #include "backends/common/shadow_frame.h"
 #include "bench/truth/case_checks.h"
 #include "scenes/scene.h"
@@ -202,6 +203,22 @@ TEST(AtlasReplan, APlannerRendersAgainTheLightsAReplanMoves) {
   }
   EXPECT_GT(moved_total, 0) << "the walk moves blocks";
   EXPECT_GT(kept_total, 0) << "and keeps some";
+}
+
+// --raster-perturb's step is the pass target's own: the uniforms scale it by --cube / the target's edge, the
+// light's tile in an atlas (above), a paraboloid's or tetrahedron's layer (larger than --cube) elsewhere.
+TEST(AtlasReplan, EveryLayoutsPerturbationStepIsItsTargets) {
+  scene::Scene s = lamps_along_a_walk();
+  for (Layout layout : {Layout::cube, Layout::cube_array, Layout::dual_paraboloid, Layout::tetrahedral}) {
+    CaseConfig c = replan_case(AtlasTiles::uniform, 0);
+    c.layout = layout;
+    gpu::LightFramePlanner planner;
+    planner.reset(c.light_count);
+    const gpu::LightFrames f = planner.prepare(s, 0, c, cube::DepthRange::zero_to_one);
+    const float want = float(c.cube_size) / float(layer_size(layout, c.cube_size));
+    for (const gpu::ShadowFrame& light : f.lights)
+      EXPECT_EQ(light.uniforms.raster_knobs.x, want) << to_string(layout);
+  }
 }
 
 // Hysteresis: one lamp of range 1 whose distance from a swaying camera crosses by_distance's edge between

@@ -28,9 +28,10 @@ struct FrameUniforms {
                                   // point light whose shadow factor the check variant reports, w: the
                                   // case's point lights (CaseConfig::light_count)
   glm::vec4 moments_knobs{0.0f};  // x: bleed reduction, y: distance scale, z: the format's rounding unit
-  // x: how many --cube texels one texel of the pass's target spans, --cube / the light's face edge (an atlas
-  // tile's N, else 1): --raster-perturb's NDC offset is scaled by it so that every target moves by its own
-  // sub-pixel steps (shaders/raster_perturb.glsl). Read only when the perturbation is on.
+  // x: how many --cube texels one texel of the pass's target spans, --cube / the target's edge (an atlas
+  // tile's N, a paraboloid's or tetrahedron's layer, else 1): --raster-perturb's NDC offset is scaled by it
+  // so that every target moves by its own sub-pixel steps (shaders/raster_perturb.glsl). Read only when the
+  // perturbation is on.
   glm::vec4 raster_knobs{1.0f, 0.0f, 0.0f, 0.0f};
 };
 static_assert(sizeof(FrameUniforms) == 11 * 64 + 19 * 16, "std140 layout of FrameUniforms");

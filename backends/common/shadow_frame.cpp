@@ -6,6 +6,7 @@
 
 #include "backends/common/case_support.h"
 #include "backends/common/frame_uniforms.h"
+#include "backends/common/layouts.h"
 #include "backends/common/view_culling.h"
 
 namespace omnishadow::gpu {
@@ -15,7 +16,10 @@ ShadowFrame ShadowFramePlanner::prepare(const scene::Scene& scene, int frame, co
   ShadowFrame f;
   f.frame = frame;
   f.uniforms = make_frame_uniforms(scene, frame, config, range);
-  f.uniforms.raster_knobs.x = float(config.cube_size) / float(face_size);
+  // The pass's target edge: the light's atlas tile, else the layout's layer (a paraboloid's is --cube x sqrt
+  // 3).
+  const int target = config.layout == Layout::atlas ? face_size : layer_size(config.layout, config.cube_size);
+  f.uniforms.raster_knobs.x = float(config.cube_size) / float(target);
   // The light's position and range decide the cube's content, and the moving casters within its reach.
   // Exact float equality: a light that moves by one ulp renders again.
   f.reuse_cube = config.optimizations.static_cache && cube_light_ &&

@@ -51,8 +51,8 @@ class ShadowFramePlanner {
     written_ = false;
     faces_ = {};
   }
-  // face_size: the light's face (its atlas tile's, or the cube's), for view culling's texel margins and the
-  // uniforms' raster_knobs (--raster-perturb's step in that face).
+  // face_size: the light's face (its atlas tile's, or the cube's), for view culling's texel margins and, in
+  // an atlas, the uniforms' raster_knobs (--raster-perturb's step in the tile).
   ShadowFrame prepare(const scene::Scene& scene, int frame, const CaseConfig& config, cube::DepthRange range,
                       int face_size);
   // The shadow pass of `f` has been submitted: with static caching, the cube now holds its light.

@@ -369,7 +369,8 @@ static void add_experiment_options(CLI::App& r, RunCommand& run) {
   r.add_option(
        "--raster-perturb", run.matrix.raster_perturb_steps,
        "tests of the checks only: move every shadow- and map-pass vertex by up to STEPS of the device's "
-       "sub-pixel steps (deterministic per world position), as another conformant rasteriser may snap")
+       "sub-pixel steps in the target it is drawn into (a linear map of clip space; an atlas tile's steps "
+       "are its own), as another conformant rasteriser may snap")
       ->capture_default_str()
       ->check(finite_in(0.0, 4.0));
   r.add_flag("--emulate-nv-swizzle", run.matrix.emulate_nv_swizzle,
