@@ -185,6 +185,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"run --capture-tool apitrace --out @OUT@", "--capture-tool: apitrace not in"},
         BadInput{"run --inject-crash '(' --out @OUT@", "--inject-crash: '(' is not a regular expression"},
         BadInput{"run --inject-hang [ --out @OUT@", "--inject-hang: '[' is not a regular expression"},
+        BadInput{"run --crash-retries 9 --out @OUT@", "--crash-retries: Value 9 not in range 0 to 5"},
+        BadInput{"run --inject-attempts -1 --out @OUT@", "--inject-attempts: Value -1 not in range 0 to 6"},
         BadInput{"run --capture sometimes --out @OUT@",
                  "--capture: sometimes not in {failed,crashed,all,none}"},
         BadInput{"run --inject-in nowhere --out @OUT@", "--inject-in: 'nowhere' is not checks or timed"},

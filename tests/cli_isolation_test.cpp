@@ -44,7 +44,9 @@ std::map<std::string, nlohmann::json> cases_by_id(const nlohmann::json& results)
   return out;
 }
 
-void expect_one_case_each(const FaultRun& f, const std::string& reason_part, const std::string& step) {
+// `attempts`: how many times each crashed case ran (a crash runs again once by default, a hang never).
+void expect_one_case_each(const FaultRun& f, const std::string& reason_part, const std::string& step,
+                          int attempts) {
   EXPECT_EQ(f.outcome.exit_code, 1) << f.outcome.err;
   ASSERT_TRUE(f.results.is_object()) << "results.json is kept: " << f.outcome.err;
   const auto cases = cases_by_id(f.results);
@@ -55,6 +57,12 @@ void expect_one_case_each(const FaultRun& f, const std::string& reason_part, con
       EXPECT_EQ(c["status"], "crashed") << c.dump();
       EXPECT_NE(c["reason"].get<std::string>().find(reason_part), std::string::npos) << c.dump();
       EXPECT_EQ(c["crash"]["step"], step) << c.dump();
+      EXPECT_EQ(c["crash"]["attempts"], attempts) << c.dump();
+      if (attempts > 1)
+        EXPECT_NE(
+            c["reason"].get<std::string>().find("at each of its " + std::to_string(attempts) + " attempts"),
+            std::string::npos)
+            << c.dump();
       EXPECT_EQ(c["axes"]["backend"], id.substr(0, id.find('/')))
           << "the crashed case's own axes: " << c.dump();
       EXPECT_EQ(c["axes"]["technique"], "geometry_shader") << c.dump();
@@ -67,9 +75,11 @@ void expect_one_case_each(const FaultRun& f, const std::string& reason_part, con
   EXPECT_EQ(f.results["omnishadow"]["cases"].size(), cases.size()) << "each case once";
   EXPECT_TRUE(f.results["omnishadow"]["complete"].get<bool>())
       << "every case has its result, crashed ones included";
-  // A fresh process after each crash, unless the crash was the matrix's last case.
+  // A fresh process after each attempt that crashed, unless it was the matrix's last case's last attempt.
   const bool last_crashed = f.results["omnishadow"]["cases"].back()["status"] == "crashed";
-  EXPECT_EQ(f.results["omnishadow"]["worker_processes"].get<int>(), crashed + (last_crashed ? 0 : 1));
+  EXPECT_EQ(f.results["omnishadow"]["worker_processes"].get<int>(),
+            attempts * crashed + (last_crashed ? 0 : 1));
+  EXPECT_TRUE(f.results["omnishadow"]["flaky_cases"].empty()) << "a case that crashes every time is no flake";
   std::vector<std::string> order;  // matrix order kept: each backend's six_pass before its geometry_shader
   for (const auto& c : f.results["omnishadow"]["cases"]) order.push_back(c["id"]);
   for (size_t i = 1; i < order.size(); i += 2)
@@ -80,11 +90,12 @@ void expect_one_case_each(const FaultRun& f, const std::string& reason_part, con
 }  // namespace
 
 // A case that kills the process (SIGSEGV in its check frame, injected: --inject-crash) costs that case alone:
-// it is recorded `crashed` with the signal and the step, the run goes on in a fresh process from the next
-// case, every finished case is in results.json, and the run exits 1. On GL and Vulkan.
+// run again in a fresh process (--crash-retries 1, the default) it dies again, so it is recorded `crashed`
+// with the signal, the step and both attempts, the run goes on in a fresh process from the next case, every
+// finished case is in results.json, and the run exits 1. On GL and Vulkan.
 TEST_F(CliRun, ACrashInTheChecksCostsOneCase) {
   const FaultRun f = run_with_fault("crash_checks", "--inject-crash /geometry_shader/");
-  expect_one_case_each(f, "SIGSEGV", "check_frame");
+  expect_one_case_each(f, "SIGSEGV", "check_frame", 2);
   // The worker names the signal and its native frames before it dies (a driver's crash names its library).
   EXPECT_NE(f.outcome.err.find("omnishadow: worker died by SIGSEGV; native frames, innermost first:\n"),
             std::string::npos)
@@ -93,8 +104,9 @@ TEST_F(CliRun, ACrashInTheChecksCostsOneCase) {
 
 // The same in the timed rounds: the cases timed before the crash keep their repetitions.
 TEST_F(CliRun, ACrashInTheTimedRoundsCostsOneCase) {
-  const FaultRun f = run_with_fault("crash_timed", "--inject-crash /geometry_shader/ --inject-in timed");
-  expect_one_case_each(f, "SIGSEGV", "timed repetition");
+  const FaultRun f =
+      run_with_fault("crash_timed", "--inject-crash /geometry_shader/ --inject-in timed --crash-retries 0");
+  expect_one_case_each(f, "SIGSEGV", "timed repetition", 1);
   for (const auto& [id, c] : cases_by_id(f.results)) {
     if (c["status"] == "ok") {
       EXPECT_GE(c["timing"]["repetitions"].get<int>(), 1) << id;
@@ -108,7 +120,44 @@ TEST_F(CliRun, ACrashInTheTimedRoundsCostsOneCase) {
 // the last line, not since the start) is SilenceWatch's test, on a clock that test drives.
 TEST_F(CliRun, AHangIsKilledAfterTheCaseTimeoutAndCostsOneCase) {
   expect_one_case_each(run_with_fault("hang_checks", "--inject-hang /geometry_shader/ --case-timeout-s 10"),
-                       "no progress for 10 s", "check_frame");
+                       "no progress for 10 s", "check_frame", 1);
+}
+
+// A flaky driver: the process dies in a case's first attempt only (--inject-attempts 1), in the checks or in
+// the timed rounds. Run again in a fresh process the case finishes: it keeps that attempt's result with the
+// first attempt's crash (`crashed_before`), results.json and the summary list it as flaky, and the run, every
+// case ok, exits 0, as deqp-runner passes a pipeline whose failures passed when run again.
+TEST_F(CliRun, ACaseThatCrashesOnceAndThenFinishesIsFlakyNotCrashed) {
+  for (const std::string phase : {"checks", "timed"}) {
+    SCOPED_TRACE(phase);
+    const FaultRun f = run_with_fault("flaky_" + phase,
+                                      "--inject-crash /geometry_shader/ --inject-attempts 1 "
+                                      "--check --max-error 100 --inject-in " +
+                                          phase);
+    EXPECT_EQ(f.outcome.exit_code, 0) << f.outcome.err;
+    ASSERT_TRUE(f.results.is_object()) << f.outcome.err;
+    int flaky = 0;
+    for (const auto& [id, c] : cases_by_id(f.results)) {
+      EXPECT_EQ(c["status"], "ok") << c.dump().substr(0, 2000);
+      if (id.find("/geometry_shader/") == std::string::npos) {
+        EXPECT_FALSE(c.contains("crashed_before")) << id;
+        continue;
+      }
+      ++flaky;
+      ASSERT_EQ(c["crashed_before"].size(), 1u) << c.dump().substr(0, 2000);
+      EXPECT_EQ(c["crashed_before"][0]["signal"], "SIGSEGV");
+      EXPECT_EQ(c["crashed_before"][0]["step"], phase == "timed" ? "timed repetition" : "check_frame");
+      if (phase == "timed") {
+        EXPECT_GE(c["timing"]["repetitions"].get<int>(), 1) << "the second attempt's own repetitions";
+      }
+    }
+    EXPECT_EQ(flaky, int(f.results["omnishadow"]["cases"].size()) / 2);
+    EXPECT_EQ(f.results["omnishadow"]["flaky_cases"].size(), size_t(flaky));
+    EXPECT_TRUE(f.results["omnishadow"]["crashed_cases"].empty());
+    EXPECT_EQ(f.results["omnishadow"]["worker_processes"].get<int>(), 1 + flaky) << "a fresh one per crash";
+    EXPECT_NE(f.outcome.out.find("## Flaky cases"), std::string::npos) << f.outcome.out;
+    EXPECT_EQ(f.outcome.out.find("## Crashed cases"), std::string::npos) << f.outcome.out;
+  }
 }
 
 // A stop asked for while a case hangs (SIGTERM 3 s into the run, as `timeout` sends it to a time-boxed run):

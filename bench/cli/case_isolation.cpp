@@ -135,7 +135,8 @@ WorkerEnd watch_worker(pid_t pid, int read_fd, double timeout_s, WorkerState& st
   return end;
 }
 
-json crash_entry(const WorkerState& state, const WorkerEnd& end, double timeout_s) {
+// `attempts`: how many times the case was run, each in a fresh worker (all of them ended so).
+json crash_entry(const WorkerState& state, const WorkerEnd& end, double timeout_s, int attempts) {
   const auto known = state.axes.find(state.case_id);
   json axes = json::parse(known == state.axes.end() ? std::string("{}") : known->second, nullptr, false);
   if (axes.is_discarded()) axes = json::object();
@@ -145,15 +146,18 @@ json crash_entry(const WorkerState& state, const WorkerEnd& end, double timeout_
   std::snprintf(timeout, sizeof timeout, "%g", timeout_s);
   const std::string what = end.timed_out ? "no progress for " + std::string(timeout) + " s (killed)"
                                          : "the process died by " + signal_name(end.signal);
-  json crash = {{"phase", state.phase}, {"step", state.step}};
+  json crash = {{"phase", state.phase}, {"step", state.step}, {"attempts", attempts}};
   if (end.timed_out)
     crash["timeout_s"] = timeout_s;
   else
     crash["signal"] = signal_name(end.signal);
+  const std::string each =
+      attempts > 1 ? " (at each of its " + std::to_string(attempts) + " attempts, each in a fresh process)"
+                   : "";
   return {{"id", state.case_id},
           {"axes", axes},
           {"status", std::string(to_string(Status::crashed))},
-          {"reason", "crashed: " + what + " " + where + "; the run went on in a fresh process"},
+          {"reason", "crashed: " + what + " " + where + each + "; the run went on in a fresh process"},
           {"crash", crash}};
 }
 
@@ -173,18 +177,33 @@ bool benchmark_of(const json& b, const std::set<std::string>& ids) {
   return false;
 }
 
-// Every part's kept cases in matrix order, each crash in its place, into OUT/results.json. `complete`: every
-// case of the matrix has its result (a crashed case's is `crashed`), unless the last worker said otherwise;
-// `stopped_by`: the signal that stopped the run before its last case (empty: none).
-void merge_parts(const std::vector<Part>& parts, const std::string& out_dir, bool complete,
-                 const std::string& stopped_by) {
+bool status_fails_run(const std::string& status) {
+  for (Status s : {Status::failed_quality, Status::failed_check, Status::resource_error, Status::failed,
+                   Status::crashed})
+    if (fails_run(s) && status == to_string(s)) return true;
+  return false;
+}
+
+// Every part's kept cases in matrix order, each crash in its place, into OUT/results.json; a case that
+// finished after crashing (`flaky`: its id to the earlier attempts' crashes) carries them as
+// `crashed_before`. `complete`: every case of the matrix has its result (a crashed case's is `crashed`),
+// unless the last worker said otherwise; `stopped_by`: the signal that stopped the run before its last case
+// (empty: none). Returns whether a kept case's status fails a --check run.
+bool merge_parts(const std::vector<Part>& parts, const std::map<std::string, json>& flaky,
+                 const std::string& out_dir, bool complete, const std::string& stopped_by) {
   json merged, cases = json::array(), benchmarks = json::array(), crashes = json::array();
+  bool fails = false;
   for (const Part& part : parts) {
     if (fs::exists(part.results)) {
       const json doc = json::parse(read_file(part.results));
       std::set<std::string> ids = part.kept;
-      for (const json& c : doc["omnishadow"]["cases"])
-        if (part.all_kept || ids.count(c.value("id", ""))) cases.push_back(c), ids.insert(c.value("id", ""));
+      for (json c : doc["omnishadow"]["cases"]) {
+        const std::string id = c.value("id", "");
+        if (!part.all_kept && !ids.count(id)) continue;
+        if (const auto f = flaky.find(id); f != flaky.end()) c["crashed_before"] = f->second;
+        fails = fails || status_fails_run(c.value("status", ""));
+        cases.push_back(c), ids.insert(id);
+      }
       for (const json& b : doc.value("benchmarks", json::array()))
         if (benchmark_of(b, ids)) benchmarks.push_back(b);
       merged = doc;  // the last part's context, devices and options
@@ -197,15 +216,31 @@ void merge_parts(const std::vector<Part>& parts, const std::string& out_dir, boo
   merged["omnishadow"]["cases"] = cases;
   merged["benchmarks"] = benchmarks;
   merged["omnishadow"]["crashed_cases"] = crashes;
+  json flaky_ids = json::array();
+  for (const auto& [id, before] : flaky) flaky_ids.push_back(id);
+  merged["omnishadow"]["flaky_cases"] = flaky_ids;
   merged["omnishadow"]["worker_processes"] = parts.size();
   write_file_atomic((fs::path(out_dir) / "results.json").string(), merged.dump(2) + "\n");
+  return fails || !crashes.empty();
 }
 
-void report_crashes(const std::vector<Part>& parts, const std::string& out_dir) {
-  std::string text = "\n## Crashed cases (each cost its process; a fresh one went on from the next case)\n";
+void report_crashes(const std::vector<Part>& parts, const std::map<std::string, json>& flaky,
+                    const std::string& out_dir) {
+  std::string text;
+  if (std::any_of(parts.begin(), parts.end(), [](const Part& p) { return !p.crash.is_null(); }))
+    text += "\n## Crashed cases (each cost its process; a fresh one went on from the next case)\n";
   for (const Part& p : parts)
     if (!p.crash.is_null())
       text += "- `" + p.crash["id"].get<std::string>() + "`: " + p.crash["reason"].get<std::string>() + "\n";
+  if (!flaky.empty())
+    text += "\n## Flaky cases (the process died in them, then a fresh one finished them: a flaky driver)\n";
+  for (const auto& [id, before] : flaky) {
+    const json& last = before.back();
+    text += "- `" + id + "`: finished at attempt " + std::to_string(before.size() + 1) + "; attempt " +
+            std::to_string(before.size()) + " died by " + last.value("signal", "?") + " in step " +
+            last.value("step", "?") +
+            (last.value("phase", "") == "timed" ? " of the timed rounds" : " of the checks") + "\n";
+  }
   std::cout << text;
   const fs::path summary = fs::path(out_dir) / "summary.md";
   try {
@@ -214,6 +249,51 @@ void report_crashes(const std::vector<Part>& parts, const std::string& out_dir) 
   } catch (const std::exception& e) {
     print_error(e.what());
   }
+}
+
+// The case a crash interrupted and its attempts so far: run again while retries last (died by a signal only).
+struct Retry {
+  std::string case_id;
+  json crashes = json::array();  // each attempt's crash record (phase, step, signal)
+  int attempts() const { return int(crashes.size()); }
+};
+
+// One worker from case `skip` on (`attempt` at that case), its results into `results` (OUT's when empty).
+WorkerEnd run_worker(const IsolationSettings& settings, int skip, int attempt, const std::string& results,
+                     WorkerState& state) {
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
+  fcntl(fds[0], F_SETFD, FD_CLOEXEC);
+  std::vector<std::string> args = settings.args;
+  args.insert(args.end(), {"--worker-skip", std::to_string(skip)});
+  if (attempt > 0) args.insert(args.end(), {"--worker-attempt", std::to_string(attempt)});
+  if (!results.empty()) args.insert(args.end(), {"--worker-results", results});
+  const pid_t pid = spawn_worker(args, fds[1]);
+  close(fds[1]);
+  if (pid < 0)
+    throw std::runtime_error(std::string("cannot start a worker process: ") + std::strerror(errno));
+  const WorkerEnd end = watch_worker(pid, fds[0], settings.case_timeout_s, state);
+  close(fds[0]);
+  return end;
+}
+
+// The parts merged into OUT (results.json, summary.md) and the run's exit code.
+int finish_parts(const IsolationSettings& settings, const std::vector<Part>& parts,
+                 const std::map<std::string, json>& flaky, int exit_code) {
+  const bool stopped = g_stop_signal != 0 && !parts.back().all_kept;
+  const bool kept_fail = merge_parts(parts, flaky, settings.out_dir, !stopped,
+                                     stopped ? (g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM") : "");
+  report_crashes(parts, flaky, settings.out_dir);
+  std::error_code ec;
+  fs::remove_all(fs::path(settings.out_dir) / ".parts", ec);
+  std::fprintf(stderr, "omnishadow: results of %zu worker processes merged into %s\n", parts.size(),
+               (fs::path(settings.out_dir) / "results.json").string().c_str());
+  if (exit_code == 130 || exit_code == 143 || exit_code == 2) return exit_code;
+  const bool crashed =
+      std::any_of(parts.begin(), parts.end(), [](const Part& p) { return !p.crash.is_null(); });
+  if (crashed) return 1;
+  // Only flaky cases: the run's verdict is its cases' (the last worker's exit covers its own cases only).
+  return exit_code != 0 || (settings.check && kept_fail) ? 1 : 0;
 }
 
 }  // namespace
@@ -226,25 +306,22 @@ int supervise_run(const IsolationSettings& settings) {
   const fs::path parts_dir = fs::path(settings.out_dir) / ".parts";
   const std::string first_results = (fs::path(settings.out_dir) / "results.json").string();
   std::vector<Part> parts;
+  std::map<std::string, json> flaky;  // cases that finished after crashing: their earlier attempts' crashes
+  Retry retry;
   int skip = 0, exit_code = 0;
   for (;;) {
-    int fds[2];
-    if (pipe(fds) != 0)
-      throw std::runtime_error(std::string("cannot create a pipe: ") + std::strerror(errno));
-    fcntl(fds[0], F_SETFD, FD_CLOEXEC);
-    std::vector<std::string> args = settings.args;
-    args.insert(args.end(), {"--worker-skip", std::to_string(skip)});
     Part part;
     part.results =
         parts.empty() ? first_results : (parts_dir / (std::to_string(parts.size()) + ".json")).string();
-    if (!parts.empty()) args.insert(args.end(), {"--worker-results", part.results});
-    const pid_t pid = spawn_worker(args, fds[1]);
-    close(fds[1]);
-    if (pid < 0)
-      throw std::runtime_error(std::string("cannot start a worker process: ") + std::strerror(errno));
     WorkerState state;
-    const WorkerEnd end = watch_worker(pid, fds[0], settings.case_timeout_s, state);
-    close(fds[0]);
+    const WorkerEnd end =
+        run_worker(settings, skip, retry.attempts(), parts.empty() ? std::string() : part.results, state);
+    // The case run again finished when this worker got past it.
+    if (retry.attempts() > 0 && (!end.crashed() || state.case_id != retry.case_id) &&
+        std::find(state.ids.begin(), state.ids.end(), retry.case_id) != state.ids.end()) {
+      flaky[retry.case_id] = retry.crashes;
+      retry = Retry{};
+    }
     if (!end.crashed()) {
       part.all_kept = true;
       parts.push_back(part);
@@ -256,12 +333,24 @@ int supervise_run(const IsolationSettings& settings) {
                   (end.timed_out ? std::string("no progress") : signal_name(end.signal)) + ")");
       return 1;
     }
-    part.crash = crash_entry(state, end, settings.case_timeout_s);
-    std::fprintf(stderr, "omnishadow: %s %s\n", state.case_id.c_str(),
-                 part.crash["reason"].get<std::string>().c_str());
+    if (state.case_id != retry.case_id) retry = Retry{state.case_id};
+    json crash = crash_entry(state, end, settings.case_timeout_s, retry.attempts() + 1);
+    retry.crashes.push_back(crash["crash"]);
     const auto at = std::find(state.ids.begin(), state.ids.end(), state.case_id);
     part.kept.insert(state.ids.begin(), at);
-    skip += int(at - state.ids.begin()) + 1;
+    skip += int(at - state.ids.begin());
+    if (!end.timed_out && retry.attempts() <= settings.crash_retries && g_stop_signal == 0) {
+      std::fprintf(stderr,
+                   "omnishadow: %s died by %s; running it again in a fresh process (attempt %d of %d)\n",
+                   state.case_id.c_str(), signal_name(end.signal).c_str(), retry.attempts() + 1,
+                   settings.crash_retries + 1);
+    } else {
+      part.crash = crash;
+      std::fprintf(stderr, "omnishadow: %s %s\n", state.case_id.c_str(),
+                   crash["reason"].get<std::string>().c_str());
+      ++skip;
+      retry = Retry{};
+    }
     if (parts.empty() &&
         fs::exists(first_results)) {  // the next worker writes its own part; this one is kept aside
       fs::create_directories(parts_dir);
@@ -280,15 +369,7 @@ int supervise_run(const IsolationSettings& settings) {
   }
   if (parts.size() == 1 && parts[0].crash.is_null())
     return exit_code;  // no crash: the worker's files are the run's
-  const bool stopped = g_stop_signal != 0 && !parts.back().all_kept;
-  merge_parts(parts, settings.out_dir, !stopped,
-              stopped ? (g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM") : "");
-  report_crashes(parts, settings.out_dir);
-  std::error_code ec;
-  fs::remove_all(parts_dir, ec);
-  std::fprintf(stderr, "omnishadow: results of %zu worker processes merged into %s\n", parts.size(),
-               (fs::path(settings.out_dir) / "results.json").string().c_str());
-  return exit_code == 130 || exit_code == 143 || exit_code == 2 ? exit_code : 1;
+  return finish_parts(settings, parts, flaky, exit_code);
 }
 
 }  // namespace omnishadow::bench

@@ -294,6 +294,14 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
       ->capture_default_str()
       ->check(finite_in(1.0, 86400.0));
   r.add_option(
+       "--crash-retries", run.crash_retries,
+       "a case whose worker died by a signal runs again in a fresh worker up to N times: one that then "
+       "finishes is kept, listed as flaky (`crashed_before` in results.json) and fails nothing; one that "
+       "dies "
+       "every time is crashed. A hang is not run again")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 5));
+  r.add_option(
        "--capture", run.capture,
        "after the matrix, run the failed (or crashed, or all) cases again alone under a capture a driver "
        "team can replay: GFXReconstruct on Vulkan, RenderDoc on GL (its check frame)")
@@ -328,8 +336,15 @@ static void add_isolation_options(CLI::App& r, RunCommand& run) {
        "where --inject-crash and --inject-hang strike: the check frame (checks) or a timed repetition "
        "(timed)")
       ->default_str("checks");
+  r.add_option(
+       "--inject-attempts", run.harness.inject_attempts,
+       "tests of the isolation only: --inject-crash and --inject-hang strike a case's first N attempts "
+       "(--crash-retries), 0 (default) every one")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 6));
   // The supervisor's arguments to its workers (not for users: hidden from --help).
   r.add_option("--worker-skip", run.worker_skip)->group("");
+  r.add_option("--worker-attempt", run.harness.worker_attempt)->group("");
   r.add_option("--worker-progress-fd", run.worker_progress_fd)->group("");
   r.add_option("--worker-results", run.worker_results)->group("");
 }

@@ -410,7 +410,7 @@ int run_command(const RunCommand& cmd) {
   }
   int code = 0;
   if (cmd.isolate && cmd.worker_skip < 0) {  // this process supervises; workers run the matrix
-    IsolationSettings isolation{cmd.args, options.out_dir, cmd.case_timeout_s};
+    IsolationSettings isolation{cmd.args, options.out_dir, cmd.case_timeout_s, cmd.crash_retries, cmd.check};
     if (cmd.harness.out_dir.empty()) isolation.args.insert(isolation.args.end(), {"--out", options.out_dir});
     try {
       code = supervise_run(isolation);

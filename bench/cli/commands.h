@@ -36,6 +36,7 @@ struct RunCommand {
   // (empty: OUT's).
   bool isolate = true;
   double case_timeout_s = 300.0;
+  int crash_retries = 1;  // --crash-retries: a case whose worker died by a signal runs again this many times
   int worker_skip = -1;
   int worker_progress_fd = -1;
   std::string worker_results;

@@ -53,6 +53,11 @@ void report_fatal_signals() {
 
 void inject_fault(const RunOptions& o, const std::string& id, bool timed) {
   if (timed != o.inject_in_timed) return;
+  // The worker's first case here is the one it was started to run again (checks and timed rounds both go in
+  // matrix order): its attempt is the worker's; every later case's is its first.
+  static const std::string first_case = id;
+  const int attempt = id == first_case ? o.worker_attempt : 0;
+  if (o.inject_attempts > 0 && attempt >= o.inject_attempts) return;
   if (!o.inject_crash.empty() && std::regex_search(id, std::regex(o.inject_crash))) {
     // A worker's own handler (report_fatal_signals) prints the frames and dies by the signal; elsewhere a
     // sanitizer's handler would report and exit 1: die by the signal, as a driver's crash does.

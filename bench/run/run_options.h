@@ -84,6 +84,10 @@ struct RunOptions : CheckOptions {
   int progress_fd = -1;
   std::string inject_crash, inject_hang;
   bool inject_in_timed = false;
+  // A worker that runs a crashed case again: that case's attempt (its first case; 0: a first attempt), and
+  // the attempts at a case the faults strike (0: every one; 1: the first only, a flaky driver).
+  int worker_attempt = 0;
+  int inject_attempts = 0;
   // Tests about time (--inject-frame-ms): the scripted clock (bench/run/scripted_clock.h) replaces every
   // timed and floor frame's times, so the sizing and warm-up by time and the timings reported are one on any
   // machine. 0: measured.
