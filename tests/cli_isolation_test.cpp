@@ -58,11 +58,14 @@ void expect_one_case_each(const FaultRun& f, const std::string& reason_part, con
       EXPECT_NE(c["reason"].get<std::string>().find(reason_part), std::string::npos) << c.dump();
       EXPECT_EQ(c["crash"]["step"], step) << c.dump();
       EXPECT_EQ(c["crash"]["attempts"], attempts) << c.dump();
-      if (attempts > 1)
+      if (attempts > 1) {
         EXPECT_NE(
             c["reason"].get<std::string>().find("at each of its " + std::to_string(attempts) + " attempts"),
             std::string::npos)
             << c.dump();
+        ASSERT_EQ(c["crash"]["earlier"].size(), size_t(attempts - 1)) << c.dump();
+        EXPECT_EQ(c["crash"]["earlier"][0]["signal"], "SIGSEGV") << c.dump();
+      }
       EXPECT_EQ(c["axes"]["backend"], id.substr(0, id.find('/')))
           << "the crashed case's own axes: " << c.dump();
       EXPECT_EQ(c["axes"]["technique"], "geometry_shader") << c.dump();

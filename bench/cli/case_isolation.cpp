@@ -151,9 +151,11 @@ json crash_entry(const WorkerState& state, const WorkerEnd& end, double timeout_
     crash["timeout_s"] = timeout_s;
   else
     crash["signal"] = signal_name(end.signal);
-  const std::string each =
-      attempts > 1 ? " (at each of its " + std::to_string(attempts) + " attempts, each in a fresh process)"
-                   : "";
+  // Only a death by a signal is run again: earlier attempts died so, the last one may have hung.
+  const std::string n = std::to_string(attempts);
+  const std::string each = attempts <= 1   ? ""
+                           : end.timed_out ? " (at its attempt " + n + "; the earlier ones died by a signal)"
+                                           : " (at each of its " + n + " attempts, each in a fresh process)";
   return {{"id", state.case_id},
           {"axes", axes},
           {"status", std::string(to_string(Status::crashed))},
@@ -346,6 +348,8 @@ int supervise_run(const IsolationSettings& settings) {
                    settings.crash_retries + 1);
     } else {
       part.crash = crash;
+      if (retry.attempts() > 1)
+        part.crash["crash"]["earlier"] = json(retry.crashes.begin(), retry.crashes.end() - 1);
       std::fprintf(stderr, "omnishadow: %s %s\n", state.case_id.c_str(),
                    crash["reason"].get<std::string>().c_str());
       ++skip;
