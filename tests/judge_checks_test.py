@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """scripts/analysis/judge_checks.py on made-up runs: a failed check is a false alarm even where --allow names its
 case, another failure passes only where --allow names it, a case cut at its budget with nothing failed is counted
-apart, and a run with no results or no case is a one-line error, never a PASS."""
+apart, a flaky case (crashed, then finished) passes and is named, and a run with no results or no case is a
+one-line error, never a PASS."""
 import json
 import os
 import subprocess
@@ -51,6 +52,12 @@ def main():
                "a quality failure --allow names")
         crashed = good + [case("vulkan/room/c1024/multiview", "crashed")]
         expect(judge(work, "crashed", crashed, "--allow", "/c64/"), 1, "multiview: crashed", "a crash")
+        flaky_case = case("vulkan/room/c1024/mesh_shader", "ok")
+        flaky_case["crashed_before"] = [{"signal": "SIGSEGV", "step": "check_frame", "phase": "checks", "attempts": 1}]
+        flaky = good + [flaky_case]
+        expect(judge(work, "flaky", flaky), 0, "1 flaky", "a case that crashed once and then finished passes")
+        expect(judge(work, "flaky-named", flaky), 0, "mesh_shader: flaky: died by SIGSEGV in step check_frame",
+               "and is named")
         cut = good + [case("gl/hall/l64/six_pass", "interrupted", ["ok", "failed_quality", "interrupted"])]
         expect(judge(work, "cut", cut), 0, "1 cut by the budget", "a case cut at its budget, nothing failed")
         cut_alarm = good + [case("gl/hall/l64/six_pass", "interrupted", ["failed_check", "interrupted"])]

@@ -4,7 +4,8 @@ matrix run with --check on code under no planted bug): a case that failed a chec
 one that failed otherwise (failed, failed_quality, resource_error, crashed) is a failure unless its id matches
 --allow (a run that expects some quality limits to be missed names them); ok and unsupported pass. A case cut at a
 run's time budget (interrupted, with no finding beyond ok, failed_quality or interrupted) is counted apart, not
-failed.
+failed. A flaky case (its process died, a fresh one finished it: `crashed_before`, run --crash-retries) passes on its
+own status and is named, so that a driver that crashed once is seen.
 
 Usage: scripts/analysis/judge_checks.py RUN_DIR [--allow REGEX]
 
@@ -39,10 +40,15 @@ def verdict(cases, allowed):
     bad = failures(cases, allowed)
     ok = sum(c["status"] == "ok" for c in cases)
     unsupported = sum(c["status"] == "unsupported" for c in cases)
+    flaky = [c for c in cases if c.get("crashed_before")]
     lines = [f"- {'PASS' if not bad else 'FAIL'}: {ok} ok, {unsupported} unsupported, {len(bad)} failed beyond the "
              f"expected quality limit, {sum(cut_clean(c) for c in cases)} cut by the budget before their timing, "
-             f"of {len(cases)}"]
+             f"of {len(cases)}" + (f"; {len(flaky)} flaky (the process died, a fresh one finished)" if flaky else "")]
     lines += [f"  - {c['id']}: {c['status']}: {c.get('reason', '')[:240]}" for c in bad[:20]]
+    for c in flaky[:20]:
+        last = c["crashed_before"][-1]
+        lines.append(f"  - {c['id']}: flaky: died by {last.get('signal', '?')} in step {last.get('step', '?')} "
+                     f"({len(c['crashed_before'])} of {len(c['crashed_before']) + 1} attempts), then {c['status']}")
     return lines, not bad
 
 
