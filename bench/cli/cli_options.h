@@ -40,6 +40,10 @@ struct RunFlags {
   std::string shard;
 };
 void add_run_options(CLI::App& sub, RunCommand& run, RunFlags& flags);
+// Two of its groups (isolation_and_experiment_options.cpp): a crashing driver's containment and captures, and
+// the options that test the harness itself (injected faults and work, replicas, perturbations, emulations).
+void add_isolation_options(CLI::App& r, RunCommand& run);
+void add_experiment_options(CLI::App& r, RunCommand& run);
 // Applies the flags and checks what CLI11 cannot (shard syntax, --benchmark_out); throws
 // std::invalid_argument.
 void finish_run_options(RunCommand& run, const RunFlags& flags, const CommonOptions& common);
