@@ -20,6 +20,14 @@ set -uo pipefail
 out="${1:?usage: scripts/gpu_device_call.sh OUT}"
 here="$(cd "$(dirname "$0")/.." && pwd)"
 total="${TOTAL_S:-540}"
+steps="${PLAN:-singlepass capture suite lights policies atlas}"
+# A mistyped PLAN is refused before the first step spends the call.
+for step in $steps; do
+  case " singlepass suite capture lights policies atlas walk replan " in
+    *" $step "*) ;;
+    *) echo "gpu_device_call: PLAN names '$step' (singlepass suite capture lights policies atlas walk replan)" >&2; exit 2 ;;
+  esac
+done
 start=$(date +%s)
 mkdir -p "$out"
 plan="$out/plan.md"
@@ -46,7 +54,7 @@ run_step() {
   [ "$code" -eq 0 ] || status=1
   echo "| $step | $api | $budget | $code | $(($(date +%s) - t0)) |" >>"$plan"
 }
-for step in ${PLAN:-singlepass capture suite lights policies atlas}; do
+for step in $steps; do
   case "$step" in
     singlepass)  # its matrix cut at 70 s, then the hall's nv_swizzle check (at most 60 s)
       run_step singlepass gl SINGLEPASS_BUDGET_S 70 140
@@ -61,7 +69,6 @@ for step in ${PLAN:-singlepass capture suite lights policies atlas}; do
       var="$(tr '[:lower:]' '[:upper:]' <<<"$step")_BUDGET_S"
       run_step "$step" gl "$var" 40 60
       run_step "$step" vulkan "$var" 40 60 ;;
-    *) echo "gpu_device_call: PLAN names '$step' (singlepass suite capture lights policies atlas walk replan)" >&2; exit 2 ;;
   esac
 done
 echo "" >>"$plan"

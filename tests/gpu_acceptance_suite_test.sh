@@ -48,4 +48,17 @@ grep -q -- "  - Test #1: Cube.A ....\*\*\*Failed" "$tmp/fail/summary.md" || fail
 want="- FAIL: ctest cut at SUITE_BUDGET_S 2 s: 1 passed and 1 failed before the cut, 1 of 3 not finished"
 grep -qF -- "$want (suite/not_run.txt)" "$tmp/cut/summary.md" || fail "cut line: $(cat "$tmp/cut/summary.md")"
 [ "$(cat "$tmp/cut/suite/not_run.txt")" = "Cube.C" ] || fail "not_run.txt: $(cat "$tmp/cut/suite/not_run.txt")"
+
+# A mistyped step (or device-call PLAN) is refused with exit 2 before any step runs: the suite named before it
+# leaves no folder, and the device call writes no plan.
+code=0
+PATH="$tmp/bin:$PATH" STUB_MODE=pass bash "$here/scripts/gpu_acceptance.sh" "$tmp/typo" suite suiet >"$tmp/typo.out" 2>&1 ||
+  code=$?
+[ "$code" -eq 2 ] || fail "a mistyped step exited $code: $(cat "$tmp/typo.out")"
+grep -q "unknown step 'suiet'" "$tmp/typo.out" || fail "the mistyped step is not named: $(cat "$tmp/typo.out")"
+[ ! -e "$tmp/typo/suite" ] || fail "the suite ran before the mistyped step was refused"
+code=0
+PLAN="suite suiet" bash "$here/scripts/gpu_device_call.sh" "$tmp/call" >"$tmp/call.out" 2>&1 || code=$?
+[ "$code" -eq 2 ] && grep -q "PLAN names 'suiet'" "$tmp/call.out" || fail "a mistyped PLAN: exit $code: $(cat "$tmp/call.out")"
+[ ! -e "$tmp/call" ] || fail "the device call started before the mistyped PLAN was refused"
 echo "gpu_acceptance_suite_test: ok"
