@@ -266,6 +266,18 @@ TEST(CaseFindings, StatusIsTheWorstAndNoReasonIsLost) {
   EXPECT_FALSE(fails_run(Status::interrupted));  // the run itself exits 130/143
 }
 
+// results.json's status text reads back as the Status that wrote it, for every status (the merge of a crashed
+// run's parts decides its exit code from that text), and no other text names one.
+TEST_F(HarnessTest, EveryStatusReadsBackFromItsName) {
+  const Status all[] = {Status::ok,          Status::failed_quality, Status::failed_check,
+                        Status::interrupted, Status::resource_error, Status::failed,
+                        Status::crashed,     Status::unsupported};
+  for (Status s : all) EXPECT_EQ(status_named(to_string(s)), s) << to_string(s);
+  EXPECT_EQ(status_named("?"), std::nullopt);
+  EXPECT_EQ(status_named("Crashed"), std::nullopt);
+  EXPECT_EQ(status_named(""), std::nullopt);
+}
+
 // A case of eight lights reads back light 0 and every second light after it, and the light farthest from the
 // camera for its range (the hall's eighth: the one sizing by screen coverage shrinks most), joins each one's
 // findings and reports under its name, and counts the shadow plan of every light.

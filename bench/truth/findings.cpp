@@ -26,6 +26,12 @@ std::string_view to_string(Status s) {
   return "?";
 }
 
+std::optional<Status> status_named(std::string_view name) {
+  for (int i = int(Status::ok); i <= int(Status::unsupported); ++i)
+    if (name == to_string(Status(i))) return Status(i);
+  return std::nullopt;
+}
+
 bool fails_run(Status s) {
   return s == Status::failed_quality || s == Status::failed_check || s == Status::resource_error ||
          s == Status::failed || s == Status::crashed;

@@ -32,7 +32,7 @@ namespace omnishadow::bench {
 //                   --case-timeout-s while on this case; written by the supervisor
 //                   (bench/cli/case_isolation.h), whose next worker process goes on from the next case
 //   unsupported     the device or the technique cannot do the case; the matrix goes on
-// Worse is later in that list.
+// Worse is later in that list, and unsupported stays last: status_named() searches up to it.
 enum class Status {
   ok,
   failed_quality,
@@ -44,6 +44,8 @@ enum class Status {
   unsupported
 };
 std::string_view to_string(Status s);
+// The Status that to_string() spells `name` (as results.json carries it); nullopt for any other text.
+std::optional<Status> status_named(std::string_view name);
 // A case with this status makes `run --check` exit 1.
 bool fails_run(Status s);
 
