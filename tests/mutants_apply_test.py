@@ -1,15 +1,16 @@
 #!/usr/bin/python3
-"""Every mutant of scripts/experiments/mutants.py still applies to this tree: each names text that occurs exactly as
-often as it expects, and changes the file. A source edit that moves a mutant's text breaks the mutation study only
-when someone runs it (6-9 minutes a mutant); this finds it in a second. The list is the one docs/mutants.md records
-as caught, name for name: an emptied or shortened list fails here rather than passing as "0 of 0"."""
+"""Every mutant of scripts/experiments/mutant_table.py (the list mutants.py runs) still applies to this tree: each
+names text that occurs exactly as often as it expects, and changes the file. A source edit that moves a mutant's text
+breaks the mutation study only when someone runs it (6-9 minutes a mutant); this finds it in a second. The list is the
+one docs/mutants.md records as caught, name for name: an emptied or shortened list fails here rather than passing as
+"0 of 0"."""
 import os
 import re
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "experiments"))
-import mutants  # noqa: E402
+import mutant_table  # noqa: E402
 
 
 def documented_mutants():
@@ -19,15 +20,15 @@ def documented_mutants():
 
 def main():
     broken = []
-    documented, listed = documented_mutants(), [entry[0] for entry in mutants.MUTANTS]
+    documented, listed = documented_mutants(), [entry[0] for entry in mutant_table.MUTANTS]
     for name in sorted(set(documented) - set(listed)):
-        broken.append(f"{name}: in docs/mutants.md's table, not in mutants.py")
+        broken.append(f"{name}: in docs/mutants.md's table, not in mutant_table.py")
     for name in sorted(set(listed) - set(documented)):
-        broken.append(f"{name}: in mutants.py, not in docs/mutants.md's table (run it: mutants.py --only {name})")
+        broken.append(f"{name}: in mutant_table.py, not in docs/mutants.md's table (run it: mutants.py --only {name})")
     if not documented:
         broken.append("docs/mutants.md lists no mutant")
     applied = 0
-    for entry in mutants.MUTANTS:
+    for entry in mutant_table.MUTANTS:
         name, path, apply = entry[0], entry[1], entry[2]
         with open(os.path.join(ROOT, path)) as f:
             text = f.read()
