@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The checks too slow for every landing (.ci/run stays inside 25 minutes): run before resolving an issue that touches
+# The checks too slow for every landing (.ci/run takes about half an hour): run before resolving an issue that touches
 # what they cover, and on a schedule where a CI engine offers one.
 #   plays     tests labelled `extended`: the GitLab and GitHub fleet pipelines played end to end over two commits
 #             (tests/fleet_pipeline_play.py, four builds)
